@@ -1,0 +1,51 @@
+// A Contribution adds terms to the global residual and tangent: the beam elements are one, contact
+// constraints will be others. It works on the replicated State and writes element-level blocks into
+// an AssemblySink, so it needs no Tpetra (kernels stay unit-testable without MPI).
+//
+// Distribution: every rank asks each contribution for the blocks *it* evaluates (those whose first
+// global dof it owns, as told by the sink); the Assembler sums blocks across ranks.
+#pragma once
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "State.hpp"
+
+namespace bc::core {
+
+// Receives element-level contributions. `K` is n x n row-major, or null for residual-only assembly.
+class AssemblySink {
+ public:
+  virtual ~AssemblySink() = default;
+  virtual void add(const GlobalDof* dofs, int n, const double* f, const double* K) = 0;
+};
+
+// A drawable piece of the model for VTK output: points, cells (VTK cell types) and per-point data.
+struct VtkMesh {
+  std::vector<Vec3d> points;
+  std::vector<Vec3d> pointDisplacement;
+  std::vector<int> cellTypes;
+  std::vector<std::vector<int>> cells;
+  std::vector<int> cellBeam;     // index of the beam a cell belongs to
+  std::vector<int> cellElement;  // element index within its beam
+};
+
+class Contribution {
+ public:
+  using OwnsDof = std::function<bool(GlobalDof)>;
+  virtual ~Contribution() = default;
+  virtual std::string name() const = 0;
+  // Appends the dof blocks this rank evaluates (each block's dofs are coupled in the matrix graph).
+  virtual void connectivity(const OwnsDof& owns, std::vector<std::vector<GlobalDof>>& blocks) const = 0;
+  // Adds this rank's blocks (those it owns) for the given state; `tangent` false skips the matrix.
+  virtual void evaluate(const State& state, const OwnsDof& owns, AssemblySink& sink, bool tangent) const = 0;
+  // Strain energy (or constraint potential) of this rank's blocks; used in tests and output.
+  virtual double energy(const State& state, const OwnsDof& owns) const { return 0.0; }
+  // Load-step life cycle: history is committed at a converged step and restored when a step is cut.
+  virtual void commitStep(const State& state) {}
+  virtual void restoreStep() {}
+  // Drawing for VTK output (called on rank 0 with the full state).
+  virtual void appendVtk(const State& state, VtkMesh& mesh) const {}
+};
+
+}  // namespace bc::core
