@@ -1,0 +1,145 @@
+#include "Assembler.hpp"
+
+#include <algorithm>
+#include <map>
+#include <stdexcept>
+
+#include <Tpetra_Assembly_Helpers.hpp>
+
+namespace bc::core {
+
+namespace {
+
+// Sums element blocks into the overlapped matrix and residual. The matrix skips constrained rows (the
+// owner puts a unit diagonal there); the residual keeps them so reactions can be read off.
+class TpetraSink : public AssemblySink {
+ public:
+  TpetraSink(Matrix* K, Vector& r, const std::set<GlobalDof>& constrained)
+      : K_(K), r_(r), constrained_(constrained) {}
+  void add(const GlobalDof* dofs, int n, const double* f, const double* Ke) override {
+    for (int i = 0; i < n; ++i) r_.sumIntoGlobalValue(dofs[i], f[i]);
+    if (!K_ || !Ke) return;
+    cols_.assign(dofs, dofs + n);
+    for (int i = 0; i < n; ++i) {
+      if (constrained_.count(dofs[i])) continue;
+      const LO changed = K_->sumIntoGlobalValues(dofs[i], n, Ke + std::size_t(n) * i, cols_.data());
+      if (changed != n) throw std::logic_error("assembly: element entry outside the matrix graph");
+    }
+  }
+
+ private:
+  Matrix* K_;
+  Vector& r_;
+  const std::set<GlobalDof>& constrained_;
+  std::vector<GO> cols_;
+};
+
+}  // namespace
+
+Assembler::Assembler(Teuchos::RCP<const Comm> comm, const Model& model) : comm_(comm), model_(model) {
+  for (const Support& s : model_.supports)
+    for (int n : s.nodes)
+      for (int k = 0; k < 6; ++k)
+        if (s.fixed[k]) constrained_.insert(GlobalDof(kDofsPerNode) * n + k);
+}
+
+bool Assembler::ownsDof(GlobalDof g) const { return owns_(g); }
+
+void Assembler::rebuild(const State& state) {
+  const int P = comm_->getSize(), r = comm_->getRank();
+  const int N = state.numNodes();
+  nodeBegin_ = static_cast<int>((long long)N * r / P);
+  nodeEnd_ = static_cast<int>((long long)N * (r + 1) / P);
+  const GlobalDof nodeDofs = GlobalDof(kDofsPerNode) * N;
+  numDofs_ = state.numDofs();
+  const int b = nodeBegin_, e = nodeEnd_;
+  // Extra unknowns (multipliers) are owned by rank 0.
+  owns_ = [b, e, nodeDofs, r](GlobalDof g) {
+    if (g >= nodeDofs) return r == 0;
+    const GlobalDof n = g / kDofsPerNode;
+    return n >= b && n < e;
+  };
+
+  std::vector<GO> owned;
+  for (int n = b; n < e; ++n)
+    for (int k = 0; k < kDofsPerNode; ++k) owned.push_back(GO(kDofsPerNode) * n + k);
+  if (r == 0)
+    for (GlobalDof g = nodeDofs; g < numDofs_; ++g) owned.push_back(g);
+
+  std::vector<std::vector<GlobalDof>> blocks;
+  for (const auto& c : model_.contributions) c->connectivity(owns_, blocks);
+
+  // Row -> columns over the overlapped rows; owned rows always hold their diagonal.
+  std::map<GO, std::set<GO>> rows;
+  for (GO g : owned) rows[g].insert(g);
+  for (const auto& blk : blocks)
+    for (GlobalDof i : blk) rows[i].insert(blk.begin(), blk.end());
+  std::vector<GO> overlap = owned;
+  for (const auto& [g, cols] : rows)
+    if (!owns_(g)) overlap.push_back(g);
+  std::size_t maxPerRow = 1;
+  for (const auto& [g, cols] : rows) maxPerRow = std::max(maxPerRow, cols.size());
+
+  const auto invalid = Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid();
+  ownedMap_ = Teuchos::rcp(new Map(invalid, Teuchos::ArrayView<const GO>(owned), 0, comm_));
+  overlapMap_ = Teuchos::rcp(new Map(invalid, Teuchos::ArrayView<const GO>(overlap), 0, comm_));
+  std::vector<GO> all(numDofs_);
+  for (GlobalDof g = 0; g < numDofs_; ++g) all[g] = g;
+  replicatedMap_ = Teuchos::rcp(new Map(invalid, Teuchos::ArrayView<const GO>(all), 0, comm_));
+  overlapToOwned_ = Teuchos::rcp(new Tpetra::Export<LO, GO, Node>(overlapMap_, ownedMap_));
+  ownedToReplicated_ = Teuchos::rcp(new Tpetra::Import<LO, GO, Node>(ownedMap_, replicatedMap_));
+
+  graph_ = Teuchos::rcp(new FEGraph(ownedMap_, overlapMap_, maxPerRow));
+  Tpetra::beginAssembly(*graph_);
+  std::vector<GO> cols;
+  for (const auto& [g, set] : rows) {
+    cols.assign(set.begin(), set.end());
+    graph_->insertGlobalIndices(g, Teuchos::ArrayView<const GO>(cols));
+  }
+  Tpetra::endAssembly(*graph_);
+  matrix_ = Teuchos::rcp(new FEMatrix(graph_));
+
+  overlapResidual_ = Teuchos::rcp(new Vector(overlapMap_));
+  residual_ = Teuchos::rcp(new Vector(ownedMap_));
+  externalLoad_ = Teuchos::rcp(new Vector(ownedMap_));
+  for (const NodalLoad& l : model_.loads)
+    for (int k = 0; k < 6; ++k) {
+      const GlobalDof g = GlobalDof(kDofsPerNode) * l.node + k;
+      if (owns_(g) && l.value[k] != 0.0) externalLoad_->sumIntoGlobalValue(g, l.value[k]);
+    }
+}
+
+void Assembler::assemble(const State& state, double loadFactor, bool tangent) {
+  if (state.numDofs() != numDofs_) throw std::logic_error("assembly: dof count changed without rebuild()");
+  overlapResidual_->putScalar(0.0);
+  if (tangent) {
+    Tpetra::beginAssembly(*matrix_);
+    matrix_->setAllToScalar(0.0);
+  }
+  TpetraSink sink(tangent ? matrix_.get() : nullptr, *overlapResidual_, constrained_);
+  for (const auto& c : model_.contributions) c->evaluate(state, owns_, sink, tangent);
+  if (tangent) {
+    const double one = 1.0;
+    for (GlobalDof g : constrained_)
+      if (owns_(g)) {
+        const GO col = g;
+        matrix_->sumIntoGlobalValues(g, 1, &one, &col);
+      }
+    Tpetra::endAssembly(*matrix_);
+  }
+  residual_->putScalar(0.0);
+  residual_->doExport(*overlapResidual_, *overlapToOwned_, Tpetra::ADD);
+  residual_->update(-loadFactor, *externalLoad_, 1.0);
+  fullResidual_ = gatherToAll(*residual_);
+  for (GlobalDof g : constrained_)
+    if (owns_(g)) residual_->replaceGlobalValue(g, 0.0);
+}
+
+std::vector<double> Assembler::gatherToAll(const Vector& v) {
+  Vector rep(replicatedMap_);
+  rep.doImport(v, *ownedToReplicated_, Tpetra::INSERT);
+  auto data = rep.getData();
+  return std::vector<double>(data.begin(), data.end());
+}
+
+}  // namespace bc::core

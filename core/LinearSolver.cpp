@@ -1,0 +1,198 @@
+#include "LinearSolver.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include <Amesos2.hpp>
+#include <BelosSolverFactory.hpp>
+#include <BelosTpetraAdapter.hpp>
+#include <Ifpack2_Factory.hpp>
+#include <Teuchos_DefaultSerialComm.hpp>
+#include <Tpetra_Export.hpp>
+#include <Tpetra_Import.hpp>
+
+namespace bc::core {
+
+SolveReport LinearSolver::solve(const Teuchos::RCP<const Matrix>& A, const Vector& b, Vector& x) {
+  SolveReport report;
+  report.iterations = doSolve(A, b, x);
+  Vector r(b.getMap());
+  A->apply(x, r);
+  r.update(1.0, b, -1.0);
+  const double bn = b.norm2();
+  const double rn = r.norm2();
+  report.relativeResidual = bn > 0.0 ? rn / bn : rn;
+  if (!std::isfinite(report.relativeResidual) || report.relativeResidual > checkTolerance_) {
+    std::ostringstream s;
+    s << name() << " linear solve failed its residual check: ||b - A x|| / ||b|| = " << report.relativeResidual
+      << " > Residual Check Tolerance " << checkTolerance_;
+    throw LinearSolveError(s.str());
+  }
+  return report;
+}
+
+namespace {
+
+using SerialMap = Tpetra::Map<LO, GO, Node>;
+
+// KLU2, with the gather-to-rank-0 scheme on more than one rank.
+class DirectSolver : public LinearSolver {
+ public:
+  explicit DirectSolver(double checkTol) : LinearSolver(checkTol) {}
+  std::string name() const override { return "Direct (KLU2)"; }
+
+ protected:
+  int doSolve(const Teuchos::RCP<const Matrix>& A, const Vector& b, Vector& x) override {
+    const auto comm = A->getRowMap()->getComm();
+    if (comm->getSize() == 1) {
+      solveKlu2(A, b, x);
+      return 0;
+    }
+    const auto owned = A->getRowMap();
+    const GO n = static_cast<GO>(owned->getGlobalNumElements());
+    std::vector<GO> mine;
+    if (comm->getRank() == 0)
+      for (GO g = 0; g < n; ++g) mine.push_back(g);
+    const auto rootMap = Teuchos::rcp(new Map(n, Teuchos::ArrayView<const GO>(mine), 0, comm));
+    Tpetra::Export<LO, GO, Node> toRoot(owned, rootMap);
+    const auto A0 = Tpetra::exportAndFillCompleteCrsMatrix<Matrix>(A, toRoot, rootMap, rootMap);
+    Vector b0(rootMap), x0(rootMap);
+    b0.doExport(b, toRoot, Tpetra::INSERT);
+    int failed = 0;
+    std::string what;
+    if (comm->getRank() == 0) {
+      try {
+        // Rebuild the gathered matrix on a one-process communicator (global ids = local ids here).
+        const auto self = Teuchos::rcp(new Teuchos::SerialComm<int>());
+        const auto smap = Teuchos::rcp(new SerialMap(n, 0, self));
+        std::vector<size_t> counts(n);
+        for (LO i = 0; i < static_cast<LO>(n); ++i) counts[i] = A0->getNumEntriesInLocalRow(i);
+        auto As = Teuchos::rcp(new Matrix(smap, Teuchos::ArrayView<const size_t>(counts)));
+        const auto colMap = A0->getColMap();
+        std::vector<GO> cols;
+        for (LO i = 0; i < static_cast<LO>(n); ++i) {
+          Matrix::local_inds_host_view_type inds;
+          Matrix::values_host_view_type vals;
+          A0->getLocalRowView(i, inds, vals);
+          cols.resize(inds.extent(0));
+          for (std::size_t k = 0; k < cols.size(); ++k) cols[k] = colMap->getGlobalElement(inds(k));
+          const GO row = rootMap->getGlobalElement(i);
+          As->insertGlobalValues(row, Teuchos::ArrayView<const GO>(cols),
+                                 Teuchos::ArrayView<const double>(vals.data(), vals.extent(0)));
+        }
+        As->fillComplete();
+        Vector bs(smap), xs(smap);
+        {
+          auto src = b0.getData();
+          auto dst = bs.getDataNonConst();
+          for (GO g = 0; g < n; ++g) dst[rootMap->getLocalElement(g)] = src[rootMap->getLocalElement(g)];
+        }
+        solveKlu2(As, bs, xs);
+        auto src = xs.getData();
+        auto dst = x0.getDataNonConst();
+        for (GO g = 0; g < n; ++g) dst[rootMap->getLocalElement(g)] = src[g];
+      } catch (const std::exception& e) {
+        failed = 1;
+        what = e.what();
+      }
+    }
+    int anyFailed = 0;
+    Teuchos::reduceAll(*comm, Teuchos::REDUCE_MAX, failed, Teuchos::outArg(anyFailed));
+    if (anyFailed) throw LinearSolveError("KLU2 failed on rank 0: " + what);
+    Tpetra::Import<LO, GO, Node> fromRoot(rootMap, owned);
+    x.doImport(x0, fromRoot, Tpetra::INSERT);
+    return 0;
+  }
+
+ private:
+  static void solveKlu2(const Teuchos::RCP<const Matrix>& A, const Vector& b, Vector& x) {
+    auto xp = Teuchos::rcpFromRef(x);
+    auto bp = Teuchos::rcpFromRef(b);
+    auto solver = Amesos2::create<Matrix, MultiVector>("KLU2", A, Teuchos::rcp_implicit_cast<MultiVector>(xp),
+                                                       Teuchos::rcp_implicit_cast<const MultiVector>(bp));
+    solver->symbolicFactorization().numericFactorization().solve();
+  }
+};
+
+class GmresSolver : public LinearSolver {
+ public:
+  explicit GmresSolver(const Teuchos::ParameterList& p)
+      : LinearSolver(p.get<double>("Residual Check Tolerance")),
+        precType_(p.get<std::string>("Preconditioner")),
+        overlap_(p.get<int>("Overlap")),
+        fill_(p.get<double>("Fill Level")),
+        tol_(p.get<double>("Tolerance")),
+        maxIt_(p.get<int>("Maximum Iterations")),
+        restart_(p.get<int>("Restart")) {}
+  std::string name() const override { return "GMRES (" + precType_ + ")"; }
+
+ protected:
+  int doSolve(const Teuchos::RCP<const Matrix>& A, const Vector& b, Vector& x) override {
+    using RowMatrix = Tpetra::RowMatrix<Scalar, LO, GO, Node>;
+    Ifpack2::Factory factory;
+    auto prec = factory.create<RowMatrix>("SCHWARZ", A);
+    Teuchos::ParameterList pp;
+    pp.set("schwarz: overlap level", overlap_);
+    pp.set("inner preconditioner name", precType_);
+    Teuchos::ParameterList& inner = pp.sublist("inner preconditioner parameters");
+    if (precType_ == "ILUT") {
+      inner.set("fact: ilut level-of-fill", fill_);
+      inner.set("fact: drop tolerance", 0.0);
+    } else {
+      inner.set("fact: iluk level-of-fill", static_cast<int>(fill_));
+    }
+    prec->setParameters(pp);
+    prec->initialize();
+    prec->compute();
+
+    x.putScalar(0.0);
+    auto problem = Teuchos::rcp(new Belos::LinearProblem<Scalar, MultiVector, Operator>(
+        A, Teuchos::rcpFromRef(x), Teuchos::rcpFromRef(b)));
+    problem->setRightPrec(prec);
+    problem->setProblem();
+    auto params = Teuchos::rcp(new Teuchos::ParameterList);
+    params->set("Convergence Tolerance", tol_);
+    params->set("Maximum Iterations", maxIt_);
+    params->set("Num Blocks", restart_);
+    Belos::SolverFactory<Scalar, MultiVector, Operator> belos;
+    auto solver = belos.create("GMRES", params);
+    solver->setProblem(problem);
+    solver->solve();
+    return solver->getNumIters();
+  }
+
+ private:
+  std::string precType_;
+  int overlap_;
+  double fill_, tol_;
+  int maxIt_, restart_;
+};
+
+}  // namespace
+
+const ParameterSpec& linearSolverSpec() {
+  static const ParameterSpec spec = [] {
+    ParameterSpec s;
+    s.addChoice("Type", "Direct", {"Direct", "GMRES"},
+                "Direct: sparse LU (Amesos2 KLU2); GMRES: Belos GMRES with an Ifpack2 preconditioner");
+    s.add("Residual Check Tolerance", 1e-8,
+          "largest accepted relative residual ||b - A x||/||b|| of a solve; above it the solve is an error",
+          positive(), "> 0");
+    s.addChoice("Preconditioner", "ILUT", {"ILUT", "RILUK"}, "GMRES only: subdomain incomplete factorization");
+    s.add("Fill Level", 2.0, "GMRES only: ILUT level of fill or RILUK level k", nonNegative(), ">= 0");
+    s.add("Overlap", 1, "GMRES only: overlap of the additive Schwarz subdomains", atLeast(0), ">= 0");
+    s.add("Tolerance", 1e-12, "GMRES only: relative residual at which GMRES stops", positive(), "> 0");
+    s.add("Maximum Iterations", 1000, "GMRES only: iteration limit", atLeast(1), ">= 1");
+    s.add("Restart", 200, "GMRES only: Krylov vectors kept before a restart", atLeast(1), ">= 1");
+    return s;
+  }();
+  return spec;
+}
+
+std::unique_ptr<LinearSolver> makeLinearSolver(const Teuchos::ParameterList& p) {
+  const std::string type = p.get<std::string>("Type");
+  if (type == "Direct") return std::make_unique<DirectSolver>(p.get<double>("Residual Check Tolerance"));
+  return std::make_unique<GmresSolver>(p);
+}
+
+}  // namespace bc::core

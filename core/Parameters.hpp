@@ -1,0 +1,79 @@
+// Validation of Teuchos parameter lists. Each component declares a ParameterSpec for its own sublist:
+// every key with its type, default (or "required"/"optional"), documentation and range or choices.
+// applySpec() then rejects unknown or mistyped keys and out-of-range values with an InputError naming
+// the full parameter path (and, for choices or misspelt keys, the valid names), and fills in the
+// defaults, so the effective list written beside the results is complete. Defaults live only here.
+#pragma once
+#include <functional>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <Teuchos_ParameterList.hpp>
+
+namespace bc::core {
+
+class InputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class ParameterSpec {
+ public:
+  // Returns an empty string when the value is acceptable, otherwise what is wrong ("must be > 0").
+  using Check = std::function<std::string(const Teuchos::ParameterEntry&)>;
+
+  template <class T>
+  ParameterSpec& add(const std::string& name, const T& defaultValue, const std::string& doc, Check check = {},
+                     const std::string& rule = "") {
+    valid_.set(name, defaultValue, withRule(doc, rule));
+    if (check) checks_.push_back({name, check});
+    return *this;
+  }
+  template <class T>
+  ParameterSpec& addRequired(const std::string& name, const T& sample, const std::string& doc, Check check = {},
+                             const std::string& rule = "") {
+    add(name, sample, "(required) " + doc, check, rule);
+    required_.insert(name);
+    return *this;
+  }
+  template <class T>
+  ParameterSpec& addOptional(const std::string& name, const T& sample, const std::string& doc, Check check = {},
+                             const std::string& rule = "") {
+    add(name, sample, "(optional) " + doc, check, rule);
+    optional_.insert(name);
+    return *this;
+  }
+  ParameterSpec& addChoice(const std::string& name, const std::string& defaultValue,
+                           const std::vector<std::string>& choices, const std::string& doc);
+  // A sublist the user may give (validated by its owner), shown in the reference as `reference`.
+  ParameterSpec& addSublist(const std::string& name, const Teuchos::ParameterList& reference, const std::string& doc);
+  // Accepts sublists of any name (e.g. one per beam), each documented by `reference`.
+  ParameterSpec& allowNamedSublists(const Teuchos::ParameterList& reference, const std::string& placeholder);
+
+  // Validates `user` (at `path`, e.g. "BeamContact/Beams/beam 1") and fills the defaults.
+  void apply(Teuchos::ParameterList& user, const std::string& path) const;
+  // The documented reference list (for --print-valid-parameters).
+  const Teuchos::ParameterList& reference() const { return valid_; }
+
+ private:
+  static std::string withRule(const std::string& doc, const std::string& rule) {
+    return rule.empty() ? doc : doc + " [" + rule + "]";
+  }
+  Teuchos::ParameterList valid_;
+  std::vector<std::pair<std::string, Check>> checks_;
+  std::set<std::string> required_, optional_, sublists_;
+  bool namedSublists_ = false;
+};
+
+// Common checks.
+ParameterSpec::Check positive();
+ParameterSpec::Check nonNegative();
+ParameterSpec::Check atLeast(int minimum);
+ParameterSpec::Check inRange(double lo, double hi);  // lo < v <= hi
+ParameterSpec::Check vector3();                      // Array(double) of 3 entries
+
+std::string joinNames(const std::vector<std::string>& names);
+
+}  // namespace bc::core

@@ -1,0 +1,212 @@
+#include "StaticSolver.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include <Teuchos_Array.hpp>
+
+namespace bc::core {
+
+const ParameterSpec& loadSteppingSpec() {
+  static const ParameterSpec spec = [] {
+    ParameterSpec s;
+    s.add("Number of Increments", 10, "equal increments of the load factor T from 0 to 1", atLeast(1), ">= 1");
+    s.addOptional("Load Factors", Teuchos::Array<double>(),
+                  "explicit increasing list of T values ending at 1 (non-uniform stepping); replaces "
+                  "Number of Increments");
+    s.add("Maximum Step Cuts", 5, "how many times a failing increment may be halved", atLeast(0), ">= 0");
+    return s;
+  }();
+  return spec;
+}
+
+const ParameterSpec& newtonSpec() {
+  static const ParameterSpec spec = [] {
+    ParameterSpec s;
+    s.add("Maximum Iterations", 25, "Newton iterations allowed per increment", atLeast(1), ">= 1");
+    s.add("Residual Tolerance", 1e-9,
+          "converged when ||r|| <= this * max(first residual of the step, ||T f_ext||, ||reactions||)",
+          inRange(0.0, 1.0), "in (0, 1]");
+    s.add("Increment Tolerance", 1e-8,
+          "and when ||du|| <= this * ||accumulated increment of the step||", inRange(0.0, 1.0), "in (0, 1]");
+    s.add("Divergence Factor", 1e10, "an iterate whose residual exceeds this times the reference diverged",
+          positive(), "> 0");
+    return s;
+  }();
+  return spec;
+}
+
+SolverSettings readSolverSettings(const Teuchos::ParameterList& stepping, const Teuchos::ParameterList& newton) {
+  SolverSettings s;
+  if (stepping.isParameter("Load Factors")) {
+    const auto& a = stepping.get<Teuchos::Array<double>>("Load Factors");
+    double prev = 0.0;
+    for (double t : a) {
+      if (!(t > prev) || t > 1.0)
+        throw InputError("parameter \"Load Stepping/Load Factors\": values must increase strictly from 0 and not "
+                         "exceed 1");
+      s.loadFactors.push_back(t);
+      prev = t;
+    }
+    if (s.loadFactors.empty() || std::abs(s.loadFactors.back() - 1.0) > 1e-14)
+      throw InputError("parameter \"Load Stepping/Load Factors\": the last value must be 1");
+    s.loadFactors.back() = 1.0;
+  } else {
+    const int n = stepping.get<int>("Number of Increments");
+    for (int k = 1; k <= n; ++k) s.loadFactors.push_back(double(k) / n);
+  }
+  s.maxStepCuts = stepping.get<int>("Maximum Step Cuts");
+  s.maxIterations = newton.get<int>("Maximum Iterations");
+  s.residualTolerance = newton.get<double>("Residual Tolerance");
+  s.incrementTolerance = newton.get<double>("Increment Tolerance");
+  s.divergenceFactor = newton.get<double>("Divergence Factor");
+  return s;
+}
+
+StaticSolver::StaticSolver(Teuchos::RCP<const Comm> comm, Model& model, SolverSettings settings,
+                           LinearSolver& linear, Teuchos::RCP<Teuchos::StackedTimer> timer)
+    : comm_(comm), model_(model), settings_(std::move(settings)), linear_(linear), timer_(timer),
+      assembler_(comm, model) {
+  committed_ = model_.initial;
+  trial_ = committed_;
+  assembler_.rebuild(committed_);
+}
+
+void StaticSolver::start(const std::string& name) {
+  if (!timer_.is_null()) timer_->start(name);
+}
+void StaticSolver::stop(const std::string& name) {
+  if (!timer_.is_null()) timer_->stop(name);
+}
+
+RunReport StaticSolver::run(const StepCallback& onStep) {
+  RunReport run;
+  double Ta = 0.0;
+  for (double Tb : settings_.loadFactors) {
+    if (!attempt(Ta, Tb, 0, run, onStep)) return run;
+    Ta = Tb;
+  }
+  run.completed = true;
+  return run;
+}
+
+bool StaticSolver::attempt(double Ta, double Tb, int cutLevel, RunReport& run, const StepCallback& onStep) {
+  StepReport report;
+  std::string failure;
+  trial_ = committed_;
+  if (newton(Ta, Tb, report, failure)) {
+    committed_ = trial_;
+    committed_.updateRotationVectors();
+    for (auto& c : model_.contributions) c->commitStep(committed_);
+    report.step = ++run.steps;
+    report.T = Tb;
+    report.cutLevel = cutLevel;
+    run.newtonIterations += report.iterations;
+    run.lastT = Tb;
+    start("Output");
+    onStep(report, committed_, assembler_);
+    stop("Output");
+    return true;
+  }
+  for (auto& c : model_.contributions) c->restoreStep();
+  if (cutLevel >= settings_.maxStepCuts) {
+    std::ostringstream s;
+    s << "increment T = " << Ta << " -> " << Tb << " did not converge after " << cutLevel
+      << " step cuts (Maximum Step Cuts): " << failure;
+    run.failure = s.str();
+    return false;
+  }
+  if (comm_->getRank() == 0)
+    std::printf("  cutting increment T = %.6g -> %.6g (%s)\n", Ta, Tb, failure.c_str());
+  const double Tm = 0.5 * (Ta + Tb);
+  return attempt(Ta, Tm, cutLevel + 1, run, onStep) && attempt(Tm, Tb, cutLevel + 1, run, onStep);
+}
+
+bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string& failure) {
+  // Prescribed motions over the increment.
+  const GlobalDof ndof = trial_.numDofs();
+  std::vector<double> du(ndof, 0.0);
+  for (const Support& s : model_.supports)
+    for (int n : s.nodes)
+      for (int k = 0; k < 6; ++k)
+        if (s.fixed[k]) du[std::size_t(kDofsPerNode) * n + k] = s.value[k] * (Tb - Ta);
+  double stepNorm2 = 0.0;
+  for (double v : du) stepNorm2 += v * v;
+  std::vector<double> accumulated = du;
+  trial_.applyIncrement(du);
+
+  Vector x(assembler_.ownedMap());
+  double firstResidual = 0.0;
+  for (int k = 0;; ++k) {
+    start("Assembly");
+    assembler_.assemble(trial_, Tb, true);
+    stop("Assembly");
+    const double rn = assembler_.residual()->norm2();
+    double reactions2 = 0.0;
+    for (GlobalDof g : assembler_.constrainedDofs()) reactions2 += std::pow(assembler_.fullResidual()[g], 2);
+    double ext2 = 0.0;
+    for (const NodalLoad& l : model_.loads)
+      for (double v : l.value) ext2 += std::pow(Tb * v, 2);
+    if (k == 0) firstResidual = rn;
+    const double reference = std::max({firstResidual, std::sqrt(reactions2), std::sqrt(ext2)});
+    NewtonIterate it;
+    it.residualNorm = rn;
+    report.history.push_back(it);
+    if (!std::isfinite(rn)) {
+      failure = "the residual is not finite";
+      return false;
+    }
+    if (k > 0 && rn > settings_.divergenceFactor * std::max(reference, 1e-300)) {
+      failure = "Newton diverged (residual above Divergence Factor times its reference)";
+      return false;
+    }
+    // At k = 0 nothing has been solved yet: accept only a state already in equilibrium with
+    // respect to the loads and reactions (e.g. an increment that changes nothing).
+    const double forceScale = std::max(std::sqrt(reactions2), std::sqrt(ext2));
+    bool converged;
+    if (k == 0) {
+      converged = rn == 0.0 || rn <= settings_.residualTolerance * forceScale;
+    } else {
+      const double duLast = report.history[k - 1].incrementNorm;
+      converged = rn <= settings_.residualTolerance * reference &&
+                  duLast <= settings_.incrementTolerance * std::sqrt(stepNorm2);
+    }
+    if (converged) {
+      report.iterations = k;
+      return true;
+    }
+    if (k >= settings_.maxIterations) {
+      std::ostringstream s;
+      s << "no convergence in " << settings_.maxIterations << " Newton iterations (Maximum Iterations), last ||r|| = "
+        << rn;
+      failure = s.str();
+      return false;
+    }
+    Vector rhs(assembler_.ownedMap());
+    rhs.update(-1.0, *assembler_.residual(), 0.0);
+    SolveReport lin;
+    start("Linear Solve");
+    try {
+      lin = linear_.solve(assembler_.matrix(), rhs, x);
+    } catch (const LinearSolveError& e) {
+      stop("Linear Solve");
+      failure = e.what();
+      return false;
+    }
+    stop("Linear Solve");
+    const std::vector<double> inc = assembler_.gatherToAll(x);
+    double n2 = 0.0;
+    stepNorm2 = 0.0;
+    for (GlobalDof g = 0; g < ndof; ++g) {
+      n2 += inc[g] * inc[g];
+      accumulated[g] += inc[g];
+      stepNorm2 += accumulated[g] * accumulated[g];
+    }
+    report.history[k].incrementNorm = std::sqrt(n2);
+    report.history[k].linearIterations = lin.iterations;
+    report.history[k].linearResidual = lin.relativeResidual;
+    trial_.applyIncrement(inc);
+  }
+}
+
+}  // namespace bc::core

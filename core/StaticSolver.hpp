@@ -1,0 +1,90 @@
+// Quasi-static solution: load factor T from 0 to 1 over the configured increments, Newton-Raphson
+// in every increment, and bisection of an increment that fails (up to a configured depth).
+//
+// Per increment T_a -> T_b: the prescribed motions are advanced by their change over the increment
+// (rotations as spins about the global axes), then Newton iterates on the free dofs with the
+// consistent tangent. Convergence needs both
+//   ||r_k|| <= "Residual Tolerance" * max(||r_0||, ||T f_ext||, ||reactions||)  and
+//   ||du_k|| <= "Increment Tolerance" * ||accumulated increment of the step||.
+// An increment fails on the iteration limit, a non-finite or exploding residual, or a failed linear
+// solve; it is then halved and both halves are tried, up to "Maximum Step Cuts" levels. If that still
+// fails the run stops: every converged step's output stays, and the run is reported incomplete.
+#pragma once
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <Teuchos_StackedTimer.hpp>
+
+#include "Assembler.hpp"
+#include "LinearSolver.hpp"
+#include "Model.hpp"
+#include "Parameters.hpp"
+
+namespace bc::core {
+
+struct NewtonIterate {
+  double residualNorm = 0.0;
+  double incrementNorm = 0.0;  // of the increment solved at this iterate (0 on the last one)
+  int linearIterations = 0;
+  double linearResidual = 0.0;
+};
+
+struct StepReport {
+  int step = 0;        // counter of converged (sub)steps, from 1
+  double T = 0.0;      // load factor reached
+  int cutLevel = 0;    // 0 for a configured increment, k for a piece of a k-times halved one
+  int iterations = 0;  // Newton iterations (linear solves)
+  std::vector<NewtonIterate> history;
+};
+
+struct RunReport {
+  bool completed = false;
+  int steps = 0;
+  int newtonIterations = 0;
+  double lastT = 0.0;
+  std::string failure;  // cause, when not completed
+};
+
+struct SolverSettings {
+  std::vector<double> loadFactors;  // increasing, ending at 1
+  int maxStepCuts = 5;
+  int maxIterations = 25;
+  double residualTolerance = 1e-9;
+  double incrementTolerance = 1e-8;
+  double divergenceFactor = 1e10;  // ||r|| above this times the reference is divergence
+};
+
+const ParameterSpec& loadSteppingSpec();
+const ParameterSpec& newtonSpec();
+// Reads validated "Load Stepping" and "Nonlinear Solver" sublists.
+SolverSettings readSolverSettings(const Teuchos::ParameterList& stepping, const Teuchos::ParameterList& newton);
+
+class StaticSolver {
+ public:
+  using StepCallback = std::function<void(const StepReport&, const State&, const Assembler&)>;
+
+  StaticSolver(Teuchos::RCP<const Comm> comm, Model& model, SolverSettings settings, LinearSolver& linear,
+               Teuchos::RCP<Teuchos::StackedTimer> timer = Teuchos::null);
+
+  // Runs all increments; `onStep` is called on every rank after each converged (sub)step.
+  RunReport run(const StepCallback& onStep);
+  const State& state() const { return committed_; }
+  Assembler& assembler() { return assembler_; }
+
+ private:
+  bool attempt(double Ta, double Tb, int cutLevel, RunReport& run, const StepCallback& onStep);
+  bool newton(double Ta, double Tb, StepReport& report, std::string& failure);
+  void start(const std::string& name);
+  void stop(const std::string& name);
+
+  Teuchos::RCP<const Comm> comm_;
+  Model& model_;
+  SolverSettings settings_;
+  LinearSolver& linear_;
+  Teuchos::RCP<Teuchos::StackedTimer> timer_;
+  Assembler assembler_;
+  State committed_, trial_;
+};
+
+}  // namespace bc::core

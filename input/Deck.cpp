@@ -1,0 +1,381 @@
+#include "Deck.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include <Teuchos_Array.hpp>
+#include <Teuchos_XMLParameterListHelpers.hpp>
+
+namespace bc::input {
+
+using core::InputError;
+using core::ParameterSpec;
+using elements::Vec3d;
+using Teuchos::Array;
+using Teuchos::ParameterList;
+
+namespace {
+
+Array<double> zero3() { return Array<double>(3, 0.0); }
+
+const ParameterSpec& sectionSpec() {
+  static const ParameterSpec s = [] {
+    ParameterSpec p;
+    p.addChoice("Shape", "Rectangle", {"Rectangle", "Circle"}, "cross-section shape");
+    p.addOptional("Width", 1.0, "Rectangle: side b along the section's local y axis [length]", core::positive(), "> 0");
+    p.addOptional("Height", 1.0, "Rectangle: side h along the section's local z axis [length]", core::positive(), "> 0");
+    p.addOptional("Radius", 1.0, "Circle: radius [length]", core::positive(), "> 0");
+    return p;
+  }();
+  return s;
+}
+
+const ParameterSpec& materialSpec() {
+  static const ParameterSpec s = [] {
+    ParameterSpec p;
+    p.addRequired("Young's Modulus", 1.0, "E [force/length^2]", core::positive(), "> 0");
+    p.addRequired("Poisson's Ratio", 0.3, "nu; the shear modulus is E / (2 (1 + nu))", core::inRange(-1.0, 0.5),
+                  "in (-1, 0.5]");
+    return p;
+  }();
+  return s;
+}
+
+const ParameterSpec& beamSpec() {
+  static const ParameterSpec s = [] {
+    ParameterSpec p;
+    p.addRequired("Start", zero3(), "coordinates of the first node [length]", core::vector3());
+    p.addRequired("End", zero3(), "coordinates of the last node [length]", core::vector3());
+    p.addRequired("Elements", 10, "number of elements along the beam", core::atLeast(1), ">= 1");
+    p.addOptional("Section Orientation", zero3(),
+                  "direction of the section's local y axis (the Width side); default: normal to the beam axis "
+                  "and to global Z (for a beam along Z: global Y)",
+                  core::vector3());
+    p.addSublist("Section", sectionSpec().reference(), "cross-section");
+    p.addSublist("Material", materialSpec().reference(), "linear elastic material");
+    return p;
+  }();
+  return s;
+}
+
+void addLocation(ParameterSpec& p) {
+  p.addOptional("Beam", std::string("beam name"), "name of the beam (give Beam and Node, or Point)");
+  p.addOptional("Node", std::string("end"),
+                "node of that beam: \"start\", \"end\", \"middle\" or a node index 0..Elements");
+  p.addOptional("Point", zero3(), "coordinates of a node [length] (instead of Beam and Node)", core::vector3());
+}
+
+const ParameterSpec& supportSpec() {
+  static const ParameterSpec s = [] {
+    ParameterSpec p;
+    addLocation(p);
+    p.add("Fixed", std::string("all"),
+          "constrained components: \"all\" or a list of ux uy uz rx ry rz (others stay free)");
+    p.add("Displacement", zero3(), "prescribed displacement at T = 1 of the fixed ux uy uz [length]", core::vector3());
+    p.add("Rotation", zero3(),
+          "prescribed rotation at T = 1 of the fixed rx ry rz, as spins about the global axes [rad]", core::vector3());
+    return p;
+  }();
+  return s;
+}
+
+const ParameterSpec& loadSpec() {
+  static const ParameterSpec s = [] {
+    ParameterSpec p;
+    addLocation(p);
+    p.add("Force", zero3(), "point force at T = 1 (fixed direction) [force]", core::vector3());
+    p.add("Moment", zero3(), "point moment at T = 1 about fixed global axes [force*length]", core::vector3());
+    return p;
+  }();
+  return s;
+}
+
+const ParameterSpec& trackedSpec() {
+  static const ParameterSpec s = [] {
+    ParameterSpec p;
+    addLocation(p);
+    return p;
+  }();
+  return s;
+}
+
+const ParameterSpec& outputSpec() {
+  static const ParameterSpec s = [] {
+    ParameterSpec p;
+    p.addOptional("Directory", std::string("results/<deck name>"),
+                  "results directory (default results/<deck file name without .xml>); --output overrides it");
+    p.add("Write VTK", true, "write vtk/step_*.vtu and results.pvd");
+    p.addSublist("Tracked Points", ParameterList(),
+                 "named sublists, each a point (Beam + Node, or Point) whose motion is written per step");
+    return p;
+  }();
+  return s;
+}
+
+const ParameterSpec& topSpec() {
+  static const ParameterSpec s = [] {
+    ParameterSpec p;
+    p.addSublist("Beams", ParameterList(), "one sublist per beam; the sublist name is the beam name");
+    p.addSublist("Supports", ParameterList(), "named supports and prescribed motions");
+    p.addSublist("Loads", ParameterList(), "named point forces and moments (scaled by T)");
+    p.addSublist("Load Stepping", core::loadSteppingSpec().reference(), "load factor increments");
+    p.addSublist("Nonlinear Solver", core::newtonSpec().reference(), "Newton-Raphson settings");
+    p.addSublist("Linear Solver", core::linearSolverSpec().reference(), "linear solver settings");
+    p.addSublist("Output", outputSpec().reference(), "results directory and tracked points");
+    return p;
+  }();
+  return s;
+}
+
+Vec3d toVec(const Array<double>& a) { return {{a[0], a[1], a[2]}}; }
+
+// Validates every sublist of `parent` with `spec` (each sublist is one named item).
+void forEachItem(ParameterList& parent, const std::string& path, const ParameterSpec& spec,
+                 const std::function<void(ParameterList&, const std::string&, const std::string&)>& fn) {
+  for (auto it = parent.begin(); it != parent.end(); ++it) {
+    const std::string name = parent.name(it);
+    if (!parent.isSublist(name))
+      throw InputError("\"" + path + "/" + name + "\" must be a sublist (one per item, named by the item)");
+    ParameterList& item = parent.sublist(name);
+    spec.apply(item, path + "/" + name);
+    fn(item, name, path + "/" + name);
+  }
+}
+
+class Locator {
+ public:
+  Locator(const Problem& p, const core::State& s) : p_(p), s_(s) {}
+
+  // Nodes addressed by a location sublist. `several` allows all coincident nodes of a Point.
+  std::vector<int> nodes(const ParameterList& item, const std::string& path, bool several) const {
+    const bool hasBeam = item.isParameter("Beam"), hasNode = item.isParameter("Node"),
+               hasPoint = item.isParameter("Point");
+    if (hasPoint && (hasBeam || hasNode))
+      throw InputError("\"" + path + "\": give either \"Point\" or \"Beam\" with \"Node\", not both");
+    if (hasPoint) return nodesAt(toVec(item.get<Array<double>>("Point")), path, several);
+    if (!hasBeam || !hasNode)
+      throw InputError("\"" + path + "\": missing location; give \"Beam\" and \"Node\", or \"Point\"");
+    const std::string beam = item.get<std::string>("Beam");
+    const auto b = p_.beamIndex.find(beam);
+    if (b == p_.beamIndex.end()) {
+      std::vector<std::string> names;
+      for (const auto& [n, i] : p_.beamIndex) names.push_back(n);
+      throw InputError("parameter \"" + path + "/Beam\": unknown beam \"" + beam + "\"; beams are " +
+                       core::joinNames(names));
+    }
+    const auto& nodes = p_.beams->beams()[b->second].nodes;
+    const int ne = static_cast<int>(nodes.size()) - 1;
+    const std::string node = item.get<std::string>("Node");
+    int index = 0;
+    if (node == "start") index = 0;
+    else if (node == "end") index = ne;
+    else if (node == "middle") {
+      if (ne % 2) throw InputError("parameter \"" + path + "/Node\": \"middle\" needs an even element count, beam \"" +
+                                   beam + "\" has " + std::to_string(ne));
+      index = ne / 2;
+    } else {
+      std::size_t used = 0;
+      try { index = std::stoi(node, &used); } catch (...) { used = 0; }
+      if (used != node.size() || node.empty() || index < 0 || index > ne)
+        throw InputError("parameter \"" + path + "/Node\": \"" + node +
+                         "\" is not \"start\", \"end\", \"middle\" or an index 0.." + std::to_string(ne));
+    }
+    return {nodes[index]};
+  }
+
+ private:
+  std::vector<int> nodesAt(const Vec3d& x, const std::string& path, bool several) const {
+    double scale = 0.0;
+    for (const auto& X : s_.reference) scale = std::max(scale, norm(X));
+    const double tol = 1e-8 * std::max(scale, 1.0);
+    std::vector<int> found;
+    double nearest = 1e300;
+    for (int n = 0; n < s_.numNodes(); ++n) {
+      const double d = norm(s_.reference[n] - x);
+      nearest = std::min(nearest, d);
+      if (d <= tol) found.push_back(n);
+    }
+    if (found.empty())
+      throw InputError("parameter \"" + path + "/Point\": no node there (nearest node at distance " +
+                       std::to_string(nearest) + ")");
+    if (found.size() > 1 && !several)
+      throw InputError("parameter \"" + path + "/Point\": several beams have a node there; use Beam and Node");
+    return found;
+  }
+  const Problem& p_;
+  const core::State& s_;
+};
+
+std::array<bool, 6> parseFixed(const std::string& text, const std::string& path) {
+  std::array<bool, 6> fixed{};
+  if (text == "all") { fixed.fill(true); return fixed; }
+  static const char* names[6] = {"ux", "uy", "uz", "rx", "ry", "rz"};
+  std::istringstream in(text);
+  std::string word;
+  bool any = false;
+  while (in >> word) {
+    int k = 0;
+    while (k < 6 && word != names[k]) ++k;
+    if (k == 6)
+      throw InputError("parameter \"" + path + "/Fixed\": \"" + word +
+                       "\" is not a component; use \"all\" or ux uy uz rx ry rz");
+    fixed[k] = any = true;
+  }
+  if (!any) throw InputError("parameter \"" + path + "/Fixed\" is empty; use \"all\" or ux uy uz rx ry rz");
+  return fixed;
+}
+
+}  // namespace
+
+ParameterList readDeckFile(const std::string& path) {
+  if (!std::filesystem::exists(path)) throw InputError("deck file \"" + path + "\" does not exist");
+  {
+    std::ifstream f(path);
+    if (!f) throw InputError("deck file \"" + path + "\" cannot be read");
+  }
+  try {
+    auto list = Teuchos::getParametersFromXmlFile(path);
+    return *list;
+  } catch (const std::exception& e) {
+    std::string msg = e.what();
+    const auto nl = msg.find_last_not_of("\n ");
+    msg = msg.substr(0, nl + 1);
+    throw InputError("deck file \"" + path + "\" is not a valid parameter-list XML file: " + msg);
+  }
+}
+
+Problem buildProblem(ParameterList deck, const std::string& deckName) {
+  Problem p;
+  const std::string top = "BeamContact";
+  if (deck.name() != top && deck.name() != "ANONYMOUS")
+    throw InputError("the deck's top-level ParameterList must be named \"" + top + "\", not \"" + deck.name() + "\"");
+  topSpec().apply(deck, top);
+  for (const char* required : {"Beams"})
+    if (!deck.isSublist(required)) throw InputError("missing required sublist \"" + top + "/" + required + "\"");
+  for (const char* sub : {"Supports", "Loads", "Load Stepping", "Nonlinear Solver", "Linear Solver", "Output"})
+    deck.sublist(sub);
+
+  // Beams: nodes numbered beam after beam.
+  p.beams = std::make_shared<elements::BeamSet>();
+  core::State& state = p.model.initial;
+  std::vector<elements::Beam> beams;
+  std::vector<std::pair<Vec3d, Vec3d>> ends;
+  ParameterList& beamList = deck.sublist("Beams");
+  if (beamList.numParams() == 0) throw InputError("\"" + top + "/Beams\" holds no beam");
+  std::vector<Vec3d> reference;
+  forEachItem(beamList, top + "/Beams", beamSpec(), [&](ParameterList& b, const std::string& name, const std::string& path) {
+    sectionSpec().apply(b.sublist("Section"), path + "/Section");
+    if (!b.isSublist("Material")) throw InputError("missing required sublist \"" + path + "/Material\"");
+    materialSpec().apply(b.sublist("Material"), path + "/Material");
+    const ParameterList& sec = b.sublist("Section");
+    elements::Beam beam;
+    beam.name = name;
+    if (sec.get<std::string>("Shape") == "Rectangle") {
+      for (const char* k : {"Width", "Height"})
+        if (!sec.isParameter(k))
+          throw InputError("missing required parameter \"" + path + "/Section/" + k + "\" for a Rectangle");
+      if (sec.isParameter("Radius"))
+        throw InputError("parameter \"" + path + "/Section/Radius\" does not apply to a Rectangle");
+      beam.section = elements::CrossSection::rectangle(sec.get<double>("Width"), sec.get<double>("Height"));
+    } else {
+      if (!sec.isParameter("Radius"))
+        throw InputError("missing required parameter \"" + path + "/Section/Radius\" for a Circle");
+      if (sec.isParameter("Width") || sec.isParameter("Height"))
+        throw InputError("parameters Width/Height in \"" + path + "/Section\" do not apply to a Circle");
+      beam.section = elements::CrossSection::circle(sec.get<double>("Radius"));
+    }
+    beam.material.youngsModulus = b.sublist("Material").get<double>("Young's Modulus");
+    beam.material.poissonsRatio = b.sublist("Material").get<double>("Poisson's Ratio");
+    const Vec3d A = toVec(b.get<Array<double>>("Start")), B = toVec(b.get<Array<double>>("End"));
+    const Vec3d axis = B - A;
+    const double L = norm(axis);
+    if (!(L > 0.0)) throw InputError("beam \"" + path + "\" has zero length (Start equals End)");
+    const Vec3d e1 = (1.0 / L) * axis;
+    if (b.isParameter("Section Orientation")) {
+      beam.sectionY = toVec(b.get<Array<double>>("Section Orientation"));
+      const Vec3d c = cross(beam.sectionY, e1);
+      if (norm(c) <= 1e-8 * norm(beam.sectionY))
+        throw InputError("parameter \"" + path + "/Section Orientation\" is zero or parallel to the beam axis");
+    } else {
+      const Vec3d Z{{0, 0, 1}};
+      const Vec3d c = cross(Z, e1);
+      beam.sectionY = norm(c) > 1e-8 ? c : Vec3d{{0, 1, 0}};
+    }
+    const int ne = b.get<int>("Elements");
+    const int first = static_cast<int>(reference.size());
+    for (int k = 0; k <= ne; ++k) {
+      reference.push_back(A + (double(k) / ne) * axis);
+      beam.nodes.push_back(first + k);
+    }
+    p.beamIndex[name] = static_cast<int>(beams.size());
+    beams.push_back(beam);
+  });
+  state.resize(static_cast<int>(reference.size()));
+  state.reference = reference;
+  state.position = reference;
+  for (const auto& beam : beams) p.beams->addBeam(beam, reference);
+  p.model.contributions.push_back(p.beams);
+
+  Locator locate(p, state);
+  forEachItem(deck.sublist("Supports"), top + "/Supports", supportSpec(),
+              [&](ParameterList& s, const std::string& name, const std::string& path) {
+                core::Support sup;
+                sup.name = name;
+                sup.nodes = locate.nodes(s, path, true);
+                sup.fixed = parseFixed(s.get<std::string>("Fixed"), path);
+                const auto d = s.get<Array<double>>("Displacement"), r = s.get<Array<double>>("Rotation");
+                static const char* comp[6] = {"ux", "uy", "uz", "rx", "ry", "rz"};
+                for (int k = 0; k < 6; ++k) {
+                  sup.value[k] = k < 3 ? d[k] : r[k - 3];
+                  if (sup.value[k] != 0.0 && !sup.fixed[k])
+                    throw InputError("parameter \"" + path + (k < 3 ? "/Displacement" : "/Rotation") +
+                                     "\": a nonzero value is given for " + comp[k] + ", which is not in Fixed");
+                }
+                p.model.supports.push_back(sup);
+              });
+  forEachItem(deck.sublist("Loads"), top + "/Loads", loadSpec(),
+              [&](ParameterList& l, const std::string& name, const std::string& path) {
+                core::NodalLoad load;
+                load.name = name;
+                load.node = locate.nodes(l, path, false).front();
+                const auto f = l.get<Array<double>>("Force"), m = l.get<Array<double>>("Moment");
+                for (int k = 0; k < 3; ++k) { load.value[k] = f[k]; load.value[3 + k] = m[k]; }
+                p.model.loads.push_back(load);
+              });
+
+  ParameterList& stepping = deck.sublist("Load Stepping");
+  core::loadSteppingSpec().apply(stepping, top + "/Load Stepping");
+  ParameterList& newton = deck.sublist("Nonlinear Solver");
+  core::newtonSpec().apply(newton, top + "/Nonlinear Solver");
+  p.solver = core::readSolverSettings(stepping, newton);
+  ParameterList& linear = deck.sublist("Linear Solver");
+  core::linearSolverSpec().apply(linear, top + "/Linear Solver");
+  p.linearSolver = linear;
+
+  ParameterList& out = deck.sublist("Output");
+  outputSpec().apply(out, top + "/Output");
+  p.writeVtk = out.get<bool>("Write VTK");
+  p.outputDirectory = out.isParameter("Directory") ? out.get<std::string>("Directory") : "results/" + deckName;
+  forEachItem(out.sublist("Tracked Points"), top + "/Output/Tracked Points", trackedSpec(),
+              [&](ParameterList& t, const std::string& name, const std::string& path) {
+                p.model.tracked.push_back({name, locate.nodes(t, path, false).front()});
+              });
+  if (p.model.supports.empty())
+    throw InputError("\"" + top + "/Supports\" is empty: the structure would be free to move as a rigid body");
+  p.effective = deck;
+  return p;
+}
+
+ParameterList referenceParameters() {
+  ParameterList ref("BeamContact");
+  ref.setParameters(topSpec().reference());
+  ParameterList beam = beamSpec().reference();
+  ref.sublist("Beams").sublist("<beam name>", false, "one sublist per beam").setParameters(beam);
+  ref.sublist("Supports").sublist("<support name>").setParameters(supportSpec().reference());
+  ref.sublist("Loads").sublist("<load name>").setParameters(loadSpec().reference());
+  ref.sublist("Output").sublist("Tracked Points").sublist("<point name>").setParameters(trackedSpec().reference());
+  return ref;
+}
+
+}  // namespace bc::input

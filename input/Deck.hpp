@@ -1,0 +1,37 @@
+// Reads a BeamContact XML deck (a Teuchos ParameterList named "BeamContact"), validates every
+// sublist against its component's specification and builds the Model. See docs/input.md and
+// `beamcontact --print-valid-parameters` for the reference.
+#pragma once
+#include <map>
+#include <memory>
+#include <string>
+
+#include <Teuchos_ParameterList.hpp>
+
+#include "core/Model.hpp"
+#include "core/Parameters.hpp"
+#include "core/StaticSolver.hpp"
+#include "elements/BeamSet.hpp"
+
+namespace bc::input {
+
+struct Problem {
+  core::Model model;
+  std::shared_ptr<elements::BeamSet> beams;
+  std::map<std::string, int> beamIndex;  // beam name -> index in beams->beams()
+  core::SolverSettings solver;
+  Teuchos::ParameterList linearSolver;   // validated "Linear Solver" sublist
+  std::string outputDirectory;
+  bool writeVtk = true;
+  Teuchos::ParameterList effective;      // the whole deck with defaults filled in
+};
+
+// Parses the file; throws core::InputError naming the file for a missing file or malformed XML.
+Teuchos::ParameterList readDeckFile(const std::string& path);
+// Validates `deck` (defaults are filled in place) and builds the problem. `deckName` names the default
+// results directory ("results/<deckName>").
+Problem buildProblem(Teuchos::ParameterList deck, const std::string& deckName);
+// The documented reference of every parameter.
+Teuchos::ParameterList referenceParameters();
+
+}  // namespace bc::input
