@@ -24,9 +24,11 @@ RunResult simulate(Model& model, const SolverSettings& settings, const Teuchos::
   writer.writeInitial(model.initial);
 
   StaticSolver solver(comm, model, settings, *linear, timer);
+  RunResult result;
   const auto t0 = std::chrono::steady_clock::now();
   const RunReport run = solver.run([&](const StepReport& step, const State& state, const Assembler& assembler) {
     writer.writeStep(step, state, assembler.fullResidual());
+    result.steps.push_back(step);
     if (root && options.progress) {
       std::printf("step %4d  T = %.6f  Newton %2d  |r| %.3e", step.step, step.T, step.iterations,
                   step.history.back().residualNorm);
@@ -44,7 +46,6 @@ RunResult simulate(Model& model, const SolverSettings& settings, const Teuchos::
   timer->report(report, comm, opts);
   writer.finish(run, report.str());
 
-  RunResult result;
   result.report = run;
   result.solveSeconds = std::chrono::duration<double>(t1 - t0).count();
   result.finalState = solver.state();

@@ -3,6 +3,7 @@
 #pragma once
 #include <iosfwd>
 #include <string>
+#include <vector>
 
 #include <Teuchos_ParameterList.hpp>
 
@@ -22,6 +23,7 @@ struct RunResult {
   RunReport report;
   double solveSeconds = 0.0;  // wall time of the load stepping (excludes start-up and set-up)
   State finalState;
+  std::vector<StepReport> steps;  // every converged step with its Newton history
 };
 
 RunResult simulate(Model& model, const SolverSettings& settings, const Teuchos::ParameterList& linearSolver,

@@ -122,6 +122,16 @@ bool StaticSolver::attempt(double Ta, double Tb, int cutLevel, RunReport& run, c
   return attempt(Ta, Tm, cutLevel + 1, run, onStep) && attempt(Tm, Tb, cutLevel + 1, run, onStep);
 }
 
+StepReport StaticSolver::iterateFrom(const State& start, double T, State& result) {
+  StepReport report;
+  std::string failure;
+  trial_ = start;
+  newton(T, T, report, failure);
+  result = trial_;
+  trial_ = committed_;
+  return report;
+}
+
 bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string& failure) {
   // Prescribed motions over the increment.
   const GlobalDof ndof = trial_.numDofs();
@@ -167,9 +177,12 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
     if (k == 0) {
       converged = rn == 0.0 || rn <= settings_.residualTolerance * forceScale;
     } else {
+      // The residual cannot fall below its round-off floor (about eps * EA per element): once the
+      // increments are negligible, a residual that stopped decreasing has reached that floor.
       const double duLast = report.history[k - 1].incrementNorm;
-      converged = rn <= settings_.residualTolerance * reference &&
-                  duLast <= settings_.incrementTolerance * std::sqrt(stepNorm2);
+      const bool incrementOk = duLast <= settings_.incrementTolerance * std::sqrt(stepNorm2);
+      const bool stagnated = k >= 2 && rn > 0.5 * report.history[k - 1].residualNorm;
+      converged = incrementOk && (rn <= settings_.residualTolerance * reference || stagnated);
     }
     if (converged) {
       report.iterations = k;

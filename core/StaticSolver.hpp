@@ -5,7 +5,9 @@
 // (rotations as spins about the global axes), then Newton iterates on the free dofs with the
 // consistent tangent. Convergence needs both
 //   ||r_k|| <= "Residual Tolerance" * max(||r_0||, ||T f_ext||, ||reactions||)  and
-//   ||du_k|| <= "Increment Tolerance" * ||accumulated increment of the step||.
+//   ||du_k|| <= "Increment Tolerance" * ||accumulated increment of the step||,
+// where the residual test also passes once the residual stagnates at its round-off floor while the
+// increment test holds (then ||r|| <= ||K|| ||du|| is negligible).
 // An increment fails on the iteration limit, a non-finite or exploding residual, or a failed linear
 // solve; it is then halved and both halves are tried, up to "Maximum Step Cuts" levels. If that still
 // fails the run stops: every converged step's output stays, and the run is reported incomplete.
@@ -70,6 +72,9 @@ class StaticSolver {
   // Runs all increments; `onStep` is called on every rank after each converged (sub)step.
   RunReport run(const StepCallback& onStep);
   const State& state() const { return committed_; }
+  // Newton iterations from `start` at load factor T with the supports held where they are; for
+  // convergence studies. Returns the history (residual and increment norms) and the final state.
+  StepReport iterateFrom(const State& start, double T, State& result);
   Assembler& assembler() { return assembler_; }
 
  private:

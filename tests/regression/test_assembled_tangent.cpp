@@ -1,0 +1,56 @@
+// The assembled tangent (all contributions, supports applied) against central finite differences of
+// the assembled residual, at a deformed large-rotation state of a cantilever. Also runs on 2 ranks.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/Assembler.hpp"
+#include "support/TestSupport.hpp"
+
+using namespace bc;
+
+TEST(AssembledTangent, MatchesCentralDifferencesOfTheResidual) {
+  auto comm = Tpetra::getDefaultComm();
+  const double EI = 30000.0 * 2.0 * 64.0 / 12.0;
+  const double P = 3.0 * EI / (100.0 * 100.0);
+  auto p = test::problemFromXml(test::cantileverXml(100.0, 2.0, 4.0, 30000.0, 0.25, 6, "0," + test::num(0.3 * P) + "," + test::num(P),
+                                                    test::num(0.2 * P) + ",0,0", 3));
+  const auto run = test::runQuiet(p, comm, "assembled_tangent");
+  ASSERT_TRUE(run.report.completed);
+  core::State s = run.finalState;
+  // Move away from equilibrium so that the residual is not zero.
+  s.applyNodeIncrement(3, std::array<double, 6>{0.5, -0.3, 0.2, 0.05, -0.1, 0.08}.data());
+
+  core::Assembler a(comm, p.model);
+  a.rebuild(s);
+  a.assemble(s, 0.7, true);
+  const auto K = a.matrix();
+  const int n = static_cast<int>(s.numDofs());
+  const double h = 1e-6;
+  double err = 0.0, kmax = 0.0;
+  for (int j = 0; j < n; ++j) {
+    if (a.constrainedDofs().count(j)) continue;
+    std::vector<double> du(n, 0.0);
+    du[j] = h;
+    core::State sp = s, sm = s;
+    sp.applyIncrement(du);
+    du[j] = -h;
+    sm.applyIncrement(du);
+    a.assemble(sp, 0.7, false);
+    const auto rp = a.gatherToAll(*a.residual());
+    a.assemble(sm, 0.7, false);
+    const auto rm = a.gatherToAll(*a.residual());
+    // Column j of K: apply K to e_j.
+    core::Vector ej(a.ownedMap()), col(a.ownedMap());
+    if (a.ownsDof(j)) ej.replaceGlobalValue(j, 1.0);
+    K->apply(ej, col);
+    const auto kc = a.gatherToAll(col);
+    for (int i = 0; i < n; ++i) {
+      if (a.constrainedDofs().count(i)) continue;
+      err = std::max(err, std::abs((rp[i] - rm[i]) / (2 * h) - kc[i]));
+      kmax = std::max(kmax, std::abs(kc[i]));
+    }
+  }
+  if (comm->getRank() == 0) std::printf("assembled tangent: max |K - FD| / max |K| = %.3e\n", err / kmax);
+  EXPECT_LT(err / kmax, 1e-6);
+}

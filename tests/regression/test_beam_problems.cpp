@@ -1,0 +1,132 @@
+// Regression tests of the nonlinear beam solver against closed forms:
+//  - linear cantilever (Euler-Bernoulli): tip deflection and rotation in both bending planes, axial
+//    stretch and twist, loads small enough (tip deflection 1e-4 L) that geometric nonlinearity is
+//    ~1e-8 relative; tolerance 1e-6 relative;
+//  - end moment M = 2 pi E I / L rolls the cantilever into a full circle;
+//  - quadratic convergence of Newton on a large-deflection tip-force case (order asserted).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "elements/CrossSection.hpp"
+#include "support/TestSupport.hpp"
+
+using namespace bc;
+
+namespace {
+
+const double L = 100.0, b = 2.0, h = 4.0, E = 30000.0, nu = 0.25;
+
+core::State solveTip(const std::string& force, const std::string& moment, const std::string& name) {
+  auto p = test::problemFromXml(test::cantileverXml(L, b, h, E, nu, 10, force, moment, 1));
+  const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), name);
+  EXPECT_TRUE(r.report.completed) << r.report.failure;
+  return r.finalState;
+}
+
+}  // namespace
+
+TEST(LinearCantilever, TipValuesMatchEulerBernoulliClosedForms) {
+  const auto cs = elements::CrossSection::rectangle(b, h);
+  const double Iy = cs.inertiaY(), Iz = cs.inertiaZ(), A = cs.area(), J = cs.torsionConstant();
+  const double G = E / (2 * (1 + nu));
+  const int tip = 10;
+  const double P = 1e-4 * 3 * E * Iz / (L * L);  // deflection 1e-4 L in the weaker plane
+  {
+    const auto s = solveTip("0,0," + test::num(P), "0,0,0", "bend_z");
+    const double w = P * L * L * L / (3 * E * Iy), th = P * L * L / (2 * E * Iy);
+    EXPECT_NEAR(s.displacement(tip)[2], w, 1e-6 * w);
+    EXPECT_NEAR(s.rotationVector[tip][1], -th, 1e-6 * th);  // +z deflection turns the axis about -y
+  }
+  {
+    const auto s = solveTip("0," + test::num(P) + ",0", "0,0,0", "bend_y");
+    const double w = P * L * L * L / (3 * E * Iz), th = P * L * L / (2 * E * Iz);
+    EXPECT_NEAR(s.displacement(tip)[1], w, 1e-6 * w);
+    EXPECT_NEAR(s.rotationVector[tip][2], th, 1e-6 * th);
+  }
+  {
+    const double N = 1e-4 * E * A;
+    const auto s = solveTip(test::num(N) + ",0,0", "0,0,0", "axial");
+    const double u = N * L / (E * A);
+    EXPECT_NEAR(s.displacement(tip)[0], u, 1e-6 * u);
+  }
+  {
+    const double T = 1e-4 * G * J / L;
+    const auto s = solveTip("0,0,0", test::num(T) + ",0,0", "torsion");
+    const double phi = T * L / (G * J);
+    EXPECT_NEAR(s.rotationVector[tip][0], phi, 1e-6 * phi);
+  }
+}
+
+TEST(RollUp, EndMomentRollsCantileverIntoFullCircle) {
+  const double EI = E * 1.0 / 12.0;  // 1 x 1 section
+  const double M = 2 * std::acos(-1.0) * EI / L;
+  auto p = test::problemFromXml(test::cantileverXml(L, 1.0, 1.0, E, 0.3, 20, "0,0,0",
+                                                    "0," + test::num(-M) + ",0", 20,
+                                                    R"XML(<ParameterList name="Nonlinear Solver">
+      <Parameter name="Residual Tolerance" type="double" value="1e-13"/>
+      <Parameter name="Increment Tolerance" type="double" value="1e-12"/></ParameterList>)XML"));
+  const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "rollup");
+  ASSERT_TRUE(r.report.completed) << r.report.failure;
+  EXPECT_EQ(r.report.steps, 20);  // no step was cut
+  int maxIt = 0;
+  for (const auto& s : r.steps) {
+    EXPECT_EQ(s.cutLevel, 0);
+    maxIt = std::max(maxIt, s.iterations);
+  }
+  const auto& s = r.finalState;
+  const int tip = 20;
+  std::printf("tip displacement (%.3e, %.3e, %.3e), rotation about y %.12f (2 pi = %.12f), max Newton %d\n",
+              s.displacement(tip)[0], s.displacement(tip)[1], s.displacement(tip)[2], s.rotationVector[tip][1],
+              2 * std::acos(-1.0), maxIt);
+  // Tip back at the clamp: the 20 equal chords of the deformed beam close a regular polygon exactly.
+  EXPECT_NEAR(s.position[tip][0], 0.0, 1e-9 * L);
+  EXPECT_NEAR(s.position[tip][1], 0.0, 1e-9 * L);
+  EXPECT_NEAR(s.position[tip][2], 0.0, 1e-9 * L);
+  EXPECT_NEAR(s.rotationVector[tip][1], -2 * std::acos(-1.0), 1e-9);
+  // Mid node: across the polygon, diameter = chord / sin(pi / n).
+  const double chord = L / 20;
+  EXPECT_NEAR(s.position[10][2], chord / std::sin(std::acos(-1.0) / 20), 1e-9 * L);
+}
+
+TEST(Newton, ConvergesQuadraticallyNearTheSolution) {
+  // Large deflection: tip force with P L^2 / (E I) = 5 (tip deflection ~0.7 L, rotations ~1 rad).
+  const double EI = E * b * h * h * h / 12.0;
+  const double P = 5.0 * EI / (L * L);
+  auto p = test::problemFromXml(test::cantileverXml(L, b, h, E, nu, 10, "0,0," + test::num(P), "0,0,0", 5));
+  auto comm = Tpetra::getDefaultComm();
+  const auto r = test::runQuiet(p, comm, "quadratic");
+  ASSERT_TRUE(r.report.completed) << r.report.failure;
+  for (const auto& step : r.steps) {
+    std::printf("load step %d residuals:", step.step);
+    for (const auto& it : step.history) std::printf(" %.1e", it.residualNorm);
+    std::printf("\n");
+  }
+  // Near the solution: from the converged state at T = 1, solve for T = 1.01 (a 1 % load change,
+  // a perturbation along the soft bending mode). Measured: how the number of correct digits grows,
+  // p = log(eps_k+1) / log(eps_k) with eps_k = ||du_k|| / ||du_0||, which is 2 for quadratic
+  // convergence (digits double each iteration). Counted once eps_k < 1e-2 (the asymptotic range)
+  // and while ||du_k+1|| > 1e-12 (round-off).
+  auto linear = core::makeLinearSolver(p.linearSolver);
+  core::StaticSolver solver(comm, p.model, p.solver, *linear);
+  core::State end;
+  const auto trace = solver.iterateFrom(r.finalState, 1.01, end);
+  std::printf("near the solution: residuals");
+  for (const auto& it : trace.history) std::printf(" %.2e", it.residualNorm);
+  std::printf("\n                   increments");
+  for (const auto& it : trace.history) std::printf(" %.2e", it.incrementNorm);
+  std::printf("\n                   orders    ");
+  int measured = 0;
+  const double du0 = trace.history[0].incrementNorm;
+  for (std::size_t k = 1; k + 1 < trace.history.size(); ++k) {
+    const double ek = trace.history[k].incrementNorm / du0, next = trace.history[k + 1].incrementNorm;
+    if (next < 1e-12) break;
+    if (ek >= 1e-2) continue;
+    const double order = std::log(next / du0) / std::log(ek);
+    std::printf(" %.3f", order);
+    EXPECT_GT(order, 1.8);
+    ++measured;
+  }
+  std::printf("\n");
+  EXPECT_GE(measured, 1);
+}

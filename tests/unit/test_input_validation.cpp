@@ -1,0 +1,115 @@
+// Each kind of bad input gives an InputError whose text names the parameter's full path (and, for
+// choices and misspelt keys, the valid names).
+#include <gtest/gtest.h>
+
+#include <regex>
+
+#include "support/TestSupport.hpp"
+
+using namespace bc;
+
+namespace {
+
+std::string deck(const std::string& beamExtra = "", const std::string& section = R"XML(
+      <Parameter name="Width" type="double" value="1"/><Parameter name="Height" type="double" value="1"/>)XML",
+                 const std::string& material = R"XML(<Parameter name="Young's Modulus" type="double" value="100"/>
+      <Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML",
+                 const std::string& elements = R"XML(<Parameter name="Elements" type="int" value="4"/>)XML",
+                 const std::string& end = "{10,0,0}", const std::string& rest = "") {
+  return R"XML(<ParameterList name="BeamContact"><ParameterList name="Beams"><ParameterList name="rod">
+    <Parameter name="Start" type="Array(double)" value="{0,0,0}"/>
+    <Parameter name="End" type="Array(double)" value=")XML" + end + R"XML("/>)XML" + elements + beamExtra + R"XML(
+    <ParameterList name="Section">)XML" + section + R"XML(</ParameterList>
+    <ParameterList name="Material">)XML" + material + R"XML(</ParameterList>
+  </ParameterList></ParameterList>
+  <ParameterList name="Supports"><ParameterList name="clamp">
+    <Parameter name="Beam" type="string" value="rod"/><Parameter name="Node" type="string" value="start"/>
+  </ParameterList></ParameterList>)XML" + rest + "</ParameterList>";
+}
+
+void expectError(const std::string& xml, const std::string& pattern) {
+  try {
+    test::problemFromXml(xml);
+    ADD_FAILURE() << "no error; expected one matching: " << pattern;
+  } catch (const core::InputError& e) {
+    EXPECT_TRUE(std::regex_search(std::string(e.what()), std::regex(pattern)))
+        << "message: " << e.what() << "\nexpected to match: " << pattern;
+  }
+}
+
+}  // namespace
+
+TEST(InputValidation, ValidDeckBuilds) {
+  const auto p = test::problemFromXml(deck());
+  EXPECT_EQ(p.model.initial.numNodes(), 5);
+  // Defaults filled in the effective list.
+  EXPECT_EQ(p.effective.sublist("Linear Solver").get<std::string>("Type"), "Direct");
+  EXPECT_EQ(p.effective.sublist("Load Stepping").get<int>("Number of Increments"), 10);
+}
+
+TEST(InputValidation, MistypedKeyIsNamedWithValidKeys) {
+  expectError(deck(R"XML(<Parameter name="Elemnts" type="int" value="4"/>)XML"),
+              R"XML(unknown parameter "BeamContact/Beams/rod/Elemnts"; valid parameters here are .*"Elements")XML");
+}
+
+TEST(InputValidation, WrongTypeIsNamed) {
+  expectError(deck("", R"XML(<Parameter name="Width" type="string" value="wide"/>
+      <Parameter name="Height" type="double" value="1"/>)XML"),
+              R"XML(parameter "BeamContact/Beams/rod/Section/Width" has type string, expected double)XML");
+}
+
+TEST(InputValidation, NonPositiveYoungsModulus) {
+  expectError(deck("", R"XML(<Parameter name="Width" type="double" value="1"/><Parameter name="Height" type="double" value="1"/>)XML",
+                   R"XML(<Parameter name="Young's Modulus" type="double" value="-5"/><Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML"),
+              R"XML("BeamContact/Beams/rod/Material/Young's Modulus": must be > 0, got -5)XML");
+}
+
+TEST(InputValidation, MissingRequiredParameter) {
+  expectError(deck("", R"XML(<Parameter name="Width" type="double" value="1"/><Parameter name="Height" type="double" value="1"/>)XML",
+                   R"XML(<Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML"),
+              R"XML(missing required parameter "BeamContact/Beams/rod/Material/Young's Modulus")XML");
+  expectError(deck("", R"XML(<Parameter name="Width" type="double" value="1"/>)XML"),
+              R"XML(missing required parameter "BeamContact/Beams/rod/Section/Height" for a Rectangle)XML");
+}
+
+TEST(InputValidation, ZeroElements) {
+  expectError(deck("", R"XML(<Parameter name="Width" type="double" value="1"/><Parameter name="Height" type="double" value="1"/>)XML",
+                   R"XML(<Parameter name="Young's Modulus" type="double" value="100"/><Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML",
+                   R"XML(<Parameter name="Elements" type="int" value="0"/>)XML"),
+              R"XML("BeamContact/Beams/rod/Elements": must be >= 1, got 0)XML");
+}
+
+TEST(InputValidation, ZeroLengthBeam) {
+  expectError(deck("", R"XML(<Parameter name="Width" type="double" value="1"/><Parameter name="Height" type="double" value="1"/>)XML",
+                   R"XML(<Parameter name="Young's Modulus" type="double" value="100"/><Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML",
+                   R"XML(<Parameter name="Elements" type="int" value="4"/>)XML", "{0,0,0}"),
+              R"XML(beam "BeamContact/Beams/rod" has zero length)XML");
+}
+
+TEST(InputValidation, UnknownBeamName) {
+  const std::string loads = R"XML(<ParameterList name="Loads"><ParameterList name="push">
+      <Parameter name="Beam" type="string" value="bar"/><Parameter name="Node" type="string" value="end"/>
+      <Parameter name="Force" type="Array(double)" value="{0,0,1}"/></ParameterList></ParameterList>)XML";
+  expectError(deck("", R"XML(<Parameter name="Width" type="double" value="1"/><Parameter name="Height" type="double" value="1"/>)XML",
+                   R"XML(<Parameter name="Young's Modulus" type="double" value="100"/><Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML",
+                   R"XML(<Parameter name="Elements" type="int" value="4"/>)XML", "{10,0,0}", loads),
+              R"XML("BeamContact/Loads/push/Beam": unknown beam "bar"; beams are "rod")XML");
+}
+
+TEST(InputValidation, InvalidChoiceListsValidOnes) {
+  const std::string solver = R"XML(<ParameterList name="Linear Solver"><Parameter name="Type" type="string" value="CG"/></ParameterList>)XML";
+  expectError(deck("", R"XML(<Parameter name="Width" type="double" value="1"/><Parameter name="Height" type="double" value="1"/>)XML",
+                   R"XML(<Parameter name="Young's Modulus" type="double" value="100"/><Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML",
+                   R"XML(<Parameter name="Elements" type="int" value="4"/>)XML", "{10,0,0}", solver),
+              R"XML("BeamContact/Linear Solver/Type": "CG" is not a valid choice; valid choices are "Direct", "GMRES")XML");
+}
+
+TEST(InputValidation, NodeIndexOutOfRange) {
+  const std::string loads = R"XML(<ParameterList name="Loads"><ParameterList name="push">
+      <Parameter name="Beam" type="string" value="rod"/><Parameter name="Node" type="string" value="7"/>
+      </ParameterList></ParameterList>)XML";
+  expectError(deck("", R"XML(<Parameter name="Width" type="double" value="1"/><Parameter name="Height" type="double" value="1"/>)XML",
+                   R"XML(<Parameter name="Young's Modulus" type="double" value="100"/><Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML",
+                   R"XML(<Parameter name="Elements" type="int" value="4"/>)XML", "{10,0,0}", loads),
+              R"XML("BeamContact/Loads/push/Node": "7" is not "start", "end", "middle" or an index 0..4)XML");
+}
