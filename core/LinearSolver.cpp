@@ -19,13 +19,15 @@ SolveReport LinearSolver::solve(const Teuchos::RCP<const Matrix>& A, const Vecto
   Vector r(b.getMap());
   A->apply(x, r);
   r.update(1.0, b, -1.0);
-  const double bn = b.norm2();
-  const double rn = r.norm2();
+  const double bn = b.norm2(), rn = r.norm2(), xn = x.norm2();
+  const double scale = A->getFrobeniusNorm() * xn + bn;
   report.relativeResidual = bn > 0.0 ? rn / bn : rn;
-  if (!std::isfinite(report.relativeResidual) || report.relativeResidual > checkTolerance_) {
+  report.backwardError = scale > 0.0 ? rn / scale : rn;
+  if (!std::isfinite(report.backwardError) || !std::isfinite(xn) || report.backwardError > checkTolerance_) {
     std::ostringstream s;
-    s << name() << " linear solve failed its residual check: ||b - A x|| / ||b|| = " << report.relativeResidual
-      << " > Residual Check Tolerance " << checkTolerance_;
+    s << name() << " linear solve failed its residual check: ||b - A x|| / (||A||_F ||x|| + ||b||) = "
+      << report.backwardError << " > Residual Check Tolerance " << checkTolerance_
+      << " (||b - A x|| / ||b|| = " << report.relativeResidual << ")";
     throw LinearSolveError(s.str());
   }
   return report;
@@ -175,8 +177,9 @@ const ParameterSpec& linearSolverSpec() {
     ParameterSpec s;
     s.addChoice("Type", "Direct", {"Direct", "GMRES"},
                 "Direct: sparse LU (Amesos2 KLU2); GMRES: Belos GMRES with an Ifpack2 preconditioner");
-    s.add("Residual Check Tolerance", 1e-8,
-          "largest accepted relative residual ||b - A x||/||b|| of a solve; above it the solve is an error",
+    s.add("Residual Check Tolerance", 1e-10,
+          "largest accepted backward error ||b - A x|| / (||A||_F ||x|| + ||b||) of a solve; above it the solve "
+          "is an error",
           positive(), "> 0");
     s.addChoice("Preconditioner", "ILUT", {"ILUT", "RILUK"}, "GMRES only: subdomain incomplete factorization");
     s.add("Fill Level", 2.0, "GMRES only: ILUT level of fill or RILUK level k", nonNegative(), ">= 0");

@@ -4,8 +4,11 @@
 //    error in this Trilinos build (see docs/toolchain.md).
 //  - "GMRES": Belos GMRES, right-preconditioned by Ifpack2 (additive Schwarz with ILUT or RILUK
 //    subdomain solves).
-// Every solve is checked: the relative residual ||b - A x|| / ||b|| of the returned x is computed on
-// the distributed system, and a value above "Residual Check Tolerance" raises LinearSolveError.
+// Every solve is checked: the residual b - A x of the returned x is computed on the distributed
+// system, and its normwise backward error ||b - A x|| / (||A||_F ||x|| + ||b||) above "Residual Check
+// Tolerance" raises LinearSolveError. (The backward error is scale-invariant: a backward-stable solve
+// gives ~1e-16 even when ||b|| is small against the terms of A x that cancel, where ||b - A x|| / ||b||
+// can be 1e-8 for a perfectly good solve.)
 #pragma once
 #include <memory>
 #include <stdexcept>
@@ -24,6 +27,7 @@ class LinearSolveError : public std::runtime_error {
 struct SolveReport {
   int iterations = 0;          // Krylov iterations (0 for direct)
   double relativeResidual = 0; // ||b - A x|| / ||b|| of the returned solution
+  double backwardError = 0;    // ||b - A x|| / (||A||_F ||x|| + ||b||), the checked quantity
 };
 
 class LinearSolver {

@@ -1,0 +1,85 @@
+// The same deck solved on all ranks of MPI_COMM_WORLD (run with mpirun -np 2) and on each rank alone
+// (MPI_COMM_SELF) must give the same state to 1e-10 relative, with the direct and the GMRES solver.
+// The deck has two beams, point loads, a prescribed rotation and prescribed displacements.
+#include <gtest/gtest.h>
+
+#include <Teuchos_DefaultMpiComm.hpp>
+
+#include "support/TestSupport.hpp"
+
+using namespace bc;
+
+namespace {
+
+std::string deck(const std::string& solver) {
+  return R"XML(<ParameterList name="BeamContact">
+  <ParameterList name="Beams">
+    <ParameterList name="A">
+      <Parameter name="Start" type="Array(double)" value="{0,0,0}"/>
+      <Parameter name="End" type="Array(double)" value="{100,0,0}"/>
+      <Parameter name="Elements" type="int" value="12"/>
+      <ParameterList name="Section"><Parameter name="Width" type="double" value="10"/><Parameter name="Height" type="double" value="6"/></ParameterList>
+      <ParameterList name="Material"><Parameter name="Young's Modulus" type="double" value="30000"/><Parameter name="Poisson's Ratio" type="double" value="0.17"/></ParameterList>
+    </ParameterList>
+    <ParameterList name="B">
+      <Parameter name="Start" type="Array(double)" value="{50,-50,20}"/>
+      <Parameter name="End" type="Array(double)" value="{50,50,20}"/>
+      <Parameter name="Elements" type="int" value="10"/>
+      <ParameterList name="Section"><Parameter name="Shape" type="string" value="Circle"/><Parameter name="Radius" type="double" value="3"/></ParameterList>
+      <ParameterList name="Material"><Parameter name="Young's Modulus" type="double" value="20000"/><Parameter name="Poisson's Ratio" type="double" value="0.3"/></ParameterList>
+    </ParameterList>
+  </ParameterList>
+  <ParameterList name="Supports">
+    <ParameterList name="clamp A"><Parameter name="Beam" type="string" value="A"/><Parameter name="Node" type="string" value="start"/></ParameterList>
+    <ParameterList name="ends of B"><Parameter name="Point" type="Array(double)" value="{50,-50,20}"/>
+      <Parameter name="Fixed" type="string" value="ux uy uz ry"/>
+      <Parameter name="Displacement" type="Array(double)" value="{15,0,-10}"/></ParameterList>
+    <ParameterList name="other end of B"><Parameter name="Beam" type="string" value="B"/><Parameter name="Node" type="string" value="end"/>
+      <Parameter name="Fixed" type="string" value="ux uz rx ry"/>
+      <Parameter name="Displacement" type="Array(double)" value="{15,0,-10}"/>
+      <Parameter name="Rotation" type="Array(double)" value="{0.4,0,0}"/></ParameterList>
+  </ParameterList>
+  <ParameterList name="Loads">
+    <ParameterList name="tip"><Parameter name="Beam" type="string" value="A"/><Parameter name="Node" type="string" value="end"/>
+      <Parameter name="Force" type="Array(double)" value="{0,400,900}"/>
+      <Parameter name="Moment" type="Array(double)" value="{20000,0,0}"/></ParameterList>
+  </ParameterList>
+  <ParameterList name="Load Stepping"><Parameter name="Number of Increments" type="int" value="5"/></ParameterList>
+  <ParameterList name="Nonlinear Solver"><Parameter name="Residual Tolerance" type="double" value="1e-12"/>
+    <Parameter name="Increment Tolerance" type="double" value="1e-12"/></ParameterList>
+  <ParameterList name="Linear Solver"><Parameter name="Type" type="string" value=")XML" + solver + R"XML("/></ParameterList>
+</ParameterList>)XML";
+}
+
+void compare(const std::string& solver) {
+  auto world = Tpetra::getDefaultComm();
+  auto self = Teuchos::rcp(new Teuchos::MpiComm<int>(MPI_COMM_SELF));
+  auto pw = test::problemFromXml(deck(solver));
+  auto ps = test::problemFromXml(deck(solver));
+  const auto rw = test::runQuiet(pw, world, "agreement_world_" + solver);
+  const auto rs = test::runQuiet(ps, self, "agreement_self_" + solver + std::to_string(world->getRank()));
+  ASSERT_TRUE(rw.report.completed) << rw.report.failure;
+  ASSERT_TRUE(rs.report.completed) << rs.report.failure;
+  double umax = 0.0, diff = 0.0, rdiff = 0.0;
+  for (int n = 0; n < rw.finalState.numNodes(); ++n) {
+    const auto uw = rw.finalState.displacement(n), us = rs.finalState.displacement(n);
+    for (int k = 0; k < 3; ++k) {
+      umax = std::max(umax, std::abs(uw[k]));
+      diff = std::max(diff, std::abs(uw[k] - us[k]));
+    }
+    for (int k = 0; k < 9; ++k)
+      rdiff = std::max(rdiff, std::abs(rw.finalState.rotation[n].m[k] - rs.finalState.rotation[n].m[k]));
+  }
+  if (world->getRank() == 0)
+    std::printf("%s on %d ranks vs 1: max |du| / max |u| = %.2e (max |u| = %.3f), max |dR| = %.2e, Newton %d vs %d\n",
+                solver.c_str(), world->getSize(), diff / umax, umax, rdiff, rw.report.newtonIterations,
+                rs.report.newtonIterations);
+  EXPECT_GT(umax, 1.0);
+  EXPECT_LT(diff / umax, 1e-10);
+  EXPECT_LT(rdiff, 1e-10);
+}
+
+}  // namespace
+
+TEST(RankAgreement, DirectSolver) { compare("Direct"); }
+TEST(RankAgreement, GmresSolver) { compare("GMRES"); }
