@@ -33,17 +33,20 @@ double median(std::vector<double> v) {
 }
 
 std::string deck(int elements, const std::string& solver) {
-  // L = 1000, 10 x 10 section, E = 30000: P L^3 / (3 E I) = 50 (5 % of L) for P = 3.75.
+  // Elements as long as the section is high (10 x 10 section, element length 10, L = 10 n),
+  // E = 30000, tip force P = 0.15 E I / L^2: linear tip deflection P L^3 / (3 E I) = 5 % of L.
+  const double L = 10.0 * elements, P = 0.15 * 30000.0 * 1e4 / 12.0 / (L * L);
   std::ostringstream s;
+  s.precision(17);
   s << R"XML(<ParameterList name="BeamContact"><ParameterList name="Beams"><ParameterList name="b">
-    <Parameter name="Start" type="Array(double)" value="{0,0,0}"/><Parameter name="End" type="Array(double)" value="{1000,0,0}"/>
+    <Parameter name="Start" type="Array(double)" value="{0,0,0}"/><Parameter name="End" type="Array(double)" value="{)XML" << L << R"XML(,0,0}"/>
     <Parameter name="Elements" type="int" value=")XML" << elements << R"XML("/>
     <ParameterList name="Section"><Parameter name="Width" type="double" value="10"/><Parameter name="Height" type="double" value="10"/></ParameterList>
     <ParameterList name="Material"><Parameter name="Young's Modulus" type="double" value="30000"/><Parameter name="Poisson's Ratio" type="double" value="0.3"/></ParameterList>
   </ParameterList></ParameterList>
   <ParameterList name="Supports"><ParameterList name="clamp"><Parameter name="Beam" type="string" value="b"/><Parameter name="Node" type="string" value="start"/></ParameterList></ParameterList>
   <ParameterList name="Loads"><ParameterList name="tip"><Parameter name="Beam" type="string" value="b"/><Parameter name="Node" type="string" value="end"/>
-    <Parameter name="Force" type="Array(double)" value="{0,0,3.75}"/></ParameterList></ParameterList>
+    <Parameter name="Force" type="Array(double)" value="{0,0,)XML" << P << R"XML(}"/></ParameterList></ParameterList>
   <ParameterList name="Load Stepping"><Parameter name="Number of Increments" type="int" value="1"/></ParameterList>
   <ParameterList name="Linear Solver"><Parameter name="Type" type="string" value=")XML" << solver << R"XML("/></ParameterList>
 </ParameterList>)XML";

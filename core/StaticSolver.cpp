@@ -29,6 +29,7 @@ const ParameterSpec& newtonSpec() {
           inRange(0.0, 1.0), "in (0, 1]");
     s.add("Increment Tolerance", 1e-8,
           "and when ||du|| <= this * ||accumulated increment of the step||", inRange(0.0, 1.0), "in (0, 1]");
+    s.add("Print Iterations", false, "print ||r|| and ||du|| of every Newton iteration on rank 0");
     s.add("Divergence Factor", 1e10, "an iterate whose residual exceeds this times the reference diverged",
           positive(), "> 0");
     return s;
@@ -60,6 +61,7 @@ SolverSettings readSolverSettings(const Teuchos::ParameterList& stepping, const 
   s.residualTolerance = newton.get<double>("Residual Tolerance");
   s.incrementTolerance = newton.get<double>("Increment Tolerance");
   s.divergenceFactor = newton.get<double>("Divergence Factor");
+  s.printIterations = newton.get<bool>("Print Iterations");
   return s;
 }
 
@@ -159,6 +161,11 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
       for (double v : l.value) ext2 += std::pow(Tb * v, 2);
     if (k == 0) firstResidual = rn;
     const double reference = std::max({firstResidual, std::sqrt(reactions2), std::sqrt(ext2)});
+    if (settings_.printIterations && comm_->getRank() == 0) {
+      std::printf("    T %.6g  iteration %2d  ||r|| %.3e", Tb, k, rn);
+      if (k > 0) std::printf("  ||du|| %.3e", report.history[k - 1].incrementNorm);
+      std::printf("\n");
+    }
     NewtonIterate it;
     it.residualNorm = rn;
     report.history.push_back(it);

@@ -55,6 +55,7 @@ struct SolverSettings {
   double residualTolerance = 1e-9;
   double incrementTolerance = 1e-8;
   double divergenceFactor = 1e10;  // ||r|| above this times the reference is divergence
+  bool printIterations = false;     // one line per Newton iteration on rank 0
 };
 
 const ParameterSpec& loadSteppingSpec();

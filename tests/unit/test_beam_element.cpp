@@ -158,3 +158,37 @@ TEST(Rotation, LogInvertsExpIncludingNearPi) {
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(back[k], w[k], 1e-9);
   }
 }
+
+TEST(BeamElement, TangentMatchesCentralDifferencesAtSmallLocalRotations) {
+  // Short element (L0 = 0.5), large rigid rotation, local rotations from 1e-3 down to 1e-7 rad:
+  // both branches of the log map (series below ~2e-5 rad) and the switch between them.
+  const CrossSection cs = CrossSection::rectangle(10.0, 10.0);
+  const BeamElementData d = makeBeamElement({{0.0, 0.0, 0.0}}, {{0.5, 0.0, 0.0}}, {{0.0, 1.0, 0.0}},
+                                            30000.0 * cs.area(), 12000.0 * cs.torsionConstant(),
+                                            30000.0 * cs.inertiaY(), 30000.0 * cs.inertiaZ());
+  std::mt19937 g(5);
+  double worst = 0.0;
+  for (double local : {1e-3, 1e-4, 3e-5, 1e-5, 1e-6, 1e-7}) {
+    const Mat3d Q = expSO3(randomVec(g, 1.0));
+    BeamElementState s;
+    s.x1 = Q * d.X1;
+    s.x2 = Q * (d.X2 + randomVec(g, 1e-4));
+    s.R1 = Q * expSO3(randomVec(g, local));
+    s.R2 = Q * expSO3(randomVec(g, local));
+    Vector12 f; Matrix12 K;
+    internalForceAndTangent(d, s, f, K);
+    double kmax = 0.0;
+    for (double v : K) kmax = std::max(kmax, std::abs(v));
+    const double h = 1e-7;
+    double err = 0.0;
+    for (int j = 0; j < 12; ++j) {
+      Vector12 fp, fm;
+      internalForce(d, perturbed(s, j, h), fp);
+      internalForce(d, perturbed(s, j, -h), fm);
+      for (int i = 0; i < 12; ++i) err = std::max(err, std::abs((fp[i] - fm[i]) / (2 * h) - K[12 * i + j]));
+    }
+    std::printf("local rotations %.0e: max relative tangent error %.3e\n", local, err / kmax);
+    worst = std::max(worst, err / kmax);
+  }
+  EXPECT_LT(worst, 1e-6);
+}
