@@ -45,6 +45,7 @@ RunResult simulate(Model& model, const SolverSettings& settings, const Teuchos::
   opts.output_minmax = comm->getSize() > 1;
   timer->report(report, comm, opts);
   writer.finish(run, report.str());
+  if (root && options.progress) std::printf("%s", report.str().c_str());
 
   result.report = run;
   result.solveSeconds = std::chrono::duration<double>(t1 - t0).count();
