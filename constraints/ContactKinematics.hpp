@@ -1,0 +1,68 @@
+// Kinematics of one contact point between two straight contact lines, one on each of two beam
+// elements (seed paper sec. 2-4; Litewka & Wriggers 2002):
+//  - A contact line of an element runs between the points x_a + R_a o and x_b + R_b o of its two
+//    nodes, where o is the line's offset from the beam axis in the reference configuration: a
+//    section edge for rectangles (o = +-b/2 e2 +- h/2 e3), the axis itself for circles (o = 0).
+//  - Closest points (xi on line A, eta on line B, in [0, 1]) from the orthogonality conditions (2.1)
+//    t_A . (p_B - p_A) = 0, t_B . (p_B - p_A) = 0; for straight lines they are linear in (xi, eta),
+//    so one Newton step solves them exactly, also in the AD types below.
+//  - Normal: the cross-product form of (3.4), n = sigma (t_B x t_A) / |t_B x t_A|, stable as the gap
+//    goes to zero; sigma = +-1 is fixed so that n points from beam A's axis towards beam B's.
+//  - Normal gap g_N = (p_B - p_A) . n - (r_A + r_B) (radii for circular sections, else 0).
+//  - Tangential gaps (4.7) along each line from the previous converged contact point mapped on the
+//    current configuration: g_T1 = (xi - xi_p) |p_A2 - p_A1|, g_T2 = (eta - eta_p) |p_B2 - p_B1|.
+// The 24 dofs are [u_A1, phi_A1, u_A2, phi_A2, u_B1, phi_B1, u_B2, phi_B2] (displacement and spin
+// increments). For each gap g the kernel returns its value, its first variation R (delta g = R . du,
+// the paper's R1, R2, R3) and its linearized variation K (Delta delta g = du^T K Du, K1, K2, K3), by
+// nested forward AD of the formulas above, including the implicit dependence of xi and eta.
+#pragma once
+#include <array>
+
+#include "elements/SmallMath.hpp"
+
+namespace bc::constraints {
+
+using elements::Mat3d;
+using elements::Vec3d;
+
+constexpr int kPairDofs = 24;
+using Vector24 = std::array<double, kPairDofs>;
+using Matrix24 = std::array<double, kPairDofs * kPairDofs>;  // row-major
+
+struct LinePairInput {
+  Vec3d xA1{}, xA2{}, xB1{}, xB2{};  // current nodal positions
+  Mat3d RA1{}, RA2{}, RB1{}, RB2{};  // current nodal rotations
+  Vec3d oA{}, oB{};                  // reference offsets of the two lines from their axes
+  double radiusSum = 0.0;            // r_A + r_B for circular sections
+};
+
+struct ClosestPoints {
+  double xi = 0.0, eta = 0.0;  // line parameters in [0, 1] when inside both segments
+  double distance = 0.0;       // |p_B - p_A|
+  double sinAngle = 0.0;       // |t_A x t_B| / (|t_A| |t_B|)
+  Vec3d pA{}, pB{}, cA{}, cB{};  // points on the lines and on the axes at xi, eta
+  Vec3d normal{};              // unit normal with sigma applied
+  double sigma = 1.0;
+  double gap = 0.0;
+};
+
+// Closest points in double precision (for the search and for choosing sigma). Lines closer to
+// parallel than sinAngle < 1e-12 return sinAngle and nothing else.
+ClosestPoints closestPoints(const LinePairInput& in);
+
+struct GapDerivatives {
+  double value = 0.0;
+  Vector24 R{};
+  Matrix24 K{};
+};
+
+struct ContactKinematics {
+  double xi = 0.0, eta = 0.0;
+  GapDerivatives normal, tangent1, tangent2;
+};
+
+// All gaps and their derivatives at the current state; `sigma` from closestPoints (or the history),
+// `xiPrev`, `etaPrev` the previous converged contact point (for the tangential gaps).
+ContactKinematics contactKinematics(const LinePairInput& in, double sigma, double xiPrev, double etaPrev);
+
+}  // namespace bc::constraints

@@ -1,0 +1,104 @@
+// Contact kinematics of one line pair: values against the geometry of crossed beams, first
+// variations R against central differences of the gaps, and K against central differences of R
+// (perturbing positions additively and rotations by spins, as the Newton update does).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "constraints/ContactKinematics.hpp"
+
+using namespace bc::constraints;
+using namespace bc::elements;
+
+namespace {
+
+// Example 1's crossing: beam A (10 x 10) along X, beam B (5 x 5) along Y at height 8; the top edge of
+// A at y = +5 and the bottom edge of B at x = 52.5 (element from x = 50 to 60 on A, y from 0 to 10 on B).
+LinePairInput crossing() {
+  LinePairInput in;
+  in.xA1 = {{50, 0, 0}}; in.xA2 = {{60, 0, 0}};
+  in.xB1 = {{50, 0, 8}}; in.xB2 = {{50, 10, 8}};
+  in.RA1 = in.RA2 = in.RB1 = in.RB2 = identity3<double>();
+  in.oA = {{0, 5, 5}};
+  in.oB = {{2.5, 0, -2.5}};
+  return in;
+}
+
+Vec3d randomVec(std::mt19937& g, double s) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  return {{s * u(g), s * u(g), s * u(g)}};
+}
+
+LinePairInput perturbedState(const LinePairInput& in, int dof, double h) {
+  LinePairInput p = in;
+  Vec3d* x[4] = {&p.xA1, &p.xA2, &p.xB1, &p.xB2};
+  Mat3d* R[4] = {&p.RA1, &p.RA2, &p.RB1, &p.RB2};
+  const int node = dof / 6, k = dof % 6;
+  if (k < 3) (*x[node])[k] += h;
+  else {
+    Vec3d w{};
+    w[k - 3] = h;
+    *R[node] = expSO3(w) * *R[node];
+  }
+  return p;
+}
+
+}  // namespace
+
+TEST(ContactKinematics, CrossedBeamsGapAndPoints) {
+  const auto in = crossing();
+  const auto cp = closestPoints(in);
+  EXPECT_NEAR(cp.gap, 0.5, 1e-14);
+  EXPECT_NEAR(cp.xi, 0.25, 1e-14);   // x = 52.5 on A's element from 50 to 60
+  EXPECT_NEAR(cp.eta, 0.5, 1e-14);   // y = 5 on B's element from 0 to 10
+  EXPECT_NEAR(cp.normal[2], 1.0, 1e-14);
+  const auto k = contactKinematics(in, cp.sigma, 0.25, 0.5);
+  EXPECT_NEAR(k.normal.value, 0.5, 1e-14);
+  EXPECT_NEAR(k.tangent1.value, 0.0, 1e-14);
+  // Moving B's nodes by dz changes the gap by dz: R of u_Bz is 1 - eta and eta.
+  EXPECT_NEAR(k.normal.R[12 + 2], 0.5, 1e-14);
+  EXPECT_NEAR(k.normal.R[18 + 2], 0.5, 1e-14);
+  EXPECT_NEAR(k.normal.R[2], -0.75, 1e-14);
+  EXPECT_NEAR(k.normal.R[6 + 2], -0.25, 1e-14);
+  // Sliding B along A's edge by dx moves xi by dx / 10 and g_T1 by dx.
+  EXPECT_NEAR(k.tangent1.R[12] + k.tangent1.R[18], 1.0, 1e-14);
+}
+
+TEST(ContactKinematics, VariationsMatchCentralDifferences) {
+  std::mt19937 g(17);
+  double worstR = 0.0, worstK = 0.0;
+  for (int trial = 0; trial < 10; ++trial) {
+    LinePairInput in = crossing();
+    // A general state: rotated, deformed, with finite rotations of the nodes.
+    const Mat3d Q = expSO3(randomVec(g, 1.0));
+    for (Vec3d* x : {&in.xA1, &in.xA2, &in.xB1, &in.xB2}) *x = Q * (*x + randomVec(g, 0.5));
+    for (Mat3d* R : {&in.RA1, &in.RA2, &in.RB1, &in.RB2}) *R = Q * expSO3(randomVec(g, 0.3));
+    in.radiusSum = trial % 2 ? 0.7 : 0.0;
+    const auto cp = closestPoints(in);
+    const double xiP = cp.xi - 0.05, etaP = cp.eta + 0.03;
+    const auto k = contactKinematics(in, cp.sigma, xiP, etaP);
+    const double h = 1e-6;
+    double rmax = 0, kmax = 0, errR = 0, errK = 0;
+    for (int j = 0; j < kPairDofs; ++j) {
+      const auto kp = contactKinematics(perturbedState(in, j, h), cp.sigma, xiP, etaP);
+      const auto km = contactKinematics(perturbedState(in, j, -h), cp.sigma, xiP, etaP);
+      const GapDerivatives* a[3] = {&k.normal, &k.tangent1, &k.tangent2};
+      const GapDerivatives* p[3] = {&kp.normal, &kp.tangent1, &kp.tangent2};
+      const GapDerivatives* m[3] = {&km.normal, &km.tangent1, &km.tangent2};
+      for (int q = 0; q < 3; ++q) {
+        rmax = std::max(rmax, std::abs(a[q]->R[j]));
+        errR = std::max(errR, std::abs((p[q]->value - m[q]->value) / (2 * h) - a[q]->R[j]));
+        for (int i = 0; i < kPairDofs; ++i) {
+          kmax = std::max(kmax, std::abs(a[q]->K[kPairDofs * i + j]));
+          errK = std::max(errK, std::abs((p[q]->R[i] - m[q]->R[i]) / (2 * h) - a[q]->K[kPairDofs * i + j]));
+        }
+      }
+    }
+    worstR = std::max(worstR, errR / rmax);
+    worstK = std::max(worstK, errK / kmax);
+  }
+  std::printf("max relative error: R (first variations) %.2e, K (linearized variations) %.2e\n", worstR, worstK);
+  EXPECT_LT(worstR, 1e-6);
+  EXPECT_LT(worstK, 1e-6);
+}
