@@ -46,6 +46,21 @@ class Contribution {
   virtual void restoreStep() {}
   // Drawing for VTK output (called on rank 0 with the full state).
   virtual void appendVtk(const State& state, VtkMesh& mesh) const {}
+
+  // Nonlinear-solution hooks (all ranks, same replicated state). At the start of every Newton
+  // iteration: update what the contribution couples (contact search, active set, extra unknowns in
+  // `state`); return true when the matrix graph or the number of unknowns changed.
+  virtual bool prepareIteration(State& state) { return false; }
+  // Newton has converged for the increment: return true to accept, false to solve the increment
+  // again (augmentation, active-set change); throw std::runtime_error when that is no longer allowed.
+  virtual bool acceptSolution(State& state) { return true; }
+
+  // Per-step table written beside the results (file name, header after "step,T", rows of the last
+  // committed step), and a short text for the progress line.
+  virtual std::string tableName() const { return ""; }
+  virtual std::string tableHeader() const { return ""; }
+  virtual std::vector<std::string> tableRows() const { return {}; }
+  virtual std::string progressSummary() const { return ""; }
 };
 
 }  // namespace bc::core

@@ -22,7 +22,7 @@ ResultsWriter::ResultsWriter(const std::string& directory, const Model& model, T
   tracked_.open(fs::path(dir_) / "tracked_points.csv");
   reactions_.open(fs::path(dir_) / "reactions.csv");
   if (!steps_ || !tracked_ || !reactions_) throw std::runtime_error("cannot write in \"" + dir_ + "\"");
-  steps_ << "step,T,cut_level,newton_iterations,final_residual,linear_iterations\n";
+  steps_ << "step,T,cut_level,newton_iterations,passes,final_residual,linear_iterations\n";
   tracked_ << "step,T";
   for (const auto& p : model_.tracked)
     for (const char* c : {"ux", "uy", "uz", "rx", "ry", "rz"}) tracked_ << "," << p.name << "_" << c;
@@ -32,6 +32,14 @@ ResultsWriter::ResultsWriter(const std::string& directory, const Model& model, T
     for (const char* c : {"Fx", "Fy", "Fz", "Mx", "My", "Mz"}) reactions_ << "," << s.name << "_" << c;
   reactions_ << "\n";
   for (auto* f : {&steps_, &tracked_, &reactions_}) *f << std::setprecision(12);
+  for (const auto& c : model_.contributions) {
+    if (c->tableName().empty()) {
+      tables_.emplace_back();
+      continue;
+    }
+    tables_.push_back(std::make_unique<std::ofstream>(fs::path(dir_) / c->tableName()));
+    *tables_.back() << "step,T," << c->tableHeader() << "\n";
+  }
 }
 
 void ResultsWriter::writeStatus(const std::string& text) {
@@ -51,7 +59,7 @@ void ResultsWriter::writeStep(const StepReport& step, const State& state, const 
   if (!root()) return;
   int linear = 0;
   for (const auto& h : step.history) linear += h.linearIterations;
-  steps_ << step.step << "," << step.T << "," << step.cutLevel << "," << step.iterations << ","
+  steps_ << step.step << "," << step.T << "," << step.cutLevel << "," << step.iterations << "," << step.passes << ","
          << step.history.back().residualNorm << "," << linear << "\n";
   tracked_ << step.step << "," << step.T;
   for (const auto& p : model_.tracked) {
@@ -69,6 +77,11 @@ void ResultsWriter::writeStep(const StepReport& step, const State& state, const 
   }
   reactions_ << "\n";
   for (auto* f : {&steps_, &tracked_, &reactions_}) f->flush();
+  for (std::size_t i = 0; i < model_.contributions.size(); ++i) {
+    if (!tables_[i]) continue;
+    for (const auto& row : model_.contributions[i]->tableRows()) *tables_[i] << step.step << "," << step.T << "," << row << "\n";
+    tables_[i]->flush();
+  }
   if (vtk_) writeVtk(step.step, step.T, state);
 }
 

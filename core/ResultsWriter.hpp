@@ -4,11 +4,13 @@
 //   steps.csv                step, T, cut level, Newton iterations, final residual, linear iterations
 //   tracked_points.csv       displacements and unwrapped rotation vectors of the named points
 //   reactions.csv            force and moment sums (f_int - f_ext) over each support's nodes
+//   <table>.csv              per-step tables of contributions (contact_points.csv: every contact point)
 //   vtk/step_NNNNN.vtu       the beams with their real cross-sections (point data: displacement)
 //   results.pvd              ParaView collection of the .vtu files with their T (rewritten each step)
 //   timers.txt               StackedTimer summary
 #pragma once
 #include <fstream>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -38,6 +40,7 @@ class ResultsWriter {
   int rank_ = 0;
   bool vtk_ = true;
   std::ofstream steps_, tracked_, reactions_;
+  std::vector<std::unique_ptr<std::ofstream>> tables_;  // one per contribution with a table
   std::vector<std::pair<double, std::string>> vtkFiles_;
 };
 

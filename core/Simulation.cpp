@@ -32,6 +32,10 @@ RunResult simulate(Model& model, const SolverSettings& settings, const Teuchos::
     if (root && options.progress) {
       std::printf("step %4d  T = %.6f  Newton %2d  |r| %.3e", step.step, step.T, step.iterations,
                   step.history.back().residualNorm);
+      for (const auto& c : model.contributions) {
+        const std::string summary = c->progressSummary();
+        if (!summary.empty()) std::printf("  %s", summary.c_str());
+      }
       if (step.cutLevel) std::printf("  (cut level %d)", step.cutLevel);
       std::printf("\n");
       std::fflush(stdout);

@@ -149,7 +149,17 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
 
   Vector x(assembler_.ownedMap());
   double firstResidual = 0.0;
+  int pass = 0, passStart = 0;  // a pass is one Newton solve of the increment
   for (int k = 0;; ++k) {
+    const int kp = k - passStart;
+    bool rebuild = false;
+    for (auto& c : model_.contributions) rebuild = c->prepareIteration(trial_) || rebuild;
+    if (rebuild) {
+      start("Graph Rebuild");
+      assembler_.rebuild(trial_);
+      stop("Graph Rebuild");
+      x = Vector(assembler_.ownedMap());
+    }
     start("Assembly");
     assembler_.assemble(trial_, Tb, true);
     stop("Assembly");
@@ -159,7 +169,7 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
     double ext2 = 0.0;
     for (const NodalLoad& l : model_.loads)
       for (double v : l.value) ext2 += std::pow(Tb * v, 2);
-    if (k == 0) firstResidual = rn;
+    if (kp == 0) firstResidual = rn;
     const double reference = std::max({firstResidual, std::sqrt(reactions2), std::sqrt(ext2)});
     if (settings_.printIterations && comm_->getRank() == 0) {
       std::printf("    T %.6g  iteration %2d  ||r|| %.3e", Tb, k, rn);
@@ -173,7 +183,7 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
       failure = "the residual is not finite";
       return false;
     }
-    if (k > 0 && rn > settings_.divergenceFactor * std::max(reference, 1e-300)) {
+    if (kp > 0 && rn > settings_.divergenceFactor * std::max(reference, 1e-300)) {
       failure = "Newton diverged (residual above Divergence Factor times its reference)";
       return false;
     }
@@ -181,21 +191,35 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
     // respect to the loads and reactions (e.g. an increment that changes nothing).
     const double forceScale = std::max(std::sqrt(reactions2), std::sqrt(ext2));
     bool converged;
-    if (k == 0) {
+    if (kp == 0) {
       converged = rn == 0.0 || rn <= settings_.residualTolerance * forceScale;
     } else {
       // The residual cannot fall below its round-off floor (about eps * EA per element): once the
       // increments are negligible, a residual that stopped decreasing has reached that floor.
       const double duLast = report.history[k - 1].incrementNorm;
       const bool incrementOk = duLast <= settings_.incrementTolerance * std::sqrt(stepNorm2);
-      const bool stagnated = k >= 2 && rn > 0.5 * report.history[k - 1].residualNorm;
+      const bool stagnated = kp >= 2 && rn > 0.5 * report.history[k - 1].residualNorm;
       converged = incrementOk && (rn <= settings_.residualTolerance * reference || stagnated);
     }
     if (converged) {
-      report.iterations = k;
-      return true;
+      // The contributions may ask for another solve of the increment (augmentation, active set).
+      bool accepted = true;
+      try {
+        for (auto& c : model_.contributions) accepted = c->acceptSolution(trial_) && accepted;
+      } catch (const std::runtime_error& e) {
+        failure = e.what();
+        return false;
+      }
+      ++pass;
+      if (accepted) {
+        report.iterations = k;
+        report.passes = pass;
+        return true;
+      }
+      passStart = k + 1;
+      continue;
     }
-    if (k >= settings_.maxIterations) {
+    if (kp >= settings_.maxIterations) {
       std::ostringstream s;
       s << "no convergence in " << settings_.maxIterations << " Newton iterations (Maximum Iterations), last ||r|| = "
         << rn;

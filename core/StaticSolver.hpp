@@ -36,7 +36,8 @@ struct StepReport {
   int step = 0;        // counter of converged (sub)steps, from 1
   double T = 0.0;      // load factor reached
   int cutLevel = 0;    // 0 for a configured increment, k for a piece of a k-times halved one
-  int iterations = 0;  // Newton iterations (linear solves)
+  int iterations = 0;  // Newton iterations (linear solves), over all passes
+  int passes = 1;      // Newton solves of the increment (augmentation / active-set passes)
   std::vector<NewtonIterate> history;
 };
 

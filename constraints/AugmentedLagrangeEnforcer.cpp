@@ -1,0 +1,65 @@
+#include "AugmentedLagrangeEnforcer.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace bc::constraints {
+
+const core::ParameterSpec& AugmentedLagrangeEnforcer::spec() {
+  static const core::ParameterSpec s = [] {
+    core::ParameterSpec p;
+    p.addRequired("Normal Penalty Parameter", 1e4, "eps_N of the augmented law [force/length]", core::positive(),
+                  "> 0");
+    p.addRequired("Tangential Penalty Parameter", 1e3, "eps_T of the augmented law [force/length]",
+                  core::positive(), "> 0");
+    p.add("Gap Tolerance", 1e-6, "stop augmenting when |g_N| and sticking |g_T| are below this [length]",
+          core::positive(), "> 0");
+    p.add("Maximum Augmentations", 50, "Newton solves allowed per increment (passes)", core::atLeast(1), ">= 1");
+    return p;
+  }();
+  return s;
+}
+
+AugmentedLagrangeEnforcer::AugmentedLagrangeEnforcer(const Teuchos::ParameterList& v) {
+  p_.normalPenalty = v.get<double>("Normal Penalty Parameter");
+  p_.tangentialPenalty = v.get<double>("Tangential Penalty Parameter");
+  tolerance_ = v.get<double>("Gap Tolerance");
+  maxPasses_ = v.get<int>("Maximum Augmentations");
+}
+
+bool AugmentedLagrangeEnforcer::contributes(const ContactKinematics& k, const PointHistory& h) const {
+  return h.lambdaN + p_.normalPenalty * k.normal.value < 0.0;
+}
+
+PointResult AugmentedLagrangeEnforcer::evaluate(const ContactKinematics& k, const PointHistory& h, double mu,
+                                                const double*, double* f, double* K) const {
+  return regularizedEvaluate(k, h, mu, p_, f, K);
+}
+
+bool AugmentedLagrangeEnforcer::acceptPoint(const ContactKinematics& k, PointHistory& h, double mu, const double*,
+                                            double& worstViolation) const {
+  const PointResult r = regularizedForces(k, h, mu, p_);
+  double violation = 0.0;
+  if (r.active) {
+    violation = std::abs(k.normal.value);
+    const GapDerivatives* gt[2] = {&k.tangent1, &k.tangent2};
+    for (int i = 0; i < 2; ++i)
+      if (mu > 0.0 && !r.slip[i]) violation = std::max(violation, std::abs(gt[i]->value));
+  } else {
+    violation = std::max(0.0, -k.normal.value);
+  }
+  worstViolation = std::max(worstViolation, violation);
+  // Uzawa update of the estimates.
+  h.lambdaN = r.lambdaN;
+  for (int i = 0; i < 2; ++i) h.lambdaT[i] = r.lambdaT[i];
+  return violation <= tolerance_;
+}
+
+void AugmentedLagrangeEnforcer::commitPoint(const ContactKinematics& k, PointHistory& h, double mu,
+                                            const double*) const {
+  const PointResult r = regularizedForces(k, h, mu, p_);
+  h.lambdaN = r.lambdaN;
+  for (int i = 0; i < 2; ++i) h.lambdaT[i] = r.lambdaT[i];
+}
+
+}  // namespace bc::constraints

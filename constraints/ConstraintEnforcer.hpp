@@ -1,0 +1,60 @@
+// How a contact constraint is enforced: the strategy interface. A strategy sees one contact point at
+// a time: its kinematics (gaps g_N, g_T1, g_T2 with first variations R and linearized variations K,
+// see ContactKinematics.hpp), the friction coefficient and the point's history, and adds the point's
+// residual and tangent. The contact manager does search, bookkeeping and assembly; a strategy is only
+// this local math plus what it does when Newton has converged (augment, change the active set).
+//
+// Sign conventions: lambda_N <= 0 is the normal contact force conjugate to g_N (paper's (3.2):
+// F_N = lambda_N; the reported normal force is -lambda_N >= 0); lambda_Ti is the friction force
+// conjugate to g_Ti. Coulomb: |lambda_Ti| <= mu |lambda_N| for each line independently ((4.3)).
+#pragma once
+#include <memory>
+#include <string>
+
+#include <Teuchos_ParameterList.hpp>
+
+#include "ContactKinematics.hpp"
+
+namespace bc::constraints {
+
+// What is carried from one converged step to the next (and, for augmented Lagrange, between passes).
+struct PointHistory {
+  double lambdaN = 0.0;      // multiplier estimate (augmented Lagrange) or converged value (Lagrange)
+  double lambdaT[2] = {0.0, 0.0};  // friction forces of the last converged step / estimates
+  bool active = false;       // Lagrange: point is in the active set
+  bool slip[2] = {false, false};   // Lagrange: slip state per line
+  double slipSign[2] = {1.0, 1.0}; // Lagrange: direction of the friction force in slip
+};
+
+// The result of evaluating a point: forces and state, for output and for the progress line.
+struct PointResult {
+  bool active = false;
+  double lambdaN = 0.0;
+  double lambdaT[2] = {0.0, 0.0};
+  bool slip[2] = {false, false};
+};
+
+class ConstraintEnforcer {
+ public:
+  virtual ~ConstraintEnforcer() = default;
+  virtual std::string type() const = 0;
+  // Extra unknowns per active contact point (3 for Lagrange multipliers: lambda_N, lambda_T1, lambda_T2).
+  virtual int multipliersPerPoint() const { return 0; }
+  // True when a point whose kinematics are `k` takes part in the system now (penalty: g_N < 0).
+  virtual bool contributes(const ContactKinematics& k, const PointHistory& h) const = 0;
+  // Adds the point's residual f (size n = 24 + multipliersPerPoint) and tangent K (n x n,
+  // row-major; may be null). `lambda` holds the point's current multipliers (null if none).
+  virtual PointResult evaluate(const ContactKinematics& k, const PointHistory& h, double mu, const double* lambda,
+                               double* f, double* K) const = 0;
+  // Newton has converged for this increment. Update `h` (e.g. augment the multipliers, change the
+  // active set); return false if the increment must be solved again with the updated history.
+  // `worstViolation` collects the largest constraint violation (for the stopping test and output).
+  virtual bool acceptPoint(const ContactKinematics& k, PointHistory& h, double mu, const double* lambda,
+                           double& worstViolation) const = 0;
+  // History at the end of a converged increment (friction forces carried to the next increment).
+  virtual void commitPoint(const ContactKinematics& k, PointHistory& h, double mu, const double* lambda) const = 0;
+  // Upper bound on the Newton solves of one increment the strategy may ask for (augmentation passes).
+  virtual int maximumPasses() const { return 1; }
+};
+
+}  // namespace bc::constraints

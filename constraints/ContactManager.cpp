@@ -1,0 +1,307 @@
+#include "ContactManager.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <unordered_map>
+
+#include "core/Parameters.hpp"
+
+namespace bc::constraints {
+
+using core::GlobalDof;
+using elements::BeamElement;
+using elements::CrossSection;
+using Key = std::tuple<int, int, int>;
+
+ContactManager::ContactManager(std::shared_ptr<const elements::BeamSet> beams, std::vector<ContactPairSpec> pairs,
+                               std::unique_ptr<ConstraintEnforcer> enforcer, ContactOptions options)
+    : beams_(std::move(beams)), pairs_(std::move(pairs)), enforcer_(std::move(enforcer)), options_(options) {
+  for (const auto& b : beams_->beams()) {
+    std::vector<Line> lines;
+    if (b.section.shape == CrossSection::Shape::Rectangle) {
+      const double y = 0.5 * b.section.width, z = 0.5 * b.section.height;
+      lines = {{y, z, 0.0}, {-y, z, 0.0}, {-y, -z, 0.0}, {y, -z, 0.0}};
+    } else {
+      lines = {{0.0, 0.0, b.section.radius}};
+    }
+    lines_.push_back(lines);
+  }
+  for (const auto& p : pairs_) {
+    const bool rA = beams_->beams()[p.beamA].section.shape == CrossSection::Shape::Rectangle;
+    const bool rB = beams_->beams()[p.beamB].section.shape == CrossSection::Shape::Rectangle;
+    if (rA != rB)
+      throw core::InputError("contact pair \"" + p.name +
+                             "\": contact between a rectangular and a circular section is not supported");
+  }
+}
+
+double ContactManager::beamCoordinate(int element, double xi) const {
+  return beams_->elements()[element].index + xi;
+}
+
+LinePairInput ContactManager::lineInput(int eA, int lA, int eB, int lB, const core::State& s) const {
+  const BeamElement& a = beams_->elements()[eA];
+  const BeamElement& b = beams_->elements()[eB];
+  const Line& la = lines_[a.beam][lA];
+  const Line& lb = lines_[b.beam][lB];
+  LinePairInput in;
+  in.xA1 = s.position[a.node1]; in.xA2 = s.position[a.node2];
+  in.xB1 = s.position[b.node1]; in.xB2 = s.position[b.node2];
+  in.RA1 = s.rotation[a.node1]; in.RA2 = s.rotation[a.node2];
+  in.RB1 = s.rotation[b.node1]; in.RB2 = s.rotation[b.node2];
+  in.oA = la.cy * column(a.data.T0, 1) + la.cz * column(a.data.T0, 2);
+  in.oB = lb.cy * column(b.data.T0, 1) + lb.cz * column(b.data.T0, 2);
+  in.radiusSum = la.radius + lb.radius;
+  return in;
+}
+
+std::map<Key, ContactManager::Candidate> ContactManager::detect(const core::State& s) const {
+  const auto& elems = beams_->elements();
+  std::set<int> inPairs;
+  for (const auto& p : pairs_) { inPairs.insert(p.beamA); inPairs.insert(p.beamB); }
+  // Bounding boxes of the elements of beams in contact pairs.
+  struct Box { Vec3d lo, hi; };
+  std::vector<Box> boxes(elems.size());
+  double cell = 0.0;
+  for (std::size_t e = 0; e < elems.size(); ++e) {
+    const BeamElement& el = elems[e];
+    if (!inPairs.count(el.beam)) continue;
+    const auto& sec = beams_->beams()[el.beam].section;
+    const double reach = (sec.shape == CrossSection::Shape::Rectangle
+                              ? 0.5 * std::hypot(sec.width, sec.height)
+                              : sec.radius) + options_.searchMargin;
+    Box b;
+    for (int k = 0; k < 3; ++k) {
+      b.lo[k] = std::min(s.position[el.node1][k], s.position[el.node2][k]) - reach;
+      b.hi[k] = std::max(s.position[el.node1][k], s.position[el.node2][k]) + reach;
+      cell = std::max(cell, b.hi[k] - b.lo[k]);
+    }
+    boxes[e] = b;
+  }
+  // Uniform grid of cell size = largest box extent: a box overlaps at most 2 x 2 x 2 cells.
+  std::unordered_map<long long, std::vector<int>> grid;
+  auto cellKey = [](long long i, long long j, long long k) { return (i * 73856093LL) ^ (j * 19349663LL) ^ (k * 83492791LL); };
+  auto range = [&](const Box& b, int k) { return std::make_pair((long long)std::floor(b.lo[k] / cell), (long long)std::floor(b.hi[k] / cell)); };
+  for (std::size_t e = 0; e < elems.size(); ++e) {
+    if (!inPairs.count(elems[e].beam)) continue;
+    const auto [i0, i1] = range(boxes[e], 0);
+    const auto [j0, j1] = range(boxes[e], 1);
+    const auto [k0, k1] = range(boxes[e], 2);
+    for (long long i = i0; i <= i1; ++i)
+      for (long long j = j0; j <= j1; ++j)
+        for (long long k = k0; k <= k1; ++k) grid[cellKey(i, j, k)].push_back(static_cast<int>(e));
+  }
+  std::map<Key, Candidate> found;
+  std::map<Key, double> outside;  // how far the chosen candidate lies outside its elements
+  for (std::size_t pi = 0; pi < pairs_.size(); ++pi) {
+    const auto& pair = pairs_[pi];
+    std::set<std::pair<int, int>> tested;
+    for (std::size_t ea = 0; ea < elems.size(); ++ea) {
+      if (elems[ea].beam != pair.beamA) continue;
+      const Box& A = boxes[ea];
+      const auto [i0, i1] = range(A, 0);
+      const auto [j0, j1] = range(A, 1);
+      const auto [k0, k1] = range(A, 2);
+      for (long long i = i0; i <= i1; ++i)
+        for (long long j = j0; j <= j1; ++j)
+          for (long long k = k0; k <= k1; ++k) {
+            auto it = grid.find(cellKey(i, j, k));
+            if (it == grid.end()) continue;
+            for (int eb : it->second) {
+              if (elems[eb].beam != pair.beamB || !tested.insert({(int)ea, eb}).second) continue;
+              const Box& B = boxes[eb];
+              bool overlap = true;
+              for (int c = 0; c < 3; ++c) overlap = overlap && A.lo[c] <= B.hi[c] && B.lo[c] <= A.hi[c];
+              if (!overlap) continue;
+              for (int la = 0; la < (int)lines_[pair.beamA].size(); ++la)
+                for (int lb = 0; lb < (int)lines_[pair.beamB].size(); ++lb) {
+                  const LinePairInput in = lineInput((int)ea, la, eb, lb, s);
+                  const ClosestPoints cp = closestPoints(in);
+                  if (cp.sinAngle < options_.minimumSinAngle) continue;
+                  const double tol = 1e-9;
+                  if (cp.xi < -tol || cp.xi > 1 + tol || cp.eta < -tol || cp.eta > 1 + tol) continue;
+                  // Only lines on the sides facing each other.
+                  if (dot(cp.pA - cp.cA, cp.normal) < -1e-12 || dot(cp.pB - cp.cB, cp.normal) > 1e-12) continue;
+                  if (in.radiusSum == 0.0 && (dot(cp.pA - cp.cA, cp.normal) <= 0 || dot(cp.pB - cp.cB, cp.normal) >= 0))
+                    continue;
+                  const Key key{(int)pi, la, lb};
+                  const double out = std::max(std::abs(cp.xi - 0.5), std::abs(cp.eta - 0.5));
+                  auto f = outside.find(key);
+                  if (f == outside.end() || out < f->second) {
+                    found[key] = Candidate{(int)ea, eb, cp};
+                    outside[key] = out;
+                  }
+                }
+            }
+          }
+    }
+  }
+  return found;
+}
+
+void ContactManager::initialize(core::State& state) {
+  const auto cands = detect(state);
+  points_.clear();
+  for (const auto& [key, c] : cands) {
+    if (c.cp.gap < -1e-9 * std::max(1.0, c.cp.distance) && !options_.allowInitialPenetration) {
+      const auto& pair = pairs_[std::get<0>(key)];
+      std::ostringstream s;
+      s << "beams \"" << beams_->beams()[pair.beamA].name << "\" and \"" << beams_->beams()[pair.beamB].name
+        << "\" overlap at the start: gap " << c.cp.gap << " at (" << c.cp.pA[0] << ", " << c.cp.pA[1] << ", "
+        << c.cp.pA[2] << "); move them apart or set \"Contact/Allow Initial Penetration\" to true";
+      throw core::InputError(s.str());
+    }
+  }
+  prepareIteration(state);
+  committed_ = points_;
+}
+
+bool ContactManager::prepareIteration(core::State& state) {
+  const auto cands = detect(state);
+  std::map<Key, Point> next;
+  bool changed = cands.size() != points_.size();
+  for (const auto& [key, c] : cands) {
+    auto it = points_.find(key);
+    Point p;
+    if (it != points_.end()) {
+      p = it->second;
+      changed = changed || p.elementA != c.elementA || p.elementB != c.elementB;
+    } else {
+      changed = true;
+      p.pair = std::get<0>(key); p.lineA = std::get<1>(key); p.lineB = std::get<2>(key);
+      p.sigma = c.cp.sigma;
+      p.xiPrev = beamCoordinate(c.elementA, c.cp.xi);
+      p.etaPrev = beamCoordinate(c.elementB, c.cp.eta);
+    }
+    p.elementA = c.elementA;
+    p.elementB = c.elementB;
+    next[key] = p;
+  }
+  points_ = std::move(next);
+  return changed;
+}
+
+std::array<GlobalDof, kPairDofs> ContactManager::pointDofs(const Point& p) const {
+  const auto& a = beams_->elements()[p.elementA];
+  const auto& b = beams_->elements()[p.elementB];
+  const int nodes[4] = {a.node1, a.node2, b.node1, b.node2};
+  std::array<GlobalDof, kPairDofs> d;
+  for (int n = 0; n < 4; ++n)
+    for (int k = 0; k < 6; ++k) d[6 * n + k] = GlobalDof(core::kDofsPerNode) * nodes[n] + k;
+  return d;
+}
+
+ContactKinematics ContactManager::kinematics(const Point& p, const core::State& state) const {
+  const LinePairInput in = lineInput(p.elementA, p.lineA, p.elementB, p.lineB, state);
+  const double xiPrev = p.xiPrev - beams_->elements()[p.elementA].index;
+  const double etaPrev = p.etaPrev - beams_->elements()[p.elementB].index;
+  return contactKinematics(in, p.sigma, xiPrev, etaPrev);
+}
+
+void ContactManager::connectivity(const OwnsDof& owns, std::vector<std::vector<GlobalDof>>& blocks) const {
+  for (const auto& [key, p] : points_) {
+    const auto d = pointDofs(p);
+    if (owns(d[0])) blocks.emplace_back(d.begin(), d.end());
+  }
+}
+
+void ContactManager::evaluate(const core::State& state, const OwnsDof& owns, core::AssemblySink& sink,
+                              bool tangent) const {
+  std::vector<double> f(kPairDofs), K(kPairDofs * kPairDofs);
+  for (const auto& [key, p] : points_) {
+    const auto d = pointDofs(p);
+    if (!owns(d[0])) continue;
+    // Cheap test first: the full kinematics (with their derivatives) only where the point may act.
+    const LinePairInput in = lineInput(p.elementA, p.lineA, p.elementB, p.lineB, state);
+    const ClosestPoints cp = closestPoints(in);
+    ContactKinematics probe;
+    probe.normal.value = cp.sigma == p.sigma ? cp.gap : -cp.gap - 2 * in.radiusSum;
+    if (!enforcer_->contributes(probe, p.history)) continue;
+    const ContactKinematics k = kinematics(p, state);
+    if (!enforcer_->contributes(k, p.history)) continue;
+    std::fill(f.begin(), f.end(), 0.0);
+    std::fill(K.begin(), K.end(), 0.0);
+    enforcer_->evaluate(k, p.history, pairs_[p.pair].friction, nullptr, f.data(), tangent ? K.data() : nullptr);
+    sink.add(d.data(), kPairDofs, f.data(), tangent ? K.data() : nullptr);
+  }
+}
+
+bool ContactManager::acceptSolution(core::State& state) {
+  ++passes_;
+  worstViolation_ = 0.0;
+  bool all = true;
+  for (auto& [key, p] : points_) {
+    const ContactKinematics k = kinematics(p, state);
+    all = enforcer_->acceptPoint(k, p.history, pairs_[p.pair].friction, nullptr, worstViolation_) && all;
+  }
+  if (!all && passes_ >= enforcer_->maximumPasses()) {
+    std::ostringstream s;
+    s << enforcer_->type() << ": constraints not met after " << passes_ << " passes (largest violation "
+      << worstViolation_ << ")";
+    throw std::runtime_error(s.str());
+  }
+  return all;
+}
+
+void ContactManager::commitStep(const core::State& state) {
+  std::vector<double> f(kPairDofs);
+  for (auto& [key, p] : points_) {
+    const ContactKinematics k = kinematics(p, state);
+    std::fill(f.begin(), f.end(), 0.0);
+    p.result = enforcer_->contributes(k, p.history)
+                   ? enforcer_->evaluate(k, p.history, pairs_[p.pair].friction, nullptr, f.data(), nullptr)
+                   : PointResult{};
+    enforcer_->commitPoint(k, p.history, pairs_[p.pair].friction, nullptr);
+    p.kinematics = k;
+    const ClosestPoints cp = closestPoints(lineInput(p.elementA, p.lineA, p.elementB, p.lineB, state));
+    p.position = 0.5 * (cp.pA + cp.pB);
+    p.xiPrev = beamCoordinate(p.elementA, k.xi);
+    p.etaPrev = beamCoordinate(p.elementB, k.eta);
+  }
+  committed_ = points_;
+  lastPasses_ = passes_;
+  passes_ = 0;
+}
+
+void ContactManager::restoreStep() {
+  points_ = committed_;
+  passes_ = 0;
+}
+
+std::string ContactManager::tableHeader() const {
+  return "pair,line_A,line_B,beam_A_coordinate,beam_B_coordinate,x,y,z,gap,normal_force,tangential_force_1,"
+         "tangential_force_2,state_1,state_2,active";
+}
+
+std::vector<std::string> ContactManager::tableRows() const {
+  std::vector<std::string> rows;
+  for (const auto& [key, p] : committed_) {
+    std::ostringstream s;
+    s.precision(12);
+    const auto state = [&](int i) { return !p.result.active ? "open" : (p.result.slip[i] ? "slip" : "stick"); };
+    s << pairs_[p.pair].name << "," << p.lineA << "," << p.lineB << "," << p.xiPrev << "," << p.etaPrev << ","
+      << p.position[0] << "," << p.position[1] << "," << p.position[2] << "," << p.kinematics.normal.value << ","
+      << -p.result.lambdaN << "," << p.result.lambdaT[0] << "," << p.result.lambdaT[1] << "," << state(0) << ","
+      << state(1) << "," << (p.result.active ? 1 : 0);
+    rows.push_back(s.str());
+  }
+  return rows;
+}
+
+std::string ContactManager::progressSummary() const {
+  int active = 0, stick = 0, slip = 0;
+  for (const auto& [key, p] : committed_) {
+    if (!p.result.active) continue;
+    ++active;
+    for (int i = 0; i < 2; ++i) (p.result.slip[i] ? slip : stick)++;
+  }
+  std::ostringstream s;
+  s << "contact " << active << " (stick " << stick << ", slip " << slip << " lines)";
+  if (enforcer_->maximumPasses() > 1) s << ", passes " << lastPasses_;
+  return s.str();
+}
+
+}  // namespace bc::constraints

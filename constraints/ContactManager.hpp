@@ -1,0 +1,107 @@
+// Beam-to-beam contact as a Contribution: finds the contact points of the declared beam pairs,
+// keeps their history, and lets the configured ConstraintEnforcer turn each point's kinematics into
+// residual and tangent terms.
+//
+// Contact lines: the four edges of a rectangular section (offsets +-b/2 e2 +-h/2 e3 from the axis),
+// the axis of a circular one (the radii enter the gap). A contact point is identified by its beam
+// pair and its two lines; per iteration it lies on the element pair where the closest points of the
+// two lines fall inside both elements (a point on a shared node is taken once). Only lines facing
+// the other beam take part, so a pair of rectangular beams has at most 2 x 2 = 4 points.
+//
+// Search: the elements' bounding boxes (inflated by "Search Margin") are hashed into a uniform grid,
+// so candidate element pairs are found without testing all pairs.
+//
+// History per point: the contact coordinates of the last converged step (the tangential gaps are
+// measured from them, mapped on the current configuration), the normal orientation, and what the
+// strategy keeps (friction forces, multiplier estimates). When a point moves to a neighbouring
+// element within a step, its tangential gap is the parameter difference times the current element's
+// line length (exact within one element).
+#pragma once
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "ConstraintEnforcer.hpp"
+#include "ContactKinematics.hpp"
+#include "core/Contribution.hpp"
+#include "elements/BeamSet.hpp"
+
+namespace bc::constraints {
+
+struct ContactPairSpec {
+  int beamA = 0, beamB = 0;
+  double friction = 0.0;
+  std::string name;
+};
+
+struct ContactOptions {
+  double searchMargin = 0.0;           // added to the bounding boxes [length]
+  double minimumSinAngle = 1e-3;       // lines closer to parallel are skipped (point contact undefined)
+  bool allowInitialPenetration = false;
+};
+
+class ContactManager : public core::Contribution {
+ public:
+  ContactManager(std::shared_ptr<const elements::BeamSet> beams, std::vector<ContactPairSpec> pairs,
+                 std::unique_ptr<ConstraintEnforcer> enforcer, ContactOptions options);
+
+  // Checks the initial state (penetration) and finds the first candidates.
+  void initialize(core::State& state);
+
+  std::string name() const override { return "contact"; }
+  void connectivity(const OwnsDof& owns, std::vector<std::vector<core::GlobalDof>>& blocks) const override;
+  void evaluate(const core::State& state, const OwnsDof& owns, core::AssemblySink& sink, bool tangent) const override;
+  bool prepareIteration(core::State& state) override;
+  bool acceptSolution(core::State& state) override;
+  void commitStep(const core::State& state) override;
+  void restoreStep() override;
+  std::string tableName() const override { return "contact_points.csv"; }
+  std::string tableHeader() const override;
+  std::vector<std::string> tableRows() const override;
+  std::string progressSummary() const override;
+
+  // For tests: the current points and their results of the last commit.
+  struct Point {
+    int pair = 0, lineA = 0, lineB = 0;
+    int elementA = 0, elementB = 0;  // indices into the beam set's element list
+    double sigma = 1.0;
+    double xiPrev = 0.0, etaPrev = 0.0;  // previous converged point, as beam coordinates (element + xi)
+    PointHistory history;
+    // Last committed values, for output.
+    ContactKinematics kinematics;
+    PointResult result;
+    Vec3d position{};
+  };
+  const std::map<std::tuple<int, int, int>, Point>& points() const { return points_; }
+  const ConstraintEnforcer& enforcer() const { return *enforcer_; }
+  int passes() const { return passes_; }
+  // Kinematics of a point at a state (public for tests of the assembled contact tangent).
+  ContactKinematics kinematics(const Point& p, const core::State& state) const;
+  std::array<core::GlobalDof, kPairDofs> pointDofs(const Point& p) const;
+
+ private:
+  struct Line {
+    double cy = 0.0, cz = 0.0;  // offset in the section's (y, z)
+    double radius = 0.0;
+  };
+  struct Candidate {
+    int elementA, elementB;
+    ClosestPoints cp;
+  };
+  LinePairInput lineInput(int elementA, int lineA, int elementB, int lineB, const core::State& s) const;
+  std::map<std::tuple<int, int, int>, Candidate> detect(const core::State& s) const;
+  double beamCoordinate(int element, double xi) const;
+
+  std::shared_ptr<const elements::BeamSet> beams_;
+  std::vector<ContactPairSpec> pairs_;
+  std::unique_ptr<ConstraintEnforcer> enforcer_;
+  ContactOptions options_;
+  std::vector<std::vector<Line>> lines_;  // per beam
+  std::map<std::tuple<int, int, int>, Point> points_, committed_;
+  int passes_ = 0;
+  int lastPasses_ = 0;
+  double worstViolation_ = 0.0;
+};
+
+}  // namespace bc::constraints
