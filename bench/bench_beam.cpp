@@ -17,6 +17,8 @@
 #include <Teuchos_XMLParameterListHelpers.hpp>
 #include <Tpetra_Core.hpp>
 
+#include "constraints/EnforcerRegistry.hpp"
+
 #include "core/Assembler.hpp"
 #include "core/LinearSolver.hpp"
 #include "core/StaticSolver.hpp"
@@ -57,6 +59,7 @@ std::string deck(int elements, const std::string& solver) {
 
 int main(int argc, char** argv) {
   Tpetra::ScopeGuard scope(&argc, &argv);
+  bc::constraints::registerBuiltinEnforcers();
   auto comm = Tpetra::getDefaultComm();
   const bool root = comm->getRank() == 0;
   std::string solverType = "Direct";

@@ -12,6 +12,8 @@
 #include <Teuchos_DefaultComm.hpp>
 #include <Tpetra_Core.hpp>
 
+#include "constraints/EnforcerRegistry.hpp"
+
 #include "core/Simulation.hpp"
 #include "input/Deck.hpp"
 
@@ -62,6 +64,7 @@ int main(int argc, char** argv) {
     return args.empty() ? 1 : 0;
   }
   Tpetra::ScopeGuard scope(&argc, &argv);
+  bc::constraints::registerBuiltinEnforcers();
   const bool root = Tpetra::getDefaultComm()->getRank() == 0;
   try {
     if (args[0] == "--print-valid-parameters") {

@@ -7,6 +7,9 @@
 #include <Teuchos_Array.hpp>
 #include <Teuchos_XMLParameterListHelpers.hpp>
 
+#include "constraints/ContactManager.hpp"
+#include "constraints/EnforcerRegistry.hpp"
+
 namespace bc::input {
 
 using core::InputError;
@@ -113,6 +116,39 @@ const ParameterSpec& outputSpec() {
   return s;
 }
 
+const ParameterSpec& contactPairSpec() {
+  static const ParameterSpec s = [] {
+    ParameterSpec p;
+    p.addRequired("Beam A", std::string("beam name"), "first beam of the pair");
+    p.addRequired("Beam B", std::string("beam name"), "second beam of the pair");
+    p.addRequired("Friction Coefficient", 0.0, "Coulomb friction coefficient mu (0: frictionless)",
+                  core::nonNegative(), ">= 0");
+    return p;
+  }();
+  return s;
+}
+
+const ParameterSpec& contactSpec() {
+  static const ParameterSpec s = [] {
+    ParameterSpec p;
+    p.add("All Pairs", false, "every pair of beams may come into contact (then give Friction Coefficient here)");
+    p.addOptional("Friction Coefficient", 0.0, "with All Pairs: Coulomb friction coefficient of every pair",
+                  core::nonNegative(), ">= 0");
+    p.addOptional("Search Margin", 1.0,
+                  "distance added to the elements' bounding boxes in the contact search [length]; default: half "
+                  "the largest section dimension",
+                  core::nonNegative(), ">= 0");
+    p.add("Parallel Line Tolerance", 1e-3,
+          "contact lines whose angle has a sine below this are skipped (point contact is undefined there)",
+          core::inRange(0.0, 1.0), "in (0, 1]");
+    p.add("Allow Initial Penetration", false, "accept beams that overlap at T = 0 instead of stopping");
+    p.addSublist("Pairs", ParameterList(), "named contact pairs: Beam A, Beam B, Friction Coefficient");
+    p.addSublist("Enforcement", ParameterList(), "the enforcement strategy: Type and its sublist");
+    return p;
+  }();
+  return s;
+}
+
 const ParameterSpec& topSpec() {
   static const ParameterSpec s = [] {
     ParameterSpec p;
@@ -123,6 +159,7 @@ const ParameterSpec& topSpec() {
     p.addSublist("Nonlinear Solver", core::newtonSpec().reference(), "Newton-Raphson settings");
     p.addSublist("Linear Solver", core::linearSolverSpec().reference(), "linear solver settings");
     p.addSublist("Output", outputSpec().reference(), "results directory and tracked points");
+    p.addSublist("Contact", contactSpec().reference(), "beam-to-beam contact (optional)");
     return p;
   }();
   return s;
@@ -224,6 +261,71 @@ std::array<bool, 6> parseFixed(const std::string& text, const std::string& path)
   }
   if (!any) throw InputError("parameter \"" + path + "/Fixed\" is empty; use \"all\" or ux uy uz rx ry rz");
   return fixed;
+}
+
+void buildContact(Problem& p, ParameterList& c, const std::string& path) {
+  contactSpec().apply(c, path);
+  auto beamNamed = [&](const std::string& name, const std::string& where) {
+    const auto b = p.beamIndex.find(name);
+    if (b == p.beamIndex.end()) {
+      std::vector<std::string> names;
+      for (const auto& [n, i] : p.beamIndex) names.push_back(n);
+      throw InputError("parameter \"" + where + "\": unknown beam \"" + name + "\"; beams are " + core::joinNames(names));
+    }
+    return b->second;
+  };
+  std::vector<constraints::ContactPairSpec> pairs;
+  if (c.get<bool>("All Pairs")) {
+    if (!c.isParameter("Friction Coefficient"))
+      throw InputError("missing required parameter \"" + path + "/Friction Coefficient\" (needed with All Pairs)");
+    const int nb = static_cast<int>(p.beams->beams().size());
+    for (int a = 0; a < nb; ++a)
+      for (int b = a + 1; b < nb; ++b)
+        pairs.push_back({a, b, c.get<double>("Friction Coefficient"),
+                         p.beams->beams()[a].name + "-" + p.beams->beams()[b].name});
+  } else if (c.isParameter("Friction Coefficient")) {
+    throw InputError("parameter \"" + path + "/Friction Coefficient\" applies only with All Pairs; give it per pair");
+  }
+  forEachItem(c.sublist("Pairs"), path + "/Pairs", contactPairSpec(),
+              [&](ParameterList& q, const std::string& name, const std::string& qpath) {
+                const int a = beamNamed(q.get<std::string>("Beam A"), qpath + "/Beam A");
+                const int b = beamNamed(q.get<std::string>("Beam B"), qpath + "/Beam B");
+                if (a == b) throw InputError("contact pair \"" + qpath + "\" names the same beam twice");
+                pairs.push_back({a, b, q.get<double>("Friction Coefficient"), name});
+              });
+  if (pairs.empty())
+    throw InputError("\"" + path + "\" declares no contact pair: give Pairs or set All Pairs to true");
+
+  ParameterList& e = c.sublist("Enforcement");
+  const std::string epath = path + "/Enforcement";
+  ParameterSpec enforcement;
+  enforcement.addChoice("Type", "Penalty", constraints::enforcerNames(), "enforcement strategy");
+  for (const auto& entry : constraints::enforcers())
+    enforcement.addSublist(entry.name, entry.spec->reference(), "parameters of the " + entry.name + " strategy");
+  if (!e.isParameter("Type"))
+    throw InputError("missing required parameter \"" + epath + "/Type\"; valid strategies are " +
+                     core::joinNames(constraints::enforcerNames()));
+  const std::string type = e.get<std::string>("Type");
+  const auto& entry = constraints::findEnforcer(type, epath + "/Type");
+  enforcement.apply(e, epath);
+  // Sublists of other registered strategies may stay in the deck (switching Type is one edit); they
+  // are validated too. The chosen strategy's sublist is required.
+  if (!e.isSublist(type))
+    throw InputError("missing sublist \"" + epath + "/" + type + "\" with the parameters of the chosen strategy");
+  for (const auto& other : constraints::enforcers())
+    if (e.isSublist(other.name)) other.spec->apply(e.sublist(other.name), epath + "/" + other.name);
+
+  constraints::ContactOptions options;
+  double largest = 0.0;
+  for (const auto& b : p.beams->beams())
+    largest = std::max({largest, b.section.width, b.section.height, 2 * b.section.radius});
+  options.searchMargin = c.isParameter("Search Margin") ? c.get<double>("Search Margin") : 0.5 * largest;
+  options.minimumSinAngle = c.get<double>("Parallel Line Tolerance");
+  options.allowInitialPenetration = c.get<bool>("Allow Initial Penetration");
+  auto manager = std::make_shared<constraints::ContactManager>(p.beams, pairs, entry.create(e.sublist(type)), options);
+  manager->initialize(p.model.initial);
+  p.contact = manager;
+  p.model.contributions.push_back(manager);
 }
 
 }  // namespace
@@ -361,6 +463,8 @@ Problem buildProblem(ParameterList deck, const std::string& deckName) {
               [&](ParameterList& t, const std::string& name, const std::string& path) {
                 p.model.tracked.push_back({name, locate.nodes(t, path, false).front()});
               });
+  if (deck.isSublist("Contact")) buildContact(p, deck.sublist("Contact"), top + "/Contact");
+
   if (p.model.supports.empty())
     throw InputError("\"" + top + "/Supports\" is empty: the structure would be free to move as a rigid body");
   p.effective = deck;
@@ -375,6 +479,11 @@ ParameterList referenceParameters() {
   ref.sublist("Supports").sublist("<support name>").setParameters(supportSpec().reference());
   ref.sublist("Loads").sublist("<load name>").setParameters(loadSpec().reference());
   ref.sublist("Output").sublist("Tracked Points").sublist("<point name>").setParameters(trackedSpec().reference());
+  ref.sublist("Contact").sublist("Pairs").sublist("<pair name>").setParameters(contactPairSpec().reference());
+  ParameterList& e = ref.sublist("Contact").sublist("Enforcement");
+  e.set("Type", std::string("Penalty"), "one of " + core::joinNames(constraints::enforcerNames()));
+  for (const auto& entry : constraints::enforcers())
+    e.sublist(entry.name, false, "used when Type is \"" + entry.name + "\"").setParameters(entry.spec->reference());
   return ref;
 }
 

@@ -13,12 +13,17 @@
 #include "core/StaticSolver.hpp"
 #include "elements/BeamSet.hpp"
 
+namespace bc::constraints {
+class ContactManager;
+}
+
 namespace bc::input {
 
 struct Problem {
   core::Model model;
   std::shared_ptr<elements::BeamSet> beams;
   std::map<std::string, int> beamIndex;  // beam name -> index in beams->beams()
+  std::shared_ptr<constraints::ContactManager> contact;  // null without a Contact sublist
   core::SolverSettings solver;
   Teuchos::ParameterList linearSolver;   // validated "Linear Solver" sublist
   std::string outputDirectory;
@@ -28,7 +33,8 @@ struct Problem {
 
 // Parses the file; throws core::InputError naming the file for a missing file or malformed XML.
 Teuchos::ParameterList readDeckFile(const std::string& path);
-// Validates `deck` (defaults are filled in place) and builds the problem. `deckName` names the default
+// Validates `deck` (defaults are filled in place) and builds the problem. The enforcement strategies
+// must be registered first (constraints::registerBuiltinEnforcers()). `deckName` names the default
 // results directory ("results/<deckName>").
 Problem buildProblem(Teuchos::ParameterList deck, const std::string& deckName);
 // The documented reference of every parameter.

@@ -3,8 +3,11 @@
 
 #include <Tpetra_Core.hpp>
 
+#include "constraints/EnforcerRegistry.hpp"
+
 int main(int argc, char** argv) {
   Tpetra::ScopeGuard scope(&argc, &argv);
+  bc::constraints::registerBuiltinEnforcers();
   ::testing::InitGoogleTest(&argc, argv);
   if (Tpetra::getDefaultComm()->getRank() != 0) {
     auto& listeners = ::testing::UnitTest::GetInstance()->listeners();
