@@ -111,6 +111,7 @@ bool StaticSolver::attempt(double Ta, double Tb, int cutLevel, RunReport& run, c
     return true;
   }
   for (auto& c : model_.contributions) c->restoreStep();
+  graphStale_ = true;  // the restored contributions may couple other dofs than the last graph
   if (cutLevel >= settings_.maxStepCuts) {
     std::ostringstream s;
     s << "increment T = " << Ta << " -> " << Tb << " did not converge after " << cutLevel
@@ -126,6 +127,7 @@ bool StaticSolver::attempt(double Ta, double Tb, int cutLevel, RunReport& run, c
 
 StepReport StaticSolver::iterateFrom(const State& start, double T, State& result) {
   StepReport report;
+  graphStale_ = true;
   std::string failure;
   trial_ = start;
   newton(T, T, report, failure);
@@ -152,7 +154,8 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
   int pass = 0, passStart = 0;  // a pass is one Newton solve of the increment
   for (int k = 0;; ++k) {
     const int kp = k - passStart;
-    bool rebuild = false;
+    bool rebuild = graphStale_ || static_cast<Tpetra::global_size_t>(trial_.numDofs()) != assembler_.ownedMap()->getGlobalNumElements();
+    graphStale_ = false;
     for (auto& c : model_.contributions) rebuild = c->prepareIteration(trial_) || rebuild;
     if (rebuild) {
       start("Graph Rebuild");

@@ -92,6 +92,7 @@ class StaticSolver {
   Teuchos::RCP<Teuchos::StackedTimer> timer_;
   Assembler assembler_;
   State committed_, trial_;
+  bool graphStale_ = false;
 };
 
 }  // namespace bc::core
