@@ -83,3 +83,52 @@ void compare(const std::string& solver) {
 
 TEST(RankAgreement, DirectSolver) { compare("Direct"); }
 TEST(RankAgreement, GmresSolver) { compare("GMRES"); }
+
+// Example 1 (contact, penalty and augmented Lagrange) on 2 ranks and on 1.
+#include <fstream>
+#include <sstream>
+
+namespace {
+std::string example1Deck(const std::string& type) {
+  std::ifstream f(std::string(BC_SOURCE_DIR) + "/input/example1.xml");
+  std::stringstream s;
+  s << f.rdbuf();
+  std::string d = s.str();
+  const std::string from = R"(<Parameter name="Type" type="string" value="Penalty"/>)";
+  d.replace(d.find(from), from.size(), R"(<Parameter name="Type" type="string" value=")" + type + R"("/>)");
+  // Solved to round-off, so that the comparison measures the ranks, not where Newton stopped inside
+  // its tolerance (friction carries such differences from step to step).
+  const std::string stepping = R"(<ParameterList name="Load Stepping">)";
+  d.replace(d.find(stepping), stepping.size(),
+            R"(<ParameterList name="Nonlinear Solver"><Parameter name="Residual Tolerance" type="double" value="1e-12"/>)"
+            R"(<Parameter name="Increment Tolerance" type="double" value="1e-12"/></ParameterList>)" + stepping);
+  return d;
+}
+void compareExample1(const std::string& type, double tolerance) {
+  auto world = Tpetra::getDefaultComm();
+  auto self = Teuchos::rcp(new Teuchos::MpiComm<int>(MPI_COMM_SELF));
+  auto pw = test::problemFromXml(example1Deck(type));
+  auto ps = test::problemFromXml(example1Deck(type));
+  const auto rw = test::runQuiet(pw, world, "example1_world");
+  const auto rs = test::runQuiet(ps, self, "example1_self" + std::to_string(world->getRank()));
+  ASSERT_TRUE(rw.report.completed) << rw.report.failure;
+  ASSERT_TRUE(rs.report.completed) << rs.report.failure;
+  double umax = 0.0, diff = 0.0;
+  for (int n = 0; n < rw.finalState.numNodes(); ++n)
+    for (int k = 0; k < 3; ++k) {
+      umax = std::max(umax, std::abs(rw.finalState.displacement(n)[k]));
+      diff = std::max(diff, std::abs(rw.finalState.displacement(n)[k] - rs.finalState.displacement(n)[k]));
+    }
+  if (world->getRank() == 0)
+    std::printf("Example 1, %s, %d ranks vs 1: max |du| / max |u| = %.2e, Newton %d vs %d\n", type.c_str(),
+                world->getSize(), diff / umax, rw.report.newtonIterations, rs.report.newtonIterations);
+  EXPECT_LT(diff / umax, tolerance);
+}
+}  // namespace
+
+// Penalty: at T = 0.36 a contact point touches with a force of ~0 and is "open" on one rank count and
+// "slip" on the other (both are converged states); the friction path carries the difference to
+// 5e-5 of the largest displacement at T = 1. Asserted at 1e-4 until the active set gets a
+// deterministic tie-break (issue 3 follow-up). Augmented Lagrange: to round-off.
+TEST(RankAgreement, Example1Penalty) { compareExample1("Penalty", 1e-4); }
+TEST(RankAgreement, Example1AugmentedLagrange) { compareExample1("Augmented Lagrange", 1e-10); }
