@@ -55,11 +55,17 @@ bool AugmentedLagrangeEnforcer::acceptPoint(const ContactKinematics& k, PointHis
   return violation <= tolerance_;
 }
 
-void AugmentedLagrangeEnforcer::commitPoint(const ContactKinematics& k, PointHistory& h, double mu,
-                                            const double*) const {
-  const PointResult r = regularizedForces(k, h, mu, p_);
-  h.lambdaN = r.lambdaN;
-  for (int i = 0; i < 2; ++i) h.lambdaT[i] = r.lambdaT[i];
+PointResult AugmentedLagrangeEnforcer::reportedForces(const ContactKinematics&, const PointHistory& h, double mu,
+                                                      const double*) const {
+  PointResult r;
+  r.active = h.lambdaN < 0.0;
+  if (!r.active) return r;
+  r.lambdaN = h.lambdaN;
+  for (int i = 0; i < 2; ++i) {
+    r.lambdaT[i] = h.lambdaT[i];
+    r.slip[i] = mu > 0.0 && std::abs(h.lambdaT[i]) >= -mu * h.lambdaN * (1.0 - 1e-12);
+  }
+  return r;
 }
 
 }  // namespace bc::constraints

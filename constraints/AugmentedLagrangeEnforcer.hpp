@@ -25,7 +25,11 @@ class AugmentedLagrangeEnforcer : public ConstraintEnforcer {
                        double* K) const override;
   bool acceptPoint(const ContactKinematics& k, PointHistory& h, double mu, const double* lambda,
                    double& worstViolation) const override;
-  void commitPoint(const ContactKinematics& k, PointHistory& h, double mu, const double* lambda) const override;
+  // acceptPoint has already set the estimates to the converged forces: report and keep those
+  // (recomputing lambda_hat + eps g would count the last augmentation twice).
+  PointResult reportedForces(const ContactKinematics& k, const PointHistory& h, double mu,
+                             const double* lambda) const override;
+  void commitPoint(const ContactKinematics& k, PointHistory& h, double mu, const double* lambda) const override {}
   int maximumPasses() const override { return maxPasses_; }
 
  private:

@@ -10,6 +10,7 @@
 #pragma once
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <Teuchos_ParameterList.hpp>
 
@@ -46,11 +47,25 @@ class ConstraintEnforcer {
   // row-major; may be null). `lambda` holds the point's current multipliers (null if none).
   virtual PointResult evaluate(const ContactKinematics& k, const PointHistory& h, double mu, const double* lambda,
                                double* f, double* K) const = 0;
-  // Newton has converged for this increment. Update `h` (e.g. augment the multipliers, change the
-  // active set); return false if the increment must be solved again with the updated history.
+  // Newton has converged for this increment. First stage, for every point: the normal active set
+  // (activate, release); return false if it changed. Only when no point changed there, the second
+  // stage (acceptPoint) runs: friction states, augmentation. Mixing both in one pass makes active
+  // sets cycle, because slip directions would come from a configuration that no longer holds.
+  virtual bool acceptNormal(const ContactKinematics& k, PointHistory& h, double mu, const double* lambda) const {
+    return true;
+  }
+  // Second stage. Update `h` (e.g. augment the multipliers, change stick/slip); return false if the
+  // increment must be solved again with the updated history.
   // `worstViolation` collects the largest constraint violation (for the stopping test and output).
   virtual bool acceptPoint(const ContactKinematics& k, PointHistory& h, double mu, const double* lambda,
                            double& worstViolation) const = 0;
+  // The forces of a point at a converged state, for output (called before commitPoint). By default
+  // the evaluation without assembly.
+  virtual PointResult reportedForces(const ContactKinematics& k, const PointHistory& h, double mu,
+                                     const double* lambda) const {
+    std::vector<double> f(kPairDofs + multipliersPerPoint(), 0.0);
+    return contributes(k, h) ? evaluate(k, h, mu, lambda, f.data(), nullptr) : PointResult{};
+  }
   // History at the end of a converged increment (friction forces carried to the next increment).
   virtual void commitPoint(const ContactKinematics& k, PointHistory& h, double mu, const double* lambda) const = 0;
   // Upper bound on the Newton solves of one increment the strategy may ask for (augmentation passes).

@@ -143,6 +143,7 @@ std::map<Key, ContactManager::Candidate> ContactManager::detect(const core::Stat
 }
 
 void ContactManager::initialize(core::State& state) {
+  numNodes_ = state.numNodes();
   const auto cands = detect(state);
   points_.clear();
   for (const auto& [key, c] : cands) {
@@ -181,7 +182,40 @@ bool ContactManager::prepareIteration(core::State& state) {
     next[key] = p;
   }
   points_ = std::move(next);
+  return layoutMultipliers(state) || changed;
+}
+
+bool ContactManager::layoutMultipliers(core::State& state) {
+  const int m = enforcer_->multipliersPerPoint();
+  if (m == 0) return false;
+  std::vector<double> extra;
+  bool changed = false;
+  for (auto& [key, p] : points_) {
+    const int offset = p.history.active ? static_cast<int>(extra.size()) : -1;
+    if (offset >= 0) {
+      for (int j = 0; j < m; ++j)
+        extra.push_back(p.extraOffset >= 0 && p.extraOffset + j < (int)state.extra.size() ? state.extra[p.extraOffset + j]
+                                                                                           : 0.0);
+    }
+    changed = changed || offset != p.extraOffset;
+    p.extraOffset = offset;
+  }
+  changed = changed || extra.size() != state.extra.size();
+  state.extra = std::move(extra);
   return changed;
+}
+
+const double* ContactManager::multipliers(const Point& p, const core::State& state) const {
+  return p.extraOffset >= 0 ? &state.extra[p.extraOffset] : nullptr;
+}
+
+std::vector<GlobalDof> ContactManager::blockDofs(const Point& p) const {
+  const auto d = pointDofs(p);
+  std::vector<GlobalDof> dofs(d.begin(), d.end());
+  if (p.extraOffset >= 0)
+    for (int j = 0; j < enforcer_->multipliersPerPoint(); ++j)
+      dofs.push_back(GlobalDof(core::kDofsPerNode) * numNodes_ + p.extraOffset + j);
+  return dofs;
 }
 
 std::array<GlobalDof, kPairDofs> ContactManager::pointDofs(const Point& p) const {
@@ -203,16 +237,16 @@ ContactKinematics ContactManager::kinematics(const Point& p, const core::State& 
 
 void ContactManager::connectivity(const OwnsDof& owns, std::vector<std::vector<GlobalDof>>& blocks) const {
   for (const auto& [key, p] : points_) {
-    const auto d = pointDofs(p);
-    if (owns(d[0])) blocks.emplace_back(d.begin(), d.end());
+    const auto d = blockDofs(p);
+    if (owns(d[0])) blocks.push_back(d);
   }
 }
 
 void ContactManager::evaluate(const core::State& state, const OwnsDof& owns, core::AssemblySink& sink,
                               bool tangent) const {
-  std::vector<double> f(kPairDofs), K(kPairDofs * kPairDofs);
+  std::vector<double> f, K;
   for (const auto& [key, p] : points_) {
-    const auto d = pointDofs(p);
+    const auto d = blockDofs(p);
     if (!owns(d[0])) continue;
     // Cheap test first: the full kinematics (with their derivatives) only where the point may act.
     const LinePairInput in = lineInput(p.elementA, p.lineA, p.elementB, p.lineB, state);
@@ -222,10 +256,12 @@ void ContactManager::evaluate(const core::State& state, const OwnsDof& owns, cor
     if (!enforcer_->contributes(probe, p.history)) continue;
     const ContactKinematics k = kinematics(p, state);
     if (!enforcer_->contributes(k, p.history)) continue;
-    std::fill(f.begin(), f.end(), 0.0);
-    std::fill(K.begin(), K.end(), 0.0);
-    enforcer_->evaluate(k, p.history, pairs_[p.pair].friction, nullptr, f.data(), tangent ? K.data() : nullptr);
-    sink.add(d.data(), kPairDofs, f.data(), tangent ? K.data() : nullptr);
+    const int n = static_cast<int>(d.size());
+    f.assign(n, 0.0);
+    K.assign(std::size_t(n) * n, 0.0);
+    enforcer_->evaluate(k, p.history, pairs_[p.pair].friction, multipliers(p, state), f.data(),
+                        tangent ? K.data() : nullptr);
+    sink.add(d.data(), n, f.data(), tangent ? K.data() : nullptr);
   }
 }
 
@@ -233,9 +269,16 @@ bool ContactManager::acceptSolution(core::State& state) {
   ++passes_;
   worstViolation_ = 0.0;
   bool all = true;
+  std::vector<ContactKinematics> ks;
   for (auto& [key, p] : points_) {
-    const ContactKinematics k = kinematics(p, state);
-    all = enforcer_->acceptPoint(k, p.history, pairs_[p.pair].friction, nullptr, worstViolation_) && all;
+    ks.push_back(kinematics(p, state));
+    all = enforcer_->acceptNormal(ks.back(), p.history, pairs_[p.pair].friction, multipliers(p, state)) && all;
+  }
+  if (all) {
+    std::size_t i = 0;
+    for (auto& [key, p] : points_)
+      all = enforcer_->acceptPoint(ks[i++], p.history, pairs_[p.pair].friction, multipliers(p, state), worstViolation_) &&
+            all;
   }
   if (!all && passes_ >= enforcer_->maximumPasses()) {
     std::ostringstream s;
@@ -247,14 +290,11 @@ bool ContactManager::acceptSolution(core::State& state) {
 }
 
 void ContactManager::commitStep(const core::State& state) {
-  std::vector<double> f(kPairDofs);
   for (auto& [key, p] : points_) {
     const ContactKinematics k = kinematics(p, state);
-    std::fill(f.begin(), f.end(), 0.0);
-    p.result = enforcer_->contributes(k, p.history)
-                   ? enforcer_->evaluate(k, p.history, pairs_[p.pair].friction, nullptr, f.data(), nullptr)
-                   : PointResult{};
-    enforcer_->commitPoint(k, p.history, pairs_[p.pair].friction, nullptr);
+    const double* lambda = multipliers(p, state);
+    p.result = enforcer_->reportedForces(k, p.history, pairs_[p.pair].friction, lambda);
+    enforcer_->commitPoint(k, p.history, pairs_[p.pair].friction, lambda);
     p.kinematics = k;
     const ClosestPoints cp = closestPoints(lineInput(p.elementA, p.lineA, p.elementB, p.lineB, state));
     p.position = 0.5 * (cp.pA + cp.pB);

@@ -68,6 +68,7 @@ class ContactManager : public core::Contribution {
     double sigma = 1.0;
     double xiPrev = 0.0, etaPrev = 0.0;  // previous converged point, as beam coordinates (element + xi)
     PointHistory history;
+    int extraOffset = -1;  // first of the point's multipliers in State::extra (strategies with multipliers)
     // Last committed values, for output.
     ContactKinematics kinematics;
     PointResult result;
@@ -79,6 +80,8 @@ class ContactManager : public core::Contribution {
   // Kinematics of a point at a state (public for tests of the assembled contact tangent).
   ContactKinematics kinematics(const Point& p, const core::State& state) const;
   std::array<core::GlobalDof, kPairDofs> pointDofs(const Point& p) const;
+  // The point's multipliers in `state` (null for strategies without them or inactive points).
+  const double* multipliers(const Point& p, const core::State& state) const;
 
  private:
   struct Line {
@@ -92,6 +95,10 @@ class ContactManager : public core::Contribution {
   LinePairInput lineInput(int elementA, int lineA, int elementB, int lineB, const core::State& s) const;
   std::map<std::tuple<int, int, int>, Candidate> detect(const core::State& s) const;
   double beamCoordinate(int element, double xi) const;
+  // Gives every active point of a strategy with multipliers its place in State::extra, keeping the
+  // values of points that stay active; true if the layout changed.
+  bool layoutMultipliers(core::State& state);
+  std::vector<core::GlobalDof> blockDofs(const Point& p) const;
 
   std::shared_ptr<const elements::BeamSet> beams_;
   std::vector<ContactPairSpec> pairs_;
@@ -99,6 +106,7 @@ class ContactManager : public core::Contribution {
   ContactOptions options_;
   std::vector<std::vector<Line>> lines_;  // per beam
   std::map<std::tuple<int, int, int>, Point> points_, committed_;
+  int numNodes_ = 0;
   int passes_ = 0;
   int lastPasses_ = 0;
   double worstViolation_ = 0.0;

@@ -1,6 +1,7 @@
 #include "EnforcerRegistry.hpp"
 
 #include "AugmentedLagrangeEnforcer.hpp"
+#include "LagrangeMultiplierEnforcer.hpp"
 #include "PenaltyEnforcer.hpp"
 
 namespace bc::constraints {
@@ -23,6 +24,7 @@ void registerEnforcer(EnforcerEntry entry) {
 
 void registerBuiltinEnforcers() {
   registerEnforcer<PenaltyEnforcer>();
+  registerEnforcer<LagrangeMultiplierEnforcer>();
   registerEnforcer<AugmentedLagrangeEnforcer>();
 }
 

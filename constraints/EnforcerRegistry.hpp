@@ -20,7 +20,7 @@ struct EnforcerEntry {
 };
 
 void registerEnforcer(EnforcerEntry entry);
-// Registers the built-in strategies: Penalty and Augmented Lagrange (idempotent).
+// Registers the built-in strategies: Penalty, Lagrange Multiplier, Augmented Lagrange (idempotent).
 void registerBuiltinEnforcers();
 const std::vector<EnforcerEntry>& enforcers();
 std::vector<std::string> enforcerNames();

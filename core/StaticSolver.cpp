@@ -28,7 +28,7 @@ const ParameterSpec& newtonSpec() {
           "converged when ||r|| <= this * max(first residual of the step, ||T f_ext||, ||reactions||)",
           inRange(0.0, 1.0), "in (0, 1]");
     s.add("Increment Tolerance", 1e-8,
-          "and when ||du|| <= this * ||accumulated increment of the step||", inRange(0.0, 1.0), "in (0, 1]");
+          "and when ||du|| <= this * ||accumulated increment of the step|| (nodal dofs)", inRange(0.0, 1.0), "in (0, 1]");
     s.add("Print Iterations", false, "print ||r|| and ||du|| of every Newton iteration on rank 0");
     s.add("Divergence Factor", 1e10, "an iterate whose residual exceeds this times the reference diverged",
           positive(), "> 0");
@@ -71,7 +71,7 @@ StaticSolver::StaticSolver(Teuchos::RCP<const Comm> comm, Model& model, SolverSe
       assembler_(comm, model) {
   committed_ = model_.initial;
   trial_ = committed_;
-  assembler_.rebuild(committed_);
+  graphStale_ = true;  // built at the first iteration, from the state being solved
 }
 
 void StaticSolver::start(const std::string& name) {
@@ -125,12 +125,12 @@ bool StaticSolver::attempt(double Ta, double Tb, int cutLevel, RunReport& run, c
   return attempt(Ta, Tm, cutLevel + 1, run, onStep) && attempt(Tm, Tb, cutLevel + 1, run, onStep);
 }
 
-StepReport StaticSolver::iterateFrom(const State& start, double T, State& result) {
+StepReport StaticSolver::iterateFrom(const State& start, double Ta, double Tb, State& result) {
   StepReport report;
   graphStale_ = true;
   std::string failure;
   trial_ = start;
-  newton(T, T, report, failure);
+  newton(Ta, Tb, report, failure);
   result = trial_;
   trial_ = committed_;
   return report;
@@ -138,31 +138,34 @@ StepReport StaticSolver::iterateFrom(const State& start, double T, State& result
 
 bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string& failure) {
   // Prescribed motions over the increment.
-  const GlobalDof ndof = trial_.numDofs();
-  std::vector<double> du(ndof, 0.0);
+  // Increments are measured on the nodal dofs only: extra unknowns (multipliers) are forces, and their
+  // number may change from one iteration to the next.
+  const GlobalDof ndof = GlobalDof(kDofsPerNode) * trial_.numNodes();
+  std::vector<double> du(trial_.numDofs(), 0.0);
   for (const Support& s : model_.supports)
     for (int n : s.nodes)
       for (int k = 0; k < 6; ++k)
         if (s.fixed[k]) du[std::size_t(kDofsPerNode) * n + k] = s.value[k] * (Tb - Ta);
   double stepNorm2 = 0.0;
   for (double v : du) stepNorm2 += v * v;
-  std::vector<double> accumulated = du;
+  std::vector<double> accumulated(du.begin(), du.begin() + ndof);
   trial_.applyIncrement(du);
 
-  Vector x(assembler_.ownedMap());
+  Teuchos::RCP<Vector> x;
   double firstResidual = 0.0;
   int pass = 0, passStart = 0;  // a pass is one Newton solve of the increment
   for (int k = 0;; ++k) {
     const int kp = k - passStart;
-    bool rebuild = graphStale_ || static_cast<Tpetra::global_size_t>(trial_.numDofs()) != assembler_.ownedMap()->getGlobalNumElements();
+    bool rebuild = graphStale_ || assembler_.ownedMap().is_null() ||
+                   static_cast<Tpetra::global_size_t>(trial_.numDofs()) != assembler_.ownedMap()->getGlobalNumElements();
     graphStale_ = false;
     for (auto& c : model_.contributions) rebuild = c->prepareIteration(trial_) || rebuild;
     if (rebuild) {
       start("Graph Rebuild");
       assembler_.rebuild(trial_);
       stop("Graph Rebuild");
-      x = Vector(assembler_.ownedMap());
     }
+    if (x.is_null() || !x->getMap()->isSameAs(*assembler_.ownedMap())) x = Teuchos::rcp(new Vector(assembler_.ownedMap()));
     start("Assembly");
     assembler_.assemble(trial_, Tb, true);
     stop("Assembly");
@@ -234,14 +237,14 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
     SolveReport lin;
     start("Linear Solve");
     try {
-      lin = linear_.solve(assembler_.matrix(), rhs, x);
+      lin = linear_.solve(assembler_.matrix(), rhs, *x);
     } catch (const LinearSolveError& e) {
       stop("Linear Solve");
       failure = e.what();
       return false;
     }
     stop("Linear Solve");
-    const std::vector<double> inc = assembler_.gatherToAll(x);
+    const std::vector<double> inc = assembler_.gatherToAll(*x);
     double n2 = 0.0;
     stepNorm2 = 0.0;
     for (GlobalDof g = 0; g < ndof; ++g) {

@@ -74,9 +74,9 @@ class StaticSolver {
   // Runs all increments; `onStep` is called on every rank after each converged (sub)step.
   RunReport run(const StepCallback& onStep);
   const State& state() const { return committed_; }
-  // Newton iterations from `start` at load factor T with the supports held where they are; for
-  // convergence studies. Returns the history (residual and increment norms) and the final state.
-  StepReport iterateFrom(const State& start, double T, State& result);
+  // Newton iterations from `start` (converged at load factor Ta) to Tb, prescribed motions advanced
+  // by their change; for convergence studies. Returns the history and the final state.
+  StepReport iterateFrom(const State& start, double Ta, double Tb, State& result);
   Assembler& assembler() { return assembler_; }
 
  private:

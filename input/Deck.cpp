@@ -309,9 +309,9 @@ void buildContact(Problem& p, ParameterList& c, const std::string& path) {
   const auto& entry = constraints::findEnforcer(type, epath + "/Type");
   enforcement.apply(e, epath);
   // Sublists of other registered strategies may stay in the deck (switching Type is one edit); they
-  // are validated too. The chosen strategy's sublist is required.
-  if (!e.isSublist(type))
-    throw InputError("missing sublist \"" + epath + "/" + type + "\" with the parameters of the chosen strategy");
+  // are validated too. The chosen strategy's sublist is created when absent, so its defaults apply
+  // and each missing required value is named.
+  e.sublist(type);
   for (const auto& other : constraints::enforcers())
     if (e.isSublist(other.name)) other.spec->apply(e.sublist(other.name), epath + "/" + other.name);
 

@@ -132,3 +132,4 @@ void compareExample1(const std::string& type, double tolerance) {
 // deterministic tie-break (issue 3 follow-up). Augmented Lagrange: to round-off.
 TEST(RankAgreement, Example1Penalty) { compareExample1("Penalty", 1e-4); }
 TEST(RankAgreement, Example1AugmentedLagrange) { compareExample1("Augmented Lagrange", 1e-10); }
+TEST(RankAgreement, Example1LagrangeMultiplier) { compareExample1("Lagrange Multiplier", 1e-10); }

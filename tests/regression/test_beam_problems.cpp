@@ -110,7 +110,7 @@ TEST(Newton, ConvergesQuadraticallyNearTheSolution) {
   auto linear = core::makeLinearSolver(p.linearSolver);
   core::StaticSolver solver(comm, p.model, p.solver, *linear);
   core::State end;
-  const auto trace = solver.iterateFrom(r.finalState, 1.01, end);
+  const auto trace = solver.iterateFrom(r.finalState, 1.0, 1.01, end);
   std::printf("near the solution: residuals");
   for (const auto& it : trace.history) std::printf(" %.2e", it.residualNorm);
   std::printf("\n                   increments");

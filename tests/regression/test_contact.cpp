@@ -90,8 +90,8 @@ void checkContactTangent(const std::string& type, const std::string& deck, doubl
   for (const auto& [key, pt] : p.contact->points()) {
     const auto k = p.contact->kinematics(pt, s);
     if (!p.contact->enforcer().contributes(k, pt.history)) continue;
-    std::vector<double> f(constraints::kPairDofs, 0.0);
-    const auto r = p.contact->enforcer().evaluate(k, pt.history, mu, nullptr, f.data(), nullptr);
+    std::vector<double> f(constraints::kPairDofs + 3, 0.0);
+    const auto r = p.contact->enforcer().evaluate(k, pt.history, mu, p.contact->multipliers(pt, s), f.data(), nullptr);
     for (int i = 0; i < 2; ++i) (r.slip[i] ? slipping : sticking)++;
   }
   if (expectSlip) {
@@ -197,6 +197,16 @@ TEST(ContactTangent, PenaltySlipAndStick) {
 TEST(ContactTangent, AugmentedLagrangeSlip) {
   checkContactTangent("Augmented Lagrange", example1("Augmented Lagrange", "40.0, 0.0, -20.0", 10), 0.3, true, false, 0.5);
 }
+TEST(ContactTangent, LagrangeMultiplierSlipWithMultiplierRows) {
+  // The 27-dof point elements: displacement rows, multiplier columns and the constraint rows.
+  checkContactTangent("Lagrange Multiplier", example1("Lagrange Multiplier", "40.0, 0.0, -20.0", 10), 0.3, true, false, 0.5);
+}
+TEST(ContactTangent, LagrangeMultiplierStick) {
+  std::string deck = circles("Lagrange Multiplier", 3.0, 1e4);
+  deck = std::regex_replace(deck, std::regex(R"(name="Friction Coefficient" type="double" value="0")"),
+                            R"(name="Friction Coefficient" type="double" value="5")");
+  checkContactTangent("Lagrange Multiplier", deck, 1e-3, false, true, 5.0);
+}
 TEST(ContactTangent, AugmentedLagrangeStick) {
   // One pressed point (circular sections) with mu = 5: both lines stick well inside the Coulomb cone.
   std::string deck = circles("Augmented Lagrange", 3.0, 1e4);
@@ -232,7 +242,21 @@ TEST(Pressing, CircularSectionsMatchTheExactClosedForm) {
     std::printf("penetration rate %.4f (closed form -c eps / (c eps + 1) = %.4f)\n", rate, -c * e / (c * e + 1));
     EXPECT_NEAR(rate, -1.0, 0.02);
   }
-  // Augmented Lagrange: the rigid-contact answer, whatever eps_N.
+  // Lagrange multipliers: the rigid-contact answer with the gap at solver precision.
+  double lagrangeN = 0.0;
+  {
+    auto p = test::problemFromXml(circles("Lagrange Multiplier", W, 1e4), "circles_lm");
+    const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "circles_lm");
+    ASSERT_TRUE(r.report.completed) << r.report.failure;
+    const auto c = sums(p);
+    lagrangeN = c.normal;
+    const double N = (W - 0.5) / (c1 + c2);
+    std::printf("circles, Lagrange multiplier: N = %.6f (closed form %.6f), |gap| %.2e\n", c.normal, N,
+                std::abs(p.contact->points().begin()->second.kinematics.normal.value));
+    EXPECT_NEAR(c.normal, N, 2e-3 * N);
+    for (const auto& [key, pt] : p.contact->points()) EXPECT_LT(std::abs(pt.kinematics.normal.value), 1e-12);
+  }
+  // Augmented Lagrange: the rigid-contact answer, whatever eps_N, and the Lagrange one.
   for (double e : {1e3, 1e5}) {
     auto p = test::problemFromXml(circles("Augmented Lagrange", W, e), "circles_al");
     const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "circles_al");
@@ -245,6 +269,8 @@ TEST(Pressing, CircularSectionsMatchTheExactClosedForm) {
                 c.normal, N, c.maxPenetration, passes);
     EXPECT_NEAR(c.normal, N, 2e-3 * N);
     EXPECT_LT(c.maxPenetration, 1e-6);
+    // Lands at the Lagrange answer: the remaining gap (< 1e-6) times the contact stiffness 1/c.
+    EXPECT_NEAR(c.normal, lagrangeN, 1e-6 / (c1 + c2) + 1e-9);
   }
 }
 
@@ -266,12 +292,13 @@ TEST(Pressing, AugmentedLagrangeMeetsGapToleranceIndependentlyOfEps) {
     EXPECT_NEAR(c.normal, pressingForce(W, 0, 1), 0.08 * pressingForce(W, 0, 1));
     forces.push_back(c.normal);
   }
-  // Independent of eps_N beyond the tolerance: force differences of ~ stiffness * tolerance.
-  EXPECT_NEAR(forces[0], forces[1], 1e-6 * 100);
+  // Independent of eps_N beyond the tolerance: each of the 4 points may keep a gap up to the Gap
+  // Tolerance 1e-6, worth at most 4 * 1e-6 * (structural stiffness 1 / (1/600 + 1/75) = 67) in N.
+  EXPECT_NEAR(forces[0], forces[1], 4 * 1e-6 * 67.0);
 }
 
 TEST(Example1, EachStrategyRunsToTheEnd) {
-  for (const std::string type : {"Penalty", "Augmented Lagrange"}) {
+  for (const std::string type : {"Penalty", "Lagrange Multiplier", "Augmented Lagrange"}) {
     auto p = test::problemFromXml(example1(type), "example1");
     const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "example1");
     ASSERT_TRUE(r.report.completed) << type << ": " << r.report.failure;
@@ -361,4 +388,37 @@ TEST(ContactInput, BadInputsNameTheirCause) {
               R"(missing required parameter "BeamContact/Contact/Pairs/crossing/Friction Coefficient")");
   expectError(std::regex_replace(example1("Penalty"), std::regex(R"(, 8.0\}")"), R"(, 7.0}")"),
               R"(beams "beam 1" and "beam 2" overlap at the start: gap -0.5)");
+}
+
+TEST(Newton, ConvergesQuadraticallyNearAContactSolutionForEachStrategy) {
+  // Circular sections pressed (frictionless, one point): from the converged state at T = 1, Newton
+  // solves for T = 1.02 with the contact set unchanged. Orders as in the beam test:
+  // p = log(eps_k+1) / log(eps_k), eps_k = ||du_k|| / ||du_0||, counted while eps_k < 1e-2 and
+  // ||du_k+1|| > 1e-12, over the first Newton solve (before any augmentation pass).
+  for (const std::string type : {"Penalty", "Lagrange Multiplier", "Augmented Lagrange"}) {
+    auto p = test::problemFromXml(circles(type, 3.0, 1e4), "newton_contact");
+    auto comm = Tpetra::getDefaultComm();
+    const auto r = test::runQuiet(p, comm, "newton_contact");
+    ASSERT_TRUE(r.report.completed) << r.report.failure;
+    auto linear = core::makeLinearSolver(p.linearSolver);
+    core::StaticSolver solver(comm, p.model, p.solver, *linear);
+    core::State end;
+    const auto trace = solver.iterateFrom(r.finalState, 1.0, 1.02, end);
+    std::printf("%s: increments", type.c_str());
+    for (const auto& it : trace.history) std::printf(" %.2e", it.incrementNorm);
+    std::printf("\n  orders");
+    const double du0 = trace.history[0].incrementNorm;
+    int measured = 0;
+    for (std::size_t k = 1; k + 1 < trace.history.size(); ++k) {
+      const double ek = trace.history[k].incrementNorm / du0, next = trace.history[k + 1].incrementNorm;
+      if (next < 1e-12 || next > trace.history[k].incrementNorm) break;
+      if (ek >= 1e-2) continue;
+      const double order = std::log(next / du0) / std::log(ek);
+      std::printf(" %.3f", order);
+      EXPECT_GT(order, 1.8) << type;
+      ++measured;
+    }
+    std::printf("\n");
+    EXPECT_GE(measured, 1) << type;
+  }
 }

@@ -1,0 +1,132 @@
+#include "LagrangeMultiplierEnforcer.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace bc::constraints {
+
+const core::ParameterSpec& LagrangeMultiplierEnforcer::spec() {
+  static const core::ParameterSpec s = [] {
+    core::ParameterSpec p;
+    p.add("Gap Tolerance", 1e-9,
+          "an inactive point is activated when g_N < -this; a slipping line sticks when its slip opposes its "
+          "force by more than this [length]",
+          core::positive(), "> 0");
+    p.add("Maximum Active Set Iterations", 30, "Newton solves allowed per increment while the active set changes",
+          core::atLeast(1), ">= 1");
+    return p;
+  }();
+  return s;
+}
+
+LagrangeMultiplierEnforcer::LagrangeMultiplierEnforcer(const Teuchos::ParameterList& v) {
+  tolerance_ = v.get<double>("Gap Tolerance");
+  maxPasses_ = v.get<int>("Maximum Active Set Iterations");
+}
+
+PointResult LagrangeMultiplierEnforcer::evaluate(const ContactKinematics& k, const PointHistory& h, double mu,
+                                                 const double* lambda, double* f, double* K) const {
+  PointResult r;
+  r.active = h.active;
+  if (!h.active) return r;
+  constexpr int n = kPairDofs + 3, iN = kPairDofs;
+  const GapDerivatives* g[3] = {&k.normal, &k.tangent1, &k.tangent2};
+  r.lambdaN = lambda[0];
+  for (int i = 0; i < 2; ++i) {
+    r.lambdaT[i] = lambda[1 + i];
+    r.slip[i] = h.slip[i];
+  }
+  // Displacement rows and their coupling columns.
+  for (int q = 0; q < 3; ++q) {
+    const double l = lambda[q];
+    for (int i = 0; i < kPairDofs; ++i) f[i] += l * g[q]->R[i];
+    if (!K) continue;
+    for (int i = 0; i < kPairDofs; ++i) {
+      for (int j = 0; j < kPairDofs; ++j) K[n * i + j] += l * g[q]->K[kPairDofs * i + j];
+      K[n * i + iN + q] += g[q]->R[i];
+    }
+  }
+  // Normal row: g_N = 0.
+  f[iN] += k.normal.value;
+  if (K)
+    for (int j = 0; j < kPairDofs; ++j) K[n * iN + j] += k.normal.R[j];
+  // Tangential rows.
+  for (int t = 0; t < 2; ++t) {
+    const int row = iN + 1 + t;
+    if (mu <= 0.0) {
+      f[row] += lambda[1 + t];
+      if (K) K[n * row + row] += 1.0;
+    } else if (!h.slip[t]) {
+      f[row] += g[1 + t]->value;
+      if (K)
+        for (int j = 0; j < kPairDofs; ++j) K[n * row + j] += g[1 + t]->R[j];
+    } else {
+      const double s = h.slipSign[t];
+      f[row] += s * lambda[1 + t] + mu * lambda[0];
+      if (K) {
+        K[n * row + row] += s;
+        K[n * row + iN] += mu;
+      }
+    }
+  }
+  return r;
+}
+
+bool LagrangeMultiplierEnforcer::acceptNormal(const ContactKinematics& k, PointHistory& h, double mu,
+                                              const double* lambda) const {
+  if (!h.active) {
+    if (k.normal.value >= -tolerance_) return true;
+    h.active = true;  // penetrating: activate, sticking until shown otherwise
+    h.slip[0] = h.slip[1] = false;
+    return false;
+  }
+  // Tension: release, but a point held by sticking friction first gets to slip (with lambda_N > 0
+  // its Coulomb cone is empty, so the friction stage switches it); it is released only if it is
+  // still in tension while slipping.
+  const bool held = h.slip[0] == false || h.slip[1] == false;
+  if (lambda[0] > 0.0 && !(held && mu > 0.0)) {
+    h.active = false;
+    return false;
+  }
+  return true;
+}
+
+bool LagrangeMultiplierEnforcer::acceptPoint(const ContactKinematics& k, PointHistory& h, double mu,
+                                             const double* lambda, double& worstViolation) const {
+  if (!h.active) {
+    worstViolation = std::max(worstViolation, std::max(0.0, -k.normal.value));
+    return true;
+  }
+  worstViolation = std::max(worstViolation, std::abs(k.normal.value));
+  if (mu <= 0.0) return true;
+  const double lN = lambda[0];
+  const GapDerivatives* gt[2] = {&k.tangent1, &k.tangent2};
+  bool changed = false;
+  for (int t = 0; t < 2; ++t) {
+    const double lT = lambda[1 + t];
+    if (!h.slip[t]) {
+      if (std::abs(lT) > -mu * lN * (1.0 + 1e-10)) {
+        h.slip[t] = true;
+        h.slipSign[t] = lT >= 0.0 ? 1.0 : -1.0;
+        changed = true;
+      }
+    } else if (h.slipSign[t] * gt[t]->value < -tolerance_) {
+      h.slip[t] = false;
+      changed = true;
+    }
+  }
+  return !changed;
+}
+
+void LagrangeMultiplierEnforcer::commitPoint(const ContactKinematics&, PointHistory& h, double,
+                                             const double* lambda) const {
+  if (!h.active || !lambda) {
+    h.lambdaN = h.lambdaT[0] = h.lambdaT[1] = 0.0;
+    return;
+  }
+  h.lambdaN = lambda[0];
+  h.lambdaT[0] = lambda[1];
+  h.lambdaT[1] = lambda[2];
+}
+
+}  // namespace bc::constraints
