@@ -298,6 +298,15 @@ void ContactManager::commitStep(const core::State& state) {
     p.kinematics = k;
     const ClosestPoints cp = closestPoints(lineInput(p.elementA, p.lineA, p.elementB, p.lineB, state));
     p.position = 0.5 * (cp.pA + cp.pB);
+    // Forces on beam B: the residual terms lambda R act on the dofs; along the normal and the two
+    // line tangents they amount to -lambda_N n (pressing B away from A) and the friction forces.
+    {
+      const LinePairInput in = lineInput(p.elementA, p.lineA, p.elementB, p.lineB, state);
+      const Vec3d tA = (in.xA2 + in.RA2 * in.oA) - (in.xA1 + in.RA1 * in.oA);
+      const Vec3d tB = (in.xB2 + in.RB2 * in.oB) - (in.xB1 + in.RB1 * in.oB);
+      p.force = (-p.result.lambdaN) * cp.normal + (-p.result.lambdaT[0] / norm(tA)) * tA +
+                (-p.result.lambdaT[1] / norm(tB)) * tB;
+    }
     p.xiPrev = beamCoordinate(p.elementA, k.xi);
     p.etaPrev = beamCoordinate(p.elementB, k.eta);
   }
@@ -329,6 +338,19 @@ std::vector<std::string> ContactManager::tableRows() const {
     rows.push_back(s.str());
   }
   return rows;
+}
+
+void ContactManager::appendVtk(const core::State&, core::VtkMesh& mesh) const {
+  for (const auto& [key, p] : committed_) {
+    if (!p.result.active) continue;
+    mesh.cellTypes.push_back(1);  // VTK_VERTEX
+    mesh.cells.push_back({static_cast<int>(mesh.points.size())});
+    mesh.cellBeam.push_back(-1);
+    mesh.cellElement.push_back(-1);
+    mesh.points.push_back(p.position);
+    mesh.pointDisplacement.push_back(Vec3d{});
+    mesh.pointForce.push_back(p.force);
+  }
 }
 
 std::string ContactManager::progressSummary() const {

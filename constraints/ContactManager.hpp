@@ -60,6 +60,7 @@ class ContactManager : public core::Contribution {
   std::string tableHeader() const override;
   std::vector<std::string> tableRows() const override;
   std::string progressSummary() const override;
+  void appendVtk(const core::State& state, core::VtkMesh& mesh) const override;
 
   // For tests: the current points and their results of the last commit.
   struct Point {
@@ -73,6 +74,7 @@ class ContactManager : public core::Contribution {
     ContactKinematics kinematics;
     PointResult result;
     Vec3d position{};
+    Vec3d force{};  // contact force on beam B (normal and both friction forces), for drawing
   };
   const std::map<std::tuple<int, int, int>, Point>& points() const { return points_; }
   const ConstraintEnforcer& enforcer() const { return *enforcer_; }

@@ -24,6 +24,7 @@ class AssemblySink {
 struct VtkMesh {
   std::vector<Vec3d> points;
   std::vector<Vec3d> pointDisplacement;
+  std::vector<Vec3d> pointForce;  // contact force on beam B at contact points, zero elsewhere
   std::vector<int> cellTypes;
   std::vector<std::vector<int>> cells;
   std::vector<int> cellBeam;     // index of the beam a cell belongs to

@@ -109,6 +109,8 @@ void ResultsWriter::writeVtk(int step, double T, const State& state) {
   f << "</DataArray>\n</Cells>\n<PointData Vectors=\"displacement\">\n"
     << "<DataArray type=\"Float64\" Name=\"displacement\" NumberOfComponents=\"3\" format=\"ascii\">\n";
   for (const auto& u : mesh.pointDisplacement) f << u[0] << " " << u[1] << " " << u[2] << "\n";
+  f << "</DataArray>\n<DataArray type=\"Float64\" Name=\"contact force\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+  for (const auto& u : mesh.pointForce) f << u[0] << " " << u[1] << " " << u[2] << "\n";
   f << "</DataArray>\n</PointData>\n<CellData>\n<DataArray type=\"Int32\" Name=\"beam\" format=\"ascii\">\n";
   for (int b : mesh.cellBeam) f << b << "\n";
   f << "</DataArray>\n<DataArray type=\"Int32\" Name=\"element\" format=\"ascii\">\n";

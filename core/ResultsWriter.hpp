@@ -5,7 +5,8 @@
 //   tracked_points.csv       displacements and unwrapped rotation vectors of the named points
 //   reactions.csv            force and moment sums (f_int - f_ext) over each support's nodes
 //   <table>.csv              per-step tables of contributions (contact_points.csv: every contact point)
-//   vtk/step_NNNNN.vtu       the beams with their real cross-sections (point data: displacement)
+//   vtk/step_NNNNN.vtu       the beams with their real cross-sections (point data: displacement, and
+//                            "contact force" at the active contact points, drawn as vertex cells)
 //   results.pvd              ParaView collection of the .vtu files with their T (rewritten each step)
 //   timers.txt               StackedTimer summary
 #pragma once
