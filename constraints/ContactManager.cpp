@@ -42,6 +42,20 @@ double ContactManager::beamCoordinate(int element, double xi) const {
   return beams_->elements()[element].index + xi;
 }
 
+bool ContactManager::withinElement(int element, double xi) const {
+  // At a node shared with a neighbour the closest point may fall just outside both elements when
+  // the beam is bent there with its convex side towards the other line (the projections onto the
+  // two straight elements miss each other). Up to kKinkReach of an element length beyond a shared
+  // node is accepted; the candidate most inside its element wins, so no point is counted twice.
+  // At the beam's own ends the point must lie on the element.
+  constexpr double kExact = 1e-9, kKinkReach = 0.05;
+  const BeamElement& e = beams_->elements()[element];
+  const int last = static_cast<int>(beams_->beams()[e.beam].nodes.size()) - 2;
+  const double below = e.index > 0 ? kKinkReach : kExact;
+  const double above = e.index < last ? kKinkReach : kExact;
+  return xi >= -below && xi <= 1.0 + above;
+}
+
 LinePairInput ContactManager::lineInput(int eA, int lA, int eB, int lB, const core::State& s) const {
   const BeamElement& a = beams_->elements()[eA];
   const BeamElement& b = beams_->elements()[eB];
@@ -121,8 +135,7 @@ std::map<Key, ContactManager::Candidate> ContactManager::detect(const core::Stat
                   const LinePairInput in = lineInput((int)ea, la, eb, lb, s);
                   const ClosestPoints cp = closestPoints(in);
                   if (cp.sinAngle < options_.minimumSinAngle) continue;
-                  const double tol = 1e-9;
-                  if (cp.xi < -tol || cp.xi > 1 + tol || cp.eta < -tol || cp.eta > 1 + tol) continue;
+                  if (!withinElement((int)ea, cp.xi) || !withinElement(eb, cp.eta)) continue;
                   // Only lines on the sides facing each other.
                   if (dot(cp.pA - cp.cA, cp.normal) < -1e-12 || dot(cp.pB - cp.cB, cp.normal) > 1e-12) continue;
                   if (in.radiusSum == 0.0 && (dot(cp.pA - cp.cA, cp.normal) <= 0 || dot(cp.pB - cp.cB, cp.normal) >= 0))

@@ -175,8 +175,9 @@ namespace {
 // gives the exact discrete answer: N = (W - 0.5) / (c1 + c2 + 1/eps_N), c1 = a^3 / (3 E I1) with
 // a = 50 (cantilever), c2 = L^3 / (48 E I2) with L = 100 (beam 2 simply supported in bending), and
 // A's deflection N a^2 (3 L1 - a) / (6 E I1).
-std::string circles(const std::string& type, double W, double epsN) {
-  std::string s = example1(type, "0.0, 0.0, " + test::num(-W), 4, epsN, 400.0, 0.0);  // frictionless
+std::string circles(const std::string& type, double W, double epsN, const std::string& motion = "", int increments = 4,
+                    double mu = 0.0) {
+  std::string s = example1(type, motion.empty() ? "0.0, 0.0, " + test::num(-W) : motion, increments, epsN, 400.0, mu);
   const std::string rect1 = R"(<Parameter name="Shape" type="string" value="Rectangle"/>
         <Parameter name="Width" type="double" value="10.0"/>   <!-- along global Y -->
         <Parameter name="Height" type="double" value="10.0"/>  <!-- along global Z -->)";
@@ -420,5 +421,134 @@ TEST(Newton, ConvergesQuadraticallyNearAContactSolutionForEachStrategy) {
     }
     std::printf("\n");
     EXPECT_GE(measured, 1) << type;
+  }
+}
+
+namespace {
+// Crossed cantilevers (shared EXAMPLES.md): beam 2 (circle r = 2.5, length 100) clamped at
+// y = -50, its tip moved down by Delta; beam 1 (circle r = 5) as in Example 1. Contact at a1 = 50
+// on beam 1 and a2 = 50 from beam 2's clamp, both nodes, so Euler-Bernoulli is exact:
+// N = (c Delta - g0) / (f11 + f22), c = a2^2 (3 L2 - a2) / (2 L2^3), f11 = a1^3 / (3 E I1),
+// f22 = a2^3 / (3 E I2) - a2^4 (3 L2 - a2)^2 / (12 E I2 L2^3).
+// Initial gap 0.01 and a press of 0.01: the axes (7.5 apart) tilt with the beams' slopes theta and
+// the gap between the surfaces shrinks by about 7.5 theta^2 / 2 beyond the linear theory, a second
+// order effect that stays below 1e-3 of the press only while the deflections are this small.
+std::string crossedCantilevers(const std::string& type, double delta) {
+  std::string s = circles(type, 0.0, 1e4);
+  s = std::regex_replace(s, std::regex(R"(, 8.0\}")"), ", 7.51}\"");  // initial gap 0.01
+  const auto cut = [&](const std::string& from, const std::string& to) {
+    const auto a = s.find(from), b = s.find(to, a);
+    s.erase(a, b - a);
+  };
+  cut(R"(<ParameterList name="beam 2 start">)", R"(<ParameterList name="Contact">)");
+  const std::string supports = R"XML(<ParameterList name="beam 2 clamp">
+      <Parameter name="Beam" type="string" value="beam 2"/><Parameter name="Node" type="string" value="start"/>
+    </ParameterList>
+    <ParameterList name="beam 2 tip">
+      <Parameter name="Beam" type="string" value="beam 2"/><Parameter name="Node" type="string" value="end"/>
+      <Parameter name="Fixed" type="string" value="uz"/>
+      <Parameter name="Displacement" type="Array(double)" value="{0, 0, )XML" + test::num(-delta) + R"XML(}"/>
+    </ParameterList>
+  </ParameterList>
+  )XML";
+  s.insert(s.find(R"(<ParameterList name="Contact">)"), supports);
+  return s;
+}
+}  // namespace
+
+TEST(CrossedCantilevers, NormalForceMatchesClosedForm) {
+  const double pi = std::acos(-1.0), E = 30000.0, g0 = 0.01, L2 = 100.0, a1 = 50.0, a2 = 50.0;
+  const double I1 = pi * std::pow(5.0, 4) / 4, I2 = pi * std::pow(2.5, 4) / 4;
+  const double c = a2 * a2 * (3 * L2 - a2) / (2 * L2 * L2 * L2);
+  const double f11 = std::pow(a1, 3) / (3 * E * I1);
+  const double f22 = std::pow(a2, 3) / (3 * E * I2) - std::pow(a2, 4) * std::pow(3 * L2 - a2, 2) / (12 * E * I2 * std::pow(L2, 3));
+  const double delta = (g0 + 0.01) / c;  // closes the gap and presses by 0.01
+  const double N = (c * delta - g0) / (f11 + f22);
+  for (const std::string type : {"Lagrange Multiplier", "Augmented Lagrange", "Penalty"}) {
+    auto p = test::problemFromXml(crossedCantilevers(type, delta), "crossed");
+    const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "crossed");
+    ASSERT_TRUE(r.report.completed) << r.report.failure;
+    const auto cs = sums(p);
+    const double expected = type == "Penalty" ? (c * delta - g0) / (f11 + f22 + 1e-4) : N;  // eps_N = 1e4 in series
+    std::printf("crossed cantilevers, %s: N = %.6f (closed form %.6f)\n", type.c_str(), cs.normal, expected);
+    EXPECT_EQ(cs.active, 1);
+    EXPECT_NEAR(cs.normal, expected, 1e-3 * expected);
+  }
+}
+
+namespace {
+// Deflection at x of a simply supported beam of span L under a unit load at a (linear theory).
+double simplySupported(double x, double a, double L, double EI) {
+  if (x > a) return simplySupported(L - x, L - a, L, EI);
+  const double b = L - a;
+  return b * x * (L * L - b * b - x * x) / (6.0 * L * EI);
+}
+}  // namespace
+
+TEST(StickThenSlip, FrictionGrowsWithTheStickStiffnessThenStaysAtMuN) {
+  // Circles overlapping by 0.05 at T = 0 (allowed), so they press with a nearly constant N from the
+  // first increment; then beam 2 is dragged along X by u = 0.05 T over 20 increments, mu = 0.3.
+  // Beam 2 (y from -45 to 55) is simply supported (ends held in ux, uz), crossing beam 1 at x = 55:
+  // the point lies inside an element of each beam (y = 0 between nodes -5 and 5, x = 55 between 50
+  // and 60), so the straight contact lines are smooth there. The contact lines interpolate linearly
+  // between nodes, so the stick compliance along X is that of the two nodes with half the force each:
+  // c_T = (c(s1,s1) + 2 c(s1,s2) + c(s2,s2)) / 4 with c the simply supported influence coefficient
+  // of beam 2 (s1 = 40, s2 = 50 from its start), plus beam 1's axial compliance (50 + 2 50 + 60) / (4 E A1).
+  // While sticking dT1/du = 1 / (c_T + 1/eps_T) (eps_T = 400; no spring for Lagrange), asserted to 2 %
+  // (linear theory; N and the tilt of the axes change a little as beam 2 bends); then T1 = mu N.
+  // The rate, not T1 itself: while N builds up in the first increments the axes tilt, and with
+  // 7.5 between them that moves the closest points along X by about as much as the drag.
+  const double pi = std::acos(-1.0), E = 30000.0, EI2 = E * pi * std::pow(2.5, 4) / 4, EA1 = E * pi * 25.0;
+  const double s1 = 40.0, s2 = 50.0, L = 100.0;
+  const double cT = 0.25 * (simplySupported(s1, s1, L, EI2) + 2 * simplySupported(s1, s2, L, EI2) +
+                            simplySupported(s2, s2, L, EI2)) +
+                    (50.0 + 2 * 50.0 + 60.0) / (4 * EA1);
+  for (const std::string type : {"Lagrange Multiplier", "Penalty"}) {
+    std::string deck = circles(type, 0.0, 1e4, "0.05, 0.0, 0.0", 20, 0.3);
+    deck = std::regex_replace(deck, std::regex(R"(\{50.0, -50.0, 8.0\})"), "{55.0, -45.0, 7.45}");
+    deck = std::regex_replace(deck, std::regex(R"(\{50.0, 50.0, 8.0\})"), "{55.0, 55.0, 7.45}");
+    const auto a = deck.find(R"(<ParameterList name="symmetry at B">)");
+    deck.erase(a, deck.find("</ParameterList>", a) + 16 - a);
+    // Beam 2's start also holds uy and the twist rx; the bending rotations stay free at both ends.
+    const auto b = deck.find(R"(value="ux uz ry")");
+    deck.replace(b, 16, R"(value="ux uy uz rx ry")");
+    deck = std::regex_replace(deck, std::regex(R"(<ParameterList name="Pairs">)"),
+                              R"(<Parameter name="Allow Initial Penetration" type="bool" value="true"/><ParameterList name="Pairs">)");
+    auto p = test::problemFromXml(deck, "stick_slip");
+    const double kT = 1.0 / (cT + (type == "Penalty" ? 1.0 / 400.0 : 0.0));
+    int stick = 0, slip = 0;
+    const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "stick_slip");
+    ASSERT_TRUE(r.report.completed) << r.report.failure;
+    std::ifstream csv(test::scratchDirectory("stick_slip_np1") + "/contact_points.csv");
+    std::string line;
+    std::getline(csv, line);
+    std::printf("%s (k_T = %.4f): T, u, N, T1, dT1/du, state\n", type.c_str(), kT);
+    double uPrev = 0.0, T1Prev = 0.0;
+    bool stuckBefore = false;
+    while (std::getline(csv, line)) {
+      std::vector<std::string> f;
+      std::stringstream ls(line);
+      for (std::string x; std::getline(ls, x, ',');) f.push_back(x);
+      if (f.size() < 17 || f[16] != "1") continue;
+      const double T = std::stod(f[1]), u = 0.05 * T, N = std::stod(f[11]), T1 = std::abs(std::stod(f[12]));
+      const double rate = (T1 - T1Prev) / (u - uPrev);
+      std::printf("  %.3f %.5f %.5f %.5f %8.4f %s\n", T, u, N, T1, rate, f[14].c_str());
+      if (f[14] == "stick") {
+        EXPECT_LE(T1, 0.3 * N * (1 + 1e-9)) << type << " T = " << T;
+        if (stuckBefore) {
+          ++stick;
+          EXPECT_NEAR(rate, kT, 0.02 * kT) << type << " T = " << T;
+        }
+        stuckBefore = T > 0.1;  // N settles during the first increments
+      } else {
+        ++slip;
+        EXPECT_NEAR(T1, 0.3 * N, 1e-9 * N) << type << " T = " << T;
+        stuckBefore = false;
+      }
+      uPrev = u;
+      T1Prev = T1;
+    }
+    EXPECT_GE(stick, 2) << type;
+    EXPECT_GE(slip, 2) << type;
   }
 }
