@@ -57,7 +57,7 @@ PointResult LagrangeMultiplierEnforcer::evaluate(const ContactKinematics& k, con
       f[row] += lambda[1 + t];
       if (K) K[n * row + row] += 1.0;
     } else if (!h.slip[t]) {
-      f[row] += g[1 + t]->value;
+      f[row] += g[1 + t]->value - h.stickFrom[t];
       if (K)
         for (int j = 0; j < kPairDofs; ++j) K[n * row + j] += g[1 + t]->R[j];
     } else {
@@ -76,8 +76,12 @@ bool LagrangeMultiplierEnforcer::acceptNormal(const ContactKinematics& k, PointH
                                               const double* lambda) const {
   if (!h.active) {
     if (k.normal.value >= -tolerance_) return true;
-    h.active = true;  // penetrating: activate, sticking until shown otherwise
+    // Penetrating: activate, sticking until shown otherwise, from where it touched in this step (its
+    // tangential gaps count from the last converged step, when the point was open).
+    h.active = true;
     h.slip[0] = h.slip[1] = false;
+    h.stickFrom[0] = k.tangent1.value;
+    h.stickFrom[1] = k.tangent2.value;
     return false;
   }
   // Tension: release, but a point held by sticking friction first gets to slip (with lambda_N > 0
@@ -110,7 +114,7 @@ bool LagrangeMultiplierEnforcer::acceptPoint(const ContactKinematics& k, PointHi
         h.slipSign[t] = lT >= 0.0 ? 1.0 : -1.0;
         changed = true;
       }
-    } else if (h.slipSign[t] * gt[t]->value < -tolerance_) {
+    } else if (h.slipSign[t] * (gt[t]->value - h.stickFrom[t]) < -tolerance_) {
       h.slip[t] = false;
       changed = true;
     }
@@ -120,6 +124,7 @@ bool LagrangeMultiplierEnforcer::acceptPoint(const ContactKinematics& k, PointHi
 
 void LagrangeMultiplierEnforcer::commitPoint(const ContactKinematics&, PointHistory& h, double,
                                              const double* lambda) const {
+  h.stickFrom[0] = h.stickFrom[1] = 0.0;  // the next step's gaps count from here
   if (!h.active || !lambda) {
     h.lambdaN = h.lambdaT[0] = h.lambdaT[1] = 0.0;
     return;

@@ -3,7 +3,8 @@
 // the point's element has 24 + 3 = 27 dofs and the global system grows and shrinks with the active
 // set. Rows of the multipliers:
 //   normal:              g_N = 0
-//   stick (line i):      g_Ti = 0                     (no slip since the last converged step)
+//   stick (line i):      g_Ti = g_Ti,0                (no slip since the last converged step, or since
+//                                                    the point touched if that was within the step)
 //   slip  (line i):      s_i lambda_Ti + mu lambda_N = 0   (|lambda_Ti| = mu |lambda_N|, s_i fixed)
 //   frictionless:        lambda_Ti = 0
 // and the displacement rows get lambda_N R_N + sum_i lambda_Ti R_Ti with tangent
