@@ -8,7 +8,7 @@ PACKAGES=(
   trilinos-all-dev libptscotch-dev libscotch-dev
   libopenmpi-dev openmpi-bin
   libgtest-dev libgmock-dev libbenchmark-dev
-  python3-vtk9 python3-numpy
+  python3-vtk9 python3-numpy python3-matplotlib
 )
 
 missing=()

@@ -278,7 +278,28 @@ void ContactManager::evaluate(const core::State& state, const OwnsDof& owns, cor
   }
 }
 
+void ContactManager::checkNoPassThrough(const core::State& state) const {
+  // A point in contact at the last converged step has beam B's axis on the side of its normal. If
+  // the converged iterate has it on the other side, the beams went through each other (a penalty
+  // iterate penetrated past the facing edges, and those edges no longer face): not a solution.
+  for (const auto& [key, c] : committed_) {
+    if (!c.result.active) continue;
+    const LinePairInput in = lineInput(c.elementA, c.lineA, c.elementB, c.lineB, state);
+    const ClosestPoints cp = closestPoints(in);
+    if (cp.sinAngle < options_.minimumSinAngle) continue;
+    const double side = (cp.sigma == c.sigma ? 1.0 : -1.0) * dot(cp.cB - cp.cA, cp.normal);
+    if (side > 0.0) continue;
+    const auto& pair = pairs_[c.pair];
+    std::ostringstream s;
+    s << "beams \"" << beams_->beams()[pair.beamA].name << "\" and \"" << beams_->beams()[pair.beamB].name
+      << "\" passed through each other near (" << cp.pA[0] << ", " << cp.pA[1] << ", " << cp.pA[2]
+      << ") (contact lost through too deep a penetration; a larger normal penalty or smaller increments help)";
+    throw std::runtime_error(s.str());
+  }
+}
+
 bool ContactManager::acceptSolution(core::State& state) {
+  checkNoPassThrough(state);
   ++passes_;
   worstViolation_ = 0.0;
   bool all = true;

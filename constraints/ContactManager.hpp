@@ -98,6 +98,7 @@ class ContactManager : public core::Contribution {
   std::map<std::tuple<int, int, int>, Candidate> detect(const core::State& s) const;
   double beamCoordinate(int element, double xi) const;
   bool withinElement(int element, double xi) const;
+  void checkNoPassThrough(const core::State& state) const;
   // Gives every active point of a strategy with multipliers its place in State::extra, keeping the
   // values of points that stay active; true if the layout changed.
   bool layoutMultipliers(core::State& state);

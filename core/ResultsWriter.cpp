@@ -1,5 +1,7 @@
 #include "ResultsWriter.hpp"
 
+#include <sys/resource.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <iomanip>
@@ -133,6 +135,21 @@ void ResultsWriter::writePvd() {
     f << "</Collection>\n</VTKFile>\n";
   }
   fs::rename(tmp, fs::path(dir_) / "results.pvd");
+}
+
+void ResultsWriter::writeSummary(const RunSummary& summary) {
+  if (!root()) return;
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  const fs::path tmp = fs::path(dir_) / "summary.csv.tmp";
+  {
+    std::ofstream f(tmp);
+    f << "completed,last_T,steps,newton_iterations,max_newton_per_step,passes,solve_seconds,peak_memory_mb\n"
+      << (summary.run.completed ? 1 : 0) << ',' << summary.run.lastT << ',' << summary.run.steps << ','
+      << summary.run.newtonIterations << ',' << summary.maxIterationsPerStep << ',' << summary.passes << ','
+      << summary.solveSeconds << ',' << usage.ru_maxrss / 1024.0 << '\n';
+  }
+  fs::rename(tmp, fs::path(dir_) / "summary.csv");
 }
 
 void ResultsWriter::finish(const RunReport& run, const std::string& timerReport) {

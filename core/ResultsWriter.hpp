@@ -9,6 +9,8 @@
 //                            "contact force" at the active contact points, drawn as vertex cells)
 //   results.pvd              ParaView collection of the .vtu files with their T (rewritten each step)
 //   timers.txt               StackedTimer summary
+//   summary.csv              one row: completed, last T, steps, Newton iterations (total and largest per
+//                            step), passes, solve wall time [s], peak memory [MB]; for studies and scripts
 #pragma once
 #include <fstream>
 #include <memory>
@@ -21,12 +23,20 @@
 
 namespace bc::core {
 
+struct RunSummary {
+  RunReport run;
+  int maxIterationsPerStep = 0;
+  int passes = 0;
+  double solveSeconds = 0.0;
+};
+
 class ResultsWriter {
  public:
   ResultsWriter(const std::string& directory, const Model& model, Teuchos::RCP<const Comm> comm,
                 bool writeVtk = true);
   void writeInitial(const State& state);
   void writeStep(const StepReport& step, const State& state, const std::vector<double>& fullResidual);
+  void writeSummary(const RunSummary& summary);
   void finish(const RunReport& run, const std::string& timerReport);
   const std::string& directory() const { return dir_; }
 

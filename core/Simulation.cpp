@@ -1,5 +1,6 @@
 #include "Simulation.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -48,6 +49,14 @@ RunResult simulate(Model& model, const SolverSettings& settings, const Teuchos::
   opts.output_fraction = true;
   opts.output_minmax = comm->getSize() > 1;
   timer->report(report, comm, opts);
+  RunSummary summary;
+  summary.run = run;
+  summary.solveSeconds = std::chrono::duration<double>(t1 - t0).count();
+  for (const auto& st : result.steps) {
+    summary.maxIterationsPerStep = std::max(summary.maxIterationsPerStep, st.iterations);
+    summary.passes += st.passes;
+  }
+  writer.writeSummary(summary);
   writer.finish(run, report.str());
   if (root && options.progress) std::printf("%s", report.str().c_str());
 

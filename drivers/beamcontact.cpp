@@ -1,5 +1,6 @@
 // beamcontact: command-line driver. Parses arguments, reads and validates the deck, runs it.
 //   beamcontact run DECK.xml [--output DIR] [--quiet]
+//   beamcontact study STUDY.xml [--output DIR] [--parallel N] [--no-report]
 //   beamcontact --print-valid-parameters
 //   beamcontact --help
 // Exit codes: 0 run complete; 1 usage or input error; 2 run incomplete (a step failed to converge);
@@ -12,6 +13,7 @@
 #include <Teuchos_DefaultComm.hpp>
 #include <Tpetra_Core.hpp>
 
+#include "Study.hpp"
 #include "constraints/EnforcerRegistry.hpp"
 
 #include "core/Simulation.hpp"
@@ -21,13 +23,50 @@ namespace {
 
 const char* kUsage =
     "usage: beamcontact run DECK.xml [--output DIR] [--quiet]\n"
+    "       beamcontact study STUDY.xml [--output DIR] [--parallel N] [--no-report]\n"
     "       beamcontact --print-valid-parameters\n"
     "       beamcontact --help\n"
     "\n"
     "Runs a BeamContact XML deck: geometrically nonlinear 3D beams, load factor T from 0 to 1.\n"
     "Results (CSV, VTK, status, effective parameters) go to the deck's Output/Directory, by\n"
     "default results/<deck name>, or to DIR.\n"
-    "Exit codes: 0 complete, 1 usage or input error, 2 run incomplete, 3 unexpected error.\n";
+    "A study runs every case of a study deck (a base deck and the parameters to vary), N at a time\n"
+    "(default: one per core), and writes cases.csv, report.md and plots (docs/studies.md).\n"
+    "Exit codes: 0 complete, 1 usage or input error, 2 run incomplete (a study: some case did not\n"
+    "complete; every case is recorded), 3 unexpected error.\n";
+
+int studyCommand(const std::vector<std::string>& args) {
+  bc::drivers::StudyOptions options;
+  for (std::size_t i = 2; i < args.size(); ++i) {
+    if (args[i] == "--output" && i + 1 < args.size()) {
+      options.output = args[++i];
+    } else if (args[i] == "--parallel" && i + 1 < args.size()) {
+      try {
+        options.parallel = std::stoi(args[++i]);
+      } catch (const std::exception&) {
+        options.parallel = -1;
+      }
+      if (options.parallel < 1) {
+        std::fprintf(stderr, "beamcontact: --parallel takes a whole number >= 1, got \"%s\"\n", args[i].c_str());
+        return 1;
+      }
+    } else if (args[i] == "--no-report") {
+      options.report = false;
+    } else {
+      std::fprintf(stderr, "beamcontact: unknown option \"%s\"\n%s", args[i].c_str(), kUsage);
+      return 1;
+    }
+  }
+  try {
+    return bc::drivers::runStudy(args[1], options);
+  } catch (const bc::core::InputError& e) {
+    std::fprintf(stderr, "beamcontact: input error: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "beamcontact: error: %s\n", e.what());
+    return 3;
+  }
+}
 
 int runDeck(const std::string& deck, const std::string& output, bool quiet) {
   auto comm = Tpetra::getDefaultComm();
@@ -62,6 +101,14 @@ int main(int argc, char** argv) {
   if (args.empty() || args[0] == "--help" || args[0] == "-h") {
     std::fputs(kUsage, args.empty() ? stderr : stdout);
     return args.empty() ? 1 : 0;
+  }
+  // A study only starts and watches case processes: no MPI in this process.
+  if (args[0] == "study") {
+    if (args.size() < 2) {
+      std::fprintf(stderr, "beamcontact: study needs a study deck\n%s", kUsage);
+      return 1;
+    }
+    return studyCommand(args);
   }
   Tpetra::ScopeGuard scope(&argc, &argv);
   bc::constraints::registerBuiltinEnforcers();

@@ -1,0 +1,502 @@
+#include "Study.hpp"
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <thread>
+
+#include <Teuchos_XMLParameterListHelpers.hpp>
+
+#include "core/Parameters.hpp"
+
+extern char** environ;
+
+namespace bc::drivers {
+
+namespace fs = std::filesystem;
+using core::InputError;
+using Teuchos::Array;
+using Teuchos::ParameterList;
+
+namespace {
+
+// One varied parameter: its column name, its path in the base deck and its values as text
+// (kept as the user wrote them for the table) with the XML type they came with.
+struct Variable {
+  std::string name, path;
+  std::vector<std::string> values;
+  enum class Kind { Double, Int, String, Bool } kind = Kind::Double;
+};
+
+struct Group {
+  std::string name;
+  std::vector<Variable> variables;
+};
+
+// An output quantity read from a case's results at the study's "At T".
+struct Output {
+  std::string name;
+  std::string trackedPoint, component;  // a tracked point's component, or
+  std::string contact;                  // a contact total
+};
+
+struct Plot {
+  std::string name, x, y, series, relativeTo;
+  bool logX = false;
+};
+
+struct Case {
+  int index = 0;
+  std::string group;
+  std::map<std::string, std::string> values;  // variable name -> value text
+  std::vector<std::pair<const Variable*, std::string>> settings;
+  fs::path dir;
+  std::string status = "not run", cause;
+  int exitCode = -1;
+};
+
+const std::vector<std::string> kContactQuantities = {"Normal Force", "Tangential Force 1", "Tangential Force 2",
+                                                     "Active Points", "Stick Lines", "Slip Lines"};
+const std::vector<std::string> kComponents = {"ux", "uy", "uz", "rx", "ry", "rz"};
+
+std::string text(double v) {
+  std::ostringstream s;
+  s.precision(12);
+  s << v;
+  return s.str();
+}
+
+Variable readVariable(const ParameterList& v, const std::string& name, const std::string& path) {
+  Variable var;
+  var.name = name;
+  for (auto it = v.begin(); it != v.end(); ++it) {
+    const std::string& key = v.name(it);
+    if (key != "Path" && key != "Values")
+      throw InputError("parameter \"" + path + "/" + key + "\" is not known; a varied parameter has \"Path\" and \"Values\"");
+  }
+  if (!v.isParameter("Path") || !v.isType<std::string>("Path"))
+    throw InputError("missing required parameter \"" + path + "/Path\" (string: a parameter path in the base deck, "
+                     "e.g. \"Contact/Enforcement/Type\")");
+  var.path = v.get<std::string>("Path");
+  if (!v.isParameter("Values"))
+    throw InputError("missing required parameter \"" + path + "/Values\" (Array(double), Array(int) or Array(string))");
+  if (v.isType<Array<double>>("Values")) {
+    for (double x : v.get<Array<double>>("Values")) var.values.push_back(text(x));
+  } else if (v.isType<Array<int>>("Values")) {
+    var.kind = Variable::Kind::Int;
+    for (int x : v.get<Array<int>>("Values")) var.values.push_back(std::to_string(x));
+  } else if (v.isType<Array<std::string>>("Values")) {
+    var.kind = Variable::Kind::String;
+    for (const auto& x : v.get<Array<std::string>>("Values")) var.values.push_back(x);
+  } else {
+    throw InputError("parameter \"" + path + "/Values\" must be Array(double), Array(int) or Array(string)");
+  }
+  if (var.values.empty()) throw InputError("parameter \"" + path + "/Values\" is empty");
+  return var;
+}
+
+// Sets `path` ("A/B/name") in `deck` to the value, keeping the type the base deck has there.
+void setByPath(ParameterList& deck, const Variable& var, const std::string& value, const std::string& where) {
+  ParameterList* list = &deck;
+  std::string rest = var.path;
+  for (auto slash = rest.find('/'); slash != std::string::npos; slash = rest.find('/')) {
+    const std::string sub = rest.substr(0, slash);
+    if (list->isParameter(sub) && !list->isSublist(sub))
+      throw InputError(where + ": \"" + sub + "\" in path \"" + var.path + "\" is a parameter, not a sublist");
+    list = &list->sublist(sub);
+    rest = rest.substr(slash + 1);
+  }
+  const bool exists = list->isParameter(rest);
+  if (exists && list->isSublist(rest))
+    throw InputError(where + ": path \"" + var.path + "\" names a sublist, not a parameter");
+  if (var.kind == Variable::Kind::String) {
+    if (exists && list->isType<bool>(rest)) list->set(rest, value == "true" || value == "1");
+    else list->set(rest, value);
+  } else if ((exists && list->isType<int>(rest)) || (!exists && var.kind == Variable::Kind::Int)) {
+    const double x = std::stod(value);
+    if (x != std::floor(x)) throw InputError(where + ": \"" + var.path + "\" takes whole numbers, got " + value);
+    list->set(rest, static_cast<int>(x));
+  } else {
+    list->set(rest, std::stod(value));
+  }
+}
+
+std::vector<std::string> splitCsv(const std::string& line) {
+  std::vector<std::string> f;
+  std::stringstream ls(line);
+  for (std::string x; std::getline(ls, x, ',');) f.push_back(x);
+  if (!line.empty() && line.back() == ',') f.push_back("");
+  return f;
+}
+
+std::string csvField(std::string s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c == '\n' ? ' ' : c);
+  return q + "\"";
+}
+
+std::string jsonString(const std::string& s) {
+  std::string q = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') q += '\\';
+    q += c;
+  }
+  return q + "\"";
+}
+
+// Reads the outputs of a finished case at load factor `atT`; empty text where the run did not get there.
+std::map<std::string, std::string> readOutputs(const fs::path& dir, const std::vector<Output>& outputs, double atT) {
+  std::map<std::string, std::string> out;
+  auto atRow = [&](double T) { return std::abs(T - atT) <= 1e-9 * std::max(1.0, std::abs(atT)); };
+  std::ifstream tracked(dir / "tracked_points.csv");
+  std::string line;
+  std::vector<std::string> header;
+  if (std::getline(tracked, line)) header = splitCsv(line);
+  while (std::getline(tracked, line)) {
+    const auto f = splitCsv(line);
+    if (f.size() != header.size() || !atRow(std::stod(f[1]))) continue;
+    for (const Output& o : outputs) {
+      if (o.trackedPoint.empty()) continue;
+      const auto col = std::find(header.begin(), header.end(), o.trackedPoint + "_" + o.component);
+      if (col != header.end()) out[o.name] = f[col - header.begin()];
+    }
+  }
+  std::ifstream contact(dir / "contact_points.csv");
+  bool any = false;
+  std::map<std::string, double> sums;
+  if (std::getline(contact, line)) {
+    while (std::getline(contact, line)) {
+      const auto f = splitCsv(line);
+      if (f.size() < 17 || !atRow(std::stod(f[1]))) continue;
+      any = true;
+      if (f[16] != "1") continue;
+      sums["Normal Force"] += std::stod(f[11]);
+      sums["Tangential Force 1"] += std::abs(std::stod(f[12]));
+      sums["Tangential Force 2"] += std::abs(std::stod(f[13]));
+      sums["Active Points"] += 1;
+      for (int k : {14, 15}) {
+        if (f[k] == "stick") sums["Stick Lines"] += 1;
+        if (f[k] == "slip") sums["Slip Lines"] += 1;
+      }
+    }
+  }
+  // A step with no contact points listed at all still has zero contact forces if it was reached.
+  bool reached = any;
+  if (!reached) {
+    std::ifstream steps(dir / "steps.csv");
+    std::getline(steps, line);
+    while (std::getline(steps, line)) {
+      const auto f = splitCsv(line);
+      if (f.size() > 1 && atRow(std::stod(f[1]))) reached = true;
+    }
+  }
+  for (const Output& o : outputs)
+    if (!o.contact.empty() && reached) out[o.name] = text(sums[o.contact]);
+  return out;
+}
+
+std::map<std::string, std::string> readSummary(const fs::path& dir) {
+  std::map<std::string, std::string> s;
+  std::ifstream f(dir / "summary.csv");
+  std::string h, v;
+  if (!std::getline(f, h) || !std::getline(f, v)) return s;
+  const auto hs = splitCsv(h), vs = splitCsv(v);
+  for (std::size_t i = 0; i < hs.size() && i < vs.size(); ++i) s[hs[i]] = vs[i];
+  return s;
+}
+
+std::string lastLine(const fs::path& file) {
+  std::ifstream f(file);
+  std::string line, last;
+  while (std::getline(f, line))
+    if (!line.empty()) last = line;
+  return last;
+}
+
+std::string selfExecutable() {
+  std::error_code ec;
+  const auto p = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) throw std::runtime_error("cannot locate the beamcontact executable (/proc/self/exe): " + ec.message());
+  return p.string();
+}
+
+pid_t launch(const std::string& exe, const Case& c) {
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  const std::string log = (c.dir / "log.txt").string();
+  posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, 1, 2);
+  const std::string deck = (c.dir / "deck.xml").string(), out = c.dir.string();
+  std::vector<std::string> args = {exe, "run", deck, "--output", out, "--quiet"};
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  const int rc = posix_spawn(&pid, exe.c_str(), &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (rc != 0) throw std::runtime_error("cannot start a case process: " + std::string(std::strerror(rc)));
+  return pid;
+}
+
+std::string describe(const Case& c, const std::vector<std::string>& columns) {
+  std::string s = c.group;
+  for (const auto& name : columns) {
+    const auto it = c.values.find(name);
+    if (it != c.values.end() && s.size() < 70) s += " " + name + "=" + it->second;
+  }
+  return s;
+}
+
+}  // namespace
+
+int runStudy(const std::string& studyFile, const StudyOptions& options) {
+  if (!fs::exists(studyFile)) throw InputError("study deck \"" + studyFile + "\" does not exist");
+  Teuchos::RCP<ParameterList> study;
+  try {
+    study = Teuchos::getParametersFromXmlFile(studyFile);
+  } catch (const std::exception& e) {
+    throw InputError("study deck \"" + studyFile + "\" is not a valid XML parameter list: " + std::string(e.what()));
+  }
+  const std::string root = "Study";
+  const std::string stem = fs::path(studyFile).stem().string();
+
+  core::ParameterSpec spec;
+  spec.addRequired("Base Deck", std::string(), "the deck every case starts from, relative to the study deck");
+  spec.add("Title", stem, "title of the report");
+  spec.add("Output Directory", "results/" + stem, "the study directory (--output overrides it)");
+  spec.add("Parallel Cases", 0, "cases run at once; 0: one per core", core::atLeast(0), ">= 0");
+  spec.add("At T", 1.0, "load factor at which the outputs are read", core::inRange(0.0, 1.0), "in (0, 1]");
+  ParameterList anyList;
+  spec.addSublist("Cases", anyList, "groups of cases: each a sublist of varied parameters (Path, Values)");
+  spec.addSublist("Outputs", anyList, "named outputs: {Tracked Point, Component} or {Contact}");
+  spec.addSublist("Plots", anyList, "named plots: X, Y, optional Series, Relative To Group, Log X");
+  spec.apply(*study, root);
+
+  const fs::path base = fs::path(studyFile).parent_path() / study->get<std::string>("Base Deck");
+  if (!fs::exists(base)) throw InputError("parameter \"" + root + "/Base Deck\": file \"" + base.string() + "\" does not exist");
+  const Teuchos::RCP<ParameterList> baseDeck = Teuchos::getParametersFromXmlFile(base.string());
+  const double atT = study->get<double>("At T");
+
+  // Groups and their cases.
+  std::vector<Group> groups;
+  std::vector<std::string> columns;
+  const ParameterList& cases = study->sublist("Cases");
+  for (auto it = cases.begin(); it != cases.end(); ++it) {
+    const std::string gname = cases.name(it), gpath = root + "/Cases/" + gname;
+    if (!cases.isSublist(gname)) throw InputError("parameter \"" + gpath + "\" must be a sublist (a group of cases)");
+    Group g{gname, {}};
+    const ParameterList& gl = cases.sublist(gname);
+    for (auto v = gl.begin(); v != gl.end(); ++v) {
+      const std::string vpath = gpath + "/" + gl.name(v);
+      if (!gl.isSublist(gl.name(v)))
+        throw InputError("parameter \"" + vpath + "\" must be a sublist with \"Path\" and \"Values\"");
+      g.variables.push_back(readVariable(gl.sublist(gl.name(v)), gl.name(v), vpath));
+      if (std::find(columns.begin(), columns.end(), g.variables.back().name) == columns.end())
+        columns.push_back(g.variables.back().name);
+    }
+    groups.push_back(std::move(g));
+  }
+  if (groups.empty()) throw InputError("parameter \"" + root + "/Cases\" has no groups: nothing to run");
+
+  std::vector<Output> outputs;
+  const ParameterList& outs = study->sublist("Outputs");
+  for (auto it = outs.begin(); it != outs.end(); ++it) {
+    const std::string name = outs.name(it), path = root + "/Outputs/" + name;
+    if (!outs.isSublist(name)) throw InputError("parameter \"" + path + "\" must be a sublist");
+    const ParameterList& o = outs.sublist(name);
+    Output out;
+    out.name = name;
+    if (o.isParameter("Contact")) {
+      out.contact = o.get<std::string>("Contact");
+      if (std::find(kContactQuantities.begin(), kContactQuantities.end(), out.contact) == kContactQuantities.end())
+        throw InputError("parameter \"" + path + "/Contact\": \"" + out.contact + "\" is not one of " +
+                         core::joinNames(kContactQuantities));
+    } else if (o.isParameter("Tracked Point")) {
+      out.trackedPoint = o.get<std::string>("Tracked Point");
+      out.component = o.isParameter("Component") ? o.get<std::string>("Component") : "";
+      if (std::find(kComponents.begin(), kComponents.end(), out.component) == kComponents.end())
+        throw InputError("parameter \"" + path + "/Component\" must be one of " + core::joinNames(kComponents));
+    } else {
+      throw InputError("parameter \"" + path + "\" needs \"Contact\" (" + core::joinNames(kContactQuantities) +
+                       ") or \"Tracked Point\" with \"Component\"");
+    }
+    outputs.push_back(out);
+  }
+
+  std::vector<Plot> plots;
+  const ParameterList& pls = study->sublist("Plots");
+  for (auto it = pls.begin(); it != pls.end(); ++it) {
+    const std::string name = pls.name(it), path = root + "/Plots/" + name;
+    if (!pls.isSublist(name)) throw InputError("parameter \"" + path + "\" must be a sublist");
+    const ParameterList& p = pls.sublist(name);
+    Plot plot;
+    plot.name = name;
+    auto need = [&](const char* key) {
+      if (!p.isParameter(key)) throw InputError("missing required parameter \"" + path + "/" + key + "\"");
+      return p.get<std::string>(key);
+    };
+    plot.x = need("X");
+    plot.y = need("Y");
+    if (p.isParameter("Series")) plot.series = p.get<std::string>("Series");
+    if (p.isParameter("Relative To Group")) plot.relativeTo = p.get<std::string>("Relative To Group");
+    if (p.isParameter("Log X")) plot.logX = p.get<bool>("Log X");
+    auto isColumn = [&](const std::string& c) { return std::find(columns.begin(), columns.end(), c) != columns.end(); };
+    auto isOutput = [&](const std::string& c) {
+      return std::any_of(outputs.begin(), outputs.end(), [&](const Output& o) { return o.name == c; }) ||
+             c == "newton_iterations" || c == "solve_seconds" || c == "passes" || c == "max_newton_per_step";
+    };
+    if (!isColumn(plot.x)) throw InputError("parameter \"" + path + "/X\": \"" + plot.x + "\" is not a varied parameter");
+    if (!isOutput(plot.y)) throw InputError("parameter \"" + path + "/Y\": \"" + plot.y + "\" is not an output");
+    if (!plot.series.empty() && !isColumn(plot.series))
+      throw InputError("parameter \"" + path + "/Series\": \"" + plot.series + "\" is not a varied parameter");
+    if (!plot.relativeTo.empty() &&
+        std::none_of(groups.begin(), groups.end(), [&](const Group& g) { return g.name == plot.relativeTo; }))
+      throw InputError("parameter \"" + path + "/Relative To Group\": no group \"" + plot.relativeTo + "\"");
+    plots.push_back(plot);
+  }
+
+  // Expand the groups and write each case's deck.
+  const fs::path dir = options.output.empty() ? fs::path(study->get<std::string>("Output Directory")) : fs::path(options.output);
+  fs::create_directories(dir / "cases");
+  std::vector<Case> all;
+  for (const Group& g : groups) {
+    std::vector<std::size_t> idx(g.variables.size(), 0);
+    while (true) {
+      Case c;
+      c.index = static_cast<int>(all.size()) + 1;
+      c.group = g.name;
+      for (std::size_t k = 0; k < g.variables.size(); ++k) {
+        c.values[g.variables[k].name] = g.variables[k].values[idx[k]];
+        c.settings.push_back({&g.variables[k], g.variables[k].values[idx[k]]});
+      }
+      all.push_back(c);
+      std::size_t k = 0;
+      while (k < idx.size() && ++idx[k] == g.variables[k].values.size()) idx[k++] = 0;
+      if (k == idx.size()) break;
+    }
+  }
+  for (Case& c : all) {
+    char name[16];
+    std::snprintf(name, sizeof name, "%03d", c.index);
+    c.dir = dir / "cases" / name;
+    fs::remove_all(c.dir);
+    fs::create_directories(c.dir);
+    ParameterList deck(*baseDeck);
+    for (const auto& [var, value] : c.settings)
+      setByPath(deck, *var, value, "case " + std::to_string(c.index) + " (group \"" + c.group + "\")");
+    deck.sublist("Output").set("Directory", c.dir.string());
+    Teuchos::writeParameterListToXmlFile(deck, (c.dir / "deck.xml").string());
+  }
+
+  // Run them, several at once.
+  int parallel = options.parallel > 0 ? options.parallel : study->get<int>("Parallel Cases");
+  if (parallel <= 0) parallel = std::max(1u, std::thread::hardware_concurrency());
+  const std::string exe = selfExecutable();
+  std::printf("study %s: %zu cases from %s, %d at a time, in %s\n", stem.c_str(), all.size(), base.string().c_str(),
+              parallel, dir.string().c_str());
+  std::fflush(stdout);
+  std::map<pid_t, Case*> running;
+  std::size_t next = 0, done = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  while (done < all.size()) {
+    while (next < all.size() && static_cast<int>(running.size()) < parallel) {
+      running[launch(exe, all[next])] = &all[next];
+      ++next;
+    }
+    int status = 0;
+    const pid_t pid = waitpid(-1, &status, 0);
+    if (pid < 0) throw std::runtime_error("waiting for a case process failed");
+    const auto it = running.find(pid);
+    if (it == running.end()) continue;
+    Case& c = *it->second;
+    running.erase(it);
+    ++done;
+    c.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+    if (c.exitCode == 0) {
+      c.status = "complete";
+    } else {
+      c.status = c.exitCode == 2 ? "incomplete" : c.exitCode == 1 ? "input error" : "failed";
+      c.cause = lastLine(c.dir / "log.txt");
+      if (c.cause.empty()) c.cause = "exit code " + std::to_string(c.exitCode);
+    }
+    const int width = 30, filled = static_cast<int>(width * done / all.size());
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::printf("[%s%s] %3zu/%zu  %6.1f s  case %03d %-10s %s\n", std::string(filled, '#').c_str(),
+                std::string(width - filled, '.').c_str(), done, all.size(), elapsed, c.index, c.status.c_str(),
+                describe(c, columns).c_str());
+    std::fflush(stdout);
+  }
+
+  // The table.
+  const std::vector<std::string> runColumns = {"newton_iterations", "max_newton_per_step", "passes", "steps", "last_T",
+                                               "solve_seconds", "peak_memory_mb"};
+  {
+    std::ofstream csv(dir / "cases.csv");
+    csv << "case,group";
+    for (const auto& c : columns) csv << ',' << csvField(c);
+    csv << ",status";
+    for (const auto& o : outputs) csv << ',' << csvField(o.name);
+    for (const auto& r : runColumns) csv << ',' << r;
+    csv << ",cause\n";
+    for (const Case& c : all) {
+      const auto values = readOutputs(c.dir, outputs, atT);
+      const auto summary = readSummary(c.dir);
+      csv << c.index << ',' << csvField(c.group);
+      for (const auto& col : columns) {
+        const auto it = c.values.find(col);
+        csv << ',' << (it == c.values.end() ? "" : csvField(it->second));
+      }
+      csv << ',' << c.status;
+      for (const auto& o : outputs) {
+        const auto it = values.find(o.name);
+        csv << ',' << (it == values.end() ? "" : it->second);
+      }
+      for (const auto& r : runColumns) {
+        const auto it = summary.find(r);
+        csv << ',' << (it == summary.end() ? "" : it->second);
+      }
+      csv << ',' << csvField(c.cause) << '\n';
+    }
+  }
+  // What the report script needs to know.
+  {
+    std::ofstream j(dir / "study.json");
+    j << "{\n  \"title\": " << jsonString(study->get<std::string>("Title")) << ",\n  \"base_deck\": "
+      << jsonString(base.string()) << ",\n  \"at_T\": " << atT << ",\n  \"columns\": [";
+    for (std::size_t i = 0; i < columns.size(); ++i) j << (i ? ", " : "") << jsonString(columns[i]);
+    j << "],\n  \"outputs\": [";
+    for (std::size_t i = 0; i < outputs.size(); ++i) j << (i ? ", " : "") << jsonString(outputs[i].name);
+    j << "],\n  \"plots\": [";
+    for (std::size_t i = 0; i < plots.size(); ++i) {
+      const Plot& p = plots[i];
+      j << (i ? ",\n" : "\n") << "    {\"name\": " << jsonString(p.name) << ", \"x\": " << jsonString(p.x)
+        << ", \"y\": " << jsonString(p.y) << ", \"series\": " << jsonString(p.series)
+        << ", \"relative_to\": " << jsonString(p.relativeTo) << ", \"log_x\": " << (p.logX ? "true" : "false") << "}";
+    }
+    j << "\n  ]\n}\n";
+  }
+  const auto failed = std::count_if(all.begin(), all.end(), [](const Case& c) { return c.status != "complete"; });
+  std::printf("study %s: %zu cases, %td complete, %td not; table %s\n", stem.c_str(), all.size(),
+              static_cast<std::ptrdiff_t>(all.size()) - failed, failed, (dir / "cases.csv").string().c_str());
+  if (options.report) {
+    const std::string script = std::string(BC_SOURCE_DIR) + "/drivers/study_report.py";
+    const std::string cmd = "/usr/bin/python3 '" + script + "' '" + dir.string() + "'";
+    if (std::system(cmd.c_str()) != 0)
+      throw std::runtime_error("the report script failed (" + cmd + "); the table is in " + (dir / "cases.csv").string());
+  }
+  return failed == 0 ? 0 : 2;
+}
+
+}  // namespace bc::drivers

@@ -1,0 +1,28 @@
+// Comparative method studies: `beamcontact study STUDY.xml`.
+//
+// A study deck names a base deck and groups of cases. Each group varies parameters of the base deck
+// (any parameter path, e.g. "Contact/Enforcement/Penalty/Normal Penalty Parameter") over lists of
+// values; a group's cases are all combinations of its lists. Every case is written as a deck of its
+// own and run as a separate `beamcontact run` process (several at once), so a case that fails, even
+// by crashing, is recorded with its cause and the others go on. The study directory receives
+//   cases/NNN/          each case's deck.xml, log.txt and its full results directory
+//   cases.csv           one row per case: group, the varied parameters, status and cause, outputs
+//                       at "At T", Newton iterations (total, largest per step), passes, solve time
+//   report.md, *.png    the table and the plots (drivers/study_report.py, matplotlib)
+// The study deck format is in docs/studies.md.
+#pragma once
+#include <string>
+
+namespace bc::drivers {
+
+struct StudyOptions {
+  std::string output;     // study directory; default results/<study name>
+  int parallel = 0;       // cases run at once; 0: the deck's "Parallel Cases", else the core count
+  bool report = true;     // write report.md and the plots
+};
+
+// Runs the study; returns 0 when every case completed, 2 when some did not (all are recorded),
+// throws core::InputError on a bad study deck.
+int runStudy(const std::string& studyFile, const StudyOptions& options);
+
+}  // namespace bc::drivers
