@@ -217,11 +217,12 @@ std::map<std::string, std::string> readSummary(const fs::path& dir) {
   return s;
 }
 
-std::string lastLine(const fs::path& file) {
+// The last non-empty line of a file that starts with `prefix` (any line when empty).
+std::string lastLine(const fs::path& file, const std::string& prefix = "") {
   std::ifstream f(file);
   std::string line, last;
   while (std::getline(f, line))
-    if (!line.empty()) last = line;
+    if (!line.empty() && line.rfind(prefix, 0) == 0) last = line;
   return last;
 }
 
@@ -428,7 +429,9 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
       c.status = "complete";
     } else {
       c.status = c.exitCode == 2 ? "incomplete" : c.exitCode == 1 ? "input error" : "failed";
-      c.cause = lastLine(c.dir / "log.txt");
+      // The run's own record first (status.txt: "incomplete: <cause>"), else its one-line error.
+      const std::string status = lastLine(c.dir / "status.txt");
+      c.cause = status.rfind("incomplete: ", 0) == 0 ? status.substr(12) : lastLine(c.dir / "log.txt", "beamcontact: ");
       if (c.cause.empty()) c.cause = "exit code " + std::to_string(c.exitCode);
     }
     const int width = 30, filled = static_cast<int>(width * done / all.size());

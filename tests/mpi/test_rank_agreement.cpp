@@ -94,7 +94,7 @@ std::string example1Deck(const std::string& type) {
   std::stringstream s;
   s << f.rdbuf();
   std::string d = s.str();
-  const std::string from = R"(<Parameter name="Type" type="string" value="Penalty"/>)";
+  const std::string from = R"(<Parameter name="Type" type="string" value="Lagrange Multiplier"/>)";
   d.replace(d.find(from), from.size(), R"(<Parameter name="Type" type="string" value=")" + type + R"("/>)");
   // Solved to round-off, so that the comparison measures the ranks, not where Newton stopped inside
   // its tolerance (friction carries such differences from step to step).

@@ -1,0 +1,47 @@
+"""Runs the tiny study (tests/cli/decks/tiny_study.xml) and checks what it wrote:
+- exit code 2 (some case did not complete) and every case recorded in cases.csv;
+- the starved case "incomplete" with the run's cause, the misspelt path an "input error" naming it;
+- each complete case's outputs equal its own results at T = 1 (tracked_points.csv, the sum of the
+  normal forces of contact_points.csv) and A's deflection within 8 % of the paper's Table 1
+  (9.79-9.89);
+- report.md with the table, and the plot as a non-empty PNG."""
+import csv
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+exe, deck, out = sys.argv[1], sys.argv[2], Path(sys.argv[3])
+run = subprocess.run([exe, "study", deck, "--output", str(out), "--parallel", "2"], capture_output=True, text=True)
+print(run.stdout)
+print(run.stderr)
+assert run.returncode == 2, f"exit code {run.returncode}, expected 2"
+assert "4/5" in run.stdout and "5/5" in run.stdout, "no progress counter"
+
+rows = list(csv.DictReader(open(out / "cases.csv")))
+assert [r["group"] for r in rows] == ["lagrange", "penalty", "penalty", "starved", "typo"], rows
+status = {r["case"]: r["status"] for r in rows}
+assert status == {"1": "complete", "2": "complete", "3": "complete", "4": "incomplete", "5": "input error"}, status
+assert "Maximum Iterations" in rows[3]["cause"], rows[3]["cause"]
+assert "Normal Penalty Parametr" in rows[4]["cause"], rows[4]["cause"]
+assert rows[3]["A uz"] == "" and rows[3]["F_N"] == "", "a case that did not reach T = 1 must have no outputs"
+
+for r in rows[:3]:
+    case = out / "cases" / f"{int(r['case']):03d}"
+    tracked = list(csv.DictReader(open(case / "tracked_points.csv")))
+    last = tracked[-1]
+    assert float(last["T"]) == 1.0
+    assert float(r["A uz"]) == float(last["A_uz"]), (r["A uz"], last["A_uz"])
+    points = [p for p in csv.DictReader(open(case / "contact_points.csv")) if p["step"] == last["step"] and p["active"] == "1"]
+    total = sum(float(p["normal_force"]) for p in points)
+    assert math.isclose(float(r["F_N"]), total, rel_tol=1e-9), (r["F_N"], total)
+    assert abs(-float(r["A uz"]) - 9.85) < 0.08 * 9.85, r["A uz"]
+    assert int(r["newton_iterations"]) >= 50 and float(r["solve_seconds"]) > 0, r
+
+report = (out / "report.md").read_text()
+assert "| case | group |" in report and "Cases that did not complete" in report
+png = out / "F_N_vs_eps_N.png"
+data = png.read_bytes()
+assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 5000, len(data)
+assert "![F_N vs eps_N](F_N_vs_eps_N.png)" in report
+print("ok: study recorded 5 cases (3 complete, 1 incomplete, 1 input error), report and plot written")
