@@ -262,6 +262,19 @@ std::string describe(const Case& c, const std::vector<std::string>& columns) {
 
 }  // namespace
 
+int runProgram(const std::vector<std::string>& command) {
+  std::vector<std::string> args = command;
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  const int rc = posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ);
+  if (rc != 0) throw std::runtime_error("cannot start " + command[0] + ": " + std::strerror(rc));
+  int status = 0;
+  if (waitpid(pid, &status, 0) < 0) throw std::runtime_error("waiting for " + command[0] + " failed");
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+}
+
 int runStudy(const std::string& studyFile, const StudyOptions& options) {
   if (!fs::exists(studyFile)) throw InputError("study deck \"" + studyFile + "\" does not exist");
   Teuchos::RCP<ParameterList> study;
@@ -495,9 +508,8 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
               static_cast<std::ptrdiff_t>(all.size()) - failed, failed, (dir / "cases.csv").string().c_str());
   if (options.report) {
     const std::string script = std::string(BC_SOURCE_DIR) + "/drivers/study_report.py";
-    const std::string cmd = "/usr/bin/python3 '" + script + "' '" + dir.string() + "'";
-    if (std::system(cmd.c_str()) != 0)
-      throw std::runtime_error("the report script failed (" + cmd + "); the table is in " + (dir / "cases.csv").string());
+    if (runProgram({"/usr/bin/python3", script, dir.string()}) != 0)
+      throw std::runtime_error("the report script " + script + " failed; the table is in " + (dir / "cases.csv").string());
   }
   return failed == 0 ? 0 : 2;
 }

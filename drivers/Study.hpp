@@ -12,6 +12,7 @@
 // The study deck format is in docs/studies.md.
 #pragma once
 #include <string>
+#include <vector>
 
 namespace bc::drivers {
 
@@ -20,6 +21,10 @@ struct StudyOptions {
   int parallel = 0;       // cases run at once; 0: the deck's "Parallel Cases", else the core count
   bool report = true;     // write report.md and the plots
 };
+
+// Runs `command` (program path and arguments, no shell) and returns its exit code (128 + signal
+// when killed); throws when it cannot be started.
+int runProgram(const std::vector<std::string>& command);
 
 // Runs the study; returns 0 when every case completed, 2 when some did not (all are recorded),
 // throws core::InputError on a bad study deck.

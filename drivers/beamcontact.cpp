@@ -1,11 +1,13 @@
 // beamcontact: command-line driver. Parses arguments, reads and validates the deck, runs it.
 //   beamcontact run DECK.xml [--output DIR] [--quiet]
 //   beamcontact study STUDY.xml [--output DIR] [--parallel N] [--no-report]
+//   beamcontact render RESULTS_DIR OUT.png [--stages T1,T2,...] [--view ELEV,AZIM] [--title TEXT]
 //   beamcontact --print-valid-parameters
 //   beamcontact --help
 // Exit codes: 0 run complete; 1 usage or input error; 2 run incomplete (a step failed to converge);
 // 3 unexpected error. Errors are one line on stderr naming the cause.
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <string>
@@ -24,6 +26,7 @@ namespace {
 const char* kUsage =
     "usage: beamcontact run DECK.xml [--output DIR] [--quiet]\n"
     "       beamcontact study STUDY.xml [--output DIR] [--parallel N] [--no-report]\n"
+    "       beamcontact render RESULTS_DIR OUT.png [--stages T1,T2,...] [--view ELEV,AZIM] [--title TEXT]\n"
     "       beamcontact --print-valid-parameters\n"
     "       beamcontact --help\n"
     "\n"
@@ -32,6 +35,8 @@ const char* kUsage =
     "default results/<deck name>, or to DIR.\n"
     "A study runs every case of a study deck (a base deck and the parameters to vary), N at a time\n"
     "(default: one per core), and writes cases.csv, report.md and plots (docs/studies.md).\n"
+    "render draws a run's beams and contact forces at four stages of loading (default T = 0.25, 0.5,\n"
+    "0.75, 1) into a PNG, from the run's VTK files.\n"
     "Exit codes: 0 complete, 1 usage or input error, 2 run incomplete (a study: some case did not\n"
     "complete; every case is recorded), 3 unexpected error.\n";
 
@@ -101,6 +106,15 @@ int main(int argc, char** argv) {
   if (args.empty() || args[0] == "--help" || args[0] == "-h") {
     std::fputs(kUsage, args.empty() ? stderr : stdout);
     return args.empty() ? 1 : 0;
+  }
+  if (args[0] == "render") {
+    if (args.size() < 3) {
+      std::fprintf(stderr, "beamcontact: render needs a results directory and an output file\n%s", kUsage);
+      return 1;
+    }
+    std::vector<std::string> command = {"/usr/bin/python3", BC_SOURCE_DIR "/drivers/render_stages.py"};
+    command.insert(command.end(), args.begin() + 1, args.end());
+    return bc::drivers::runProgram(command) == 0 ? 0 : 3;
   }
   // A study only starts and watches case processes: no MPI in this process.
   if (args[0] == "study") {

@@ -1,0 +1,105 @@
+#!/usr/bin/python3
+"""Pictures of a run's deformation: the beams with their real cross-sections and the contact forces,
+at four stages of loading (the seed paper's Figs. 4, 6 and 11), from the run's VTK files.
+
+    /usr/bin/python3 drivers/render_stages.py RESULTS_DIR OUT.png [--stages 0.25,0.5,0.75,1]
+                                              [--view ELEVATION,AZIMUTH] [--title TEXT]
+
+Reads results.pvd and, for each stage, the step whose load factor T is nearest, with VTK's XML reader
+(python3-vtk9); draws the faces of every beam cell (hexahedra for rectangles, wedges for circles)
+with matplotlib and each active contact point's force (on beam B) as an arrow scaled to the largest
+force of the run's stages.
+"""
+import argparse
+import sys
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import vtk  # noqa: E402
+from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
+from vtk.util.numpy_support import vtk_to_numpy  # noqa: E402
+
+COLOURS = ["#8fb3d9", "#e3a16f", "#9fcf8f", "#d98fb3", "#c9c36a"]
+
+
+def read(path):
+    reader = vtk.vtkXMLUnstructuredGridReader()
+    reader.SetFileName(str(path))
+    reader.Update()
+    grid = reader.GetOutput()
+    points = vtk_to_numpy(grid.GetPoints().GetData())
+    beam_array = grid.GetCellData().GetArray("beam")
+    force_array = grid.GetPointData().GetArray("contact force")
+    forces = vtk_to_numpy(force_array) if force_array is not None else np.zeros_like(points)
+    faces, contacts = [], []
+    for i in range(grid.GetNumberOfCells()):
+        cell = grid.GetCell(i)
+        if cell.GetCellType() == vtk.VTK_VERTEX:
+            pid = cell.GetPointId(0)
+            contacts.append((points[pid], forces[pid]))
+            continue
+        beam = int(beam_array.GetValue(i)) if beam_array is not None else 0
+        for f in range(cell.GetNumberOfFaces()):
+            face = cell.GetFace(f)
+            ids = [face.GetPointId(k) for k in range(face.GetNumberOfPoints())]
+            faces.append((points[ids], beam))
+    return faces, contacts, points
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("results")
+    ap.add_argument("out")
+    ap.add_argument("--stages", default="0.25,0.5,0.75,1")
+    ap.add_argument("--view", default="22,-60")
+    ap.add_argument("--title", default="")
+    a = ap.parse_args()
+    results = Path(a.results)
+    pvd = results / "results.pvd"
+    if not pvd.exists():
+        sys.exit(f"render_stages: {pvd} does not exist (was the run written with VTK output?)")
+    steps = [(float(d.get("timestep")), d.get("file")) for d in ET.parse(pvd).getroot().iter("DataSet")]
+    stages = [float(s) for s in a.stages.split(",")]
+    chosen = [min(steps, key=lambda s: abs(s[0] - t)) for t in stages]
+    data = [read(results / f) for _, f in chosen]
+    allpts = np.vstack([d[2] for d in data])
+    lo, hi = allpts.min(axis=0), allpts.max(axis=0)
+    span = float((hi - lo).max())
+    fmax = max([np.linalg.norm(f) for d in data for _, f in d[1]] + [0.0])
+    elev, azim = (float(v) for v in a.view.split(","))
+
+    fig = plt.figure(figsize=(11, 9))
+    for k, ((T, _), (faces, contacts, _)) in enumerate(zip(chosen, data)):
+        ax = fig.add_subplot(2, 2, k + 1, projection="3d")
+        polys = Poly3DCollection([f for f, _ in faces], facecolors=[COLOURS[b % len(COLOURS)] for _, b in faces],
+                                 edgecolors="0.25", linewidths=0.2, alpha=0.9)
+        ax.add_collection3d(polys)
+        for p, f in contacts:
+            n = np.linalg.norm(f)
+            if n > 0 and fmax > 0:
+                d = f / fmax * 0.25 * span
+                ax.quiver(p[0], p[1], p[2], d[0], d[1], d[2], color="crimson", linewidth=1.5, arrow_length_ratio=0.25)
+                ax.scatter([p[0]], [p[1]], [p[2]], color="crimson", s=8)
+        mid = 0.5 * (lo + hi)
+        for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), mid):
+            setter(c - 0.5 * span, c + 0.5 * span)
+        ax.set_box_aspect((1, 1, 1))
+        ax.view_init(elev=elev, azim=azim)
+        ax.set_xlabel("X")
+        ax.set_ylabel("Y")
+        ax.set_zlabel("Z")
+        ax.set_title(f"T = {T:g}, {len(contacts)} contact point{'s' if len(contacts) != 1 else ''}")
+    fig.suptitle(a.title or f"{results.name}: stages of deformation (contact forces on beam B in red, "
+                 f"largest {fmax:.4g})")
+    fig.tight_layout()
+    fig.savefig(a.out, dpi=100)
+    print(f"render: {a.out}")
+
+
+if __name__ == "__main__":
+    main()
