@@ -8,13 +8,6 @@ using namespace bc::elements;
 
 namespace {
 
-template <class T> Mat3<T> promote(const Mat3d& A) {
-  Mat3<T> B;
-  for (int k = 0; k < 9; ++k) B.m[k] = T(A.m[k]);
-  return B;
-}
-template <class T> Vec3<T> promote(const Vec3d& a) { return {{T(a[0]), T(a[1]), T(a[2])}}; }
-
 // Closest points of the lines pA1 + xi (pA2 - pA1) and pB1 + eta (pB2 - pB1): the orthogonality
 // conditions are linear in (xi, eta) for straight lines; Cramer's rule.
 template <class T>
@@ -32,14 +25,11 @@ struct Gaps {
   T gN, gT1, gT2, xi, eta;
 };
 
+// The three gaps as functions of the four line end points alone.
 template <class T>
-Gaps<T> gaps(const Vec3<T>& xA1, const Vec3<T>& xA2, const Vec3<T>& xB1, const Vec3<T>& xB2, const Mat3<T>& RA1,
-             const Mat3<T>& RA2, const Mat3<T>& RB1, const Mat3<T>& RB2, const LinePairInput& in, double sigma,
-             double xiPrev, double etaPrev) {
+Gaps<T> gaps(const Vec3<T>& pA1, const Vec3<T>& pA2, const Vec3<T>& pB1, const Vec3<T>& pB2, double radiusSum,
+             double sigma, double xiPrev, double etaPrev) {
   using std::sqrt;
-  const Vec3<T> oA = promote<T>(in.oA), oB = promote<T>(in.oB);
-  const Vec3<T> pA1 = xA1 + RA1 * oA, pA2 = xA2 + RA2 * oA;
-  const Vec3<T> pB1 = xB1 + RB1 * oB, pB2 = xB2 + RB2 * oB;
   Gaps<T> g;
   solveClosest(pA1, pA2, pB1, pB2, g.xi, g.eta);
   const Vec3<T> tA = pA2 - pA1, tB = pB2 - pB1;
@@ -48,7 +38,7 @@ Gaps<T> gaps(const Vec3<T>& xA1, const Vec3<T>& xA2, const Vec3<T>& xB1, const V
   const T nc = sqrt(dot(c, c));
   const T s = sigma / nc;
   const Vec3<T> n = s * c;
-  g.gN = dot(pB - pA, n) - in.radiusSum;
+  g.gN = dot(pB - pA, n) - radiusSum;
   g.gT1 = (g.xi - xiPrev) * sqrt(dot(tA, tA));
   g.gT2 = (g.eta - etaPrev) * sqrt(dot(tB, tB));
   return g;
@@ -78,35 +68,79 @@ ClosestPoints closestPoints(const LinePairInput& in) {
 }
 
 ContactKinematics contactKinematics(const LinePairInput& in, double sigma, double xiPrev, double etaPrev) {
-  // Inner level: virtual variation w (gives R); outer: Newton increment (gives K). Rotations are
-  // R = exp(w) exp(delta) R_current, as for the beam element.
-  using In = Sacado::Fad::SFad<double, kPairDofs>;
-  using Out = Sacado::Fad::SFad<In, kPairDofs>;
+  // The gaps depend on the 24 dofs only through the four line end points P_m = x_m + R_m o (12
+  // coordinates). Nested forward AD gives the gradient G and Hessian H of each gap in those 12;
+  // the chain rule then gives R and K in the 24 dofs. With the spin variation w (inner) and the
+  // Newton increment delta (outer), P_m = x_m + exp(w) exp(delta) R_m o, so
+  //   dP_m = du_m + w x r_m,   d2P_m / dw_i d delta_j = e_i x (e_j x r_m),   r_m = R_m o,
+  //   R = J^T G,   K_ij = (J^T H J)_ij + sum_m G_m . (e_i x (e_j x r_m)) on node m's spins.
+  constexpr int kPoints = 12;
+  using In = Sacado::Fad::SFad<double, kPoints>;
+  using Out = Sacado::Fad::SFad<In, kPoints>;
   const Vec3d* x[4] = {&in.xA1, &in.xA2, &in.xB1, &in.xB2};
-  const Mat3d* R[4] = {&in.RA1, &in.RA2, &in.RB1, &in.RB2};
-  Vec3<Out> xs[4];
-  Mat3<Out> Rs[4];
-  for (int node = 0; node < 4; ++node) {
-    Vec3<Out> w, d;
-    for (int k = 0; k < 3; ++k) {
-      const int iu = 6 * node + k, ir = 6 * node + 3 + k;
-      xs[node][k] = Out(kPairDofs, iu, In(kPairDofs, iu, (*x[node])[k]));
-      w[k] = Out(In(kPairDofs, ir, 0.0));
-      d[k] = Out(kPairDofs, ir, In(0.0));
-    }
-    Rs[node] = expSO3SecondOrder(w) * (expSO3SecondOrder(d) * promote<Out>(*R[node]));
+  const Mat3d* Rm[4] = {&in.RA1, &in.RA2, &in.RB1, &in.RB2};
+  const Vec3d* o[4] = {&in.oA, &in.oA, &in.oB, &in.oB};
+  Vec3d r[4];
+  Vec3<Out> P[4];
+  for (int m = 0; m < 4; ++m) {
+    r[m] = (*Rm[m]) * (*o[m]);
+    const Vec3d p = *x[m] + r[m];
+    for (int a = 0; a < 3; ++a) P[m][a] = Out(kPoints, 3 * m + a, In(kPoints, 3 * m + a, p[a]));
   }
-  const Gaps<Out> g = gaps(xs[0], xs[1], xs[2], xs[3], Rs[0], Rs[1], Rs[2], Rs[3], in, sigma, xiPrev, etaPrev);
+  const Gaps<Out> g = gaps(P[0], P[1], P[2], P[3], in.radiusSum, sigma, xiPrev, etaPrev);
+
+  // J: 12 x 24, dP_(m,a) / d dof; nonzero only in node m's 6 columns: [I, -skew(r_m)].
+  double J[kPoints][kPairDofs] = {};
+  for (int m = 0; m < 4; ++m)
+    for (int a = 0; a < 3; ++a) {
+      J[3 * m + a][6 * m + a] = 1.0;
+      for (int b = 0; b < 3; ++b) {
+        Vec3d e{};
+        e[b] = 1.0;
+        J[3 * m + a][6 * m + 3 + b] = cross(e, r[m])[a];
+      }
+    }
+
   ContactKinematics out;
   out.xi = g.xi.val().val();
   out.eta = g.eta.val().val();
   const Out* src[3] = {&g.gN, &g.gT1, &g.gT2};
   GapDerivatives* dst[3] = {&out.normal, &out.tangent1, &out.tangent2};
   for (int q = 0; q < 3; ++q) {
-    dst[q]->value = src[q]->val().val();
+    const Out& v = *src[q];
+    double G[kPoints], H[kPoints][kPoints], HJ[kPoints][kPairDofs];
+    for (int k = 0; k < kPoints; ++k) {
+      G[k] = v.val().dx(k);
+      for (int l = 0; l < kPoints; ++l) H[k][l] = v.dx(l).dx(k);
+    }
+    for (int k = 0; k < kPoints; ++k)
+      for (int j = 0; j < kPairDofs; ++j) {
+        double sum = 0.0;
+        for (int l = 0; l < kPoints; ++l) sum += H[k][l] * J[l][j];
+        HJ[k][j] = sum;
+      }
+    GapDerivatives& d = *dst[q];
+    d.value = v.val().val();
     for (int i = 0; i < kPairDofs; ++i) {
-      dst[q]->R[i] = src[q]->val().dx(i);
-      for (int j = 0; j < kPairDofs; ++j) dst[q]->K[kPairDofs * i + j] = src[q]->dx(j).dx(i);
+      double Ri = 0.0;
+      for (int k = 0; k < kPoints; ++k) Ri += J[k][i] * G[k];
+      d.R[i] = Ri;
+      for (int j = 0; j < kPairDofs; ++j) {
+        double sum = 0.0;
+        for (int k = 0; k < kPoints; ++k) sum += J[k][i] * HJ[k][j];
+        d.K[kPairDofs * i + j] = sum;
+      }
+    }
+    // Second derivatives of the end points: the spins of the same node.
+    for (int m = 0; m < 4; ++m) {
+      const Vec3d Gm{{G[3 * m], G[3 * m + 1], G[3 * m + 2]}};
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          Vec3d ei{}, ej{};
+          ei[i] = 1.0;
+          ej[j] = 1.0;
+          d.K[kPairDofs * (6 * m + 3 + i) + 6 * m + 3 + j] += dot(Gm, cross(ei, cross(ej, r[m])));
+        }
     }
   }
   return out;

@@ -26,12 +26,10 @@ Mat3<T> corotatedFrameT(const Mat3<T>& T1, const Mat3<T>& T2, const Vec3<T>& x1,
   return fromColumns(e1, e2, e3);
 }
 
-// Strain energy of the element for nodal positions x1, x2 and nodal rotations R1, R2.
+// Strain energy of the element for nodal positions x1, x2 and nodal frames T1 = R1 T0, T2 = R2 T0.
 template <class T>
-T energyT(const BeamElementData& d, const Vec3<T>& x1, const Vec3<T>& x2, const Mat3<T>& R1, const Mat3<T>& R2) {
-  const Mat3<T> T0 = promote<T>(d.T0);
-  const Mat3<T> T1 = R1 * T0;
-  const Mat3<T> T2 = R2 * T0;
+T energyOfFrames(const BeamElementData& d, const Vec3<T>& x1, const Vec3<T>& x2, const Mat3<T>& T1,
+                 const Mat3<T>& T2) {
   const Mat3<T> Rr = corotatedFrameT(T1, T2, x1, x2);
   const Mat3<T> RrT = transpose(Rr);
   const Vec3<T> th1 = logSO3(RrT * T1);
@@ -66,48 +64,79 @@ BeamElementData makeBeamElement(const Vec3d& X1, const Vec3d& X2, const Vec3d& s
 }
 
 double strainEnergy(const BeamElementData& d, const BeamElementState& s) {
-  return energyT<double>(d, s.x1, s.x2, s.R1, s.R2);
+  return energyOfFrames<double>(d, s.x1, s.x2, s.R1 * d.T0, s.R2 * d.T0);
 }
 
 Mat3d corotatedFrame(const BeamElementData& d, const BeamElementState& s) {
   return corotatedFrameT<double>(s.R1 * d.T0, s.R2 * d.T0, s.x1, s.x2);
 }
 
+// The energy depends on the positions only through the chord x2 - x1, so AD runs over 9 variables
+// v = (x2 - x1, w1, w2) instead of the 12 nodal ones: dof g of the element is variable kVar[g] with
+// sign kSign[g] (d/dx1 = -d/d(x2 - x1)).
+namespace {
+constexpr int kVars = 9;
+constexpr int kVar[12] = {0, 1, 2, 3, 4, 5, 0, 1, 2, 6, 7, 8};
+constexpr double kSign[12] = {-1, -1, -1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
+
+// The frame exp(w) exp(delta) C of a node, C = R T0 of the current state, for the nested AD below:
+// only its value, first derivatives and the mixed second derivatives d2 / dw d delta are ever read
+// (w lives on the inner AD level, delta on the outer), so exp(w) exp(delta) can be replaced by
+// I + W + D + W D, with W D = delta w^T - (w . delta) I; the dropped W^2 / 2 and D^2 / 2 only
+// carry pure second derivatives.
+template <class T>
+Mat3<T> incrementedFrame(const Vec3<T>& w, const Vec3<T>& delta, const Mat3d& C) {
+  Mat3<T> M;
+  const T wd = dot(w, delta);
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) M(a, b) = delta[a] * w[b];
+  for (int a = 0; a < 3; ++a) M(a, a) += 1.0 - wd;
+  const Vec3<T> s = w + delta;
+  M(0, 1) -= s[2]; M(0, 2) += s[1];
+  M(1, 0) += s[2]; M(1, 2) -= s[0];
+  M(2, 0) -= s[1]; M(2, 1) += s[0];
+  Mat3<T> F;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) F(a, b) = M(a, 0) * C(0, b) + M(a, 1) * C(1, b) + M(a, 2) * C(2, b);
+  return F;
+}
+}  // namespace
+
 void internalForce(const BeamElementData& d, const BeamElementState& s, Vector12& f) {
-  using F = Sacado::Fad::SFad<double, 12>;
+  using F = Sacado::Fad::SFad<double, kVars>;
   Vec3<F> x1, x2, w1, w2;
   for (int k = 0; k < 3; ++k) {
-    x1[k] = F(12, k, s.x1[k]);
-    w1[k] = F(12, 3 + k, 0.0);
-    x2[k] = F(12, 6 + k, s.x2[k]);
-    w2[k] = F(12, 9 + k, 0.0);
+    x1[k] = F(s.x1[k]);
+    x2[k] = x1[k] + F(kVars, k, s.x2[k] - s.x1[k]);
+    w1[k] = F(kVars, 3 + k, 0.0);
+    w2[k] = F(kVars, 6 + k, 0.0);
   }
-  const Mat3<F> R1 = expSO3SecondOrder(w1) * promote<F>(s.R1);
-  const Mat3<F> R2 = expSO3SecondOrder(w2) * promote<F>(s.R2);
-  const F E = energyT(d, x1, x2, R1, R2);
-  for (int i = 0; i < 12; ++i) f[i] = E.dx(i);
+  const Mat3<F> T1 = expSO3SecondOrder(w1) * promote<F>(s.R1 * d.T0);
+  const Mat3<F> T2 = expSO3SecondOrder(w2) * promote<F>(s.R2 * d.T0);
+  const F E = energyOfFrames(d, x1, x2, T1, T2);
+  for (int g = 0; g < 12; ++g) f[g] = kSign[g] * E.dx(kVar[g]);
 }
 
 void internalForceAndTangent(const BeamElementData& d, const BeamElementState& s, Vector12& f, Matrix12& K) {
   // Inner AD level: the virtual variation w (gives the force); outer level: the Newton increment
   // delta (gives the tangent). Rotations: R = exp(w) exp(delta) R_current, both at zero.
-  using In = Sacado::Fad::SFad<double, 12>;
-  using Out = Sacado::Fad::SFad<In, 12>;
+  using In = Sacado::Fad::SFad<double, kVars>;
+  using Out = Sacado::Fad::SFad<In, kVars>;
   Vec3<Out> x1, x2, w1, w2, d1, d2;
   for (int k = 0; k < 3; ++k) {
-    x1[k] = Out(12, k, In(12, k, s.x1[k]));
-    x2[k] = Out(12, 6 + k, In(12, 6 + k, s.x2[k]));
-    w1[k] = Out(In(12, 3 + k, 0.0));
-    w2[k] = Out(In(12, 9 + k, 0.0));
-    d1[k] = Out(12, 3 + k, In(0.0));
-    d2[k] = Out(12, 9 + k, In(0.0));
+    x1[k] = Out(In(s.x1[k]));
+    x2[k] = x1[k] + Out(kVars, k, In(kVars, k, s.x2[k] - s.x1[k]));
+    w1[k] = Out(In(kVars, 3 + k, 0.0));
+    w2[k] = Out(In(kVars, 6 + k, 0.0));
+    d1[k] = Out(kVars, 3 + k, In(0.0));
+    d2[k] = Out(kVars, 6 + k, In(0.0));
   }
-  const Mat3<Out> R1 = expSO3SecondOrder(w1) * (expSO3SecondOrder(d1) * promote<Out>(s.R1));
-  const Mat3<Out> R2 = expSO3SecondOrder(w2) * (expSO3SecondOrder(d2) * promote<Out>(s.R2));
-  const Out E = energyT(d, x1, x2, R1, R2);
+  const Mat3<Out> T1 = incrementedFrame(w1, d1, s.R1 * d.T0);
+  const Mat3<Out> T2 = incrementedFrame(w2, d2, s.R2 * d.T0);
+  const Out E = energyOfFrames(d, x1, x2, T1, T2);
   for (int i = 0; i < 12; ++i) {
-    f[i] = E.val().dx(i);
-    for (int j = 0; j < 12; ++j) K[12 * i + j] = E.dx(j).dx(i);
+    f[i] = kSign[i] * E.val().dx(kVar[i]);
+    for (int j = 0; j < 12; ++j) K[12 * i + j] = kSign[i] * kSign[j] * E.dx(kVar[j]).dx(kVar[i]);
   }
 }
 

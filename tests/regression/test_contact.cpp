@@ -352,9 +352,10 @@ void checkExample(const std::string& deckName, const std::vector<Gold>& gold) {
     EXPECT_NEAR(A[0], g.Aux, 1e-5 * std::abs(g.Aux)) << g.type;
     EXPECT_NEAR(A[2], g.Auz, 1e-5 * std::abs(g.Auz)) << g.type;
     EXPECT_NEAR(c.normal, g.normal, 1e-5 * g.normal) << g.type;
-    for (const auto& [key, pt] : p.contact->points())
-      if (pt.result.active)
-        for (double t : pt.result.lambdaT) EXPECT_LE(std::abs(t), -1.0 * pt.result.lambdaN * (1 + 1e-9));
+    for (const auto& [key, pt] : p.contact->points()) {
+      if (!pt.result.active) continue;
+      for (double t : pt.result.lambdaT) EXPECT_LE(std::abs(t), -1.0 * pt.result.lambdaN * (1 + 1e-9));
+    }
     got[g.type] = {A[0], A[2], c.normal};
   }
   const auto& l = got["Lagrange Multiplier"];
