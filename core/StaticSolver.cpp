@@ -30,6 +30,9 @@ const ParameterSpec& newtonSpec() {
     s.add("Increment Tolerance", 1e-8,
           "and when ||du|| <= this * ||accumulated increment of the step|| (nodal dofs)", inRange(0.0, 1.0), "in (0, 1]");
     s.add("Print Iterations", false, "print ||r|| and ||du|| of every Newton iteration on rank 0");
+    s.addChoice("Predictor", "Extrapolate", {"Extrapolate", "None"},
+                "start of each increment's Newton iterations: \"Extrapolate\" continues the last converged "
+                "increment (scaled to this one) on the free dofs; \"None\" starts from the last converged state");
     s.add("Divergence Factor", 1e10, "an iterate whose residual exceeds this times the reference diverged",
           positive(), "> 0");
     return s;
@@ -62,6 +65,7 @@ SolverSettings readSolverSettings(const Teuchos::ParameterList& stepping, const 
   s.incrementTolerance = newton.get<double>("Increment Tolerance");
   s.divergenceFactor = newton.get<double>("Divergence Factor");
   s.printIterations = newton.get<bool>("Print Iterations");
+  s.extrapolate = newton.get<std::string>("Predictor") == "Extrapolate";
   return s;
 }
 
@@ -96,7 +100,10 @@ bool StaticSolver::attempt(double Ta, double Tb, int cutLevel, RunReport& run, c
   StepReport report;
   std::string failure;
   trial_ = committed_;
-  if (newton(Ta, Tb, report, failure)) {
+  if (newton(Ta, Tb, report, failure, true)) {
+    previous_ = committed_;
+    previousT_ = committedT_;
+    committedT_ = Tb;
     committed_ = trial_;
     committed_.updateRotationVectors();
     for (auto& c : model_.contributions) c->commitStep(committed_);
@@ -136,7 +143,7 @@ StepReport StaticSolver::iterateFrom(const State& start, double Ta, double Tb, S
   return report;
 }
 
-bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string& failure) {
+bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string& failure, bool predict) {
   // Prescribed motions over the increment.
   // Increments are measured on the nodal dofs only: extra unknowns (multipliers) are forces, and their
   // number may change from one iteration to the next.
@@ -146,6 +153,25 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
     for (int n : s.nodes)
       for (int k = 0; k < 6; ++k)
         if (s.fixed[k]) du[std::size_t(kDofsPerNode) * n + k] = s.value[k] * (Tb - Ta);
+  // Predictor: the free dofs continue the last converged increment, scaled to this one (the
+  // rotations as the spin that took the previous rotation to the current one).
+  if (predict && settings_.extrapolate && previousT_ >= 0.0 && committedT_ > previousT_ && Ta == committedT_ &&
+      previous_.numNodes() == trial_.numNodes()) {
+    const double ratio = (Tb - Ta) / (committedT_ - previousT_);
+    std::vector<bool> fixed(ndof, false);
+    for (const Support& s : model_.supports)
+      for (int n : s.nodes)
+        for (int k = 0; k < 6; ++k) fixed[std::size_t(kDofsPerNode) * n + k] = fixed[std::size_t(kDofsPerNode) * n + k] || s.fixed[k];
+    for (int n = 0; n < trial_.numNodes(); ++n) {
+      const Vec3d du_n = (committed_.position[n] - previous_.position[n]);
+      const Vec3d w = elements::logSO3(committed_.rotation[n] * elements::transpose(previous_.rotation[n]));
+      for (int k = 0; k < 3; ++k) {
+        const std::size_t iu = std::size_t(kDofsPerNode) * n + k, ir = iu + 3;
+        if (!fixed[iu]) du[iu] = ratio * du_n[k];
+        if (!fixed[ir]) du[ir] = ratio * w[k];
+      }
+    }
+  }
   double stepNorm2 = 0.0;
   for (double v : du) stepNorm2 += v * v;
   std::vector<double> accumulated(du.begin(), du.begin() + ndof);

@@ -57,6 +57,7 @@ struct SolverSettings {
   double incrementTolerance = 1e-8;
   double divergenceFactor = 1e10;  // ||r|| above this times the reference is divergence
   bool printIterations = false;     // one line per Newton iteration on rank 0
+  bool extrapolate = true;          // predictor: the free dofs continue the last step's increment
 };
 
 const ParameterSpec& loadSteppingSpec();
@@ -81,7 +82,7 @@ class StaticSolver {
 
  private:
   bool attempt(double Ta, double Tb, int cutLevel, RunReport& run, const StepCallback& onStep);
-  bool newton(double Ta, double Tb, StepReport& report, std::string& failure);
+  bool newton(double Ta, double Tb, StepReport& report, std::string& failure, bool predict = false);
   void start(const std::string& name);
   void stop(const std::string& name);
 
@@ -92,6 +93,8 @@ class StaticSolver {
   Teuchos::RCP<Teuchos::StackedTimer> timer_;
   Assembler assembler_;
   State committed_, trial_;
+  State previous_;            // the converged state before committed_ (for the predictor)
+  double previousT_ = -1.0, committedT_ = 0.0;  // their load factors; previousT_ < 0: none yet
   bool graphStale_ = false;
 };
 
