@@ -47,7 +47,18 @@ class DirectSolver : public LinearSolver {
   int doSolve(const Teuchos::RCP<const Matrix>& A, const Vector& b, Vector& x) override {
     const auto comm = A->getRowMap()->getComm();
     if (comm->getSize() == 1) {
-      solveKlu2(A, b, x);
+      // The same matrix object with new values (the assembler keeps it while its graph stands):
+      // keep KLU2's symbolic factorization, redo the numeric one.
+      if (A == lastMatrix_ && !cached_.is_null()) {
+        cached_->setX(Teuchos::rcpFromRef<MultiVector>(x));
+        cached_->setB(Teuchos::rcpFromRef<const MultiVector>(b));
+        cached_->numericFactorization().solve();
+      } else {
+        cached_ = Amesos2::create<Matrix, MultiVector>("KLU2", A, Teuchos::rcpFromRef<MultiVector>(x),
+                                                       Teuchos::rcpFromRef<const MultiVector>(b));
+        cached_->symbolicFactorization().numericFactorization().solve();
+        lastMatrix_ = A;
+      }
       return 0;
     }
     const auto owned = A->getRowMap();
@@ -107,6 +118,9 @@ class DirectSolver : public LinearSolver {
   }
 
  private:
+  Teuchos::RCP<const Matrix> lastMatrix_;
+  Teuchos::RCP<Amesos2::Solver<Matrix, MultiVector>> cached_;
+
   static void solveKlu2(const Teuchos::RCP<const Matrix>& A, const Vector& b, Vector& x) {
     auto xp = Teuchos::rcpFromRef(x);
     auto bp = Teuchos::rcpFromRef(b);
