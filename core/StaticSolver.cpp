@@ -192,8 +192,12 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
       stop("Graph Rebuild");
     }
     if (x.is_null() || !x->getMap()->isSameAs(*assembler_.ownedMap())) x = Teuchos::rcp(new Vector(assembler_.ownedMap()));
+    // When the last increment was already below its tolerance this iterate is probably the
+    // solution: its residual alone decides, and the tangent is formed only if another solve follows.
+    const bool likelyConverged =
+        kp > 0 && report.history[k - 1].incrementNorm <= settings_.incrementTolerance * std::sqrt(stepNorm2);
     start("Assembly");
-    assembler_.assemble(trial_, Tb, true);
+    assembler_.assemble(trial_, Tb, !likelyConverged);
     stop("Assembly");
     const double rn = assembler_.residual()->norm2();
     double reactions2 = 0.0;
@@ -257,6 +261,11 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
         << rn;
       failure = s.str();
       return false;
+    }
+    if (likelyConverged) {
+      start("Assembly");
+      assembler_.assemble(trial_, Tb, true);
+      stop("Assembly");
     }
     Vector rhs(assembler_.ownedMap());
     rhs.update(-1.0, *assembler_.residual(), 0.0);
