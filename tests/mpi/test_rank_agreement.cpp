@@ -126,10 +126,9 @@ void compareExample1(const std::string& type, double tolerance) {
 }
 }  // namespace
 
-// Penalty: at T = 0.36 a contact point touches with a force of ~0 and is "open" on one rank count and
-// "slip" on the other (both are converged states); the friction path carries the difference to
-// 5e-5 of the largest displacement at T = 1. Asserted at 1e-4 until the active set gets a
-// deterministic tie-break (issue 3 follow-up). Augmented Lagrange: to round-off.
-TEST(RankAgreement, Example1Penalty) { compareExample1("Penalty", 1e-4); }
+// Each strategy to round-off. (Penalty once differed by 5e-5 where a point touched with a force of
+// about zero and came out "open" on one rank count and "slip" on the other; with the predictor the
+// path no longer passes through that state. A tie there would again show up here.)
+TEST(RankAgreement, Example1Penalty) { compareExample1("Penalty", 1e-10); }
 TEST(RankAgreement, Example1AugmentedLagrange) { compareExample1("Augmented Lagrange", 1e-10); }
 TEST(RankAgreement, Example1LagrangeMultiplier) { compareExample1("Lagrange Multiplier", 1e-10); }
