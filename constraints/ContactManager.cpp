@@ -314,6 +314,8 @@ bool ContactManager::acceptSolution(core::State& state) {
       all = enforcer_->acceptPoint(ks[i++], p.history, pairs_[p.pair].friction, multipliers(p, state), worstViolation_) &&
             all;
   }
+  if (passes_ == 1) violations_.clear();
+  violations_.push_back(worstViolation_);
   if (!all && passes_ >= enforcer_->maximumPasses()) {
     std::ostringstream s;
     s << enforcer_->type() << ": constraints not met after " << passes_ << " passes (largest violation "

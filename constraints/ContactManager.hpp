@@ -79,6 +79,9 @@ class ContactManager : public core::Contribution {
   const std::map<std::tuple<int, int, int>, Point>& points() const { return points_; }
   const ConstraintEnforcer& enforcer() const { return *enforcer_; }
   int passes() const { return passes_; }
+  // The largest constraint violation (|g_N| of active points, |g_T| of sticking lines for the
+  // strategies that enforce them exactly) after each pass of the increment solved last.
+  const std::vector<double>& passViolations() const { return violations_; }
   // Kinematics of a point at a state (public for tests of the assembled contact tangent).
   ContactKinematics kinematics(const Point& p, const core::State& state) const;
   std::array<core::GlobalDof, kPairDofs> pointDofs(const Point& p) const;
@@ -114,6 +117,7 @@ class ContactManager : public core::Contribution {
   int passes_ = 0;
   int lastPasses_ = 0;
   double worstViolation_ = 0.0;
+  std::vector<double> violations_;
 };
 
 }  // namespace bc::constraints

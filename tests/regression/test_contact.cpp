@@ -283,6 +283,33 @@ TEST(Pressing, CircularSectionsMatchTheExactClosedForm) {
   }
 }
 
+TEST(Pressing, AugmentedLagrangeGapFallsWithEachAugmentation) {
+  // Circular sections pressed by W = 0.6 in one increment with a soft eps_N = 1e3: the penetration
+  // after each pass (Uzawa update of lambda_N) must fall, and end below the Gap Tolerance 1e-6.
+  // Linear theory for the rate: penetration_k+1 / penetration_k = (1/eps_N) / (1/eps_N + c1 + c2)
+  // (the penalty spring in series with the structure's compliance), here 0.0378; asserted to 5 %.
+  const double pi = std::acos(-1.0), E = 30000.0;
+  const double c1 = std::pow(50.0, 3) / (3 * E * pi * std::pow(5.0, 4) / 4);
+  const double c2 = std::pow(100.0, 3) / (48 * E * pi * std::pow(2.5, 4) / 4);
+  auto p = test::problemFromXml(circles("Augmented Lagrange", 0.6, 1e3), "al_passes");
+  auto comm = Tpetra::getDefaultComm();
+  auto linear = core::makeLinearSolver(p.linearSolver);
+  core::StaticSolver solver(comm, p.model, p.solver, *linear);
+  core::State end;
+  solver.iterateFrom(p.model.initial, 0.0, 1.0, end);
+  const auto& v = p.contact->passViolations();
+  const double rate = (1.0 / 1e3) / (1.0 / 1e3 + c1 + c2);
+  std::printf("augmented Lagrange, penetration after each pass:");
+  for (double x : v) std::printf(" %.3e", x);
+  std::printf("  (linear rate %.4f)\n", rate);
+  ASSERT_GE(v.size(), 3u);
+  for (std::size_t k = 1; k < v.size(); ++k) {
+    EXPECT_LT(v[k], v[k - 1]) << "pass " << k;
+    EXPECT_NEAR(v[k] / v[k - 1], rate, 0.05 * rate) << "pass " << k;
+  }
+  EXPECT_LT(v.back(), 1e-6);
+}
+
 TEST(Pressing, AugmentedLagrangeMeetsGapToleranceIndependentlyOfEps) {
   const double W = 0.6;
   std::vector<double> forces;
