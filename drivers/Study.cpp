@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <cstdio>
 #include <filesystem>
@@ -129,6 +130,17 @@ void setByPath(ParameterList& deck, const Variable& var, const std::string& valu
     list->set(rest, static_cast<int>(x));
   } else {
     list->set(rest, std::stod(value));
+  }
+}
+
+// setByPath with the conversion errors of a mistyped value named.
+void setValue(ParameterList& deck, const Variable& var, const std::string& value, const std::string& where) {
+  try {
+    setByPath(deck, var, value, where);
+  } catch (const std::invalid_argument&) {
+    throw InputError(where + ": \"" + var.path + "\" takes a number, got \"" + value + "\"");
+  } catch (const std::out_of_range&) {
+    throw InputError(where + ": \"" + var.path + "\" value " + value + " is out of range");
   }
 }
 
@@ -276,6 +288,12 @@ int runProgram(const std::vector<std::string>& command) {
 }
 
 int runStudy(const std::string& studyFile, const StudyOptions& options) {
+  // Each case is its own process; under mpirun every rank would run the whole study.
+  for (const char* var : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"}) {
+    const char* size = std::getenv(var);
+    if (size && std::atoi(size) > 1)
+      throw InputError("run the study without mpirun: it starts each case as a process of its own");
+  }
   if (!fs::exists(studyFile)) throw InputError("study deck \"" + studyFile + "\" does not exist");
   Teuchos::RCP<ParameterList> study;
   try {
@@ -409,7 +427,7 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
     fs::create_directories(c.dir);
     ParameterList deck(*baseDeck);
     for (const auto& [var, value] : c.settings)
-      setByPath(deck, *var, value, "case " + std::to_string(c.index) + " (group \"" + c.group + "\")");
+      setValue(deck, *var, value, "case " + std::to_string(c.index) + " (group \"" + c.group + "\")");
     deck.sublist("Output").set("Directory", c.dir.string());
     Teuchos::writeParameterListToXmlFile(deck, (c.dir / "deck.xml").string());
   }
