@@ -25,7 +25,6 @@ struct PointHistory {
   bool active = false;       // Lagrange: point is in the active set
   bool slip[2] = {false, false};   // Lagrange: slip state per line
   double slipSign[2] = {1.0, 1.0}; // Lagrange: direction of the friction force in slip
-  double stickFrom[2] = {0.0, 0.0}; // Lagrange: tangential gaps where a point touched within the step
 };
 
 // The result of evaluating a point: forces and state, for output and for the progress line.

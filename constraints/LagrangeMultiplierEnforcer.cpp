@@ -57,7 +57,7 @@ PointResult LagrangeMultiplierEnforcer::evaluate(const ContactKinematics& k, con
       f[row] += lambda[1 + t];
       if (K) K[n * row + row] += 1.0;
     } else if (!h.slip[t]) {
-      f[row] += g[1 + t]->value - h.stickFrom[t];
+      f[row] += g[1 + t]->value;
       if (K)
         for (int j = 0; j < kPairDofs; ++j) K[n * row + j] += g[1 + t]->R[j];
     } else {
@@ -76,12 +76,15 @@ bool LagrangeMultiplierEnforcer::acceptNormal(const ContactKinematics& k, PointH
                                               const double* lambda) const {
   if (!h.active) {
     if (k.normal.value >= -tolerance_) return true;
-    // Penetrating: activate, sticking until shown otherwise, from where it touched in this step (its
-    // tangential gaps count from the last converged step, when the point was open).
+    // Penetrating: activate. In friction it starts sliding in the direction it has moved since
+    // the last converged step (sticking from there would put the whole motion of the step, made
+    // while open, into the friction force); the stick/slip stage then decides.
     h.active = true;
-    h.slip[0] = h.slip[1] = false;
-    h.stickFrom[0] = k.tangent1.value;
-    h.stickFrom[1] = k.tangent2.value;
+    const double gT[2] = {k.tangent1.value, k.tangent2.value};
+    for (int t = 0; t < 2; ++t) {
+      h.slip[t] = mu > 0.0;
+      h.slipSign[t] = gT[t] >= 0.0 ? 1.0 : -1.0;
+    }
     return false;
   }
   // Tension: release, but a point held by sticking friction first gets to slip (with lambda_N > 0
@@ -114,7 +117,7 @@ bool LagrangeMultiplierEnforcer::acceptPoint(const ContactKinematics& k, PointHi
         h.slipSign[t] = lT >= 0.0 ? 1.0 : -1.0;
         changed = true;
       }
-    } else if (h.slipSign[t] * (gt[t]->value - h.stickFrom[t]) < -tolerance_) {
+    } else if (h.slipSign[t] * gt[t]->value < -tolerance_) {
       h.slip[t] = false;
       changed = true;
     }
@@ -124,7 +127,6 @@ bool LagrangeMultiplierEnforcer::acceptPoint(const ContactKinematics& k, PointHi
 
 void LagrangeMultiplierEnforcer::commitPoint(const ContactKinematics&, PointHistory& h, double,
                                              const double* lambda) const {
-  h.stickFrom[0] = h.stickFrom[1] = 0.0;  // the next step's gaps count from here
   if (!h.active || !lambda) {
     h.lambdaN = h.lambdaT[0] = h.lambdaT[1] = 0.0;
     return;

@@ -3,8 +3,7 @@
 // the point's element has 24 + 3 = 27 dofs and the global system grows and shrinks with the active
 // set. Rows of the multipliers:
 //   normal:              g_N = 0
-//   stick (line i):      g_Ti = g_Ti,0                (no slip since the last converged step, or since
-//                                                    the point touched if that was within the step)
+//   stick (line i):      g_Ti = 0                     (no slip since the last converged step)
 //   slip  (line i):      s_i lambda_Ti + mu lambda_N = 0   (|lambda_Ti| = mu |lambda_N|, s_i fixed)
 //   frictionless:        lambda_Ti = 0
 // and the displacement rows get lambda_N R_N + sum_i lambda_Ti R_Ti with tangent
@@ -13,8 +12,9 @@
 // the same solution and is checked against finite differences.)
 // Active set, updated when Newton has converged (then the increment is solved again):
 //   an active point whose lambda_N > 0 (tension) is released; an inactive one with g_N < -"Gap
-//   Tolerance" is activated; a sticking line with |lambda_T| > mu |lambda_N| slips in the direction
-//   of lambda_T; a slipping line whose slip g_T opposes its force sticks.
+//   Tolerance" is activated, sliding in the direction it moved since the last converged step; a
+//   sticking line with |lambda_T| > mu |lambda_N| slips in the direction of lambda_T; a slipping
+//   line whose slip g_T opposes its force sticks.
 // Parameters (sublist "Lagrange Multiplier"): "Gap Tolerance" [length], "Maximum Active Set
 // Iterations".
 #pragma once
