@@ -78,6 +78,34 @@ std::string text(double v) {
   return s.str();
 }
 
+// Calls fn(name, path, sublist) for every entry of `list` (at `path`); each must be a sublist.
+template <class F>
+void forEachSublist(const ParameterList& list, const std::string& path, const std::string& what, F fn) {
+  for (auto it = list.begin(); it != list.end(); ++it) {
+    const std::string name = list.name(it), sub = path + "/" + name;
+    if (!list.isSublist(name)) throw InputError("parameter \"" + sub + "\" must be a sublist (" + what + ")");
+    fn(name, sub, list.sublist(name));
+  }
+}
+
+// Rejects keys of `list` (at `path`) other than `known`.
+void onlyKeys(const ParameterList& list, const std::string& path, const std::vector<std::string>& known) {
+  for (auto it = list.begin(); it != list.end(); ++it)
+    if (std::find(known.begin(), known.end(), list.name(it)) == known.end())
+      throw InputError("parameter \"" + path + "/" + list.name(it) + "\" is not known; valid parameters here are " +
+                       core::joinNames(known));
+}
+
+// A string parameter of `list` (at `path`); empty when optional and absent.
+std::string stringParameter(const ParameterList& list, const std::string& path, const std::string& key, bool required) {
+  if (!list.isParameter(key)) {
+    if (required) throw InputError("missing required parameter \"" + path + "/" + key + "\"");
+    return "";
+  }
+  if (!list.isType<std::string>(key)) throw InputError("parameter \"" + path + "/" + key + "\" must be a string");
+  return list.get<std::string>(key);
+}
+
 Variable readVariable(const ParameterList& v, const std::string& name, const std::string& path) {
   Variable var;
   var.name = name;
@@ -324,80 +352,74 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
   // Groups and their cases.
   std::vector<Group> groups;
   std::vector<std::string> columns;
-  const ParameterList& cases = study->sublist("Cases");
-  for (auto it = cases.begin(); it != cases.end(); ++it) {
-    const std::string gname = cases.name(it), gpath = root + "/Cases/" + gname;
-    if (!cases.isSublist(gname)) throw InputError("parameter \"" + gpath + "\" must be a sublist (a group of cases)");
-    Group g{gname, {}};
-    const ParameterList& gl = cases.sublist(gname);
-    for (auto v = gl.begin(); v != gl.end(); ++v) {
-      const std::string vpath = gpath + "/" + gl.name(v);
-      if (!gl.isSublist(gl.name(v)))
-        throw InputError("parameter \"" + vpath + "\" must be a sublist with \"Path\" and \"Values\"");
-      g.variables.push_back(readVariable(gl.sublist(gl.name(v)), gl.name(v), vpath));
-      if (std::find(columns.begin(), columns.end(), g.variables.back().name) == columns.end())
-        columns.push_back(g.variables.back().name);
-    }
-    groups.push_back(std::move(g));
-  }
+  forEachSublist(study->sublist("Cases"), root + "/Cases", "a group of cases",
+                 [&](const std::string& gname, const std::string& gpath, const ParameterList& gl) {
+                   Group g{gname, {}};
+                   forEachSublist(gl, gpath, "a varied parameter with \"Path\" and \"Values\"",
+                                  [&](const std::string& vname, const std::string& vpath, const ParameterList& v) {
+                                    g.variables.push_back(readVariable(v, vname, vpath));
+                                    if (std::find(columns.begin(), columns.end(), vname) == columns.end())
+                                      columns.push_back(vname);
+                                  });
+                   groups.push_back(std::move(g));
+                 });
   if (groups.empty()) throw InputError("parameter \"" + root + "/Cases\" has no groups: nothing to run");
 
   std::vector<Output> outputs;
-  const ParameterList& outs = study->sublist("Outputs");
-  for (auto it = outs.begin(); it != outs.end(); ++it) {
-    const std::string name = outs.name(it), path = root + "/Outputs/" + name;
-    if (!outs.isSublist(name)) throw InputError("parameter \"" + path + "\" must be a sublist");
-    const ParameterList& o = outs.sublist(name);
-    Output out;
-    out.name = name;
-    if (o.isParameter("Contact")) {
-      out.contact = o.get<std::string>("Contact");
-      if (std::find(kContactQuantities.begin(), kContactQuantities.end(), out.contact) == kContactQuantities.end())
-        throw InputError("parameter \"" + path + "/Contact\": \"" + out.contact + "\" is not one of " +
-                         core::joinNames(kContactQuantities));
-    } else if (o.isParameter("Tracked Point")) {
-      out.trackedPoint = o.get<std::string>("Tracked Point");
-      out.component = o.isParameter("Component") ? o.get<std::string>("Component") : "";
-      if (std::find(kComponents.begin(), kComponents.end(), out.component) == kComponents.end())
-        throw InputError("parameter \"" + path + "/Component\" must be one of " + core::joinNames(kComponents));
-    } else {
-      throw InputError("parameter \"" + path + "\" needs \"Contact\" (" + core::joinNames(kContactQuantities) +
-                       ") or \"Tracked Point\" with \"Component\"");
-    }
-    outputs.push_back(out);
-  }
+  forEachSublist(study->sublist("Outputs"), root + "/Outputs", "an output",
+                 [&](const std::string& name, const std::string& path, const ParameterList& o) {
+                   onlyKeys(o, path, {"Contact", "Tracked Point", "Component"});
+                   Output out;
+                   out.name = name;
+                   out.contact = stringParameter(o, path, "Contact", false);
+                   out.trackedPoint = stringParameter(o, path, "Tracked Point", false);
+                   if (!out.contact.empty()) {
+                     if (std::find(kContactQuantities.begin(), kContactQuantities.end(), out.contact) ==
+                         kContactQuantities.end())
+                       throw InputError("parameter \"" + path + "/Contact\": \"" + out.contact + "\" is not one of " +
+                                        core::joinNames(kContactQuantities));
+                   } else if (!out.trackedPoint.empty()) {
+                     out.component = stringParameter(o, path, "Component", true);
+                     if (std::find(kComponents.begin(), kComponents.end(), out.component) == kComponents.end())
+                       throw InputError("parameter \"" + path + "/Component\" must be one of " +
+                                        core::joinNames(kComponents));
+                   } else {
+                     throw InputError("parameter \"" + path + "\" needs \"Contact\" (" +
+                                      core::joinNames(kContactQuantities) + ") or \"Tracked Point\" with \"Component\"");
+                   }
+                   outputs.push_back(out);
+                 });
 
   std::vector<Plot> plots;
-  const ParameterList& pls = study->sublist("Plots");
-  for (auto it = pls.begin(); it != pls.end(); ++it) {
-    const std::string name = pls.name(it), path = root + "/Plots/" + name;
-    if (!pls.isSublist(name)) throw InputError("parameter \"" + path + "\" must be a sublist");
-    const ParameterList& p = pls.sublist(name);
-    Plot plot;
-    plot.name = name;
-    auto need = [&](const char* key) {
-      if (!p.isParameter(key)) throw InputError("missing required parameter \"" + path + "/" + key + "\"");
-      return p.get<std::string>(key);
-    };
-    plot.x = need("X");
-    plot.y = need("Y");
-    if (p.isParameter("Series")) plot.series = p.get<std::string>("Series");
-    if (p.isParameter("Relative To Group")) plot.relativeTo = p.get<std::string>("Relative To Group");
-    if (p.isParameter("Log X")) plot.logX = p.get<bool>("Log X");
-    auto isColumn = [&](const std::string& c) { return std::find(columns.begin(), columns.end(), c) != columns.end(); };
-    auto isOutput = [&](const std::string& c) {
-      return std::any_of(outputs.begin(), outputs.end(), [&](const Output& o) { return o.name == c; }) ||
-             c == "newton_iterations" || c == "solve_seconds" || c == "passes" || c == "max_newton_per_step";
-    };
-    if (!isColumn(plot.x)) throw InputError("parameter \"" + path + "/X\": \"" + plot.x + "\" is not a varied parameter");
-    if (!isOutput(plot.y)) throw InputError("parameter \"" + path + "/Y\": \"" + plot.y + "\" is not an output");
-    if (!plot.series.empty() && !isColumn(plot.series))
-      throw InputError("parameter \"" + path + "/Series\": \"" + plot.series + "\" is not a varied parameter");
-    if (!plot.relativeTo.empty() &&
-        std::none_of(groups.begin(), groups.end(), [&](const Group& g) { return g.name == plot.relativeTo; }))
-      throw InputError("parameter \"" + path + "/Relative To Group\": no group \"" + plot.relativeTo + "\"");
-    plots.push_back(plot);
-  }
+  auto isColumn = [&](const std::string& c) { return std::find(columns.begin(), columns.end(), c) != columns.end(); };
+  auto isOutput = [&](const std::string& c) {
+    return std::any_of(outputs.begin(), outputs.end(), [&](const Output& o) { return o.name == c; }) ||
+           c == "newton_iterations" || c == "solve_seconds" || c == "passes" || c == "max_newton_per_step";
+  };
+  forEachSublist(study->sublist("Plots"), root + "/Plots", "a plot",
+                 [&](const std::string& name, const std::string& path, const ParameterList& p) {
+                   onlyKeys(p, path, {"X", "Y", "Series", "Relative To Group", "Log X"});
+                   Plot plot;
+                   plot.name = name;
+                   plot.x = stringParameter(p, path, "X", true);
+                   plot.y = stringParameter(p, path, "Y", true);
+                   plot.series = stringParameter(p, path, "Series", false);
+                   plot.relativeTo = stringParameter(p, path, "Relative To Group", false);
+                   if (p.isParameter("Log X")) {
+                     if (!p.isType<bool>("Log X")) throw InputError("parameter \"" + path + "/Log X\" must be a bool");
+                     plot.logX = p.get<bool>("Log X");
+                   }
+                   if (!isColumn(plot.x))
+                     throw InputError("parameter \"" + path + "/X\": \"" + plot.x + "\" is not a varied parameter");
+                   if (!isOutput(plot.y))
+                     throw InputError("parameter \"" + path + "/Y\": \"" + plot.y + "\" is not an output");
+                   if (!plot.series.empty() && !isColumn(plot.series))
+                     throw InputError("parameter \"" + path + "/Series\": \"" + plot.series + "\" is not a varied parameter");
+                   if (!plot.relativeTo.empty() &&
+                       std::none_of(groups.begin(), groups.end(), [&](const Group& g) { return g.name == plot.relativeTo; }))
+                     throw InputError("parameter \"" + path + "/Relative To Group\": no group \"" + plot.relativeTo + "\"");
+                   plots.push_back(plot);
+                 });
 
   // Expand the groups and write each case's deck.
   const fs::path dir = options.output.empty() ? fs::path(study->get<std::string>("Output Directory")) : fs::path(options.output);
