@@ -344,7 +344,7 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
   spec.addSublist("Plots", anyList, "named plots: X, Y, optional Series, Relative To Group, Log X");
   spec.apply(*study, root);
 
-  const fs::path base = fs::path(studyFile).parent_path() / study->get<std::string>("Base Deck");
+  const fs::path base = (fs::path(studyFile).parent_path() / study->get<std::string>("Base Deck")).lexically_normal();
   if (!fs::exists(base)) throw InputError("parameter \"" + root + "/Base Deck\": file \"" + base.string() + "\" does not exist");
   const Teuchos::RCP<ParameterList> baseDeck = Teuchos::getParametersFromXmlFile(base.string());
   const double atT = study->get<double>("At T");
