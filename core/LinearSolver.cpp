@@ -54,9 +54,7 @@ class DirectSolver : public LinearSolver {
         cached_->setB(Teuchos::rcpFromRef<const MultiVector>(b));
         cached_->numericFactorization().solve();
       } else {
-        cached_ = Amesos2::create<Matrix, MultiVector>("KLU2", A, Teuchos::rcpFromRef<MultiVector>(x),
-                                                       Teuchos::rcpFromRef<const MultiVector>(b));
-        cached_->symbolicFactorization().numericFactorization().solve();
+        cached_ = solveKlu2(A, b, x);
         lastMatrix_ = A;
       }
       return 0;
@@ -121,12 +119,16 @@ class DirectSolver : public LinearSolver {
   Teuchos::RCP<const Matrix> lastMatrix_;
   Teuchos::RCP<Amesos2::Solver<Matrix, MultiVector>> cached_;
 
-  static void solveKlu2(const Teuchos::RCP<const Matrix>& A, const Vector& b, Vector& x) {
+  // A new KLU2 solver for A: factorizes and solves; returned so that its symbolic factorization
+  // can serve later solves with the same matrix.
+  static Teuchos::RCP<Amesos2::Solver<Matrix, MultiVector>> solveKlu2(const Teuchos::RCP<const Matrix>& A,
+                                                                       const Vector& b, Vector& x) {
     auto xp = Teuchos::rcpFromRef(x);
     auto bp = Teuchos::rcpFromRef(b);
     auto solver = Amesos2::create<Matrix, MultiVector>("KLU2", A, Teuchos::rcp_implicit_cast<MultiVector>(xp),
                                                        Teuchos::rcp_implicit_cast<const MultiVector>(bp));
     solver->symbolicFactorization().numericFactorization().solve();
+    return solver;
   }
 };
 

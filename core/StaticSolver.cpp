@@ -144,34 +144,30 @@ StepReport StaticSolver::iterateFrom(const State& start, double Ta, double Tb, S
 }
 
 bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string& failure, bool predict) {
-  // Prescribed motions over the increment.
   // Increments are measured on the nodal dofs only: extra unknowns (multipliers) are forces, and their
   // number may change from one iteration to the next.
   const GlobalDof ndof = GlobalDof(kDofsPerNode) * trial_.numNodes();
   std::vector<double> du(trial_.numDofs(), 0.0);
+  // Predictor: the nodal dofs continue the last converged increment, scaled to this one (the
+  // rotations as the spin that took the previous rotation to the current one); the supports then
+  // overwrite their prescribed dofs.
+  if (predict && settings_.extrapolate && previousT_ >= 0.0 && committedT_ > previousT_ && Ta == committedT_ &&
+      previous_.numNodes() == trial_.numNodes()) {
+    const double ratio = (Tb - Ta) / (committedT_ - previousT_);
+    for (int n = 0; n < trial_.numNodes(); ++n) {
+      const Vec3d du_n = committed_.position[n] - previous_.position[n];
+      const Vec3d w = elements::logSO3(committed_.rotation[n] * elements::transpose(previous_.rotation[n]));
+      for (int k = 0; k < 3; ++k) {
+        du[std::size_t(kDofsPerNode) * n + k] = ratio * du_n[k];
+        du[std::size_t(kDofsPerNode) * n + 3 + k] = ratio * w[k];
+      }
+    }
+  }
+  // Prescribed motions over the increment.
   for (const Support& s : model_.supports)
     for (int n : s.nodes)
       for (int k = 0; k < 6; ++k)
         if (s.fixed[k]) du[std::size_t(kDofsPerNode) * n + k] = s.value[k] * (Tb - Ta);
-  // Predictor: the free dofs continue the last converged increment, scaled to this one (the
-  // rotations as the spin that took the previous rotation to the current one).
-  if (predict && settings_.extrapolate && previousT_ >= 0.0 && committedT_ > previousT_ && Ta == committedT_ &&
-      previous_.numNodes() == trial_.numNodes()) {
-    const double ratio = (Tb - Ta) / (committedT_ - previousT_);
-    std::vector<bool> fixed(ndof, false);
-    for (const Support& s : model_.supports)
-      for (int n : s.nodes)
-        for (int k = 0; k < 6; ++k) fixed[std::size_t(kDofsPerNode) * n + k] = fixed[std::size_t(kDofsPerNode) * n + k] || s.fixed[k];
-    for (int n = 0; n < trial_.numNodes(); ++n) {
-      const Vec3d du_n = (committed_.position[n] - previous_.position[n]);
-      const Vec3d w = elements::logSO3(committed_.rotation[n] * elements::transpose(previous_.rotation[n]));
-      for (int k = 0; k < 3; ++k) {
-        const std::size_t iu = std::size_t(kDofsPerNode) * n + k, ir = iu + 3;
-        if (!fixed[iu]) du[iu] = ratio * du_n[k];
-        if (!fixed[ir]) du[ir] = ratio * w[k];
-      }
-    }
-  }
   double stepNorm2 = 0.0;
   for (double v : du) stepNorm2 += v * v;
   std::vector<double> accumulated(du.begin(), du.begin() + ndof);

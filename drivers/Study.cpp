@@ -273,22 +273,34 @@ std::string selfExecutable() {
   return p.string();
 }
 
-pid_t launch(const std::string& exe, const Case& c) {
+// Starts `command` (program path and arguments, no shell); with `log`, its stdout and stderr go to
+// that file.
+pid_t spawn(const std::vector<std::string>& command, const std::string& log = "") {
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
-  const std::string log = (c.dir / "log.txt").string();
-  posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&actions, 1, 2);
-  const std::string deck = (c.dir / "deck.xml").string(), out = c.dir.string();
-  std::vector<std::string> args = {exe, "run", deck, "--output", out, "--quiet"};
+  if (!log.empty()) {
+    posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_adddup2(&actions, 1, 2);
+  }
+  std::vector<std::string> args = command;
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
   pid_t pid = 0;
-  const int rc = posix_spawn(&pid, exe.c_str(), &actions, nullptr, argv.data(), environ);
+  const int rc = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
-  if (rc != 0) throw std::runtime_error("cannot start a case process: " + std::string(std::strerror(rc)));
+  if (rc != 0) throw std::runtime_error("cannot start " + command[0] + ": " + std::strerror(rc));
   return pid;
+}
+
+// The exit code of a finished process, 128 + the signal when one killed it.
+int exitCode(int status) {
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+}
+
+pid_t launch(const std::string& exe, const Case& c) {
+  return spawn({exe, "run", (c.dir / "deck.xml").string(), "--output", c.dir.string(), "--quiet"},
+               (c.dir / "log.txt").string());
 }
 
 std::string describe(const Case& c, const std::vector<std::string>& columns) {
@@ -303,16 +315,10 @@ std::string describe(const Case& c, const std::vector<std::string>& columns) {
 }  // namespace
 
 int runProgram(const std::vector<std::string>& command) {
-  std::vector<std::string> args = command;
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  pid_t pid = 0;
-  const int rc = posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ);
-  if (rc != 0) throw std::runtime_error("cannot start " + command[0] + ": " + std::strerror(rc));
+  const pid_t pid = spawn(command);
   int status = 0;
   if (waitpid(pid, &status, 0) < 0) throw std::runtime_error("waiting for " + command[0] + " failed");
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+  return exitCode(status);
 }
 
 int runStudy(const std::string& studyFile, const StudyOptions& options) {
@@ -477,7 +483,7 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
     Case& c = *it->second;
     running.erase(it);
     ++done;
-    c.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+    c.exitCode = exitCode(status);
     if (c.exitCode == 0) {
       c.status = "complete";
     } else {

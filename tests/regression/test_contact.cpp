@@ -32,14 +32,19 @@ std::string readFile(const std::string& path) {
   return s.str();
 }
 
+// A deck of input/ with its enforcement strategy set to `type`.
+std::string inputDeck(const std::string& name, const std::string& type) {
+  return std::regex_replace(readFile(std::string(BC_SOURCE_DIR) + "/input/" + name),
+                            std::regex(R"(<Parameter name="Type" type="string" value="[^"]*"/>)"),
+                            "<Parameter name=\"Type\" type=\"string\" value=\"" + type + "\"/>");
+}
+
 // Example 1's deck with the strategy, the motion of beam 2's ends, the increments and the penalty
 // parameters replaced.
 std::string example1(const std::string& type, const std::string& motion = "40.0, 0.0, -20.0", int increments = 50,
                      double epsN = 1e4, double epsT = 400.0, double mu = 0.5) {
-  std::string s = readFile(std::string(BC_SOURCE_DIR) + "/input/example1.xml");
+  std::string s = inputDeck("example1.xml", type);
   s = std::regex_replace(s, std::regex(R"(value="\{40.0, 0.0, -20.0\}")"), "value=\"{" + motion + "}\"");
-  s = std::regex_replace(s, std::regex(R"(<Parameter name="Type" type="string" value="[^"]*"/>)"),
-                         "<Parameter name=\"Type\" type=\"string\" value=\"" + type + "\"/>");
   s = std::regex_replace(s, std::regex(R"(name="Number of Increments" type="int" value="50")"),
                          "name=\"Number of Increments\" type=\"int\" value=\"" + std::to_string(increments) + "\"");
   s = std::regex_replace(s, std::regex(R"(name="Normal Penalty Parameter" type="double" value="10000.0")"),
@@ -371,10 +376,7 @@ struct Gold {
 void checkExample(const std::string& deckName, const std::vector<Gold>& gold) {
   std::map<std::string, std::array<double, 3>> got;
   for (const Gold& g : gold) {
-    std::string deck = readFile(std::string(BC_SOURCE_DIR) + "/input/" + deckName);
-    deck = std::regex_replace(deck, std::regex(R"(<Parameter name="Type" type="string" value="[^"]*"/>)"),
-                              std::string(R"(<Parameter name="Type" type="string" value=")") + g.type + "\"/>");
-    auto p = test::problemFromXml(deck, "example");
+    auto p = test::problemFromXml(inputDeck(deckName, g.type), "example");
     const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "example");
     ASSERT_TRUE(r.report.completed) << deckName << ", " << g.type << ": " << r.report.failure;
     const auto A = r.finalState.displacement(p.beams->beams()[0].nodes.back());
