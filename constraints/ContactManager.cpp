@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -72,11 +73,25 @@ LinePairInput ContactManager::lineInput(int eA, int lA, int eB, int lB, const co
   return in;
 }
 
-std::map<Key, ContactManager::Candidate> ContactManager::detect(const core::State& s) const {
+namespace {
+// Gives closest points the normal orientation `sigma` (n = sigma t_B x t_A / |t_B x t_A|) and the gap
+// that goes with it.
+void orient(ClosestPoints& cp, double sigma, double radiusSum) {
+  if (sigma == cp.sigma) return;
+  cp.normal = -1.0 * cp.normal;
+  cp.sigma = sigma;
+  cp.gap = dot(cp.pB - cp.pA, cp.normal) - radiusSum;
+}
+}  // namespace
+
+void ContactManager::forEachElementPair(const core::State& s,
+                                        const std::function<void(int, int, int)>& visit) const {
   const auto& elems = beams_->elements();
   std::set<int> inPairs;
   for (const auto& p : pairs_) { inPairs.insert(p.beamA); inPairs.insert(p.beamB); }
-  // Bounding boxes of the elements of beams in contact pairs.
+  // Bounding boxes of the elements of beams in contact pairs, swept from the last converged state
+  // to `s`: a pair that one increment carries through each other is still a candidate, with no
+  // search margin tuned to the increment.
   struct Box { Vec3d lo, hi; };
   std::vector<Box> boxes(elems.size());
   double cell = 0.0;
@@ -89,8 +104,10 @@ std::map<Key, ContactManager::Candidate> ContactManager::detect(const core::Stat
                               : sec.radius) + options_.searchMargin;
     Box b;
     for (int k = 0; k < 3; ++k) {
-      b.lo[k] = std::min(s.position[el.node1][k], s.position[el.node2][k]) - reach;
-      b.hi[k] = std::max(s.position[el.node1][k], s.position[el.node2][k]) + reach;
+      b.lo[k] = std::min({s.position[el.node1][k], s.position[el.node2][k], reference_.position[el.node1][k],
+                          reference_.position[el.node2][k]}) - reach;
+      b.hi[k] = std::max({s.position[el.node1][k], s.position[el.node2][k], reference_.position[el.node1][k],
+                          reference_.position[el.node2][k]}) + reach;
       cell = std::max(cell, b.hi[k] - b.lo[k]);
     }
     boxes[e] = b;
@@ -108,8 +125,6 @@ std::map<Key, ContactManager::Candidate> ContactManager::detect(const core::Stat
       for (long long j = j0; j <= j1; ++j)
         for (long long k = k0; k <= k1; ++k) grid[cellKey(i, j, k)].push_back(static_cast<int>(e));
   }
-  std::map<Key, Candidate> found;
-  std::map<Key, double> outside;  // how far the chosen candidate lies outside its elements
   for (std::size_t pi = 0; pi < pairs_.size(); ++pi) {
     const auto& pair = pairs_[pi];
     std::set<std::pair<int, int>> tested;
@@ -129,34 +144,76 @@ std::map<Key, ContactManager::Candidate> ContactManager::detect(const core::Stat
               const Box& B = boxes[eb];
               bool overlap = true;
               for (int c = 0; c < 3; ++c) overlap = overlap && A.lo[c] <= B.hi[c] && B.lo[c] <= A.hi[c];
-              if (!overlap) continue;
-              for (int la = 0; la < (int)lines_[pair.beamA].size(); ++la)
-                for (int lb = 0; lb < (int)lines_[pair.beamB].size(); ++lb) {
-                  const LinePairInput in = lineInput((int)ea, la, eb, lb, s);
-                  const ClosestPoints cp = closestPoints(in);
-                  if (cp.sinAngle < options_.minimumSinAngle) continue;
-                  if (!withinElement((int)ea, cp.xi) || !withinElement(eb, cp.eta)) continue;
-                  // Only lines on the sides facing each other.
-                  if (dot(cp.pA - cp.cA, cp.normal) < -1e-12 || dot(cp.pB - cp.cB, cp.normal) > 1e-12) continue;
-                  if (in.radiusSum == 0.0 && (dot(cp.pA - cp.cA, cp.normal) <= 0 || dot(cp.pB - cp.cB, cp.normal) >= 0))
-                    continue;
-                  const Key key{(int)pi, la, lb};
-                  const double out = std::max(std::abs(cp.xi - 0.5), std::abs(cp.eta - 0.5));
-                  auto f = outside.find(key);
-                  if (f == outside.end() || out < f->second) {
-                    found[key] = Candidate{(int)ea, eb, cp};
-                    outside[key] = out;
-                  }
-                }
+              if (overlap) visit((int)pi, (int)ea, eb);
             }
           }
     }
   }
+}
+
+bool ContactManager::nearElement(int element, double xi) const {
+  // Within one element length of the element and not beyond its beam's ends.
+  const BeamElement& e = beams_->elements()[element];
+  const int count = static_cast<int>(beams_->beams()[e.beam].nodes.size()) - 1;
+  const double b = e.index + xi;
+  return xi >= -1.0 && xi <= 2.0 && b >= -1e-9 && b <= count + 1e-9;
+}
+
+double ContactManager::referenceSigma(int eA, int lA, int eB, int lB, const ClosestPoints& cp) const {
+  // The orientation of a newly found point: in the last converged state (no interpenetration there)
+  // the normal points from beam A to beam B; carried to the current lines by continuity of their
+  // cross product. Without it a beam carried through the other within one increment would be
+  // found on the far side and pushed on through. Where the lines did not overlap in the last
+  // converged state (closest points beyond the elements), the current side is taken.
+  const ClosestPoints ref = closestPoints(lineInput(eA, lA, eB, lB, reference_));
+  if (ref.sinAngle < options_.minimumSinAngle || !nearElement(eA, ref.xi) || !nearElement(eB, ref.eta))
+    return cp.sigma;
+  const Vec3d cRef = ref.sigma * ref.normal, cCur = cp.sigma * cp.normal;  // unit t_B x t_A in both states
+  return dot(cRef, cCur) >= 0.0 ? ref.sigma : -ref.sigma;
+}
+
+std::map<Key, ContactManager::Candidate> ContactManager::detect(const core::State& s) const {
+  std::map<Key, Candidate> found;
+  std::map<Key, double> outside;  // how far the chosen candidate lies from its elements' centres
+  forEachElementPair(s, [&](int pi, int ea, int eb) {
+    const auto& pair = pairs_[pi];
+    for (int la = 0; la < (int)lines_[pair.beamA].size(); ++la)
+      for (int lb = 0; lb < (int)lines_[pair.beamB].size(); ++lb) {
+        const LinePairInput in = lineInput(ea, la, eb, lb, s);
+        ClosestPoints cp = closestPoints(in);
+        if (cp.sinAngle < options_.minimumSinAngle) continue;
+        if (!withinElement(ea, cp.xi) || !withinElement(eb, cp.eta)) continue;
+        const Key key{pi, la, lb};
+        // The normal's orientation: carried by a known point, else from the last converged state.
+        const auto known = points_.find(key);
+        orient(cp, known != points_.end() ? known->second.sigma : referenceSigma(ea, la, eb, lb, cp),
+               in.radiusSum);
+        // Only lines on the sides facing each other.
+        if (dot(cp.pA - cp.cA, cp.normal) < -1e-12 || dot(cp.pB - cp.cB, cp.normal) > 1e-12) continue;
+        if (in.radiusSum == 0.0 && (dot(cp.pA - cp.cA, cp.normal) <= 0 || dot(cp.pB - cp.cB, cp.normal) >= 0))
+          continue;
+        // A known point stays on its element pair while its closest points lie within the
+        // elements or up to kStay of an element length beyond a shared node; it is handed to a
+        // neighbour only beyond that, so a point at a node cannot flip between elements from one
+        // iteration to the next. Otherwise the candidate most central in its elements wins.
+        constexpr double kStay = 0.05;
+        double out = std::max(std::abs(cp.xi - 0.5), std::abs(cp.eta - 0.5));
+        if (known != points_.end() && known->second.elementA == ea && known->second.elementB == eb &&
+            out <= 0.5 + kStay)
+          out = -1.0;
+        auto f = outside.find(key);
+        if (f == outside.end() || out < f->second) {
+          found[key] = Candidate{ea, eb, cp};
+          outside[key] = out;
+        }
+      }
+  });
   return found;
 }
 
 void ContactManager::initialize(core::State& state) {
   numNodes_ = state.numNodes();
+  reference_ = state;
   const auto cands = detect(state);
   points_.clear();
   for (const auto& [key, c] : cands) {
@@ -279,27 +336,48 @@ void ContactManager::evaluate(const core::State& state, const OwnsDof& owns, cor
 }
 
 void ContactManager::checkNoPassThrough(const core::State& state) const {
-  // A point in contact at the last converged step has beam B's axis on the side of its normal. If
-  // the converged iterate has it on the other side, the beams went through each other (a penalty
-  // iterate penetrated past the facing edges, and those edges no longer face): not a solution.
-  for (const auto& [key, c] : committed_) {
-    if (!c.result.active) continue;
-    const LinePairInput in = lineInput(c.elementA, c.lineA, c.elementB, c.lineB, state);
-    const ClosestPoints cp = closestPoints(in);
-    if (cp.sinAngle < options_.minimumSinAngle) continue;
-    const double side = (cp.sigma == c.sigma ? 1.0 : -1.0) * dot(cp.cB - cp.cA, cp.normal);
-    if (side > 0.0) continue;
-    const auto& pair = pairs_[c.pair];
+  // Beams passed through each other when the axes of two of their elements crossed between the last
+  // converged state and this one (the signed distance of the axes, oriented by continuity of
+  // t_B x t_A, changed sign while the closest points lay on both elements in both states) and no
+  // active contact point of the pair near those elements holds them. A point that carries its normal
+  // from before is legal however deep it penetrates (a soft penalty); a crossing that no point
+  // saw is not a solution: the increment fails (and is cut), never a silent result.
+  forEachElementPair(state, [&](int pi, int ea, int eb) {
+    const LinePairInput now = axisInput(ea, eb, state), before = axisInput(ea, eb, reference_);
+    const ClosestPoints cur = closestPoints(now), ref = closestPoints(before);
+    if (cur.sinAngle < options_.minimumSinAngle || ref.sinAngle < options_.minimumSinAngle) return;
+    if (!withinElement(ea, cur.xi) || !withinElement(eb, cur.eta) || !nearElement(ea, ref.xi) ||
+        !nearElement(eb, ref.eta))
+      return;
+    const Vec3d cRef = ref.sigma * ref.normal, cCur = cur.sigma * cur.normal;
+    const double sideRef = dot(ref.cB - ref.cA, cRef);
+    const double sideCur = dot(cur.cB - cur.cA, cCur) * (dot(cRef, cCur) >= 0.0 ? 1.0 : -1.0);
+    if (sideRef * sideCur > 0.0 || (sideRef == 0.0 && sideCur == 0.0)) return;
+    const auto& elems = beams_->elements();
+    for (const auto& [key, p] : points_) {
+      if (p.pair != pi || std::abs(elems[p.elementA].index - elems[ea].index) > 1 ||
+          std::abs(elems[p.elementB].index - elems[eb].index) > 1)
+        continue;
+      const ContactKinematics k = kinematics(p, state);
+      if (enforcer_->contributes(k, p.history) && k.normal.value < 0.0) return;
+    }
+    const auto& pair = pairs_[pi];
     std::ostringstream s;
     s << "beams \"" << beams_->beams()[pair.beamA].name << "\" and \"" << beams_->beams()[pair.beamB].name
-      << "\" passed through each other near (" << cp.pA[0] << ", " << cp.pA[1] << ", " << cp.pA[2]
-      << ") (contact lost through too deep a penetration; a larger normal penalty or smaller increments help)";
+      << "\" passed through each other near (" << cur.cA[0] << ", " << cur.cA[1] << ", " << cur.cA[2]
+      << ") with no contact point holding them (smaller increments help)";
     throw std::runtime_error(s.str());
-  }
+  });
+}
+
+LinePairInput ContactManager::axisInput(int eA, int eB, const core::State& s) const {
+  LinePairInput in = lineInput(eA, 0, eB, 0, s);
+  in.oA = in.oB = Vec3d{};
+  in.radiusSum = 0.0;
+  return in;
 }
 
 bool ContactManager::acceptSolution(core::State& state) {
-  checkNoPassThrough(state);
   ++passes_;
   worstViolation_ = 0.0;
   bool all = true;
@@ -314,6 +392,7 @@ bool ContactManager::acceptSolution(core::State& state) {
       all = enforcer_->acceptPoint(ks[i++], p.history, pairs_[p.pair].friction, multipliers(p, state), worstViolation_) &&
             all;
   }
+  if (all) checkNoPassThrough(state);
   if (passes_ == 1) violations_.clear();
   violations_.push_back(worstViolation_);
   if (!all && passes_ >= enforcer_->maximumPasses()) {
@@ -347,6 +426,7 @@ void ContactManager::commitStep(const core::State& state) {
     p.etaPrev = beamCoordinate(p.elementB, k.eta);
   }
   committed_ = points_;
+  reference_ = state;
   lastPasses_ = passes_;
   passes_ = 0;
 }

@@ -17,6 +17,7 @@
 // element within a step, its tangential gap is the parameter difference times the current element's
 // line length (exact within one element).
 #pragma once
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -99,6 +100,12 @@ class ContactManager : public core::Contribution {
   };
   LinePairInput lineInput(int elementA, int lineA, int elementB, int lineB, const core::State& s) const;
   std::map<std::tuple<int, int, int>, Candidate> detect(const core::State& s) const;
+  // Calls visit(pair, elementA, elementB) for the element pairs of the contact pairs whose bounding
+  // boxes, swept from the last converged state to `s`, overlap.
+  void forEachElementPair(const core::State& s, const std::function<void(int, int, int)>& visit) const;
+  bool nearElement(int element, double xi) const;
+  double referenceSigma(int eA, int lA, int eB, int lB, const ClosestPoints& current) const;
+  LinePairInput axisInput(int eA, int eB, const core::State& s) const;
   double beamCoordinate(int element, double xi) const;
   bool withinElement(int element, double xi) const;
   void checkNoPassThrough(const core::State& state) const;
@@ -113,6 +120,7 @@ class ContactManager : public core::Contribution {
   ContactOptions options_;
   std::vector<std::vector<Line>> lines_;  // per beam
   std::map<std::tuple<int, int, int>, Point> points_, committed_;
+  core::State reference_;  // the last converged state (orientation of new points, swept search)
   int numNodes_ = 0;
   int passes_ = 0;
   int lastPasses_ = 0;
