@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "CoulombCone.hpp"
+
 namespace bc::constraints {
 
 const core::ParameterSpec& AugmentedLagrangeEnforcer::spec() {
@@ -33,12 +35,12 @@ bool AugmentedLagrangeEnforcer::contributes(const ContactKinematics& k, const Po
 
 PointResult AugmentedLagrangeEnforcer::evaluate(const ContactKinematics& k, const PointHistory& h, double mu,
                                                 const double*, double* f, double* K) const {
-  return regularizedEvaluate(k, h, mu, p_, f, K);
+  return regularizedEvaluate(k, h, mu, parameters(), f, K);
 }
 
 bool AugmentedLagrangeEnforcer::acceptPoint(const ContactKinematics& k, PointHistory& h, double mu, const double*,
                                             double& worstViolation) const {
-  const PointResult r = regularizedForces(k, h, mu, p_);
+  const PointResult r = regularizedForces(k, h, mu, parameters());
   double violation = 0.0;
   if (r.active) {
     violation = std::abs(k.normal.value);
@@ -55,15 +57,17 @@ bool AugmentedLagrangeEnforcer::acceptPoint(const ContactKinematics& k, PointHis
   return violation <= tolerance_;
 }
 
-PointResult AugmentedLagrangeEnforcer::reportedForces(const ContactKinematics&, const PointHistory& h, double mu,
+PointResult AugmentedLagrangeEnforcer::reportedForces(const ContactKinematics& k, const PointHistory& h, double mu,
                                                       const double*) const {
   PointResult r;
   r.active = h.lambdaN < 0.0;
   if (!r.active) return r;
   r.lambdaN = h.lambdaN;
+  const double limit = -mu * h.lambdaN * (1.0 - 1e-12);
+  const double length = std::sqrt(cone::lengthSquared(k.cosine, h.lambdaT));
   for (int i = 0; i < 2; ++i) {
     r.lambdaT[i] = h.lambdaT[i];
-    r.slip[i] = mu > 0.0 && std::abs(h.lambdaT[i]) >= -mu * h.lambdaN * (1.0 - 1e-12);
+    r.slip[i] = mu > 0.0 && (frictionLaw() == FrictionLaw::PerLine ? std::abs(h.lambdaT[i]) : length) >= limit;
   }
   return r;
 }

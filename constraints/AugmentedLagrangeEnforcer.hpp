@@ -33,6 +33,11 @@ class AugmentedLagrangeEnforcer : public ConstraintEnforcer {
   int maximumPasses() const override { return maxPasses_; }
 
  private:
+  RegularizedParameters parameters() const {
+    RegularizedParameters p = p_;
+    p.law = frictionLaw();
+    return p;
+  }
   RegularizedParameters p_;
   double tolerance_;
   int maxPasses_;

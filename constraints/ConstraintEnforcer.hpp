@@ -6,7 +6,12 @@
 //
 // Sign conventions: lambda_N <= 0 is the normal contact force conjugate to g_N (paper's (3.2):
 // F_N = lambda_N; the reported normal force is -lambda_N >= 0); lambda_Ti is the friction force
-// conjugate to g_Ti. Coulomb: |lambda_Ti| <= mu |lambda_N| for each line independently ((4.3)).
+// conjugate to g_Ti. Coulomb friction by one of two laws (Contact/Friction Law):
+//  - Isotropic Coulomb: the tangential force vector F_T in the contact plane obeys |F_T| <= mu |lambda_N|;
+//    with the slip vector s = g_T1 a - g_T2 b (a, b unit line tangents, c = a . b) the force components
+//    conjugate to (g_T1, g_T2) give |F_T|^2 = lambda_T^T M^-1 lambda_T, M = [1 -c; -c 1];
+//  - Per Line: |lambda_Ti| <= mu |lambda_N| for each line independently (the seed paper's (4.3)); the
+//    resultant may then reach sqrt(2) mu |lambda_N|.
 #pragma once
 #include <memory>
 #include <string>
@@ -35,9 +40,14 @@ struct PointResult {
   bool slip[2] = {false, false};
 };
 
+enum class FrictionLaw { IsotropicCoulomb, PerLine };
+
 class ConstraintEnforcer {
  public:
   virtual ~ConstraintEnforcer() = default;
+  // The friction law the strategy enforces (set by the contact manager from the deck).
+  void setFrictionLaw(FrictionLaw law) { law_ = law; }
+  FrictionLaw frictionLaw() const { return law_; }
   virtual std::string type() const = 0;
   // Extra unknowns per active contact point (3 for Lagrange multipliers: lambda_N, lambda_T1, lambda_T2).
   virtual int multipliersPerPoint() const { return 0; }
@@ -70,6 +80,9 @@ class ConstraintEnforcer {
   virtual void commitPoint(const ContactKinematics& k, PointHistory& h, double mu, const double* lambda) const = 0;
   // Upper bound on the Newton solves of one increment the strategy may ask for (augmentation passes).
   virtual int maximumPasses() const { return 1; }
+
+ private:
+  FrictionLaw law_ = FrictionLaw::IsotropicCoulomb;
 };
 
 }  // namespace bc::constraints

@@ -23,6 +23,7 @@ void solveClosest(const Vec3<T>& pA1, const Vec3<T>& pA2, const Vec3<T>& pB1, co
 template <class T>
 struct Gaps {
   T gN, gT1, gT2, xi, eta;
+  T cosine;  // t_A . t_B / (|t_A| |t_B|): the metric of the tangential gaps (isotropic friction)
 };
 
 // The three gaps as functions of the four line end points alone.
@@ -41,6 +42,7 @@ Gaps<T> gaps(const Vec3<T>& pA1, const Vec3<T>& pA2, const Vec3<T>& pB1, const V
   g.gN = dot(pB - pA, n) - radiusSum;
   g.gT1 = (g.xi - xiPrev) * sqrt(dot(tA, tA));
   g.gT2 = (g.eta - etaPrev) * sqrt(dot(tB, tB));
+  g.cosine = dot(tA, tB) / (sqrt(dot(tA, tA)) * sqrt(dot(tB, tB)));
   return g;
 }
 
@@ -104,6 +106,12 @@ ContactKinematics contactKinematics(const LinePairInput& in, double sigma, doubl
   ContactKinematics out;
   out.xi = g.xi.val().val();
   out.eta = g.eta.val().val();
+  out.cosine = g.cosine.val().val();
+  for (int i = 0; i < kPairDofs; ++i) {
+    double Ri = 0.0;
+    for (int k = 0; k < kPoints; ++k) Ri += J[k][i] * g.cosine.val().dx(k);
+    out.cosineR[i] = Ri;
+  }
   const Out* src[3] = {&g.gN, &g.gT1, &g.gT2};
   GapDerivatives* dst[3] = {&out.normal, &out.tangent1, &out.tangent2};
   for (int q = 0; q < 3; ++q) {

@@ -11,6 +11,8 @@
 //  - Normal gap g_N = (p_B - p_A) . n - (r_A + r_B) (radii for circular sections, else 0).
 //  - Tangential gaps (4.7) along each line from the previous converged contact point mapped on the
 //    current configuration: g_T1 = (xi - xi_p) |p_A2 - p_A1|, g_T2 = (eta - eta_p) |p_B2 - p_B1|.
+//  - The cosine c of the angle between the lines (value and first variation), the metric of the
+//    tangential gaps for the isotropic Coulomb law.
 // The 24 dofs are [u_A1, phi_A1, u_A2, phi_A2, u_B1, phi_B1, u_B2, phi_B2] (displacement and spin
 // increments). For each gap g the kernel returns its value, its first variation R (delta g = R . du,
 // the paper's R1, R2, R3) and its linearized variation K (Delta delta g = du^T K Du, K1, K2, K3), by
@@ -59,6 +61,10 @@ struct GapDerivatives {
 struct ContactKinematics {
   double xi = 0.0, eta = 0.0;
   GapDerivatives normal, tangent1, tangent2;
+  // c = t_A . t_B / (|t_A| |t_B|) and its first variation: the tangential gaps are lengths along two
+  // lines at an angle, so the slip vector s = g_T1 a - g_T2 b has |s|^2 = g^T M g, M = [1 -c; -c 1].
+  double cosine = 0.0;
+  Vector24 cosineR{};
 };
 
 // All gaps and their derivatives at the current state; `sigma` from closestPoints (or the history),

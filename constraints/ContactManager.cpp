@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <functional>
 #include <set>
 #include <sstream>
@@ -20,6 +22,7 @@ using Key = std::tuple<int, int, int>;
 ContactManager::ContactManager(std::shared_ptr<const elements::BeamSet> beams, std::vector<ContactPairSpec> pairs,
                                std::unique_ptr<ConstraintEnforcer> enforcer, ContactOptions options)
     : beams_(std::move(beams)), pairs_(std::move(pairs)), enforcer_(std::move(enforcer)), options_(options) {
+  enforcer_->setFrictionLaw(options_.frictionLaw);
   for (const auto& b : beams_->beams()) {
     std::vector<Line> lines;
     if (b.section.shape == CrossSection::Shape::Rectangle) {
@@ -392,6 +395,17 @@ bool ContactManager::acceptSolution(core::State& state) {
       all = enforcer_->acceptPoint(ks[i++], p.history, pairs_[p.pair].friction, multipliers(p, state), worstViolation_) &&
             all;
   }
+  if (std::getenv("BC_TRACE")) {
+    std::size_t i = 0;
+    for (auto& [key, p] : points_) {
+      const auto& k = ks[i++];
+      const double* l = multipliers(p, state);
+      std::printf("TRACE pass %d key (%d,%d,%d) el (%d,%d) xi %.4f eta %.4f gN %.3e gT %.3e %.3e act %d slip %d%d lam %.4g %.4g %.4g\n",
+        passes_, std::get<0>(key), std::get<1>(key), std::get<2>(key), p.elementA, p.elementB, k.xi, k.eta, k.normal.value,
+        k.tangent1.value, k.tangent2.value, (int)p.history.active, (int)p.history.slip[0], (int)p.history.slip[1],
+        l ? l[0] : 0.0, l ? l[1] : 0.0, l ? l[2] : 0.0);
+    }
+  }
   if (all) checkNoPassThrough(state);
   if (passes_ == 1) violations_.clear();
   violations_.push_back(worstViolation_);
@@ -411,17 +425,20 @@ void ContactManager::commitStep(const core::State& state) {
     p.result = enforcer_->reportedForces(k, p.history, pairs_[p.pair].friction, lambda);
     enforcer_->commitPoint(k, p.history, pairs_[p.pair].friction, lambda);
     p.kinematics = k;
-    const ClosestPoints cp = closestPoints(lineInput(p.elementA, p.lineA, p.elementB, p.lineB, state));
+    ClosestPoints cp = closestPoints(lineInput(p.elementA, p.lineA, p.elementB, p.lineB, state));
+    orient(cp, p.sigma, 0.0);
     p.position = 0.5 * (cp.pA + cp.pB);
-    // Forces on beam B: the residual terms lambda R act on the dofs; along the normal and the two
-    // line tangents they amount to -lambda_N n (pressing B away from A) and the friction forces.
-    {
-      const LinePairInput in = lineInput(p.elementA, p.lineA, p.elementB, p.lineB, state);
-      const Vec3d tA = (in.xA2 + in.RA2 * in.oA) - (in.xA1 + in.RA1 * in.oA);
-      const Vec3d tB = (in.xB2 + in.RB2 * in.oB) - (in.xB1 + in.RB1 * in.oB);
-      p.force = (-p.result.lambdaN) * cp.normal + (-p.result.lambdaT[0] / norm(tA)) * tA +
-                (-p.result.lambdaT[1] / norm(tB)) * tB;
-    }
+    p.normal = cp.normal;
+    // The force on beam B is what the multipliers apply through the residual lambda_q R_q on B's
+    // nodal translations (dofs 12-14 and 18-20), with the opposite sign (the residual holds the
+    // internal side); split along the normal and in the tangent plane.
+    const GapDerivatives* g[3] = {&k.normal, &k.tangent1, &k.tangent2};
+    const double lam[3] = {p.result.lambdaN, p.result.lambdaT[0], p.result.lambdaT[1]};
+    Vec3d force{};
+    for (int q = 0; q < 3; ++q)
+      for (int a = 0; a < 3; ++a) force[a] -= lam[q] * (g[q]->R[12 + a] + g[q]->R[18 + a]);
+    p.normalForce = dot(force, cp.normal) * cp.normal;
+    p.tangentialForce = force - p.normalForce;
     p.xiPrev = beamCoordinate(p.elementA, k.xi);
     p.etaPrev = beamCoordinate(p.elementB, k.eta);
   }
@@ -438,7 +455,8 @@ void ContactManager::restoreStep() {
 
 std::string ContactManager::tableHeader() const {
   return "pair,line_A,line_B,beam_A_coordinate,beam_B_coordinate,x,y,z,gap,normal_force,tangential_force_1,"
-         "tangential_force_2,state_1,state_2,active";
+         "tangential_force_2,state_1,state_2,active,normal_x,normal_y,normal_z,normal_force_x,normal_force_y,"
+         "normal_force_z,tangential_force_x,tangential_force_y,tangential_force_z,tangential_force";
 }
 
 std::vector<std::string> ContactManager::tableRows() const {
@@ -451,6 +469,9 @@ std::vector<std::string> ContactManager::tableRows() const {
       << p.position[0] << "," << p.position[1] << "," << p.position[2] << "," << p.kinematics.normal.value << ","
       << -p.result.lambdaN << "," << p.result.lambdaT[0] << "," << p.result.lambdaT[1] << "," << state(0) << ","
       << state(1) << "," << (p.result.active ? 1 : 0);
+    for (const Vec3d* v : {&p.normal, &p.normalForce, &p.tangentialForce})
+      for (int a = 0; a < 3; ++a) s << "," << (*v)[a];
+    s << "," << norm(p.tangentialForce);
     rows.push_back(s.str());
   }
   return rows;
@@ -465,7 +486,7 @@ void ContactManager::appendVtk(const core::State&, core::VtkMesh& mesh) const {
     mesh.cellElement.push_back(-1);
     mesh.points.push_back(p.position);
     mesh.pointDisplacement.push_back(Vec3d{});
-    mesh.pointForce.push_back(p.force);
+    mesh.pointForce.push_back(p.normalForce + p.tangentialForce);
   }
 }
 

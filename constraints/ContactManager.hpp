@@ -40,6 +40,7 @@ struct ContactOptions {
   double searchMargin = 0.0;           // added to the bounding boxes [length]
   double minimumSinAngle = 1e-3;       // lines closer to parallel are skipped (point contact undefined)
   bool allowInitialPenetration = false;
+  FrictionLaw frictionLaw = FrictionLaw::IsotropicCoulomb;
 };
 
 class ContactManager : public core::Contribution {
@@ -75,7 +76,9 @@ class ContactManager : public core::Contribution {
     ContactKinematics kinematics;
     PointResult result;
     Vec3d position{};
-    Vec3d force{};  // contact force on beam B (normal and both friction forces), for drawing
+    Vec3d normal{};          // unit normal (from beam A to beam B)
+    Vec3d normalForce{};     // the force the point applies on beam B: its normal part ...
+    Vec3d tangentialForce{};  // ... and its tangential part (global components)
   };
   const std::map<std::tuple<int, int, int>, Point>& points() const { return points_; }
   const ConstraintEnforcer& enforcer() const { return *enforcer_; }

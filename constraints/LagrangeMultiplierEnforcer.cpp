@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "CoulombCone.hpp"
+
 namespace bc::constraints {
 
 const core::ParameterSpec& LagrangeMultiplierEnforcer::spec() {
@@ -14,6 +16,10 @@ const core::ParameterSpec& LagrangeMultiplierEnforcer::spec() {
           core::positive(), "> 0");
     p.add("Maximum Active Set Iterations", 30, "Newton solves allowed per increment while the active set changes",
           core::atLeast(1), ">= 1");
+    p.add("Friction Complementarity Parameter", 1e3,
+          "Isotropic Coulomb: c_T of the friction rows lambda_T = P(lambda_T + c_T M g_T) (projection on the "
+          "cone); any c_T > 0 has the same solution, it only steers Newton's stick/slip guesses [force/length]",
+          core::positive(), "> 0");
     return p;
   }();
   return s;
@@ -22,6 +28,42 @@ const core::ParameterSpec& LagrangeMultiplierEnforcer::spec() {
 LagrangeMultiplierEnforcer::LagrangeMultiplierEnforcer(const Teuchos::ParameterList& v) {
   tolerance_ = v.get<double>("Gap Tolerance");
   maxPasses_ = v.get<int>("Maximum Active Set Iterations");
+  complementarity_ = v.get<double>("Friction Complementarity Parameter");
+}
+
+bool LagrangeMultiplierEnforcer::isotropicFrictionRows(const ContactKinematics& k, double mu, const double* lambda,
+                                                       double* f, double* K) const {
+  // C(lambda_T, lambda_N, g_T, c) = lambda_T - P(lambda_T + c_T M g_T) = 0, P the projection on the
+  // cone of radius mu max(0, -lambda_N): inside (stick) it reads -c_T M g_T = 0, outside (slip)
+  // lambda_T = mu |lambda_N| (lambda_T + c_T M g_T) / |..|, the force at the limit along the slip.
+  // Semismooth Newton: the branch is taken anew at every iterate; derivatives by forward AD over
+  // (lambda_T1, lambda_T2, lambda_N, g_T1, g_T2, c).
+  using F = Sacado::Fad::SFad<double, 6>;
+  constexpr int n = kPairDofs + 3, iN = kPairDofs;
+  const F lT[2] = {F(6, 0, lambda[1]), F(6, 1, lambda[2])};
+  const F lN(6, 2, lambda[0]), c(6, 5, k.cosine);
+  const F g[2] = {F(6, 3, k.tangent1.value), F(6, 4, k.tangent2.value)};
+  F Mg[2], P[2];
+  cone::metric(c, g, Mg);
+  const F v[2] = {lT[0] + complementarity_ * Mg[0], lT[1] + complementarity_ * Mg[1]};
+  const F radius = lN.val() < 0.0 ? F(-mu * lN) : F(0.0);
+  const bool slip = cone::project(c, radius, v, P);
+  const Vector24* Rs[3] = {&k.tangent1.R, &k.tangent2.R, &k.cosineR};
+  for (int t = 0; t < 2; ++t) {
+    const F C = lT[t] - P[t];
+    const int row = iN + 1 + t;
+    f[row] += C.val();
+    if (!K) continue;
+    K[n * row + iN + 1] += C.dx(0);
+    K[n * row + iN + 2] += C.dx(1);
+    K[n * row + iN] += C.dx(2);
+    for (int b = 0; b < 3; ++b) {
+      const double db = C.dx(3 + b);
+      if (db != 0.0)
+        for (int j = 0; j < kPairDofs; ++j) K[n * row + j] += db * (*Rs[b])[j];
+    }
+  }
+  return slip;
 }
 
 PointResult LagrangeMultiplierEnforcer::evaluate(const ContactKinematics& k, const PointHistory& h, double mu,
@@ -51,6 +93,10 @@ PointResult LagrangeMultiplierEnforcer::evaluate(const ContactKinematics& k, con
   if (K)
     for (int j = 0; j < kPairDofs; ++j) K[n * iN + j] += k.normal.R[j];
   // Tangential rows.
+  if (mu > 0.0 && frictionLaw() == FrictionLaw::IsotropicCoulomb) {
+    r.slip[0] = r.slip[1] = isotropicFrictionRows(k, mu, lambda, f, K);
+    return r;
+  }
   for (int t = 0; t < 2; ++t) {
     const int row = iN + 1 + t;
     if (mu <= 0.0) {
@@ -82,7 +128,7 @@ bool LagrangeMultiplierEnforcer::acceptNormal(const ContactKinematics& k, PointH
     h.active = true;
     const double gT[2] = {k.tangent1.value, k.tangent2.value};
     for (int t = 0; t < 2; ++t) {
-      h.slip[t] = mu > 0.0;
+      h.slip[t] = mu > 0.0 && frictionLaw() == FrictionLaw::PerLine;
       h.slipSign[t] = gT[t] >= 0.0 ? 1.0 : -1.0;
     }
     return false;
@@ -90,7 +136,7 @@ bool LagrangeMultiplierEnforcer::acceptNormal(const ContactKinematics& k, PointH
   // Tension: release, but a point held by sticking friction first gets to slip (with lambda_N > 0
   // its Coulomb cone is empty, so the friction stage switches it); it is released only if it is
   // still in tension while slipping.
-  const bool held = h.slip[0] == false || h.slip[1] == false;
+  const bool held = frictionLaw() == FrictionLaw::PerLine && (h.slip[0] == false || h.slip[1] == false);
   if (lambda[0] > 0.0 && !(held && mu > 0.0)) {
     h.active = false;
     return false;
@@ -105,7 +151,8 @@ bool LagrangeMultiplierEnforcer::acceptPoint(const ContactKinematics& k, PointHi
     return true;
   }
   worstViolation = std::max(worstViolation, std::abs(k.normal.value));
-  if (mu <= 0.0) return true;
+  // Isotropic Coulomb: stick and slip are settled inside Newton by the complementarity rows.
+  if (mu <= 0.0 || frictionLaw() == FrictionLaw::IsotropicCoulomb) return true;
   const double lN = lambda[0];
   const GapDerivatives* gt[2] = {&k.tangent1, &k.tangent2};
   bool changed = false;

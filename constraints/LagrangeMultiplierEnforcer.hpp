@@ -15,8 +15,12 @@
 //   Tolerance" is activated, sliding in the direction it moved since the last converged step; a
 //   sticking line with |lambda_T| > mu |lambda_N| slips in the direction of lambda_T; a slipping
 //   line whose slip g_T opposes its force sticks.
+// That is the "Per Line" friction law. With "Isotropic Coulomb" the two friction rows are the
+// semismooth complementarity function lambda_T - P(lambda_T + c_T M g_T) = 0 (P the projection on the
+// cone |lambda_T|_{M^-1} <= mu |lambda_N|, CoulombCone.hpp): stick and slip and the slip direction are
+// found by Newton itself, the active set only handles the normal contact.
 // Parameters (sublist "Lagrange Multiplier"): "Gap Tolerance" [length], "Maximum Active Set
-// Iterations".
+// Iterations", "Friction Complementarity Parameter" c_T [force/length].
 #pragma once
 #include "ConstraintEnforcer.hpp"
 #include "core/Parameters.hpp"
@@ -41,8 +45,11 @@ class LagrangeMultiplierEnforcer : public ConstraintEnforcer {
   int maximumPasses() const override { return maxPasses_; }
 
  private:
+  // Isotropic Coulomb: adds the two friction rows; returns true when the point slips.
+  bool isotropicFrictionRows(const ContactKinematics& k, double mu, const double* lambda, double* f, double* K) const;
   double tolerance_;
   int maxPasses_;
+  double complementarity_;
 };
 
 }  // namespace bc::constraints

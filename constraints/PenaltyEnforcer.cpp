@@ -30,7 +30,7 @@ PointResult PenaltyEnforcer::evaluate(const ContactKinematics& k, const PointHis
                                       double* f, double* K) const {
   PointHistory penalty = h;
   penalty.lambdaN = 0.0;  // no normal multiplier estimate in the penalty method
-  return regularizedEvaluate(k, penalty, mu, p_, f, K);
+  return regularizedEvaluate(k, penalty, mu, parameters(), f, K);
 }
 
 bool PenaltyEnforcer::acceptPoint(const ContactKinematics& k, PointHistory&, double, const double*,
@@ -42,7 +42,7 @@ bool PenaltyEnforcer::acceptPoint(const ContactKinematics& k, PointHistory&, dou
 void PenaltyEnforcer::commitPoint(const ContactKinematics& k, PointHistory& h, double mu, const double*) const {
   PointHistory penalty = h;
   penalty.lambdaN = 0.0;
-  const PointResult r = regularizedForces(k, penalty, mu, p_);
+  const PointResult r = regularizedForces(k, penalty, mu, parameters());
   h.lambdaN = r.lambdaN;
   for (int i = 0; i < 2; ++i) h.lambdaT[i] = r.lambdaT[i];
 }

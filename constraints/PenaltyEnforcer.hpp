@@ -24,6 +24,11 @@ class PenaltyEnforcer : public ConstraintEnforcer {
   void commitPoint(const ContactKinematics& k, PointHistory& h, double mu, const double* lambda) const override;
 
  private:
+  RegularizedParameters parameters() const {
+    RegularizedParameters p = p_;
+    p.law = frictionLaw();
+    return p;
+  }
   RegularizedParameters p_;
 };
 

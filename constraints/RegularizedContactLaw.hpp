@@ -10,6 +10,11 @@
 //   + stick: eps_T R_Ti (x) R_Ti + lambda_Ti K_Ti
 //   + slip:  -sign_i mu eps_N R_Ti (x) R_N + lambda_Ti K_Ti
 // (the paper's (3.7), (4.14)-(4.15), (4.22)-(4.23), here derived and checked by finite differences).
+// That is the "Per Line" law. With "Isotropic Coulomb" the friction trial is the vector
+//   trial = lambda_hat_T + eps_T M g_T      (M the metric of the gaps, CoulombCone.hpp)
+// return-mapped onto |lambda_T|_{M^-1} <= mu |lambda_N|; its tangent is
+//   sum_a lambda_a K_a + sum_a R_a (x) sum_b (d lambda_a / d s_b) R_b,   s = (g_N, g_T1, g_T2, c),
+// with the derivatives of the return mapping by forward AD (exact).
 #pragma once
 #include "ConstraintEnforcer.hpp"
 
@@ -18,6 +23,7 @@ namespace bc::constraints {
 struct RegularizedParameters {
   double normalPenalty = 0.0;      // eps_N
   double tangentialPenalty = 0.0;  // eps_T
+  FrictionLaw law = FrictionLaw::IsotropicCoulomb;
 };
 
 // The multipliers the law gives for a point (no assembly).

@@ -142,6 +142,10 @@ const ParameterSpec& contactSpec() {
           "contact lines whose angle has a sine below this are skipped (point contact is undefined there)",
           core::inRange(0.0, 1.0), "in (0, 1]");
     p.add("Allow Initial Penetration", false, "accept beams that overlap at T = 0 instead of stopping");
+    p.addChoice("Friction Law", "Isotropic Coulomb", {"Isotropic Coulomb", "Per Line"},
+                "\"Isotropic Coulomb\": the tangential force vector obeys |F_T| <= mu F_N; \"Per Line\": each of "
+                "the two friction forces along the contact lines obeys |F_Ti| <= mu F_N on its own (the seed "
+                "paper's law; the resultant may reach 1.41 mu F_N)");
     p.addSublist("Pairs", ParameterList(), "named contact pairs: Beam A, Beam B, Friction Coefficient");
     p.addSublist("Enforcement", ParameterList(), "the enforcement strategy: Type and its sublist");
     return p;
@@ -322,6 +326,8 @@ void buildContact(Problem& p, ParameterList& c, const std::string& path) {
   options.searchMargin = c.isParameter("Search Margin") ? c.get<double>("Search Margin") : 0.5 * largest;
   options.minimumSinAngle = c.get<double>("Parallel Line Tolerance");
   options.allowInitialPenetration = c.get<bool>("Allow Initial Penetration");
+  options.frictionLaw = c.get<std::string>("Friction Law") == "Per Line" ? constraints::FrictionLaw::PerLine
+                                                                         : constraints::FrictionLaw::IsotropicCoulomb;
   auto manager = std::make_shared<constraints::ContactManager>(p.beams, pairs, entry.create(e.sublist(type)), options);
   manager->initialize(p.model.initial);
   p.contact = manager;
