@@ -20,6 +20,7 @@ class AugmentedLagrangeEnforcer : public ConstraintEnforcer {
   explicit AugmentedLagrangeEnforcer(const Teuchos::ParameterList& validated);
 
   std::string type() const override { return name(); }
+  double activationGap(const PointHistory& h) const override { return -h.lambdaN / p_.normalPenalty; }
   bool contributes(const ContactKinematics& k, const PointHistory& h) const override;
   PointResult evaluate(const ContactKinematics& k, const PointHistory& h, double mu, const double* lambda, double* f,
                        double* K) const override;

@@ -13,6 +13,7 @@
 //  - Per Line: |lambda_Ti| <= mu |lambda_N| for each line independently (the seed paper's (4.3)); the
 //    resultant may then reach sqrt(2) mu |lambda_N|.
 #pragma once
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -49,6 +50,10 @@ class ConstraintEnforcer {
   void setFrictionLaw(FrictionLaw law) { law_ = law; }
   FrictionLaw frictionLaw() const { return law_; }
   virtual std::string type() const = 0;
+  // Where the point's force switches on within Newton, as a gap: the point acts once g_N falls below
+  // this (penalty: 0; augmented Lagrange: -lambda_hat_N / eps_N). Infinite for strategies whose
+  // active set changes only between Newton solves (Lagrange multipliers).
+  virtual double activationGap(const PointHistory& h) const { return -std::numeric_limits<double>::infinity(); }
   // Extra unknowns per active contact point (3 for Lagrange multipliers: lambda_N, lambda_T1, lambda_T2).
   virtual int multipliersPerPoint() const { return 0; }
   // True when a point whose kinematics are `k` takes part in the system now (penalty: g_N < 0).

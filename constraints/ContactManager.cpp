@@ -2,9 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <functional>
+#include <memory>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -395,17 +394,6 @@ bool ContactManager::acceptSolution(core::State& state) {
       all = enforcer_->acceptPoint(ks[i++], p.history, pairs_[p.pair].friction, multipliers(p, state), worstViolation_) &&
             all;
   }
-  if (std::getenv("BC_TRACE")) {
-    std::size_t i = 0;
-    for (auto& [key, p] : points_) {
-      const auto& k = ks[i++];
-      const double* l = multipliers(p, state);
-      std::printf("TRACE pass %d key (%d,%d,%d) el (%d,%d) xi %.4f eta %.4f gN %.3e gT %.3e %.3e act %d slip %d%d lam %.4g %.4g %.4g\n",
-        passes_, std::get<0>(key), std::get<1>(key), std::get<2>(key), p.elementA, p.elementB, k.xi, k.eta, k.normal.value,
-        k.tangent1.value, k.tangent2.value, (int)p.history.active, (int)p.history.slip[0], (int)p.history.slip[1],
-        l ? l[0] : 0.0, l ? l[1] : 0.0, l ? l[2] : 0.0);
-    }
-  }
   if (all) checkNoPassThrough(state);
   if (passes_ == 1) violations_.clear();
   violations_.push_back(worstViolation_);
@@ -446,6 +434,36 @@ void ContactManager::commitStep(const core::State& state) {
   reference_ = state;
   lastPasses_ = passes_;
   passes_ = 0;
+}
+
+double ContactManager::stepBound(const core::State& state, const std::vector<double>& du) const {
+  // A point open at this iterate whose gap would cross its activation gap at the full step: the step
+  // stops where it has crossed by a tenth of its present distance (linear interpolation of the gap),
+  // so the point is active, with a small force, at the next iterate and the next Newton step sees its
+  // stiffness. Without this a stiff penalty spring that the linearized step ignores meets a
+  // penetration of the whole step and Newton cycles.
+  double bound = 1.0;
+  std::unique_ptr<core::State> next;
+  for (const auto& [key, p] : points_) {
+    const double activation = enforcer_->activationGap(p.history);
+    if (!std::isfinite(activation)) return 1.0;
+    ClosestPoints now = closestPoints(lineInput(p.elementA, p.lineA, p.elementB, p.lineB, state));
+    orient(now, p.sigma, lineInput(p.elementA, p.lineA, p.elementB, p.lineB, state).radiusSum);
+    const double a0 = now.gap - activation;
+    if (!(a0 > 0.0)) continue;
+    if (!next) {
+      next = std::make_unique<core::State>(state);
+      next->applyIncrement(du);
+    }
+    const LinePairInput in = lineInput(p.elementA, p.lineA, p.elementB, p.lineB, *next);
+    ClosestPoints then = closestPoints(in);
+    if (then.sinAngle < options_.minimumSinAngle) continue;
+    orient(then, p.sigma, in.radiusSum);
+    const double a1 = then.gap - activation;
+    if (a1 >= -0.1 * a0) continue;
+    bound = std::min(bound, 1.1 * a0 / (a0 - a1));
+  }
+  return bound;
 }
 
 void ContactManager::restoreStep() {

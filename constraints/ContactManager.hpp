@@ -58,6 +58,9 @@ class ContactManager : public core::Contribution {
   bool acceptSolution(core::State& state) override;
   void commitStep(const core::State& state) override;
   void restoreStep() override;
+  void markIterate() override { marked_ = points_; }
+  double stepBound(const core::State& state, const std::vector<double>& du) const override;
+  void returnToIterate() override { points_ = marked_; }
   std::string tableName() const override { return "contact_points.csv"; }
   std::string tableHeader() const override;
   std::vector<std::string> tableRows() const override;
@@ -122,7 +125,7 @@ class ContactManager : public core::Contribution {
   std::unique_ptr<ConstraintEnforcer> enforcer_;
   ContactOptions options_;
   std::vector<std::vector<Line>> lines_;  // per beam
-  std::map<std::tuple<int, int, int>, Point> points_, committed_;
+  std::map<std::tuple<int, int, int>, Point> points_, committed_, marked_;
   core::State reference_;  // the last converged state (orientation of new points, swept search)
   int numNodes_ = 0;
   int passes_ = 0;

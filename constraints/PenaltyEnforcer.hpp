@@ -16,6 +16,7 @@ class PenaltyEnforcer : public ConstraintEnforcer {
   explicit PenaltyEnforcer(const Teuchos::ParameterList& validated);
 
   std::string type() const override { return name(); }
+  double activationGap(const PointHistory&) const override { return 0.0; }
   bool contributes(const ContactKinematics& k, const PointHistory& h) const override;
   PointResult evaluate(const ContactKinematics& k, const PointHistory& h, double mu, const double* lambda, double* f,
                        double* K) const override;

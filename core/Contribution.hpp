@@ -55,6 +55,15 @@ class Contribution {
   // Newton has converged for the increment: return true to accept, false to solve the increment
   // again (augmentation, active-set change); throw std::runtime_error when that is no longer allowed.
   virtual bool acceptSolution(State& state) { return true; }
+  // Line search: Newton remembers the iterate it is about to leave (markIterate) and may return to it
+  // to try a shorter step (returnToIterate); a contribution restores what prepareIteration changed
+  // since the mark (e.g. which unknowns belong to which contact point).
+  virtual void markIterate() {}
+  virtual void returnToIterate() {}
+  // The largest fraction (<= 1) of the Newton step `du` from `state` that the contribution allows
+  // (e.g. a contact spring that is open now and would close at the full step: the step ends just past
+  // its first touch, so the next tangent knows its stiffness).
+  virtual double stepBound(const State& state, const std::vector<double>& du) const { return 1.0; }
 
   // Per-step table written beside the results (file name, header after "step,T", rows of the last
   // committed step), and a short text for the progress line.

@@ -24,7 +24,7 @@ ResultsWriter::ResultsWriter(const std::string& directory, const Model& model, T
   tracked_.open(fs::path(dir_) / "tracked_points.csv");
   reactions_.open(fs::path(dir_) / "reactions.csv");
   if (!steps_ || !tracked_ || !reactions_) throw std::runtime_error("cannot write in \"" + dir_ + "\"");
-  steps_ << "step,T,cut_level,newton_iterations,passes,final_residual,linear_iterations\n";
+  steps_ << "step,T,cut_level,newton_iterations,passes,final_residual,linear_iterations,backtracks\n";
   tracked_ << "step,T";
   for (const auto& p : model_.tracked)
     for (const char* c : {"ux", "uy", "uz", "rx", "ry", "rz"}) tracked_ << "," << p.name << "_" << c;
@@ -62,7 +62,7 @@ void ResultsWriter::writeStep(const StepReport& step, const State& state, const 
   int linear = 0;
   for (const auto& h : step.history) linear += h.linearIterations;
   steps_ << step.step << "," << step.T << "," << step.cutLevel << "," << step.iterations << "," << step.passes << ","
-         << step.history.back().residualNorm << "," << linear << "\n";
+         << step.history.back().residualNorm << "," << linear << "," << step.backtracks << "\n";
   tracked_ << step.step << "," << step.T;
   for (const auto& p : model_.tracked) {
     const Vec3d u = state.displacement(p.node);

@@ -33,6 +33,12 @@ const ParameterSpec& newtonSpec() {
     s.addChoice("Predictor", "Extrapolate", {"Extrapolate", "None"},
                 "start of each increment's Newton iterations: \"Extrapolate\" continues the last converged "
                 "increment (scaled to this one) on the free dofs; \"None\" starts from the last converged state");
+    s.addChoice("Line Search", "None", {"None", "Backtracking"},
+                "\"None\": full Newton steps (but a contact that would close within a step shortens it); "
+                "\"Backtracking\": an iterate whose residual did not fall is replaced by one with half the step, up "
+                "to Maximum Backtracks times (large-rotation beam paths are not monotone in ||r||: there it costs "
+                "iterations)");
+    s.add("Maximum Backtracks", 8, "step halvings allowed per Newton iteration (Line Search)", atLeast(1), ">= 1");
     s.add("Divergence Factor", 1e10, "an iterate whose residual exceeds this times the reference diverged",
           positive(), "> 0");
     return s;
@@ -66,6 +72,8 @@ SolverSettings readSolverSettings(const Teuchos::ParameterList& stepping, const 
   s.divergenceFactor = newton.get<double>("Divergence Factor");
   s.printIterations = newton.get<bool>("Print Iterations");
   s.extrapolate = newton.get<std::string>("Predictor") == "Extrapolate";
+  s.lineSearch = newton.get<std::string>("Line Search") == "Backtracking";
+  s.maxBacktracks = newton.get<int>("Maximum Backtracks");
   return s;
 }
 
@@ -89,16 +97,47 @@ RunReport StaticSolver::run(const StepCallback& onStep) {
   RunReport run;
   double Ta = 0.0;
   for (double Tb : settings_.loadFactors) {
-    if (!attempt(Ta, Tb, 0, run, onStep)) return run;
+    if (!increment(Ta, Tb, run, onStep)) return run;
     Ta = Tb;
   }
   run.completed = true;
   return run;
 }
 
-bool StaticSolver::attempt(double Ta, double Tb, int cutLevel, RunReport& run, const StepCallback& onStep) {
+bool StaticSolver::increment(double Ta, double Tb, RunReport& run, const StepCallback& onStep) {
+  // Pieces of (Tb - Ta) / 2^level: a failed piece is halved (level + 1), two converged pieces in a
+  // row double the next one (level - 1), so a hard moment costs small steps only while it lasts.
+  int level = 0, converged = 0;
+  double T = Ta;
+  while (T < Tb) {
+    const double piece = (Tb - Ta) / double(1 << level);
+    const double Tn = (Tb - T) <= 1.000001 * piece ? Tb : T + piece;
+    std::string failure;
+    if (attempt(T, Tn, level, run, onStep, failure)) {
+      T = Tn;
+      if (++converged >= 2 && level > 0) {
+        --level;
+        converged = 0;
+      }
+      continue;
+    }
+    converged = 0;
+    if (level >= settings_.maxStepCuts) {
+      std::ostringstream s;
+      s << "increment T = " << T << " -> " << Tn << " did not converge after " << level
+        << " step cuts (Maximum Step Cuts): " << failure;
+      run.failure = s.str();
+      return false;
+    }
+    if (comm_->getRank() == 0) std::printf("  cutting increment T = %.6g -> %.6g (%s)\n", T, Tn, failure.c_str());
+    ++level;
+  }
+  return true;
+}
+
+bool StaticSolver::attempt(double Ta, double Tb, int cutLevel, RunReport& run, const StepCallback& onStep,
+                           std::string& failure) {
   StepReport report;
-  std::string failure;
   trial_ = committed_;
   if (newton(Ta, Tb, report, failure, true)) {
     previous_ = committed_;
@@ -119,17 +158,7 @@ bool StaticSolver::attempt(double Ta, double Tb, int cutLevel, RunReport& run, c
   }
   for (auto& c : model_.contributions) c->restoreStep();
   graphStale_ = true;  // the restored contributions may couple other dofs than the last graph
-  if (cutLevel >= settings_.maxStepCuts) {
-    std::ostringstream s;
-    s << "increment T = " << Ta << " -> " << Tb << " did not converge after " << cutLevel
-      << " step cuts (Maximum Step Cuts): " << failure;
-    run.failure = s.str();
-    return false;
-  }
-  if (comm_->getRank() == 0)
-    std::printf("  cutting increment T = %.6g -> %.6g (%s)\n", Ta, Tb, failure.c_str());
-  const double Tm = 0.5 * (Ta + Tb);
-  return attempt(Ta, Tm, cutLevel + 1, run, onStep) && attempt(Tm, Tb, cutLevel + 1, run, onStep);
+  return false;
 }
 
 StepReport StaticSolver::iterateFrom(const State& start, double Ta, double Tb, State& result) {
@@ -176,6 +205,12 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
   Teuchos::RCP<Vector> x;
   double firstResidual = 0.0;
   int pass = 0, passStart = 0;  // a pass is one Newton solve of the increment
+  // Line search: the iterate the last step left, that step, the fraction of it taken, and the
+  // residual there.
+  State lastIterate;
+  std::vector<double> lastStep;
+  double alpha = 1.0, lastResidual = 0.0;
+  int backtracks = 0;
   for (int k = 0;; ++k) {
     const int kp = k - passStart;
     bool rebuild = graphStale_ || assembler_.ownedMap().is_null() ||
@@ -203,6 +238,33 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
       for (double v : l.value) ext2 += std::pow(Tb * v, 2);
     if (kp == 0) firstResidual = rn;
     const double reference = std::max({firstResidual, std::sqrt(reactions2), std::sqrt(ext2)});
+    // Backtracking: the residual did not fall (by 1e-4 of the step fraction), so go back to the last
+    // iterate and take half the step. Not once the Newton step was already below its tolerance (the
+    // residual may then sit at its round-off floor). The recorded increment norm stays the full
+    // Newton step's, so a short step never passes for convergence.
+    if (settings_.lineSearch && kp > 0 && !likelyConverged && !lastStep.empty() &&
+        backtracks < settings_.maxBacktracks && std::isfinite(lastResidual) &&
+        !(rn <= (1.0 - 1e-4 * alpha) * lastResidual) && rn > settings_.residualTolerance * reference) {
+      const double shorter = 0.5 * alpha;
+      trial_ = lastIterate;
+      for (auto& c : model_.contributions) c->returnToIterate();
+      graphStale_ = graphStale_ || rebuild;  // the graph may belong to the rejected iterate
+      std::vector<double> step(lastStep.size());
+      for (std::size_t i = 0; i < step.size(); ++i) step[i] = shorter * lastStep[i];
+      stepNorm2 = 0.0;
+      for (GlobalDof g = 0; g < ndof; ++g) {
+        accumulated[g] -= (alpha - shorter) * lastStep[g];
+        stepNorm2 += accumulated[g] * accumulated[g];
+      }
+      trial_.applyIncrement(step);
+      if (settings_.printIterations && comm_->getRank() == 0)
+        std::printf("    T %.6g  iteration %2d  ||r|| %.3e  rejected, step x %.4g\n", Tb, k, rn, shorter);
+      alpha = shorter;
+      ++backtracks;
+      ++report.backtracks;
+      --k;
+      continue;
+    }
     if (settings_.printIterations && comm_->getRank() == 0) {
       std::printf("    T %.6g  iteration %2d  ||r|| %.3e", Tb, k, rn);
       if (k > 0) std::printf("  ||du|| %.3e", report.history[k - 1].incrementNorm);
@@ -275,17 +337,32 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
       return false;
     }
     stop("Linear Solve");
-    const std::vector<double> inc = assembler_.gatherToAll(*x);
+    std::vector<double> inc = assembler_.gatherToAll(*x);
+    double bound = 1.0;
+    for (auto& c : model_.contributions) bound = std::min(bound, c->stepBound(trial_, inc));
     double n2 = 0.0;
+    for (GlobalDof g = 0; g < ndof; ++g) n2 += inc[g] * inc[g];  // the full Newton step decides convergence
+    if (bound < 1.0) {
+      for (double& v : inc) v *= bound;
+      ++report.boundedSteps;
+    }
     stepNorm2 = 0.0;
     for (GlobalDof g = 0; g < ndof; ++g) {
-      n2 += inc[g] * inc[g];
       accumulated[g] += inc[g];
       stepNorm2 += accumulated[g] * accumulated[g];
     }
     report.history[k].incrementNorm = std::sqrt(n2);
     report.history[k].linearIterations = lin.iterations;
     report.history[k].linearResidual = lin.relativeResidual;
+    lastStep.clear();  // a step shortened to close a contact is taken as it is
+    if (settings_.lineSearch && bound >= 1.0) {
+      lastIterate = trial_;
+      for (auto& c : model_.contributions) c->markIterate();
+      lastStep = inc;
+      alpha = 1.0;
+      backtracks = 0;
+      lastResidual = rn;
+    }
     trial_.applyIncrement(inc);
   }
 }

@@ -8,9 +8,18 @@
 //   ||du_k|| <= "Increment Tolerance" * ||accumulated increment of the step||,
 // where the residual test also passes once the residual stagnates at its round-off floor while the
 // increment test holds (then ||r|| <= ||K|| ||du|| is negligible).
+// Step bound: a contribution may shorten a Newton step (a contact spring open at the iterate that the
+// full step would close: the step ends just past its first touch, so the next tangent holds its
+// stiffness); the full step's norm still decides convergence. This is what lets stiff penalties
+// (eps_N 1e6..1e8) pass first contact.
+// Line search (optional, "Line Search" Backtracking): when an iterate's residual is not below
+// (1 - 1e-4 alpha) times the last one's, Newton returns to the last iterate and tries half the step,
+// up to "Maximum Backtracks" times (then it goes on from the shortest step tried).
 // An increment fails on the iteration limit, a non-finite or exploding residual, or a failed linear
-// solve; it is then halved and both halves are tried, up to "Maximum Step Cuts" levels. If that still
-// fails the run stops: every converged step's output stays, and the run is reported incomplete.
+// solve; it is then halved, up to "Maximum Step Cuts" levels, and after two converged pieces the step
+// is doubled again (never beyond the configured increment); steps.csv gives each step's cut level.
+// If a piece fails at the deepest level the run stops: every converged step's output stays, and the
+// run is reported incomplete.
 #pragma once
 #include <functional>
 #include <string>
@@ -37,6 +46,8 @@ struct StepReport {
   double T = 0.0;      // load factor reached
   int cutLevel = 0;    // 0 for a configured increment, k for a piece of a k-times halved one
   int iterations = 0;  // Newton iterations (linear solves), over all passes
+  int backtracks = 0;  // line-search step halvings, over all iterations
+  int boundedSteps = 0;  // Newton steps shortened because a contact would close within them
   int passes = 1;      // Newton solves of the increment (augmentation / active-set passes)
   std::vector<NewtonIterate> history;
 };
@@ -58,6 +69,8 @@ struct SolverSettings {
   double divergenceFactor = 1e10;  // ||r|| above this times the reference is divergence
   bool printIterations = false;     // one line per Newton iteration on rank 0
   bool extrapolate = true;          // predictor: the free dofs continue the last step's increment
+  bool lineSearch = false;          // backtracking on ||r||
+  int maxBacktracks = 8;
 };
 
 const ParameterSpec& loadSteppingSpec();
@@ -81,7 +94,8 @@ class StaticSolver {
   Assembler& assembler() { return assembler_; }
 
  private:
-  bool attempt(double Ta, double Tb, int cutLevel, RunReport& run, const StepCallback& onStep);
+  bool attempt(double Ta, double Tb, int cutLevel, RunReport& run, const StepCallback& onStep, std::string& failure);
+  bool increment(double Ta, double Tb, RunReport& run, const StepCallback& onStep);
   bool newton(double Ta, double Tb, StepReport& report, std::string& failure, bool predict = false);
   void start(const std::string& name);
   void stop(const std::string& name);
