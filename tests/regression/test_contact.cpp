@@ -639,3 +639,271 @@ TEST(StickThenSlip, FrictionGrowsWithTheStickStiffnessThenStaysAtMuN) {
     EXPECT_GE(slip, 2) << type;
   }
 }
+
+// ---------------------------------------------------------------------------------------------
+// Contact robustness: pass-through within one increment, deep penalty penetration, points on
+// nodes, the friction cone, the reported force, stiff penalties.
+namespace {
+// The deck with its friction law set (the paper decks select "Per Line").
+std::string withLaw(const std::string& deck, const std::string& law) {
+  return std::regex_replace(deck, std::regex(R"X(name="Friction Law" type="string" value="[^"]*")X"),
+                            "name=\"Friction Law\" type=\"string\" value=\"" + law + "\"");
+}
+
+// Two thin crossed circular beams (r = 0.5): "lower" along X, clamped at both ends, 10 elements;
+// "upper" along Y at x = 45 and 3 above (gap 2), 11 elements (the crossing lies inside an element
+// of each beam), pinned ends driven down by 16 T. In 2 increments the first Newton step of the first
+// increment carries "upper" 5 below "lower" before the search has seen the pair.
+std::string pushedThrough(const std::string& type, int increments, double epsN) {
+  const std::string beam = R"X(<ParameterList name="Section"><Parameter name="Shape" type="string" value="Circle"/>)X"
+                           R"X(<Parameter name="Radius" type="double" value="0.5"/></ParameterList>)X"
+                           R"X(<ParameterList name="Material"><Parameter name="Young's Modulus" type="double" value="30000.0"/>)X"
+                           R"X(<Parameter name="Poisson's Ratio" type="double" value="0.3"/></ParameterList>)X";
+  const std::string end = R"X(<Parameter name="Fixed" type="string" value="ux uy uz ry"/>)X"
+                          R"X(<Parameter name="Displacement" type="Array(double)" value="{0.0, 0.0, -16.0}"/>)X";
+  return R"X(<ParameterList name="BeamContact"><ParameterList name="Beams">
+    <ParameterList name="lower"><Parameter name="Start" type="Array(double)" value="{0.0, 0.0, 0.0}"/>
+      <Parameter name="End" type="Array(double)" value="{100.0, 0.0, 0.0}"/><Parameter name="Elements" type="int" value="10"/>)X" +
+         beam + R"X(</ParameterList>
+    <ParameterList name="upper"><Parameter name="Start" type="Array(double)" value="{45.0, -50.0, 3.0}"/>
+      <Parameter name="End" type="Array(double)" value="{45.0, 50.0, 3.0}"/><Parameter name="Elements" type="int" value="11"/>)X" +
+         beam + R"X(</ParameterList></ParameterList>
+  <ParameterList name="Supports">
+    <ParameterList name="a"><Parameter name="Beam" type="string" value="lower"/><Parameter name="Node" type="string" value="start"/></ParameterList>
+    <ParameterList name="b"><Parameter name="Beam" type="string" value="lower"/><Parameter name="Node" type="string" value="end"/></ParameterList>
+    <ParameterList name="c"><Parameter name="Beam" type="string" value="upper"/><Parameter name="Node" type="string" value="start"/>)X" +
+         end + R"X(</ParameterList>
+    <ParameterList name="d"><Parameter name="Beam" type="string" value="upper"/><Parameter name="Node" type="string" value="end"/>)X" +
+         end + R"X(</ParameterList></ParameterList>
+  <ParameterList name="Contact"><ParameterList name="Pairs"><ParameterList name="crossing">
+      <Parameter name="Beam A" type="string" value="lower"/><Parameter name="Beam B" type="string" value="upper"/>
+      <Parameter name="Friction Coefficient" type="double" value="0.0"/></ParameterList></ParameterList>
+    <ParameterList name="Enforcement"><Parameter name="Type" type="string" value=")X" + type + R"X("/>
+      <ParameterList name="Penalty"><Parameter name="Normal Penalty Parameter" type="double" value=")X" + test::num(epsN) + R"X("/>
+        <Parameter name="Tangential Penalty Parameter" type="double" value="10.0"/></ParameterList>
+      <ParameterList name="Augmented Lagrange"><Parameter name="Normal Penalty Parameter" type="double" value="100.0"/>
+        <Parameter name="Tangential Penalty Parameter" type="double" value="10.0"/></ParameterList></ParameterList></ParameterList>
+  <ParameterList name="Load Stepping"><Parameter name="Number of Increments" type="int" value=")X" +
+         std::to_string(increments) + R"X("/></ParameterList>
+</ParameterList>)X";
+}
+}  // namespace
+
+TEST(PassThrough, TwoIncrementsGiveTheAnswerOfTwenty) {
+  // Before: 2 increments ended "complete" with no contact force (20 increments: N = 70.3).
+  for (const std::string type : {"Penalty", "Lagrange Multiplier", "Augmented Lagrange"}) {
+    double N[2];
+    int i = 0;
+    for (int increments : {2, 20}) {
+      auto p = test::problemFromXml(pushedThrough(type, increments, 100.0), "push");
+      const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "push");
+      ASSERT_TRUE(r.report.completed) << type << ", " << increments << " increments: " << r.report.failure;
+      const auto c = sums(p);
+      EXPECT_EQ(c.active, 1) << type << ", " << increments << " increments";
+      N[i++] = c.normal;
+    }
+    std::printf("%s: N = %.10f in 2 increments, %.10f in 20\n", type.c_str(), N[0], N[1]);
+    EXPECT_GT(N[1], 1.0);
+    EXPECT_NEAR(N[0], N[1], 1e-6 * N[1]) << type;
+  }
+}
+
+TEST(PassThrough, DeepPenaltyPenetrationIsLegal) {
+  // eps_N = 20: the equilibrium penetration exceeds r_A + r_B = 1 (the axes have crossed). Before it
+  // was reported as "passed through each other". Penalty law: N = eps_N |g_N|.
+  const double eps = 20.0;
+  auto p = test::problemFromXml(pushedThrough("Penalty", 20, eps), "deep");
+  const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "deep");
+  ASSERT_TRUE(r.report.completed) << r.report.failure;
+  const auto c = sums(p);
+  std::printf("deep penetration: N = %.9f, penetration %.9f (r_A + r_B = 1), eps_N penetration %.9f\n", c.normal,
+              c.maxPenetration, eps * c.maxPenetration);
+  EXPECT_EQ(c.active, 1);
+  EXPECT_GT(c.maxPenetration, 1.0);
+  EXPECT_NEAR(c.normal, eps * c.maxPenetration, 1e-9 * c.normal);
+}
+
+TEST(PassThrough, UnheldCrossingFailsTheIncrementAndIsNeverAResult) {
+  // With the search margin at zero and the pair never found (a contact pair between beams far apart
+  // at every iterate cannot cross unseen): here the check itself, on a state where "upper" lies
+  // below "lower" with no contact point: the manager must refuse to accept it.
+  auto p = test::problemFromXml(pushedThrough("Penalty", 2, 100.0), "unheld");
+  core::State s = p.model.initial;
+  for (int n : p.beams->beams()[1].nodes) s.applyNodeIncrement(n, std::array<double, 6>{0, 0, -5.0, 0, 0, 0}.data());
+  // The points as the search sees them from the initial state (none near): accepting must throw.
+  EXPECT_THROW(p.contact->acceptSolution(s), std::runtime_error);
+}
+
+TEST(Nodes, CircularExample1CompletesWithEachStrategyAndLaw) {
+  // The crossing of Example 1 with circular sections lies on a node of each beam (x = 50 on beam 1,
+  // beam 2's centre node). Before: every strategy stopped at T = 0.025.
+  for (const std::string law : {"Per Line", "Isotropic Coulomb"}) {
+    std::map<std::string, std::array<double, 3>> got;
+    for (const std::string type : {"Penalty", "Lagrange Multiplier", "Augmented Lagrange"}) {
+      auto p = test::problemFromXml(withLaw(circles(type, 0.0, 1e4, "40.0, 0.0, -20.0", 50, 0.5), law), "circ_e1");
+      const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "circ_e1");
+      ASSERT_TRUE(r.report.completed) << law << ", " << type << ": " << r.report.failure;
+      const auto A = r.finalState.displacement(p.beams->beams()[0].nodes.back());
+      const auto c = sums(p);
+      std::printf("circular Example 1, %s, %s: A (%.6f, %.6f)  N %.4f  steps %d  Newton %d\n", law.c_str(), type.c_str(),
+                  A[0], A[2], c.normal, r.report.steps, r.report.newtonIterations);
+      got[type] = {A[0], A[2], c.normal};
+    }
+    // Augmented and plain Lagrange: 1e-6 apart with Per Line; 1.5e-4 in A's x with Isotropic Coulomb
+    // (both within their stopping tests: augmentation stops at |g| <= 1e-6 with the slip direction
+    // of the last pass, the complementarity rows settle it within Newton), asserted at 5e-4.
+    const auto& l = got["Lagrange Multiplier"];
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_NEAR(got["Augmented Lagrange"][k], l[k], (law == "Per Line" ? 1e-4 : 5e-4) * std::abs(l[k]))
+          << law << " quantity " << k;
+      EXPECT_NEAR(got["Penalty"][k], l[k], 0.01 * std::abs(l[k])) << law << " quantity " << k;  // eps_N = 1e4
+    }
+  }
+}
+
+TEST(Nodes, Example1WithTwentyElementsAndIsotropicFrictionCompletes) {
+  // 20 elements per beam put beam 2's nodes at y = +-5, under beam 1's edges: all four points sit
+  // on nodes. Before: the Lagrange active set cycled at T = 0.025. Lagrange and augmented Lagrange
+  // must then agree (1e-4: the augmented gap tolerance is 1e-6).
+  std::map<std::string, double> Auz;
+  for (const std::string type : {"Lagrange Multiplier", "Augmented Lagrange"}) {
+    std::string deck = withLaw(example1(type, "40.0, 0.0, -20.0", 200), "Isotropic Coulomb");
+    deck = std::regex_replace(deck, std::regex(R"X(name="Elements" type="int" value="10")X"),
+                              R"X(name="Elements" type="int" value="20")X");
+    auto p = test::problemFromXml(deck, "e1_20");
+    const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "e1_20");
+    ASSERT_TRUE(r.report.completed) << type << ": " << r.report.failure;
+    Auz[type] = r.finalState.displacement(p.beams->beams()[0].nodes.back())[2];
+    std::printf("Example 1, 20 elements, isotropic, %s: A uz %.6f, Newton %d\n", type.c_str(), Auz[type],
+                r.report.newtonIterations);
+  }
+  EXPECT_NEAR(Auz["Augmented Lagrange"], Auz["Lagrange Multiplier"], 1e-4 * std::abs(Auz["Lagrange Multiplier"]));
+}
+
+namespace {
+// Circles pressed with an initial overlap of 0.05 and then dragged by `drag` (X, Y) at both ends of
+// beam 2, which is clamped at its start and pinned at its end (no symmetry support). Beam 2 runs from
+// (25, -30) to (95, 40): 45 degrees to beam 1, crossing it at x = 55 inside an element of each.
+std::string dragged(const std::string& type, const std::string& law, double dx, double dy, double mu) {
+  std::string deck = circles(type, 0.0, 1e4, test::num(dx) + ", " + test::num(dy) + ", 0.0", 20, mu);
+  deck = std::regex_replace(deck, std::regex(R"X(\{50.0, -50.0, 8.0\})X"), "{25.0, -30.0, 7.45}");
+  deck = std::regex_replace(deck, std::regex(R"X(\{50.0, 50.0, 8.0\})X"), "{95.0, 40.0, 7.45}");
+  const auto a = deck.find(R"X(<ParameterList name="symmetry at B">)X");
+  deck.erase(a, deck.find("</ParameterList>", a) + 16 - a);
+  const auto b = deck.find(R"X(value="ux uz ry")X");
+  deck.replace(b, 16, R"X(value="all")X");
+  const auto e = deck.find(R"X(value="ux uz ry")X");
+  deck.replace(e, 16, R"X(value="ux uy uz")X");
+  deck = std::regex_replace(deck, std::regex(R"X(<ParameterList name="Pairs">)X"),
+                            R"X(<Parameter name="Allow Initial Penetration" type="bool" value="true"/><ParameterList name="Pairs">)X");
+  return withLaw(deck, law);
+}
+}  // namespace
+
+TEST(FrictionCone, IsotropicCoulombHoldsTheForceVectorOnTheCone) {
+  // Dragged diagonally to both lines: both tangential gaps grow. Isotropic Coulomb: |F_T| = mu N at
+  // slip (the applied force vector, recovered from the residual). Per Line: each component is
+  // limited alone, so the resultant exceeds mu N (before: 1.39 mu N in a diagonal drag).
+  const double mu = 0.3;
+  for (const std::string type : {"Penalty", "Lagrange Multiplier", "Augmented Lagrange"}) {
+    for (const std::string law : {"Isotropic Coulomb", "Per Line"}) {
+      auto p = test::problemFromXml(dragged(type, law, 0.0, 0.5, mu), "drag");
+      const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "drag");
+      ASSERT_TRUE(r.report.completed) << type << ", " << law << ": " << r.report.failure;
+      ASSERT_EQ(p.contact->points().size(), 1u);
+      const auto& pt = p.contact->points().begin()->second;
+      ASSERT_TRUE(pt.result.active);
+      const double N = norm(pt.normalForce), FT = norm(pt.tangentialForce);
+      std::printf("diagonal drag, %s, %s: N %.6f  |F_T| %.6f = %.6f mu N  (slip %d %d)\n", type.c_str(), law.c_str(), N,
+                  FT, FT / (mu * N), pt.result.slip[0], pt.result.slip[1]);
+      EXPECT_NEAR(N, -pt.result.lambdaN, 1e-9 * N);  // the normal part of the applied force is lambda_N
+      if (law == "Isotropic Coulomb") {
+        EXPECT_TRUE(pt.result.slip[0] && pt.result.slip[1]);
+        EXPECT_NEAR(FT, mu * N, 1e-9 * N) << type;
+      } else {
+        EXPECT_GT(FT, 1.05 * mu * N) << type;
+      }
+    }
+  }
+}
+
+TEST(Output, AppliedContactForceBalancesTheSupportReactionsOfBeamB) {
+  // Beam 2 carries no load but the contact force and its two supports, so the contact force on it
+  // equals minus the sum of its support reactions (reactions.csv: the forces the supports exert on
+  // the beam, from the residual at the supported dofs). 45 degrees between
+  // the lines: before, the drawn force was wrong there ((-0.108, 0.176, 0.603) vs (-0.293, -0.076, 0.602)).
+  for (const std::string type : {"Penalty", "Lagrange Multiplier"}) {
+    auto p = test::problemFromXml(dragged(type, "Isotropic Coulomb", 0.2, -0.1, 0.3), "balance");
+    const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "balance");
+    ASSERT_TRUE(r.report.completed) << r.report.failure;
+    const auto& pt = p.contact->points().begin()->second;
+    const elements::Vec3d F = pt.normalForce + pt.tangentialForce;
+    std::ifstream csv(test::scratchDirectory("balance_np1") + "/reactions.csv");
+    std::string header, line, last;
+    std::getline(csv, header);
+    while (std::getline(csv, line)) last = line;
+    std::vector<std::string> names, values;
+    for (std::stringstream hs(header), ls(last); ;) {
+      std::string h, v;
+      if (!std::getline(hs, h, ',') || !std::getline(ls, v, ',')) break;
+      names.push_back(h);
+      values.push_back(v);
+    }
+    elements::Vec3d supports{};
+    for (std::size_t i = 0; i < names.size(); ++i)
+      for (int a = 0; a < 3; ++a)
+        if (names[i] == std::string("beam 2 start_F") + "xyz"[a] || names[i] == std::string("beam 2 end_F") + "xyz"[a])
+          supports[a] += std::stod(values[i]);
+    std::printf("%s: contact force on beam 2 (%.9f, %.9f, %.9f), its support reactions (%.9f, %.9f, %.9f)\n",
+                type.c_str(), F[0], F[1], F[2], supports[0], supports[1], supports[2]);
+    EXPECT_GT(norm(pt.tangentialForce), 0.1 * norm(pt.normalForce));
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(F[a], -supports[a], 1e-7 * norm(F)) << type << " component " << a;
+  }
+}
+
+TEST(StiffPenalty, Epsilon1e6PassesFirstContactOnExample1) {
+  // Before: eps_N >= 1e6 failed at first contact even with 5 step cuts. The step bound (a spring that
+  // would close within a Newton step shortens it) lets Newton pass; more eps_N brings the penalty
+  // result towards the Lagrange one (same friction law and eps_T).
+  std::map<double, double> Auz;
+  for (double eps : {1e4, 1e6}) {
+    auto p = test::problemFromXml(example1("Penalty", "40.0, 0.0, -20.0", 50, eps), "stiff");
+    const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "stiff");
+    ASSERT_TRUE(r.report.completed) << eps << ": " << r.report.failure;
+    int cut = 0;
+    for (const auto& s : r.steps) cut = std::max(cut, s.cutLevel);
+    Auz[eps] = r.finalState.displacement(p.beams->beams()[0].nodes.back())[2];
+    std::printf("Example 1, penalty eps_N %.0e: A uz %.6f, steps %d (deepest cut %d), Newton %d\n", eps, Auz[eps],
+                r.report.steps, cut, r.report.newtonIterations);
+  }
+  auto p = test::problemFromXml(example1("Lagrange Multiplier"), "stiff_lm");
+  const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "stiff_lm");
+  ASSERT_TRUE(r.report.completed) << r.report.failure;
+  const double lagrange = r.finalState.displacement(p.beams->beams()[0].nodes.back())[2];
+  std::printf("Lagrange A uz %.6f: penalty error %.3e (eps_N 1e4), %.3e (1e6)\n", lagrange,
+              std::abs(Auz[1e4] / lagrange - 1), std::abs(Auz[1e6] / lagrange - 1));
+  EXPECT_LT(std::abs(Auz[1e6] - lagrange), std::abs(Auz[1e4] - lagrange));
+}
+
+// The isotropic Coulomb tangents against central differences of the residual: slip on Example 1
+// (penalty, augmented Lagrange, Lagrange multiplier rows from the complementarity function), stick
+// with one pressed circular point and mu = 5.
+TEST(ContactTangent, IsotropicSlip) {
+  checkContactTangent("Penalty", withLaw(example1("Penalty", "40.0, 0.0, -20.0", 10), "Isotropic Coulomb"), 0.3, true,
+                      false, 0.5);
+  checkContactTangent("Lagrange Multiplier",
+                      withLaw(example1("Lagrange Multiplier", "40.0, 0.0, -20.0", 10), "Isotropic Coulomb"), 0.3, true,
+                      false, 0.5);
+  std::string deck = withLaw(example1("Augmented Lagrange", "40.0, 0.0, -20.0", 10), "Isotropic Coulomb");
+  deck = std::regex_replace(deck, std::regex(R"(<ParameterList name="Load Stepping">)"),
+                            R"(<ParameterList name="Nonlinear Solver"><Parameter name="Predictor" type="string" value="None"/></ParameterList><ParameterList name="Load Stepping">)");
+  checkContactTangent("Augmented Lagrange", deck, 0.3, true, false, 0.5);
+}
+TEST(ContactTangent, IsotropicStick) {
+  for (const std::string type : {"Penalty", "Lagrange Multiplier", "Augmented Lagrange"}) {
+    std::string deck = withLaw(circles(type, 3.0, 1e4), "Isotropic Coulomb");
+    deck = std::regex_replace(deck, std::regex(R"(name="Friction Coefficient" type="double" value="0")"),
+                              R"(name="Friction Coefficient" type="double" value="5")");
+    checkContactTangent(type, deck, 1e-3, false, true, 5.0);
+  }
+}
