@@ -84,6 +84,8 @@ void orient(ClosestPoints& cp, double sigma, double radiusSum) {
   cp.sigma = sigma;
   cp.gap = dot(cp.pB - cp.pA, cp.normal) - radiusSum;
 }
+// The unit vector t_B x t_A / |t_B x t_A| (the normal before its orientation sigma).
+Vec3d lineCross(const ClosestPoints& cp) { return cp.sigma * cp.normal; }
 }  // namespace
 
 void ContactManager::forEachElementPair(const core::State& s,
@@ -170,8 +172,7 @@ double ContactManager::referenceSigma(int eA, int lA, int eB, int lB, const Clos
   const ClosestPoints ref = closestPoints(lineInput(eA, lA, eB, lB, reference_));
   if (ref.sinAngle < options_.minimumSinAngle || !nearElement(eA, ref.xi) || !nearElement(eB, ref.eta))
     return cp.sigma;
-  const Vec3d cRef = ref.sigma * ref.normal, cCur = cp.sigma * cp.normal;  // unit t_B x t_A in both states
-  return dot(cRef, cCur) >= 0.0 ? ref.sigma : -ref.sigma;
+  return dot(lineCross(ref), lineCross(cp)) >= 0.0 ? ref.sigma : -ref.sigma;
 }
 
 std::map<Key, ContactManager::Candidate> ContactManager::detect(const core::State& s) const {
@@ -321,10 +322,8 @@ void ContactManager::evaluate(const core::State& state, const OwnsDof& owns, cor
     const auto d = blockDofs(p);
     if (!owns(d[0])) continue;
     // Cheap test first: the full kinematics (with their derivatives) only where the point may act.
-    const LinePairInput in = lineInput(p.elementA, p.lineA, p.elementB, p.lineB, state);
-    const ClosestPoints cp = closestPoints(in);
     ContactKinematics probe;
-    probe.normal.value = cp.sigma == p.sigma ? cp.gap : -cp.gap - 2 * in.radiusSum;
+    probe.normal.value = pointGeometry(p, state).gap;
     if (!enforcer_->contributes(probe, p.history)) continue;
     const ContactKinematics k = kinematics(p, state);
     if (!enforcer_->contributes(k, p.history)) continue;
@@ -351,7 +350,7 @@ void ContactManager::checkNoPassThrough(const core::State& state) const {
     if (!withinElement(ea, cur.xi) || !withinElement(eb, cur.eta) || !nearElement(ea, ref.xi) ||
         !nearElement(eb, ref.eta))
       return;
-    const Vec3d cRef = ref.sigma * ref.normal, cCur = cur.sigma * cur.normal;
+    const Vec3d cRef = lineCross(ref), cCur = lineCross(cur);
     const double sideRef = dot(ref.cB - ref.cA, cRef);
     const double sideCur = dot(cur.cB - cur.cA, cCur) * (dot(cRef, cCur) >= 0.0 ? 1.0 : -1.0);
     if (sideRef * sideCur > 0.0 || (sideRef == 0.0 && sideCur == 0.0)) return;
@@ -413,8 +412,7 @@ void ContactManager::commitStep(const core::State& state) {
     p.result = enforcer_->reportedForces(k, p.history, pairs_[p.pair].friction, lambda);
     enforcer_->commitPoint(k, p.history, pairs_[p.pair].friction, lambda);
     p.kinematics = k;
-    ClosestPoints cp = closestPoints(lineInput(p.elementA, p.lineA, p.elementB, p.lineB, state));
-    orient(cp, p.sigma, 0.0);
+    const ClosestPoints cp = pointGeometry(p, state);
     p.position = 0.5 * (cp.pA + cp.pB);
     p.normal = cp.normal;
     // The force on beam B is what the multipliers apply through the residual lambda_q R_q on B's
@@ -436,6 +434,13 @@ void ContactManager::commitStep(const core::State& state) {
   passes_ = 0;
 }
 
+ClosestPoints ContactManager::pointGeometry(const Point& p, const core::State& s) const {
+  const LinePairInput in = lineInput(p.elementA, p.lineA, p.elementB, p.lineB, s);
+  ClosestPoints cp = closestPoints(in);
+  orient(cp, p.sigma, in.radiusSum);
+  return cp;
+}
+
 double ContactManager::stepBound(const core::State& state, const std::vector<double>& du) const {
   // A point open at this iterate whose gap would cross its activation gap at the full step: the step
   // stops where it has crossed by a tenth of its present distance (linear interpolation of the gap),
@@ -447,18 +452,14 @@ double ContactManager::stepBound(const core::State& state, const std::vector<dou
   for (const auto& [key, p] : points_) {
     const double activation = enforcer_->activationGap(p.history);
     if (!std::isfinite(activation)) return 1.0;
-    ClosestPoints now = closestPoints(lineInput(p.elementA, p.lineA, p.elementB, p.lineB, state));
-    orient(now, p.sigma, lineInput(p.elementA, p.lineA, p.elementB, p.lineB, state).radiusSum);
-    const double a0 = now.gap - activation;
+    const double a0 = pointGeometry(p, state).gap - activation;
     if (!(a0 > 0.0)) continue;
     if (!next) {
       next = std::make_unique<core::State>(state);
       next->applyIncrement(du);
     }
-    const LinePairInput in = lineInput(p.elementA, p.lineA, p.elementB, p.lineB, *next);
-    ClosestPoints then = closestPoints(in);
+    const ClosestPoints then = pointGeometry(p, *next);
     if (then.sinAngle < options_.minimumSinAngle) continue;
-    orient(then, p.sigma, in.radiusSum);
     const double a1 = then.gap - activation;
     if (a1 >= -0.1 * a0) continue;
     bound = std::min(bound, 1.1 * a0 / (a0 - a1));

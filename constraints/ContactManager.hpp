@@ -112,6 +112,8 @@ class ContactManager : public core::Contribution {
   bool nearElement(int element, double xi) const;
   double referenceSigma(int eA, int lA, int eB, int lB, const ClosestPoints& current) const;
   LinePairInput axisInput(int eA, int eB, const core::State& s) const;
+  // Closest points of a point's two lines in `s`, with the point's normal orientation and gap.
+  ClosestPoints pointGeometry(const Point& p, const core::State& s) const;
   double beamCoordinate(int element, double xi) const;
   bool withinElement(int element, double xi) const;
   void checkNoPassThrough(const core::State& state) const;
