@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <unordered_map>
 
+#include "core/Checkpoint.hpp"
 #include "core/Parameters.hpp"
 
 namespace bc::constraints {
@@ -431,6 +432,58 @@ void ContactManager::commitStep(const core::State& state) {
   committed_ = points_;
   reference_ = state;
   lastPasses_ = passes_;
+  passes_ = 0;
+}
+
+void ContactManager::saveCommitted(core::CheckpointOut& out) const {
+  out.label("contact").word(enforcer_->type()).integer(static_cast<long long>(committed_.size())).integer(lastPasses_);
+  for (const auto& [key, p] : committed_) {
+    const PointHistory& h = p.history;
+    out.label("point").integer(p.pair).integer(p.lineA).integer(p.lineB).integer(p.elementA).integer(p.elementB);
+    out.real(p.sigma).real(p.xiPrev).real(p.etaPrev).integer(p.extraOffset);
+    out.real(h.lambdaN).real(h.lambdaT[0]).real(h.lambdaT[1]).integer(h.active).integer(h.slip[0]).integer(h.slip[1]);
+    out.real(h.slipSign[0]).real(h.slipSign[1]);
+  }
+}
+
+void ContactManager::loadCommitted(core::CheckpointIn& in, const core::State& committed) {
+  in.label("contact");
+  if (in.word() != core::CheckpointOut::token(enforcer_->type())) in.fail("it was written with another enforcement strategy");
+  const long long n = in.integer();
+  lastPasses_ = static_cast<int>(in.integer());
+  const int elements = static_cast<int>(beams_->elements().size());
+  committed_.clear();
+  for (long long i = 0; i < n; ++i) {
+    in.label("point");
+    Point p;
+    p.pair = static_cast<int>(in.integer());
+    p.lineA = static_cast<int>(in.integer());
+    p.lineB = static_cast<int>(in.integer());
+    p.elementA = static_cast<int>(in.integer());
+    p.elementB = static_cast<int>(in.integer());
+    if (p.pair < 0 || p.pair >= static_cast<int>(pairs_.size()) || p.elementA < 0 || p.elementA >= elements ||
+        p.elementB < 0 || p.elementB >= elements)
+      in.fail("a contact point refers to a pair or element the deck does not have");
+    p.sigma = in.real();
+    p.xiPrev = in.real();
+    p.etaPrev = in.real();
+    p.extraOffset = static_cast<int>(in.integer());
+    PointHistory& h = p.history;
+    h.lambdaN = in.real();
+    h.lambdaT[0] = in.real();
+    h.lambdaT[1] = in.real();
+    h.active = in.integer() != 0;
+    h.slip[0] = in.integer() != 0;
+    h.slip[1] = in.integer() != 0;
+    h.slipSign[0] = in.real();
+    h.slipSign[1] = in.real();
+    if (p.extraOffset >= 0 && std::size_t(p.extraOffset) + enforcer_->multipliersPerPoint() > committed.extra.size())
+      in.fail("a contact point's multipliers lie outside the state");
+    committed_[{p.pair, p.lineA, p.lineB}] = p;
+  }
+  points_ = committed_;
+  marked_ = committed_;
+  reference_ = committed;
   passes_ = 0;
 }
 

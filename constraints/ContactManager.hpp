@@ -58,6 +58,8 @@ class ContactManager : public core::Contribution {
   bool acceptSolution(core::State& state) override;
   void commitStep(const core::State& state) override;
   void restoreStep() override;
+  void saveCommitted(core::CheckpointOut& out) const override;
+  void loadCommitted(core::CheckpointIn& in, const core::State& committed) override;
   void markIterate() override { marked_ = points_; }
   double stepBound(const core::State& state, const std::vector<double>& du) const override;
   void returnToIterate() override { points_ = marked_; }

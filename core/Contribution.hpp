@@ -13,6 +13,9 @@
 
 namespace bc::core {
 
+class CheckpointOut;
+class CheckpointIn;
+
 // Receives element-level contributions. `K` is n x n row-major, or null for residual-only assembly.
 class AssemblySink {
  public:
@@ -45,6 +48,10 @@ class Contribution {
   // Load-step life cycle: history is committed at a converged step and restored when a step is cut.
   virtual void commitStep(const State& state) {}
   virtual void restoreStep() {}
+  // Checkpoint and restart: write what commitStep kept (the history of the last converged step)
+  // exactly, and read it back; `committed` is that step's state, already restored.
+  virtual void saveCommitted(CheckpointOut& out) const {}
+  virtual void loadCommitted(CheckpointIn& in, const State& committed) {}
   // Drawing for VTK output (called on rank 0 with the full state).
   virtual void appendVtk(const State& state, VtkMesh& mesh) const {}
 

@@ -1,90 +1,255 @@
 #include "ResultsWriter.hpp"
 
+#include <signal.h>
 #include <sys/resource.h>
+#include <unistd.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <iomanip>
 #include <sstream>
+
+#include <Teuchos_XMLParameterListHelpers.hpp>
+
+#include "Parameters.hpp"
 
 namespace bc::core {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+std::string fixed12(double v) {
+  std::ostringstream s;
+  s << std::setprecision(12) << v;
+  return s.str();
+}
+
+// "step_00012.vtu" -> 12, else -1.
+int vtkStep(const std::string& name) {
+  if (name.size() != 14 || name.rfind("step_", 0) != 0 || name.substr(10) != ".vtu") return -1;
+  for (int k = 5; k < 10; ++k)
+    if (!std::isdigit(static_cast<unsigned char>(name[k]))) return -1;
+  return std::stoi(name.substr(5, 5));
+}
+
+std::string readAll(const fs::path& p) {
+  std::ifstream f(p);
+  std::ostringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+// The pid of a live process other than this one that status.txt says is running, else 0.
+long livePid(const fs::path& status) {
+  const std::string text = readAll(status);
+  const auto at = text.find("running (pid ");
+  if (at != 0) return 0;
+  const long pid = std::atol(text.c_str() + 13);
+  if (pid <= 0 || pid == static_cast<long>(getpid())) return 0;
+  return kill(static_cast<pid_t>(pid), 0) == 0 ? pid : 0;
+}
+
+}  // namespace
+
 ResultsWriter::ResultsWriter(const std::string& directory, const Model& model, Teuchos::RCP<const Comm> comm,
-                             bool writeVtk)
-    : dir_(directory), model_(model), rank_(comm->getRank()), vtk_(writeVtk) {
-  if (!root()) return;
+                             bool writeVtk, int resumeStep)
+    : dir_(directory), model_(model), comm_(comm), rank_(comm->getRank()), vtk_(writeVtk) {
+  collectively(*comm_, [&] {
+    if (!root()) return;
+    if (dir_.empty()) throw InputError("the results directory is empty; give Output/Directory or --output");
+    try {
+      if (resumeStep >= 0) prepareResume(resumeStep);
+      else prepareFresh();
+      writeStatus("running (pid " + std::to_string(getpid()) + ")");
+    } catch (const OutputError& e) {
+      throw InputError(std::string("the results directory cannot be written: ") + e.what());
+    } catch (const std::filesystem::filesystem_error& e) {
+      throw InputError("the results directory \"" + dir_ + "\" cannot be used: " + e.code().message());
+    }
+  });
+}
+
+std::vector<std::string> ResultsWriter::fileNames() const {
+  std::vector<std::string> names = {"status.txt",   "steps.csv",   "tracked_points.csv",       "reactions.csv",
+                                    "summary.csv",  "timers.txt",  "results.pvd",              "checkpoint.txt",
+                                    "effective_parameters.xml"};
+  for (const auto& c : model_.contributions)
+    if (!c->tableName().empty()) names.push_back(c->tableName());
+  return names;
+}
+
+void ResultsWriter::prepareFresh() {
+  const fs::path dir(dir_);
   std::error_code ec;
-  fs::create_directories(fs::path(dir_) / "vtk", ec);
-  if (ec) throw std::runtime_error("cannot create the results directory \"" + dir_ + "\": " + ec.message());
-  for (const auto& old : fs::directory_iterator(fs::path(dir_) / "vtk")) fs::remove(old.path());
-  writeStatus("running");
-  steps_.open(fs::path(dir_) / "steps.csv");
-  tracked_.open(fs::path(dir_) / "tracked_points.csv");
-  reactions_.open(fs::path(dir_) / "reactions.csv");
-  if (!steps_ || !tracked_ || !reactions_) throw std::runtime_error("cannot write in \"" + dir_ + "\"");
-  steps_ << "step,T,cut_level,newton_iterations,passes,final_residual,linear_iterations,backtracks\n";
-  tracked_ << "step,T";
-  for (const auto& p : model_.tracked)
-    for (const char* c : {"ux", "uy", "uz", "rx", "ry", "rz"}) tracked_ << "," << p.name << "_" << c;
-  tracked_ << "\n";
-  reactions_ << "step,T";
-  for (const auto& s : model_.supports)
-    for (const char* c : {"Fx", "Fy", "Fz", "Mx", "My", "Mz"}) reactions_ << "," << s.name << "_" << c;
-  reactions_ << "\n";
-  for (auto* f : {&steps_, &tracked_, &reactions_}) *f << std::setprecision(12);
+  fs::create_directories(dir / "vtk", ec);
+  if (ec) throw InputError("cannot create the results directory \"" + dir_ + "\": " + ec.message());
+  const bool ours = fs::exists(dir / "status.txt");
+  if (ours) {
+    if (const long pid = livePid(dir / "status.txt"))
+      throw InputError("results directory \"" + dir_ + "\" is in use by a running beamcontact (pid " +
+                       std::to_string(pid) + "); choose another --output");
+  } else {
+    for (const auto& name : fileNames())
+      if (fs::exists(dir / name))
+        throw InputError("results directory \"" + dir_ + "\" holds " + name +
+                         " but no status.txt: it is not from an earlier run; choose another directory or remove it");
+    for (const auto& f : fs::directory_iterator(dir / "vtk"))
+      if (vtkStep(f.path().filename().string()) < 0)
+        throw InputError("results directory \"" + dir_ + "\" has a vtk/ folder with other files (" +
+                         f.path().filename().string() + "); choose another directory");
+  }
+  // An earlier run's results go, so none of them is mistaken for this run's.
+  for (const auto& name : fileNames()) {
+    fs::remove(dir / name, ec);
+    fs::remove(dir / (name + ".tmp"), ec);
+  }
+  for (const auto& f : fs::directory_iterator(dir / "vtk"))
+    if (vtkStep(f.path().filename().string()) >= 0) fs::remove(f.path(), ec);
+  openTables(false);
+}
+
+void ResultsWriter::prepareResume(int step) {
+  const fs::path dir(dir_);
+  if (!fs::exists(dir / "status.txt") || !fs::exists(dir / "checkpoint.txt"))
+    throw InputError("\"" + dir_ + "\" holds no run to restart (status.txt and checkpoint.txt are needed)");
+  if (const long pid = livePid(dir / "status.txt"))
+    throw InputError("results directory \"" + dir_ + "\" is in use by a running beamcontact (pid " +
+                     std::to_string(pid) + ")");
+  std::error_code ec;
+  fs::create_directories(dir / "vtk", ec);
+  // Rows of steps after the checkpoint's were computed by the interrupted run past the state this
+  // run continues from: they go, and this run writes them again.
+  std::vector<std::string> csvs = {"steps.csv", "tracked_points.csv", "reactions.csv"};
+  for (const auto& c : model_.contributions)
+    if (!c->tableName().empty()) csvs.push_back(c->tableName());
+  for (const auto& name : csvs) {
+    std::ifstream in(dir / name);
+    if (!in) throw InputError("cannot restart in \"" + dir_ + "\": " + name + " is missing");
+    std::string line, kept;
+    bool header = true;
+    while (std::getline(in, line)) {
+      if (header) {
+        kept += line + "\n";
+        header = false;
+        continue;
+      }
+      const auto comma = line.find(',');
+      if (comma == std::string::npos) continue;  // a row cut short by the interruption
+      char* end = nullptr;
+      const long s = std::strtol(line.c_str(), &end, 10);
+      if (end == line.c_str() + comma && s <= step && std::count(line.begin(), line.end(), ',') > 1) kept += line + "\n";
+    }
+    writeFileAtomically(dir / name, kept);
+  }
+  for (const auto& f : fs::directory_iterator(dir / "vtk")) {
+    const int s = vtkStep(f.path().filename().string());
+    if (s > step) fs::remove(f.path(), ec);
+  }
+  // results.pvd: the entries of the kept files.
+  std::istringstream pvd(readAll(dir / "results.pvd"));
+  for (std::string line; std::getline(pvd, line);) {
+    const auto t = line.find("timestep=\""), f = line.find("file=\"");
+    if (t == std::string::npos || f == std::string::npos) continue;
+    const std::string file = line.substr(f + 6, line.find('"', f + 6) - f - 6);
+    const int s = vtkStep(fs::path(file).filename().string());
+    if (s >= 0 && s <= step && fs::exists(dir / file)) vtkFiles_.emplace_back(std::atof(line.c_str() + t + 10), file);
+  }
+  for (const char* name : {"summary.csv", "timers.txt"}) fs::remove(dir / name, ec);
+  openTables(true);
+}
+
+void ResultsWriter::openTables(bool append) {
+  const fs::path dir(dir_);
+  steps_.open(dir / "steps.csv", append);
+  tracked_.open(dir / "tracked_points.csv", append);
+  reactions_.open(dir / "reactions.csv", append);
   for (const auto& c : model_.contributions) {
     if (c->tableName().empty()) {
       tables_.emplace_back();
       continue;
     }
-    tables_.push_back(std::make_unique<std::ofstream>(fs::path(dir_) / c->tableName()));
-    *tables_.back() << "step,T," << c->tableHeader() << "\n";
+    tables_.push_back(std::make_unique<OutputFile>());
+    tables_.back()->open(dir / c->tableName(), append);
+    if (!append) tables_.back()->write("step,T," + c->tableHeader() + "\n");
   }
+  if (append) return;
+  steps_.write("step,T,cut_level,newton_iterations,passes,final_residual,linear_iterations,backtracks\n");
+  std::string h = "step,T";
+  for (const auto& p : model_.tracked)
+    for (const char* c : {"ux", "uy", "uz", "rx", "ry", "rz"}) h += "," + p.name + "_" + c;
+  tracked_.write(h + "\n");
+  h = "step,T";
+  for (const auto& s : model_.supports)
+    for (const char* c : {"Fx", "Fy", "Fz", "Mx", "My", "Mz"}) h += "," + s.name + "_" + c;
+  reactions_.write(h + "\n");
 }
 
-void ResultsWriter::writeStatus(const std::string& text) {
-  const fs::path tmp = fs::path(dir_) / "status.txt.tmp";
-  {
-    std::ofstream s(tmp);
-    s << text << "\n";
-  }
-  fs::rename(tmp, fs::path(dir_) / "status.txt");
+void ResultsWriter::writeStatus(const std::string& text) { writeFileAtomically(fs::path(dir_) / "status.txt", text + "\n"); }
+
+void ResultsWriter::writeEffective(const Teuchos::ParameterList& effective) {
+  collectively(*comm_, [&] {
+    if (!root()) return;
+    std::ostringstream xml;
+    Teuchos::writeParameterListToXmlOStream(effective, xml);
+    writeFileAtomically(fs::path(dir_) / "effective_parameters.xml", xml.str());
+  });
 }
 
 void ResultsWriter::writeInitial(const State& state) {
-  if (root() && vtk_) writeVtk(0, 0.0, state);
+  collectively(*comm_, [&] {
+    if (root() && vtk_) writeVtk(0, 0.0, state);
+  });
 }
 
 void ResultsWriter::writeStep(const StepReport& step, const State& state, const std::vector<double>& r) {
-  if (!root()) return;
-  int linear = 0;
-  for (const auto& h : step.history) linear += h.linearIterations;
-  steps_ << step.step << "," << step.T << "," << step.cutLevel << "," << step.iterations << "," << step.passes << ","
-         << step.history.back().residualNorm << "," << linear << "," << step.backtracks << "\n";
-  tracked_ << step.step << "," << step.T;
-  for (const auto& p : model_.tracked) {
-    const Vec3d u = state.displacement(p.node);
-    const Vec3d& psi = state.rotationVector[p.node];
-    tracked_ << "," << u[0] << "," << u[1] << "," << u[2] << "," << psi[0] << "," << psi[1] << "," << psi[2];
-  }
-  tracked_ << "\n";
-  reactions_ << step.step << "," << step.T;
-  for (const auto& s : model_.supports) {
-    double sum[6] = {0, 0, 0, 0, 0, 0};
-    for (int n : s.nodes)
-      for (int k = 0; k < 6; ++k) sum[k] += r[std::size_t(kDofsPerNode) * n + k];
-    for (double v : sum) reactions_ << "," << v;
-  }
-  reactions_ << "\n";
-  for (auto* f : {&steps_, &tracked_, &reactions_}) f->flush();
-  for (std::size_t i = 0; i < model_.contributions.size(); ++i) {
-    if (!tables_[i]) continue;
-    for (const auto& row : model_.contributions[i]->tableRows()) *tables_[i] << step.step << "," << step.T << "," << row << "\n";
-    tables_[i]->flush();
-  }
-  if (vtk_) writeVtk(step.step, step.T, state);
+  collectively(*comm_, [&] {
+    if (!root()) return;
+    int linear = 0;
+    for (const auto& h : step.history) linear += h.linearIterations;
+    std::ostringstream row;
+    row << std::setprecision(12);
+    row << step.step << "," << step.T << "," << step.cutLevel << "," << step.iterations << "," << step.passes << ","
+        << step.history.back().residualNorm << "," << linear << "," << step.backtracks << "\n";
+    steps_.write(row.str());
+    row.str("");
+    row << step.step << "," << step.T;
+    for (const auto& p : model_.tracked) {
+      const Vec3d u = state.displacement(p.node);
+      const Vec3d& psi = state.rotationVector[p.node];
+      row << "," << u[0] << "," << u[1] << "," << u[2] << "," << psi[0] << "," << psi[1] << "," << psi[2];
+    }
+    row << "\n";
+    tracked_.write(row.str());
+    row.str("");
+    row << step.step << "," << step.T;
+    for (const auto& s : model_.supports) {
+      double sum[6] = {0, 0, 0, 0, 0, 0};
+      for (int n : s.nodes)
+        for (int k = 0; k < 6; ++k) sum[k] += r[std::size_t(kDofsPerNode) * n + k];
+      for (double v : sum) row << "," << v;
+    }
+    row << "\n";
+    reactions_.write(row.str());
+    for (std::size_t i = 0; i < model_.contributions.size(); ++i) {
+      if (!tables_[i]) continue;
+      std::string rows;
+      for (const auto& line : model_.contributions[i]->tableRows())
+        rows += std::to_string(step.step) + "," + fixed12(step.T) + "," + line + "\n";
+      tables_[i]->write(rows);
+    }
+    if (vtk_) writeVtk(step.step, step.T, state);
+  });
+}
+
+void ResultsWriter::writeCheckpoint(const std::string& text) {
+  collectively(*comm_, [&] {
+    if (root()) writeFileAtomically(fs::path(dir_) / "checkpoint.txt", text);
+  });
 }
 
 void ResultsWriter::writeVtk(int step, double T, const State& state) {
@@ -92,7 +257,7 @@ void ResultsWriter::writeVtk(int step, double T, const State& state) {
   for (const auto& c : model_.contributions) c->appendVtk(state, mesh);
   char name[64];
   std::snprintf(name, sizeof name, "vtk/step_%05d.vtu", step);
-  std::ofstream f(fs::path(dir_) / name);
+  std::ostringstream f;
   f << std::setprecision(12);
   f << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
     << "<UnstructuredGrid>\n<Piece NumberOfPoints=\"" << mesh.points.size() << "\" NumberOfCells=\""
@@ -118,52 +283,60 @@ void ResultsWriter::writeVtk(int step, double T, const State& state) {
   f << "</DataArray>\n<DataArray type=\"Int32\" Name=\"element\" format=\"ascii\">\n";
   for (int e : mesh.cellElement) f << e << "\n";
   f << "</DataArray>\n</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
-  f.close();
-  if (!f) throw std::runtime_error(std::string("cannot write ") + name);
+  writeFileAtomically(fs::path(dir_) / name, f.str());
   vtkFiles_.emplace_back(T, name);
   writePvd();
 }
 
 void ResultsWriter::writePvd() {
-  const fs::path tmp = fs::path(dir_) / "results.pvd.tmp";
-  {
-    std::ofstream f(tmp);
-    f << std::setprecision(12)
-      << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n";
-    for (const auto& [T, file] : vtkFiles_)
-      f << "<DataSet timestep=\"" << T << "\" part=\"0\" file=\"" << file << "\"/>\n";
-    f << "</Collection>\n</VTKFile>\n";
-  }
-  fs::rename(tmp, fs::path(dir_) / "results.pvd");
+  std::ostringstream f;
+  f << std::setprecision(12) << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n";
+  for (const auto& [T, file] : vtkFiles_) f << "<DataSet timestep=\"" << T << "\" part=\"0\" file=\"" << file << "\"/>\n";
+  f << "</Collection>\n</VTKFile>\n";
+  writeFileAtomically(fs::path(dir_) / "results.pvd", f.str());
 }
 
 void ResultsWriter::writeSummary(const RunSummary& summary) {
-  if (!root()) return;
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  const fs::path tmp = fs::path(dir_) / "summary.csv.tmp";
-  {
-    std::ofstream f(tmp);
+  collectively(*comm_, [&] {
+    if (!root()) return;
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    std::ostringstream f;
     f << "completed,last_T,steps,newton_iterations,max_newton_per_step,passes,solve_seconds,peak_memory_mb\n"
       << (summary.run.completed ? 1 : 0) << ',' << summary.run.lastT << ',' << summary.run.steps << ','
       << summary.run.newtonIterations << ',' << summary.maxIterationsPerStep << ',' << summary.passes << ','
       << summary.solveSeconds << ',' << usage.ru_maxrss / 1024.0 << '\n';
-  }
-  fs::rename(tmp, fs::path(dir_) / "summary.csv");
+    writeFileAtomically(fs::path(dir_) / "summary.csv", f.str());
+  });
 }
 
 void ResultsWriter::finish(const RunReport& run, const std::string& timerReport) {
+  collectively(*comm_, [&] {
+    if (!root()) return;
+    steps_.close();
+    tracked_.close();
+    reactions_.close();
+    for (auto& t : tables_)
+      if (t) t->close();
+    writeFileAtomically(fs::path(dir_) / "timers.txt", timerReport);
+    std::ostringstream s;
+    if (run.completed)
+      s << "complete: " << run.steps << " steps, " << run.newtonIterations << " Newton iterations, T = " << run.lastT;
+    else if (run.interrupted)
+      s << "interrupted: " << signalName(run.interrupted) << " at T = " << run.lastT << " after " << run.steps
+        << " converged steps (checkpoint.txt holds the last one; continue with --restart)";
+    else
+      s << "incomplete: stopped at T = " << run.lastT << " after " << run.steps << " converged steps; " << run.failure;
+    writeStatus(s.str());
+  });
+}
+
+void ResultsWriter::fail(const std::string& cause) noexcept {
   if (!root()) return;
-  {
-    std::ofstream t(fs::path(dir_) / "timers.txt");
-    t << timerReport;
+  try {
+    writeStatus("failed: " + cause);
+  } catch (...) {
   }
-  std::ostringstream s;
-  if (run.completed)
-    s << "complete: " << run.steps << " steps, " << run.newtonIterations << " Newton iterations, T = " << run.lastT;
-  else
-    s << "incomplete: stopped at T = " << run.lastT << " after " << run.steps << " converged steps; " << run.failure;
-  writeStatus(s.str());
 }
 
 }  // namespace bc::core

@@ -1,6 +1,7 @@
 // The results directory of a run, written by rank 0 as steps converge, so nothing of a converged step
 // is lost when a later step fails:
-//   status.txt               "running", then "complete" or "incomplete: <cause>"
+//   status.txt               "running (pid N)", then "complete: ...", "incomplete: <cause>",
+//                            "interrupted: <signal> ..." or "failed: <cause>"
 //   steps.csv                step, T, cut level, Newton iterations, final residual, linear iterations
 //   tracked_points.csv       displacements and unwrapped rotation vectors of the named points
 //   reactions.csv            force and moment sums (f_int - f_ext) over each support's nodes
@@ -11,12 +12,23 @@
 //   timers.txt               StackedTimer summary
 //   summary.csv              one row: completed, last T, steps, Newton iterations (total and largest per
 //                            step), passes, solve wall time [s], peak memory [MB]; for studies and scripts
+//   checkpoint.txt           the state after a converged step (Output/Checkpoint Every, and when a
+//                            signal stops the run), for --restart (Checkpoint.hpp)
+//   effective_parameters.xml the deck with every default filled in
+// Every write is checked (Faults.hpp): a failure is an OutputError naming the file, raised on every
+// rank. Whole files (status, summary, results.pvd, checkpoint) are replaced atomically, CSV rows are
+// appended and flushed per step. A fresh run first clears the files an earlier run left in the
+// directory; a directory holding files of these names that no run wrote (no status.txt) is refused,
+// as is one in which a live run is writing. A restarted run keeps the rows up to its checkpoint's step
+// and appends after them.
 #pragma once
-#include <fstream>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include <Teuchos_ParameterList.hpp>
+
+#include "Faults.hpp"
 #include "Model.hpp"
 #include "StaticSolver.hpp"
 #include "TpetraTypes.hpp"
@@ -32,15 +44,26 @@ struct RunSummary {
 
 class ResultsWriter {
  public:
+  // Every member function is collective (call it on all ranks). `resumeStep` >= 0 continues the run
+  // in `directory` after that step (restart); otherwise the directory is prepared for a fresh run.
   ResultsWriter(const std::string& directory, const Model& model, Teuchos::RCP<const Comm> comm,
-                bool writeVtk = true);
+                bool writeVtk = true, int resumeStep = -1);
+  void writeEffective(const Teuchos::ParameterList& effective);
   void writeInitial(const State& state);
   void writeStep(const StepReport& step, const State& state, const std::vector<double>& fullResidual);
+  void writeCheckpoint(const std::string& text);
   void writeSummary(const RunSummary& summary);
   void finish(const RunReport& run, const std::string& timerReport);
+  // Best effort after an error: status "failed: <cause>" (never throws).
+  void fail(const std::string& cause) noexcept;
   const std::string& directory() const { return dir_; }
+  // The results files a run writes in its directory (besides vtk/step_*.vtu).
+  std::vector<std::string> fileNames() const;
 
  private:
+  void prepareFresh();
+  void prepareResume(int step);
+  void openTables(bool append);
   void writeVtk(int step, double T, const State& state);
   void writePvd();
   void writeStatus(const std::string& text);
@@ -48,10 +71,11 @@ class ResultsWriter {
 
   std::string dir_;
   const Model& model_;
+  Teuchos::RCP<const Comm> comm_;
   int rank_ = 0;
   bool vtk_ = true;
-  std::ofstream steps_, tracked_, reactions_;
-  std::vector<std::unique_ptr<std::ofstream>> tables_;  // one per contribution with a table
+  OutputFile steps_, tracked_, reactions_;
+  std::vector<std::unique_ptr<OutputFile>> tables_;  // one per contribution with a table
   std::vector<std::pair<double, std::string>> vtkFiles_;
 };
 

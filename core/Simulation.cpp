@@ -4,65 +4,128 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 
-#include <Teuchos_XMLParameterListHelpers.hpp>
+#include <Teuchos_CommHelpers.hpp>
 
+#include "Checkpoint.hpp"
+#include "Faults.hpp"
 #include "ResultsWriter.hpp"
 
 namespace bc::core {
+
+namespace {
+
+// The checkpoint's text, read on rank 0 and sent to all ranks.
+std::string readCheckpointText(const std::string& dir, const Comm& comm) {
+  std::string text;
+  collectively(comm, [&] {
+    if (comm.getRank() != 0) return;
+    const auto path = std::filesystem::path(dir) / "checkpoint.txt";
+    std::ifstream f(path);
+    if (!f) throw InputError("cannot restart: " + path.string() + " does not exist or cannot be read");
+    std::ostringstream s;
+    s << f.rdbuf();
+    text = s.str();
+  });
+  long long size = static_cast<long long>(text.size());
+  Teuchos::broadcast(comm, 0, &size);
+  text.resize(static_cast<std::size_t>(size));
+  if (size > 0) Teuchos::broadcast(comm, 0, static_cast<int>(size), text.data());
+  return text;
+}
+
+}  // namespace
 
 RunResult simulate(Model& model, const SolverSettings& settings, const Teuchos::ParameterList& linearSolver,
                    const RunOptions& options, Teuchos::RCP<const Comm> comm) {
   auto timer = Teuchos::rcp(new Teuchos::StackedTimer("BeamContact"));
   const bool root = comm->getRank() == 0;
   auto linear = makeLinearSolver(linearSolver);
-
-  ResultsWriter writer(options.outputDirectory, model, comm, options.writeVtk);
-  if (root && options.effective)
-    Teuchos::writeParameterListToXmlFile(*options.effective,
-                                         (std::filesystem::path(options.outputDirectory) / "effective_parameters.xml").string());
-  writer.writeInitial(model.initial);
-
   StaticSolver solver(comm, model, settings, *linear, timer);
   RunResult result;
-  const auto t0 = std::chrono::steady_clock::now();
-  const RunReport run = solver.run([&](const StepReport& step, const State& state, const Assembler& assembler) {
-    writer.writeStep(step, state, assembler.fullResidual());
-    result.steps.push_back(step);
-    if (root && options.progress) {
-      std::printf("step %4d  T = %.6f  Newton %2d  |r| %.3e", step.step, step.T, step.iterations,
-                  step.history.back().residualNorm);
-      for (const auto& c : model.contributions) {
-        const std::string summary = c->progressSummary();
-        if (!summary.empty()) std::printf("  %s", summary.c_str());
-      }
-      if (step.cutLevel) std::printf("  (cut level %d)", step.cutLevel);
-      std::printf("\n");
-      std::fflush(stdout);
-    }
-  });
-  const auto t1 = std::chrono::steady_clock::now();
-  timer->stopBaseTimer();
-  std::ostringstream report;
-  Teuchos::StackedTimer::OutputOptions opts;
-  opts.output_fraction = true;
-  opts.output_minmax = comm->getSize() > 1;
-  timer->report(report, comm, opts);
   RunSummary summary;
-  summary.run = run;
-  summary.solveSeconds = std::chrono::duration<double>(t1 - t0).count();
-  for (const auto& st : result.steps) {
-    summary.maxIterationsPerStep = std::max(summary.maxIterationsPerStep, st.iterations);
-    summary.passes += st.passes;
-  }
-  writer.writeSummary(summary);
-  writer.finish(run, report.str());
-  if (root && options.progress) std::printf("%s", report.str().c_str());
+  double earlierSeconds = 0.0;  // solve time of the run before the restart
 
-  result.report = run;
-  result.solveSeconds = std::chrono::duration<double>(t1 - t0).count();
-  result.finalState = solver.state();
+  // A restart: the solver and the contributions take the checkpoint's state before the results
+  // directory is touched, so a checkpoint that does not fit the deck changes nothing.
+  int resumeStep = -1;
+  if (options.restart) {
+    const std::string source = (std::filesystem::path(options.outputDirectory) / "checkpoint.txt").string();
+    CheckpointIn in(readCheckpointText(options.outputDirectory, *comm), source);
+    in.label("beamcontact-checkpoint");
+    if (in.integer() != 1) in.fail("it has an unknown format version");
+    in.label("deck");
+    if (in.word() != options.fingerprint)
+      in.fail("it was written for another deck (the deck changed outside its Output sublist)");
+    in.label("summary");
+    summary.passes = static_cast<int>(in.integer());
+    summary.maxIterationsPerStep = static_cast<int>(in.integer());
+    earlierSeconds = in.real();
+    solver.loadCheckpoint(in);
+    resumeStep = solver.runReport().steps;
+    result.restartedAtStep = resumeStep;
+  }
+
+  ResultsWriter writer(options.outputDirectory, model, comm, options.writeVtk, resumeStep);
+  try {
+    if (options.effective) writer.writeEffective(*options.effective);
+    if (!options.restart) writer.writeInitial(model.initial);
+
+    auto checkpoint = [&] {
+      CheckpointOut out;
+      out.label("beamcontact-checkpoint").integer(1);
+      out.label("deck").word(options.fingerprint);
+      out.label("summary").integer(summary.passes).integer(summary.maxIterationsPerStep).real(earlierSeconds);
+      solver.saveCheckpoint(out);
+      writer.writeCheckpoint(out.text());
+    };
+
+    const auto t0 = std::chrono::steady_clock::now();
+    const RunReport run = solver.run([&](const StepReport& step, const State& state, const Assembler& assembler) {
+      writer.writeStep(step, state, assembler.fullResidual());
+      result.steps.push_back(step);
+      summary.maxIterationsPerStep = std::max(summary.maxIterationsPerStep, step.iterations);
+      summary.passes += step.passes;
+      if (options.checkpointEvery > 0 && step.step % options.checkpointEvery == 0) checkpoint();
+      if (root && options.progress) {
+        std::printf("step %4d  T = %.6f  Newton %2d  |r| %.3e", step.step, step.T, step.iterations,
+                    step.history.back().residualNorm);
+        for (const auto& c : model.contributions) {
+          const std::string text = c->progressSummary();
+          if (!text.empty()) std::printf("  %s", text.c_str());
+        }
+        if (step.cutLevel) std::printf("  (cut level %d)", step.cutLevel);
+        std::printf("\n");
+        std::fflush(stdout);
+      }
+    });
+    const auto t1 = std::chrono::steady_clock::now();
+    const double seconds = std::chrono::duration<double>(t1 - t0).count();
+    // A run stopped by a signal keeps its last converged step for --restart.
+    if (run.interrupted) {
+      earlierSeconds += seconds;
+      checkpoint();
+    }
+    timer->stopBaseTimer();
+    std::ostringstream report;
+    Teuchos::StackedTimer::OutputOptions opts;
+    opts.output_fraction = true;
+    opts.output_minmax = comm->getSize() > 1;
+    timer->report(report, comm, opts);
+    summary.run = run;
+    summary.solveSeconds = earlierSeconds + (run.interrupted ? 0.0 : seconds);
+    writer.writeSummary(summary);
+    writer.finish(run, report.str());
+    if (root && options.progress) std::printf("%s", report.str().c_str());
+    result.report = run;
+    result.solveSeconds = summary.solveSeconds;
+    result.finalState = solver.state();
+  } catch (const std::exception& e) {
+    writer.fail(e.what());
+    throw;
+  }
   return result;
 }
 

@@ -1,5 +1,7 @@
 // One run, as the algorithm reads: set up the solver and the results directory, step the load,
-// write every converged step, close the run with its status and the timer summary.
+// write every converged step (and a checkpoint every few), close the run with its status and the
+// timer summary. A restart reads the checkpoint first and continues the load stepping from it.
+// Every error after the results directory exists leaves status.txt saying "failed: <cause>".
 #pragma once
 #include <iosfwd>
 #include <string>
@@ -17,13 +19,17 @@ struct RunOptions {
   bool writeVtk = true;
   bool progress = true;                       // one line per step on rank 0
   const Teuchos::ParameterList* effective = nullptr;  // written as effective_parameters.xml
+  int checkpointEvery = 0;     // write checkpoint.txt after every this many converged steps (0: never)
+  bool restart = false;        // continue from outputDirectory/checkpoint.txt
+  std::string fingerprint;     // of the deck (without Output), kept in the checkpoint
 };
 
 struct RunResult {
   RunReport report;
   double solveSeconds = 0.0;  // wall time of the load stepping (excludes start-up and set-up)
   State finalState;
-  std::vector<StepReport> steps;  // every converged step with its Newton history
+  std::vector<StepReport> steps;  // every converged step (of this process) with its Newton history
+  int restartedAtStep = -1;       // the checkpoint's step when restarted
 };
 
 RunResult simulate(Model& model, const SolverSettings& settings, const Teuchos::ParameterList& linearSolver,

@@ -3,6 +3,9 @@
 #include <cmath>
 #include <sstream>
 
+#include "Checkpoint.hpp"
+#include "Faults.hpp"
+
 #include <Teuchos_Array.hpp>
 
 namespace bc::core {
@@ -94,50 +97,66 @@ void StaticSolver::stop(const std::string& name) {
 }
 
 RunReport StaticSolver::run(const StepCallback& onStep) {
-  RunReport run;
-  double Ta = 0.0;
-  for (double Tb : settings_.loadFactors) {
-    if (!increment(Ta, Tb, run, onStep)) return run;
-    Ta = Tb;
+  const int n = static_cast<int>(settings_.loadFactors.size());
+  try {
+    while (progress_.increment < n) {
+      if (!increment(onStep)) return run_;
+    }
+  } catch (const Interrupted& e) {
+    // Stopped between Newton iterations: the last converged step stays the committed one.
+    for (auto& c : model_.contributions) c->restoreStep();
+    graphStale_ = true;
+    run_.interrupted = e.signal();
+    run_.failure = e.what();
+    return run_;
   }
-  run.completed = true;
-  return run;
+  run_.completed = true;
+  return run_;
 }
 
-bool StaticSolver::increment(double Ta, double Tb, RunReport& run, const StepCallback& onStep) {
+bool StaticSolver::increment(const StepCallback& onStep) {
   // Pieces of (Tb - Ta) / 2^level: a failed piece is halved (level + 1), two converged pieces in a
   // row double the next one (level - 1), so a hard moment costs small steps only while it lasts.
-  int level = 0, converged = 0;
-  double T = Ta;
-  while (T < Tb) {
-    const double piece = (Tb - Ta) / double(1 << level);
-    const double Tn = (Tb - T) <= 1.000001 * piece ? Tb : T + piece;
+  // Where the increment stands (T, level, converged pieces) is kept in progress_, so a checkpoint
+  // written after any piece resumes the same sequence.
+  const int i = progress_.increment;
+  const double Ta = i == 0 ? 0.0 : settings_.loadFactors[i - 1], Tb = settings_.loadFactors[i];
+  Progress& at = progress_;
+  while (at.T < Tb) {
+    if (const int sig = receivedSignalOnAnyRank(*comm_)) throw Interrupted(sig);
+    const double piece = (Tb - Ta) / double(1 << at.level);
+    const double Tn = (Tb - at.T) <= 1.000001 * piece ? Tb : at.T + piece;
     std::string failure;
-    if (attempt(T, Tn, level, run, onStep, failure)) {
-      T = Tn;
-      if (++converged >= 2 && level > 0) {
-        --level;
-        converged = 0;
+    StepReport report;
+    if (attempt(at.T, Tn, at.level, report, failure)) {
+      at.T = Tn;
+      if (++at.converged >= 2 && at.level > 0) {
+        --at.level;
+        at.converged = 0;
       }
+      if (Tn == Tb) at = Progress{i + 1, Tb, 0, 0};
+      start("Output");
+      onStep(report, committed_, assembler_);
+      stop("Output");
+      if (Tn == Tb) return true;
       continue;
     }
-    converged = 0;
-    if (level >= settings_.maxStepCuts) {
+    at.converged = 0;
+    if (at.level >= settings_.maxStepCuts) {
       std::ostringstream s;
-      s << "increment T = " << T << " -> " << Tn << " did not converge after " << level
+      s << "increment T = " << at.T << " -> " << Tn << " did not converge after " << at.level
         << " step cuts (Maximum Step Cuts): " << failure;
-      run.failure = s.str();
+      run_.failure = s.str();
       return false;
     }
-    if (comm_->getRank() == 0) std::printf("  cutting increment T = %.6g -> %.6g (%s)\n", T, Tn, failure.c_str());
-    ++level;
+    if (comm_->getRank() == 0) std::printf("  cutting increment T = %.6g -> %.6g (%s)\n", at.T, Tn, failure.c_str());
+    ++at.level;
   }
+  progress_ = Progress{i + 1, Tb, 0, 0};
   return true;
 }
 
-bool StaticSolver::attempt(double Ta, double Tb, int cutLevel, RunReport& run, const StepCallback& onStep,
-                           std::string& failure) {
-  StepReport report;
+bool StaticSolver::attempt(double Ta, double Tb, int cutLevel, StepReport& report, std::string& failure) {
   trial_ = committed_;
   if (newton(Ta, Tb, report, failure, true)) {
     previous_ = committed_;
@@ -146,19 +165,68 @@ bool StaticSolver::attempt(double Ta, double Tb, int cutLevel, RunReport& run, c
     committed_ = trial_;
     committed_.updateRotationVectors();
     for (auto& c : model_.contributions) c->commitStep(committed_);
-    report.step = ++run.steps;
+    report.step = ++run_.steps;
     report.T = Tb;
     report.cutLevel = cutLevel;
-    run.newtonIterations += report.iterations;
-    run.lastT = Tb;
-    start("Output");
-    onStep(report, committed_, assembler_);
-    stop("Output");
+    run_.newtonIterations += report.iterations;
+    run_.lastT = Tb;
     return true;
   }
   for (auto& c : model_.contributions) c->restoreStep();
   graphStale_ = true;  // the restored contributions may couple other dofs than the last graph
   return false;
+}
+
+void StaticSolver::saveCheckpoint(CheckpointOut& out) const {
+  out.label("run").integer(run_.steps).integer(run_.newtonIterations).real(run_.lastT);
+  out.label("progress").integer(progress_.increment).real(progress_.T).integer(progress_.level).integer(progress_.converged);
+  out.label("load-factors").integer(static_cast<long long>(settings_.loadFactors.size()));
+  for (double t : settings_.loadFactors) out.real(t);
+  out.label("committed").real(committedT_);
+  out.state(committed_);
+  out.label("previous").real(previousT_);
+  out.state(previousT_ >= 0.0 ? previous_ : committed_);
+  for (const auto& c : model_.contributions) {
+    out.label("contribution").word(c->name());
+    c->saveCommitted(out);
+  }
+  out.label("end");
+}
+
+void StaticSolver::loadCheckpoint(CheckpointIn& in) {
+  in.label("run");
+  run_ = RunReport{};
+  run_.steps = static_cast<int>(in.integer());
+  run_.newtonIterations = static_cast<int>(in.integer());
+  run_.lastT = in.real();
+  in.label("progress");
+  progress_.increment = static_cast<int>(in.integer());
+  progress_.T = in.real();
+  progress_.level = static_cast<int>(in.integer());
+  progress_.converged = static_cast<int>(in.integer());
+  in.label("load-factors");
+  if (in.integer() != static_cast<long long>(settings_.loadFactors.size())) in.fail("the load stepping differs");
+  for (double t : settings_.loadFactors)
+    if (in.real() != t) in.fail("the load stepping differs");
+  if (progress_.increment < 0 || progress_.increment > static_cast<int>(settings_.loadFactors.size()) ||
+      progress_.level < 0 || progress_.level > settings_.maxStepCuts)
+    in.fail("its load-stepping position is out of range");
+  in.label("committed");
+  committedT_ = in.real();
+  committed_ = model_.initial;
+  in.state(committed_);
+  in.label("previous");
+  previousT_ = in.real();
+  previous_ = model_.initial;
+  in.state(previous_);
+  for (auto& c : model_.contributions) {
+    in.label("contribution");
+    if (in.word() != CheckpointOut::token(c->name())) in.fail("its contributions differ from the deck's");
+    c->loadCommitted(in, committed_);
+  }
+  in.label("end");
+  trial_ = committed_;
+  graphStale_ = true;
 }
 
 StepReport StaticSolver::iterateFrom(const State& start, double Ta, double Tb, State& result) {
@@ -212,6 +280,7 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
   double alpha = 1.0, lastResidual = 0.0;
   int backtracks = 0;
   for (int k = 0;; ++k) {
+    if (const int sig = receivedSignalOnAnyRank(*comm_)) throw Interrupted(sig);
     const int kp = k - passStart;
     bool rebuild = graphStale_ || assembler_.ownedMap().is_null() ||
                    static_cast<Tpetra::global_size_t>(trial_.numDofs()) != assembler_.ownedMap()->getGlobalNumElements();

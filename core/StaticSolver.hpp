@@ -28,6 +28,7 @@
 #include <Teuchos_StackedTimer.hpp>
 
 #include "Assembler.hpp"
+#include "Checkpoint.hpp"
 #include "LinearSolver.hpp"
 #include "Model.hpp"
 #include "Parameters.hpp"
@@ -58,6 +59,7 @@ struct RunReport {
   int newtonIterations = 0;
   double lastT = 0.0;
   std::string failure;  // cause, when not completed
+  int interrupted = 0;  // the signal that stopped the run (0: none)
 };
 
 struct SolverSettings {
@@ -85,17 +87,24 @@ class StaticSolver {
   StaticSolver(Teuchos::RCP<const Comm> comm, Model& model, SolverSettings settings, LinearSolver& linear,
                Teuchos::RCP<Teuchos::StackedTimer> timer = Teuchos::null);
 
-  // Runs all increments; `onStep` is called on every rank after each converged (sub)step.
+  // Runs the increments (from the start, or from where loadCheckpoint left); `onStep` is called on
+  // every rank after each converged (sub)step. A signal (Faults.hpp) stops it between Newton
+  // iterations with the last converged step committed (RunReport::interrupted).
   RunReport run(const StepCallback& onStep);
+  // The complete solver state after the last converged step, and its restoration (with every
+  // contribution's history); the next run() continues from there.
+  void saveCheckpoint(CheckpointOut& out) const;
+  void loadCheckpoint(CheckpointIn& in);
   const State& state() const { return committed_; }
+  const RunReport& runReport() const { return run_; }
   // Newton iterations from `start` (converged at load factor Ta) to Tb, prescribed motions advanced
   // by their change; for convergence studies. Returns the history and the final state.
   StepReport iterateFrom(const State& start, double Ta, double Tb, State& result);
   Assembler& assembler() { return assembler_; }
 
  private:
-  bool attempt(double Ta, double Tb, int cutLevel, RunReport& run, const StepCallback& onStep, std::string& failure);
-  bool increment(double Ta, double Tb, RunReport& run, const StepCallback& onStep);
+  bool attempt(double Ta, double Tb, int cutLevel, StepReport& report, std::string& failure);
+  bool increment(const StepCallback& onStep);
   bool newton(double Ta, double Tb, StepReport& report, std::string& failure, bool predict = false);
   void start(const std::string& name);
   void stop(const std::string& name);
@@ -110,6 +119,15 @@ class StaticSolver {
   State previous_;            // the converged state before committed_ (for the predictor)
   double previousT_ = -1.0, committedT_ = 0.0;  // their load factors; previousT_ < 0: none yet
   bool graphStale_ = false;
+  // Where the load stepping stands: the configured increment, the load factor reached within it, its
+  // cut level and the converged pieces at that level.
+  struct Progress {
+    int increment = 0;
+    double T = 0.0;
+    int level = 0;
+    int converged = 0;
+  } progress_;
+  RunReport run_;
 };
 
 }  // namespace bc::core

@@ -1,11 +1,12 @@
 // beamcontact: command-line driver. Parses arguments, reads and validates the deck, runs it.
-//   beamcontact run DECK.xml [--output DIR] [--quiet]
+//   beamcontact run DECK.xml [--output DIR] [--quiet] [--restart DIR]
 //   beamcontact study STUDY.xml [--output DIR] [--parallel N] [--no-report]
 //   beamcontact render RESULTS_DIR OUT.png [--stages T1,T2,...] [--view ELEV,AZIM] [--title TEXT]
 //   beamcontact --print-valid-parameters
 //   beamcontact --help
-// Exit codes: 0 run complete; 1 usage or input error; 2 run incomplete (a step failed to converge);
-// 3 unexpected error. Errors are one line on stderr naming the cause.
+// Exit codes: 0 run complete; 1 usage or input error; 2 run incomplete (a step failed to converge, or
+// a results file could not be written); 3 unexpected error; 128 + N stopped by signal N (SIGTERM:
+// 143, SIGINT: 130) after writing a checkpoint. Errors are one line on stderr naming the cause.
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -18,13 +19,14 @@
 #include "Study.hpp"
 #include "constraints/EnforcerRegistry.hpp"
 
+#include "core/Faults.hpp"
 #include "core/Simulation.hpp"
 #include "input/Deck.hpp"
 
 namespace {
 
 const char* kUsage =
-    "usage: beamcontact run DECK.xml [--output DIR] [--quiet]\n"
+    "usage: beamcontact run DECK.xml [--output DIR] [--quiet] [--restart DIR]\n"
     "       beamcontact study STUDY.xml [--output DIR] [--parallel N] [--no-report]\n"
     "       beamcontact render RESULTS_DIR OUT.png [--stages T1,T2,...] [--view ELEV,AZIM] [--title TEXT]\n"
     "       beamcontact --print-valid-parameters\n"
@@ -37,8 +39,12 @@ const char* kUsage =
     "(default: one per core), and writes cases.csv, report.md and plots (docs/studies.md).\n"
     "render draws a run's beams and contact forces at four stages of loading (default T = 0.25, 0.5,\n"
     "0.75, 1) into a PNG, from the run's VTK files.\n"
-    "Exit codes: 0 complete, 1 usage or input error, 2 run incomplete (a study: some case did not\n"
-    "complete; every case is recorded), 3 unexpected error.\n";
+    "--restart DIR continues the run whose results are in DIR from its checkpoint.txt (written every\n"
+    "Output/Checkpoint Every steps and when SIGTERM or SIGINT stops a run); the deck must be the same\n"
+    "outside its Output sublist.\n"
+    "Exit codes: 0 complete, 1 usage or input error, 2 run incomplete or a results file could not be\n"
+    "written (a study: some case did not complete; every case is recorded), 3 unexpected error,\n"
+    "128 + N stopped by signal N (status.txt says so).\n";
 
 int studyCommand(const std::vector<std::string>& args) {
   bc::drivers::StudyOptions options;
@@ -73,29 +79,41 @@ int studyCommand(const std::vector<std::string>& args) {
   }
 }
 
-int runDeck(const std::string& deck, const std::string& output, bool quiet) {
+int runDeck(const std::string& deck, const std::string& output, bool quiet, const std::string& restart) {
   auto comm = Tpetra::getDefaultComm();
   const bool root = comm->getRank() == 0;
   const std::string stem = std::filesystem::path(deck).stem().string();
   bc::input::Problem problem = bc::input::buildProblem(bc::input::readDeckFile(deck), stem);
-  if (!output.empty()) problem.outputDirectory = output;
+  if (!restart.empty()) problem.outputDirectory = restart;
+  else if (!output.empty()) problem.outputDirectory = output;
   bc::core::RunOptions options;
   options.outputDirectory = problem.outputDirectory;
   options.writeVtk = problem.writeVtk;
   options.progress = !quiet;
   options.effective = &problem.effective;
+  options.checkpointEvery = problem.checkpointEvery;
+  options.restart = !restart.empty();
+  options.fingerprint = bc::input::deckFingerprint(problem);
   if (root)
     std::printf("BeamContact: %s, %d nodes, %zu elements, %d ranks\n", deck.c_str(),
                 problem.model.initial.numNodes(), problem.beams->elements().size(), comm->getSize());
   const auto result = bc::core::simulate(problem.model, problem.solver, problem.linearSolver, options, comm);
   if (root) {
+    if (result.restartedAtStep >= 0)
+      std::printf("restarted after step %d from %s/checkpoint.txt\n", result.restartedAtStep,
+                  problem.outputDirectory.c_str());
     if (result.report.completed)
       std::printf("complete: %d steps, %d Newton iterations, solve %.3f s; results in %s\n", result.report.steps,
                   result.report.newtonIterations, result.solveSeconds, problem.outputDirectory.c_str());
+    else if (result.report.interrupted)
+      std::fprintf(stderr, "beamcontact: interrupted by %s at T = %g; continue with: beamcontact run %s --restart %s\n",
+                   bc::core::signalName(result.report.interrupted).c_str(), result.report.lastT, deck.c_str(),
+                   problem.outputDirectory.c_str());
     else
       std::fprintf(stderr, "beamcontact: run incomplete: stopped at T = %g: %s (converged steps are in %s)\n",
                    result.report.lastT, result.report.failure.c_str(), problem.outputDirectory.c_str());
   }
+  if (result.report.interrupted) return 128 + result.report.interrupted;
   return result.report.completed ? 0 : 2;
 }
 
@@ -125,6 +143,7 @@ int main(int argc, char** argv) {
     return studyCommand(args);
   }
   Tpetra::ScopeGuard scope(&argc, &argv);
+  bc::core::installSignalHandlers();
   bc::constraints::registerBuiltinEnforcers();
   const bool root = Tpetra::getDefaultComm()->getRank() == 0;
   try {
@@ -140,20 +159,39 @@ int main(int argc, char** argv) {
       if (root) std::fprintf(stderr, "beamcontact: unknown command \"%s\"\n%s", args[0].c_str(), kUsage);
       return 1;
     }
-    std::string output;
+    std::string output, restart;
     bool quiet = false;
     for (std::size_t i = 2; i < args.size(); ++i) {
       if (args[i] == "--output" && i + 1 < args.size()) output = args[++i];
+      else if (args[i] == "--restart" && i + 1 < args.size()) restart = args[++i];
       else if (args[i] == "--quiet") quiet = true;
       else {
-        if (root) std::fprintf(stderr, "beamcontact: unknown option \"%s\"\n%s", args[i].c_str(), kUsage);
+        if (root)
+          std::fprintf(stderr, "beamcontact: %s \"%s\"\n%s",
+                       args[i] == "--output" || args[i] == "--restart" ? "missing directory after" : "unknown option",
+                       args[i].c_str(), kUsage);
         return 1;
       }
     }
-    return runDeck(args[1], output, quiet);
+    if (!restart.empty() && !output.empty() &&
+        std::filesystem::path(restart).lexically_normal() != std::filesystem::path(output).lexically_normal()) {
+      if (root) std::fprintf(stderr, "beamcontact: --restart continues in its own directory; leave out --output\n");
+      return 1;
+    }
+    if ((!output.empty() && output.find_first_not_of(' ') == std::string::npos)) {
+      if (root) std::fprintf(stderr, "beamcontact: --output names no directory\n");
+      return 1;
+    }
+    return runDeck(args[1], output, quiet, restart);
   } catch (const bc::core::InputError& e) {
     if (root) std::fprintf(stderr, "beamcontact: input error: %s\n", e.what());
     return 1;
+  } catch (const bc::core::OutputError& e) {
+    if (root) std::fprintf(stderr, "beamcontact: output error: %s\n", e.what());
+    return 2;
+  } catch (const std::bad_alloc&) {
+    if (root) std::fprintf(stderr, "beamcontact: error: out of memory (the model is too large for this machine)\n");
+    return 3;
   } catch (const std::exception& e) {
     if (root) std::fprintf(stderr, "beamcontact: error: %s\n", e.what());
     return 3;

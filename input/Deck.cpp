@@ -2,12 +2,15 @@
 
 #include <cmath>
 #include <filesystem>
+#include <cstdio>
 #include <fstream>
+#include <sstream>
 
 #include <Teuchos_Array.hpp>
 #include <Teuchos_XMLParameterListHelpers.hpp>
 
 #include "constraints/ContactManager.hpp"
+#include "core/Checkpoint.hpp"
 #include "constraints/EnforcerRegistry.hpp"
 
 namespace bc::input {
@@ -109,6 +112,10 @@ const ParameterSpec& outputSpec() {
     p.addOptional("Directory", std::string("results/<deck name>"),
                   "results directory (default results/<deck file name without .xml>); --output overrides it");
     p.add("Write VTK", true, "write vtk/step_*.vtu and results.pvd");
+    p.add("Checkpoint Every", 0,
+          "write checkpoint.txt (the complete state, for --restart) after every this many converged steps; 0: "
+          "only when a signal stops the run",
+          core::atLeast(0), ">= 0");
     p.addSublist("Tracked Points", ParameterList(),
                  "named sublists, each a point (Beam + Node, or Point) whose motion is written per step");
     return p;
@@ -465,6 +472,10 @@ Problem buildProblem(ParameterList deck, const std::string& deckName) {
   outputSpec().apply(out, top + "/Output");
   p.writeVtk = out.get<bool>("Write VTK");
   p.outputDirectory = out.isParameter("Directory") ? out.get<std::string>("Directory") : "results/" + deckName;
+  if (p.outputDirectory.find_first_not_of(" \t") == std::string::npos)
+    throw InputError("parameter \"" + top + "/Output/Directory\" is empty; name a directory (or leave the "
+                     "parameter out for results/" + deckName + ")");
+  p.checkpointEvery = out.get<int>("Checkpoint Every");
   forEachItem(out.sublist("Tracked Points"), top + "/Output/Tracked Points", trackedSpec(),
               [&](ParameterList& t, const std::string& name, const std::string& path) {
                 p.model.tracked.push_back({name, locate.nodes(t, path, false).front()});
@@ -475,6 +486,16 @@ Problem buildProblem(ParameterList deck, const std::string& deckName) {
     throw InputError("\"" + top + "/Supports\" is empty: the structure would be free to move as a rigid body");
   p.effective = deck;
   return p;
+}
+
+std::string deckFingerprint(const Problem& problem) {
+  ParameterList deck = problem.effective;
+  deck.remove("Output", false);
+  std::ostringstream xml;
+  Teuchos::writeParameterListToXmlOStream(deck, xml);
+  char hex[32];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(core::fingerprint(xml.str())));
+  return hex;
 }
 
 ParameterList referenceParameters() {

@@ -28,6 +28,7 @@ struct Problem {
   Teuchos::ParameterList linearSolver;   // validated "Linear Solver" sublist
   std::string outputDirectory;
   bool writeVtk = true;
+  int checkpointEvery = 0;               // Output/Checkpoint Every
   Teuchos::ParameterList effective;      // the whole deck with defaults filled in
 };
 
@@ -37,6 +38,8 @@ Teuchos::ParameterList readDeckFile(const std::string& path);
 // must be registered first (constraints::registerBuiltinEnforcers()). `deckName` names the default
 // results directory ("results/<deckName>").
 Problem buildProblem(Teuchos::ParameterList deck, const std::string& deckName);
+// The deck's fingerprint for checkpoints: the effective parameters without the Output sublist.
+std::string deckFingerprint(const Problem& problem);
 // The documented reference of every parameter.
 Teuchos::ParameterList referenceParameters();
 

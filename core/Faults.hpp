@@ -1,0 +1,79 @@
+// What keeps a run's record true when something goes wrong around the mechanics:
+//  - checked output: every write, flush, close and rename is checked, and a failure is an OutputError
+//    naming the file and the system's reason (a full disk, a file size limit), never a half-written
+//    file that looks complete;
+//  - interruption: SIGTERM, SIGINT and SIGHUP set a flag that the solver polls (on every rank, agreed
+//    collectively) between Newton iterations, so a run stops at a defined point and says so; a second
+//    signal ends the process at once;
+//  - collective errors: work done on one rank (rank 0 writes the files) is followed by an agreement, so
+//    an error raised there stops every rank with the same message instead of leaving the others waiting
+//    in the next collective operation.
+#pragma once
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <stdexcept>
+#include <string>
+
+#include "TpetraTypes.hpp"
+
+namespace bc::core {
+
+// A results file could not be written (the message names the file and the reason).
+class OutputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// The run was stopped by a signal (its number is in signal()).
+class Interrupted : public std::runtime_error {
+ public:
+  explicit Interrupted(int signal);
+  int signal() const { return signal_; }
+
+ private:
+  int signal_;
+};
+
+// A text file written in pieces (CSV rows); every piece is written and flushed at once and checked.
+class OutputFile {
+ public:
+  OutputFile() = default;
+  OutputFile(const OutputFile&) = delete;
+  OutputFile& operator=(const OutputFile&) = delete;
+  ~OutputFile();
+  // Opens for writing (truncating) or appending.
+  void open(const std::filesystem::path& path, bool append = false);
+  void write(const std::string& text);
+  void close();
+  bool isOpen() const { return file_ != nullptr; }
+
+ private:
+  void fail(const std::string& what);
+  std::FILE* file_ = nullptr;
+  std::string path_;
+};
+
+// Writes `text` to `path` through a temporary file in the same directory and a rename, so the file is
+// either the old one or the complete new one. Throws OutputError.
+void writeFileAtomically(const std::filesystem::path& path, const std::string& text);
+// The system's reason for the last failed call, e.g. "No space left on device".
+std::string systemReason();
+
+// Signal handling (call once, after MPI is initialized): SIGTERM, SIGINT and SIGHUP are recorded;
+// SIGXFSZ is ignored so that a file size limit makes the write fail (and be reported) instead of
+// killing the process.
+void installSignalHandlers();
+// The signal received so far on this rank (0: none).
+int receivedSignal();
+// Collective: the signal received on any rank (the largest number), 0 if none.
+int receivedSignalOnAnyRank(const Comm& comm);
+// "SIGTERM", "SIGINT", ... or "signal N".
+std::string signalName(int signal);
+
+// Runs `work` on every rank (on ranks where it has nothing to do it simply returns), then agrees:
+// when it threw on any rank, every rank throws the first failing rank's error, of the same kind
+// (InputError, OutputError, Interrupted or std::runtime_error).
+void collectively(const Comm& comm, const std::function<void()>& work);
+
+}  // namespace bc::core
