@@ -15,7 +15,17 @@ namespace bc::core {
 
 SolveReport LinearSolver::solve(const Teuchos::RCP<const Matrix>& A, const Vector& b, Vector& x) {
   SolveReport report;
-  report.iterations = doSolve(A, b, x);
+  try {
+    report.iterations = doSolve(A, b, x);
+  } catch (const LinearSolveError&) {
+    throw;
+  } catch (const std::exception& e) {
+    // Amesos2 and Belos report over several lines; the first names the failure.
+    std::string what = e.what();
+    what = what.substr(0, what.find('\n'));
+    throw LinearSolveError(name() + " failed, the tangent matrix is probably singular (a free motion: a beam "
+                           "without enough supports, or a contact constraint that fixes nothing): " + what);
+  }
   Vector r(b.getMap());
   A->apply(x, r);
   r.update(1.0, b, -1.0);

@@ -110,6 +110,14 @@ ParameterSpec::Check atLeast(int minimum) {
     return v >= minimum ? std::string() : "must be >= " + std::to_string(minimum) + ", got " + show(v);
   };
 }
+ParameterSpec::Check wholeBetween(int minimum, int maximum) {
+  return [minimum, maximum](const Teuchos::ParameterEntry& e) {
+    const double v = number(e);
+    return (v >= minimum && v <= maximum) ? std::string()
+                                          : "must be from " + std::to_string(minimum) + " to " +
+                                                std::to_string(maximum) + ", got " + show(v);
+  };
+}
 ParameterSpec::Check inRange(double lo, double hi) {
   return [lo, hi](const Teuchos::ParameterEntry& e) {
     const double v = number(e);

@@ -71,6 +71,7 @@ class ParameterSpec {
 ParameterSpec::Check positive();
 ParameterSpec::Check nonNegative();
 ParameterSpec::Check atLeast(int minimum);
+ParameterSpec::Check wholeBetween(int minimum, int maximum);  // minimum <= v <= maximum
 ParameterSpec::Check inRange(double lo, double hi);  // lo < v <= hi
 ParameterSpec::Check vector3();                      // Array(double) of 3 entries
 

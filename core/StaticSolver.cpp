@@ -13,11 +13,12 @@ namespace bc::core {
 const ParameterSpec& loadSteppingSpec() {
   static const ParameterSpec spec = [] {
     ParameterSpec s;
-    s.add("Number of Increments", 10, "equal increments of the load factor T from 0 to 1", atLeast(1), ">= 1");
+    s.add("Number of Increments", 10, "equal increments of the load factor T from 0 to 1", wholeBetween(1, 10000000),
+          "1 to 1e7");
     s.addOptional("Load Factors", Teuchos::Array<double>(),
                   "explicit increasing list of T values ending at 1 (non-uniform stepping); replaces "
                   "Number of Increments");
-    s.add("Maximum Step Cuts", 5, "how many times a failing increment may be halved", atLeast(0), ">= 0");
+    s.add("Maximum Step Cuts", 5, "how many times a failing increment may be halved", wholeBetween(0, 30), "0 to 30");
     return s;
   }();
   return spec;
@@ -26,7 +27,7 @@ const ParameterSpec& loadSteppingSpec() {
 const ParameterSpec& newtonSpec() {
   static const ParameterSpec spec = [] {
     ParameterSpec s;
-    s.add("Maximum Iterations", 25, "Newton iterations allowed per increment", atLeast(1), ">= 1");
+    s.add("Maximum Iterations", 25, "Newton iterations allowed per increment", wholeBetween(1, 100000), "1 to 1e5");
     s.add("Residual Tolerance", 1e-9,
           "converged when ||r|| <= this * max(first residual of the step, ||T f_ext||, ||reactions||)",
           inRange(0.0, 1.0), "in (0, 1]");
@@ -41,7 +42,8 @@ const ParameterSpec& newtonSpec() {
                 "\"Backtracking\": an iterate whose residual did not fall is replaced by one with half the step, up "
                 "to Maximum Backtracks times (large-rotation beam paths are not monotone in ||r||: there it costs "
                 "iterations)");
-    s.add("Maximum Backtracks", 8, "step halvings allowed per Newton iteration (Line Search)", atLeast(1), ">= 1");
+    s.add("Maximum Backtracks", 8, "step halvings allowed per Newton iteration (Line Search)", wholeBetween(1, 50),
+          "1 to 50");
     s.add("Divergence Factor", 1e10, "an iterate whose residual exceeds this times the reference diverged",
           positive(), "> 0");
     return s;

@@ -20,6 +20,7 @@
 #include <Teuchos_XMLParameterListHelpers.hpp>
 
 #include "core/Parameters.hpp"
+#include "input/XmlDeck.hpp"
 
 extern char** environ;
 
@@ -329,12 +330,7 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
       throw InputError("run the study without mpirun: it starts each case as a process of its own");
   }
   if (!fs::exists(studyFile)) throw InputError("study deck \"" + studyFile + "\" does not exist");
-  Teuchos::RCP<ParameterList> study;
-  try {
-    study = Teuchos::getParametersFromXmlFile(studyFile);
-  } catch (const std::exception& e) {
-    throw InputError("study deck \"" + studyFile + "\" is not a valid XML parameter list: " + std::string(e.what()));
-  }
+  const Teuchos::RCP<ParameterList> study = Teuchos::rcp(new ParameterList(input::readParameterXmlFile(studyFile)));
   const std::string root = "Study";
   const std::string stem = fs::path(studyFile).stem().string();
 
@@ -352,7 +348,7 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
 
   const fs::path base = (fs::path(studyFile).parent_path() / study->get<std::string>("Base Deck")).lexically_normal();
   if (!fs::exists(base)) throw InputError("parameter \"" + root + "/Base Deck\": file \"" + base.string() + "\" does not exist");
-  const Teuchos::RCP<ParameterList> baseDeck = Teuchos::getParametersFromXmlFile(base.string());
+  const Teuchos::RCP<ParameterList> baseDeck = Teuchos::rcp(new ParameterList(input::readParameterXmlFile(base.string())));
   const double atT = study->get<double>("At T");
 
   // Groups and their cases.

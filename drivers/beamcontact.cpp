@@ -1,5 +1,6 @@
 // beamcontact: command-line driver. Parses arguments, reads and validates the deck, runs it.
 //   beamcontact run DECK.xml [--output DIR] [--quiet] [--restart DIR]
+//   beamcontact check DECK.xml
 //   beamcontact study STUDY.xml [--output DIR] [--parallel N] [--no-report]
 //   beamcontact render RESULTS_DIR OUT.png [--stages T1,T2,...] [--view ELEV,AZIM] [--title TEXT]
 //   beamcontact --print-valid-parameters
@@ -27,6 +28,7 @@ namespace {
 
 const char* kUsage =
     "usage: beamcontact run DECK.xml [--output DIR] [--quiet] [--restart DIR]\n"
+    "       beamcontact check DECK.xml\n"
     "       beamcontact study STUDY.xml [--output DIR] [--parallel N] [--no-report]\n"
     "       beamcontact render RESULTS_DIR OUT.png [--stages T1,T2,...] [--view ELEV,AZIM] [--title TEXT]\n"
     "       beamcontact --print-valid-parameters\n"
@@ -35,6 +37,7 @@ const char* kUsage =
     "Runs a BeamContact XML deck: geometrically nonlinear 3D beams, load factor T from 0 to 1.\n"
     "Results (CSV, VTK, status, effective parameters) go to the deck's Output/Directory, by\n"
     "default results/<deck name>, or to DIR.\n"
+    "check reads and validates a deck and checks the model (supports, duplicates) without running it.\n"
     "A study runs every case of a study deck (a base deck and the parameters to vary), N at a time\n"
     "(default: one per core), and writes cases.csv, report.md and plots (docs/studies.md).\n"
     "render draws a run's beams and contact forces at four stages of loading (default T = 0.25, 0.5,\n"
@@ -52,13 +55,12 @@ int studyCommand(const std::vector<std::string>& args) {
     if (args[i] == "--output" && i + 1 < args.size()) {
       options.output = args[++i];
     } else if (args[i] == "--parallel" && i + 1 < args.size()) {
-      try {
-        options.parallel = std::stoi(args[++i]);
-      } catch (const std::exception&) {
-        options.parallel = -1;
-      }
-      if (options.parallel < 1) {
-        std::fprintf(stderr, "beamcontact: --parallel takes a whole number >= 1, got \"%s\"\n", args[i].c_str());
+      const std::string& v = args[++i];
+      options.parallel = -1;
+      if (!v.empty() && v.size() <= 4 && v.find_first_not_of("0123456789") == std::string::npos)
+        options.parallel = std::stoi(v);
+      if (options.parallel < 1 || options.parallel > 1024) {
+        std::fprintf(stderr, "beamcontact: --parallel takes a whole number from 1 to 1024, got \"%s\"\n", args[i].c_str());
         return 1;
       }
     } else if (args[i] == "--no-report") {
@@ -153,6 +155,15 @@ int main(int argc, char** argv) {
         bc::input::referenceParameters().print(
             std::cout, Teuchos::ParameterList::PrintOptions().showDoc(true).indent(2).showTypes(true));
       }
+      return 0;
+    }
+    if (args[0] == "check" && args.size() == 2) {
+      const auto problem = bc::input::buildProblem(bc::input::readDeckFile(args[1]),
+                                                   std::filesystem::path(args[1]).stem().string());
+      if (root)
+        std::printf("ok: %s: %d nodes, %zu elements, %zu supports, %zu loads\n", args[1].c_str(),
+                    problem.model.initial.numNodes(), problem.beams->elements().size(), problem.model.supports.size(),
+                    problem.model.loads.size());
       return 0;
     }
     if (args[0] != "run" || args.size() < 2) {

@@ -1,5 +1,9 @@
 #include "Deck.hpp"
 
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <cstdio>
@@ -8,6 +12,8 @@
 
 #include <Teuchos_Array.hpp>
 #include <Teuchos_XMLParameterListHelpers.hpp>
+
+#include "XmlDeck.hpp"
 
 #include "constraints/ContactManager.hpp"
 #include "core/Checkpoint.hpp"
@@ -53,7 +59,7 @@ const ParameterSpec& beamSpec() {
     ParameterSpec p;
     p.addRequired("Start", zero3(), "coordinates of the first node [length]", core::vector3());
     p.addRequired("End", zero3(), "coordinates of the last node [length]", core::vector3());
-    p.addRequired("Elements", 10, "number of elements along the beam", core::atLeast(1), ">= 1");
+    p.addRequired("Elements", 10, "number of elements along the beam", core::wholeBetween(1, 10000000), "1 to 1e7");
     p.addOptional("Section Orientation", zero3(),
                   "direction of the section's local y axis (the Width side); default: normal to the beam axis "
                   "and to global Z (for a beam along Z: global Y)",
@@ -178,6 +184,23 @@ const ParameterSpec& topSpec() {
 
 Vec3d toVec(const Array<double>& a) { return {{a[0], a[1], a[2]}}; }
 
+// Item names appear in CSV headers and rows: they must be plain text without commas or quotes.
+void checkName(const std::string& name, const std::string& path) {
+  std::string why;
+  if (name.empty() || name.find_first_not_of(' ') == std::string::npos) why = "is empty";
+  else if (name.front() == ' ' || name.back() == ' ') why = "starts or ends with a space";
+  else if (name.size() > 100) why = "is longer than 100 characters";
+  else
+    for (unsigned char c : name)
+      if (c == ',' || c == '"' || c < 32 || c == 127) {
+        why = c == ',' ? "contains a comma" : c == '"' ? "contains a quote" : "contains a control character";
+        break;
+      }
+  if (!why.empty())
+    throw InputError("the name \"" + name + "\" in \"" + path + "\" " + why +
+                     "; names appear in the CSV results, use letters, digits, spaces, - _ . ( ) /");
+}
+
 // Validates every sublist of `parent` with `spec` (each sublist is one named item).
 void forEachItem(ParameterList& parent, const std::string& path, const ParameterSpec& spec,
                  const std::function<void(ParameterList&, const std::string&, const std::string&)>& fn) {
@@ -185,6 +208,7 @@ void forEachItem(ParameterList& parent, const std::string& path, const Parameter
     const std::string name = parent.name(it);
     if (!parent.isSublist(name))
       throw InputError("\"" + path + "/" + name + "\" must be a sublist (one per item, named by the item)");
+    checkName(name, path);
     ParameterList& item = parent.sublist(name);
     spec.apply(item, path + "/" + name);
     fn(item, name, path + "/" + name);
@@ -306,6 +330,18 @@ void buildContact(Problem& p, ParameterList& c, const std::string& path) {
               });
   if (pairs.empty())
     throw InputError("\"" + path + "\" declares no contact pair: give Pairs or set All Pairs to true");
+  {
+    std::map<std::pair<int, int>, std::string> seen;
+    for (const auto& q : pairs) {
+      const auto key = std::minmax(q.beamA, q.beamB);
+      const auto [it, fresh] = seen.emplace(key, q.name);
+      if (!fresh)
+        throw InputError("contact pairs \"" + it->second + "\" and \"" + q.name + "\" both join beams \"" +
+                         p.beams->beams()[q.beamA].name + "\" and \"" + p.beams->beams()[q.beamB].name +
+                         "\" (their contact would count twice); declare each pair once" +
+                         (c.get<bool>("All Pairs") ? " (All Pairs already declares every pair)" : ""));
+    }
+  }
 
   ParameterList& e = c.sublist("Enforcement");
   const std::string epath = path + "/Enforcement";
@@ -341,23 +377,146 @@ void buildContact(Problem& p, ParameterList& c, const std::string& path) {
   p.model.contributions.push_back(manager);
 }
 
+// Eigenvalues (ascending) and eigenvectors (columns of V) of a symmetric 6 x 6 matrix, by cyclic
+// Jacobi rotations.
+void symmetricEigen6(std::array<std::array<double, 6>, 6> A, std::array<double, 6>& lambda,
+                     std::array<std::array<double, 6>, 6>& V) {
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j) V[i][j] = i == j ? 1.0 : 0.0;
+  for (int sweep = 0; sweep < 100; ++sweep) {
+    double off = 0.0;
+    for (int i = 0; i < 6; ++i)
+      for (int j = i + 1; j < 6; ++j) off += A[i][j] * A[i][j];
+    if (off < 1e-30) break;
+    for (int p = 0; p < 6; ++p)
+      for (int q = p + 1; q < 6; ++q) {
+        if (std::abs(A[p][q]) < 1e-300) continue;
+        const double theta = 0.5 * (A[q][q] - A[p][p]) / A[p][q];
+        const double t = (theta >= 0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1.0));
+        const double c = 1.0 / std::sqrt(t * t + 1.0), sn = t * c;
+        for (int k = 0; k < 6; ++k) {
+          const double akp = A[k][p], akq = A[k][q];
+          A[k][p] = c * akp - sn * akq;
+          A[k][q] = sn * akp + c * akq;
+        }
+        for (int k = 0; k < 6; ++k) {
+          const double apk = A[p][k], aqk = A[q][k];
+          A[p][k] = c * apk - sn * aqk;
+          A[q][k] = sn * apk + c * aqk;
+        }
+        for (int k = 0; k < 6; ++k) {
+          const double vkp = V[k][p], vkq = V[k][q];
+          V[k][p] = c * vkp - sn * vkq;
+          V[k][q] = sn * vkp + c * vkq;
+        }
+      }
+  }
+  std::array<int, 6> order{0, 1, 2, 3, 4, 5};
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return A[a][a] < A[b][b]; });
+  const auto W = V;
+  for (int k = 0; k < 6; ++k) {
+    lambda[k] = A[order[k]][order[k]];
+    for (int i = 0; i < 6; ++i) V[i][k] = W[i][order[k]];
+  }
+}
+
+std::string vectorText(const Vec3d& v) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "(%.3g, %.3g, %.3g)", std::abs(v[0]) < 5e-7 ? 0.0 : v[0],
+                std::abs(v[1]) < 5e-7 ? 0.0 : v[1], std::abs(v[2]) < 5e-7 ? 0.0 : v[2]);
+  return buf;
+}
+
+// Each beam must be held against all six rigid-body motions by the supports on its own nodes (beams
+// are not joined to each other, and contact, which acts only once beams touch, holds nothing at the
+// start). The rigid motions of a beam, u = t + w x (X - c) and spin w, restricted to its fixed dofs
+// form a matrix C (fixed dofs x 6); a motion in the null space of C^T C is free. Reports the first
+// free motion found, as a translation direction or a rotation axis through a point.
+void checkRigidBodyMotions(const Problem& p) {
+  const core::State& s = p.model.initial;
+  std::vector<std::array<bool, 6>> fixed(s.numNodes(), std::array<bool, 6>{});
+  for (const auto& sup : p.model.supports)
+    for (int n : sup.nodes)
+      for (int k = 0; k < 6; ++k) fixed[n][k] = fixed[n][k] || sup.fixed[k];
+  for (const auto& beam : p.beams->beams()) {
+    Vec3d c{};
+    for (int n : beam.nodes) c = c + (1.0 / beam.nodes.size()) * s.reference[n];
+    double L = 0.0;
+    for (int n : beam.nodes) L = std::max(L, norm(s.reference[n] - c));
+    std::array<std::array<double, 6>, 6> G{};
+    for (int n : beam.nodes) {
+      const Vec3d r = (1.0 / L) * (s.reference[n] - c);
+      for (int k = 0; k < 6; ++k) {
+        if (!fixed[n][k]) continue;
+        std::array<double, 6> row{};
+        if (k < 3) {
+          row[k] = 1.0;
+          for (int a = 0; a < 3; ++a) {
+            Vec3d e{};
+            e[a] = 1.0;
+            row[3 + a] = cross(e, r)[k];
+          }
+        } else {
+          row[k] = 1.0;
+        }
+        for (int i = 0; i < 6; ++i)
+          for (int j = 0; j < 6; ++j) G[i][j] += row[i] * row[j];
+      }
+    }
+    std::array<double, 6> lambda;
+    std::array<std::array<double, 6>, 6> V;
+    symmetricEigen6(G, lambda, V);
+    if (lambda[0] > 1e-9) continue;
+    const Vec3d t{{V[0][0], V[1][0], V[2][0]}}, w{{V[3][0], V[4][0], V[5][0]}};
+    std::string motion;
+    if (norm(w) < 1e-6) {
+      motion = "it can translate along " + vectorText((1.0 / norm(t)) * t);
+    } else {
+      // u(X) = t + w x (X - c) / L vanishes on the axis through c + L (w x t) / |w|^2.
+      const Vec3d through = c + (L / dot(w, w)) * cross(w, t);
+      motion = "it can rotate about the axis " + vectorText((1.0 / norm(w)) * w) + " through " + vectorText(through);
+    }
+    int free = 0;
+    for (double l : lambda) free += l <= 1e-9;
+    throw InputError("beam \"" + beam.name + "\" is not held by its supports: " + motion +
+                     (free > 1 ? " (and " + std::to_string(free - 1) + " more free rigid motions)" : "") +
+                     "; fix more components (Supports/.../Fixed) on its nodes");
+  }
+}
+
+// Two beams in the same place are a beam given twice (and would overlap along their whole length).
+void checkDuplicateBeams(const Problem& p) {
+  const auto& beams = p.beams->beams();
+  const auto& X = p.model.initial.reference;
+  for (std::size_t a = 0; a < beams.size(); ++a)
+    for (std::size_t b = a + 1; b < beams.size(); ++b) {
+      const Vec3d a0 = X[beams[a].nodes.front()], a1 = X[beams[a].nodes.back()];
+      const Vec3d b0 = X[beams[b].nodes.front()], b1 = X[beams[b].nodes.back()];
+      const double tol = 1e-9 * std::max(norm(a1 - a0), norm(b1 - b0));
+      if ((norm(a0 - b0) <= tol && norm(a1 - b1) <= tol) || (norm(a0 - b1) <= tol && norm(a1 - b0) <= tol))
+        throw InputError("beams \"" + beams[a].name + "\" and \"" + beams[b].name +
+                         "\" have the same Start and End: a beam given twice?");
+    }
+}
+
+// What a model of `elements` beam elements needs, roughly (measured: about 4 kB per element for the
+// matrix, the factorization and the state), against the machine's memory.
+void checkModelSize(std::size_t elements) {
+  const double bytes = 4096.0 * double(elements);
+  const double physical = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGESIZE));
+  if (elements > 5000000 || (physical > 0 && bytes > 0.8 * physical)) {
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "the beams have %zu elements in all, which needs about %.1f GB; this machine has %.1f GB",
+                  elements, bytes / 1e9, physical / 1e9);
+    throw InputError(std::string(buf) + " (the limit is 5e6 elements and 80 % of the memory)");
+  }
+}
+
 }  // namespace
 
 ParameterList readDeckFile(const std::string& path) {
   if (!std::filesystem::exists(path)) throw InputError("deck file \"" + path + "\" does not exist");
-  {
-    std::ifstream f(path);
-    if (!f) throw InputError("deck file \"" + path + "\" cannot be read");
-  }
-  try {
-    auto list = Teuchos::getParametersFromXmlFile(path);
-    return *list;
-  } catch (const std::exception& e) {
-    std::string msg = e.what();
-    const auto nl = msg.find_last_not_of("\n ");
-    msg = msg.substr(0, nl + 1);
-    throw InputError("deck file \"" + path + "\" is not a valid parameter-list XML file: " + msg);
-  }
+  return readParameterXmlFile(path);
 }
 
 Problem buildProblem(ParameterList deck, const std::string& deckName) {
@@ -418,6 +577,7 @@ Problem buildProblem(ParameterList deck, const std::string& deckName) {
       beam.sectionY = norm(c) > 1e-8 ? c : Vec3d{{0, 1, 0}};
     }
     const int ne = b.get<int>("Elements");
+    checkModelSize(reference.size() + std::size_t(ne));
     const int first = static_cast<int>(reference.size());
     for (int k = 0; k <= ne; ++k) {
       reference.push_back(A + (double(k) / ne) * axis);
@@ -484,6 +644,8 @@ Problem buildProblem(ParameterList deck, const std::string& deckName) {
 
   if (p.model.supports.empty())
     throw InputError("\"" + top + "/Supports\" is empty: the structure would be free to move as a rigid body");
+  checkDuplicateBeams(p);
+  checkRigidBodyMotions(p);
   p.effective = deck;
   return p;
 }

@@ -9,6 +9,7 @@
 
 #include "core/Simulation.hpp"
 #include "input/Deck.hpp"
+#include "input/XmlDeck.hpp"
 
 namespace bc::test {
 
@@ -20,7 +21,7 @@ inline std::string num(double v) {
 }
 
 inline input::Problem problemFromXml(const std::string& xml, const std::string& name = "test") {
-  return input::buildProblem(*Teuchos::getParametersFromXmlString(xml), name);
+  return input::buildProblem(input::parseParameterXml(xml, name + " (test deck)"), name);
 }
 
 inline std::string scratchDirectory(const std::string& name) {

@@ -76,7 +76,7 @@ TEST(InputValidation, ZeroElements) {
   expectError(deck("", R"XML(<Parameter name="Width" type="double" value="1"/><Parameter name="Height" type="double" value="1"/>)XML",
                    R"XML(<Parameter name="Young's Modulus" type="double" value="100"/><Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML",
                    R"XML(<Parameter name="Elements" type="int" value="0"/>)XML"),
-              R"XML("BeamContact/Beams/rod/Elements": must be >= 1, got 0)XML");
+              R"XML("BeamContact/Beams/rod/Elements": must be from 1 to 10000000, got 0)XML");
 }
 
 TEST(InputValidation, ZeroLengthBeam) {

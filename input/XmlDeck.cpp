@@ -1,0 +1,377 @@
+#include "XmlDeck.hpp"
+
+#include <cerrno>
+#include <climits>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <vector>
+
+#include <Teuchos_Array.hpp>
+
+#include "core/Parameters.hpp"
+
+namespace bc::input {
+
+using core::InputError;
+using Teuchos::Array;
+using Teuchos::ParameterList;
+
+namespace {
+
+constexpr int kMaxDepth = 32;
+constexpr std::size_t kMaxBytes = 16u << 20;
+
+struct Attribute {
+  std::string name, value;
+};
+
+class Parser {
+ public:
+  Parser(const std::string& text, const std::string& source) : s_(text), source_(source) {}
+  ParameterList parse();
+
+ private:
+  [[noreturn]] void fail(const std::string& what) const {
+    throw InputError(source_ + ":" + std::to_string(line_) + ": " + what);
+  }
+  bool atEnd() const { return i_ >= s_.size(); }
+  char peek(std::size_t k = 0) const { return i_ + k < s_.size() ? s_[i_ + k] : '\0'; }
+  bool startsWith(const char* t) const { return s_.compare(i_, std::char_traits<char>::length(t), t) == 0; }
+  void advance(std::size_t n = 1) {
+    for (std::size_t k = 0; k < n && i_ < s_.size(); ++k)
+      if (s_[i_++] == '\n') ++line_;
+  }
+  void skipSpace() {
+    while (!atEnd() && std::isspace(static_cast<unsigned char>(peek()))) advance();
+  }
+  void skipUntil(const char* end, const char* what) {
+    const std::size_t at = s_.find(end, i_);
+    if (at == std::string::npos) fail("unterminated " + std::string(what));
+    advance(at - i_ + std::char_traits<char>::length(end));
+  }
+  std::string name() {
+    const std::size_t start = i_;
+    while (!atEnd() && (std::isalnum(static_cast<unsigned char>(peek())) || peek() == '_' || peek() == ':' ||
+                        peek() == '-' || peek() == '.'))
+      advance();
+    if (i_ == start) fail(std::string("expected a name, found '") + (atEnd() ? std::string("end of file") : std::string(1, peek())) + "'");
+    return s_.substr(start, i_ - start);
+  }
+  std::string attributeValue();
+  // Skips text, comments and declarations up to the next element tag; false at the end of input.
+  bool nextTag();
+
+  const std::string& s_;
+  std::string source_;
+  std::size_t i_ = 0;
+  int line_ = 1;
+};
+
+std::string Parser::attributeValue() {
+  const char quote = peek();
+  if (quote != '"' && quote != '\'') fail("an attribute value must be quoted");
+  advance();
+  std::string v;
+  while (true) {
+    if (atEnd()) fail("unterminated attribute value");
+    const char c = peek();
+    if (c == quote) {
+      advance();
+      return v;
+    }
+    if (c == '<') fail("'<' inside an attribute value (write &lt;)");
+    if (c != '&') {
+      v += c;
+      advance();
+      continue;
+    }
+    const std::size_t semi = s_.find(';', i_);
+    if (semi == std::string::npos || semi - i_ > 10) fail("an '&' that starts no entity (write &amp;)");
+    const std::string e = s_.substr(i_ + 1, semi - i_ - 1);
+    if (e == "lt") v += '<';
+    else if (e == "gt") v += '>';
+    else if (e == "amp") v += '&';
+    else if (e == "quot") v += '"';
+    else if (e == "apos") v += '\'';
+    else if (e.size() > 1 && e[0] == '#') {
+      char* end = nullptr;
+      const bool hex = e[1] == 'x' || e[1] == 'X';
+      const long code = std::strtol(e.c_str() + (hex ? 2 : 1), &end, hex ? 16 : 10);
+      if (*end != '\0' || code <= 0 || code > 127) fail("entity &" + e + "; is not a supported character (ASCII only)");
+      v += static_cast<char>(code);
+    } else {
+      fail("unknown entity &" + e + ";");
+    }
+    advance(semi - i_ + 1);
+  }
+}
+
+bool Parser::nextTag() {
+  while (true) {
+    skipSpace();
+    if (atEnd()) return false;
+    if (peek() != '<') {
+      fail("text outside an element (values go in the value=\"...\" attribute)");
+    }
+    if (startsWith("<!--")) {
+      skipUntil("-->", "comment");
+    } else if (startsWith("<?")) {
+      skipUntil("?>", "declaration");
+    } else if (startsWith("<![CDATA[")) {
+      fail("CDATA sections are not part of a deck");
+    } else if (startsWith("<!")) {
+      fail("DOCTYPE and other declarations are not part of a deck");
+    } else {
+      return true;
+    }
+  }
+}
+
+std::string trim(const std::string& t) {
+  const auto a = t.find_first_not_of(" \t\r\n");
+  if (a == std::string::npos) return "";
+  const auto b = t.find_last_not_of(" \t\r\n");
+  return t.substr(a, b - a + 1);
+}
+
+// Strict conversions: "" when `text` is the value, else what is wrong.
+std::string toDouble(const std::string& raw, double& v) {
+  const std::string t = trim(raw);
+  if (t.empty()) return "is empty, expected a number";
+  if (t.find_first_not_of("0123456789+-.eE") != std::string::npos) {
+    std::string lower;
+    for (char c : t) lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (lower.find("nan") != std::string::npos || lower.find("inf") != std::string::npos)
+      return "\"" + t + "\" is not a finite number";
+    return "\"" + t + "\" is not a number";
+  }
+  char* end = nullptr;
+  errno = 0;
+  v = std::strtod(t.c_str(), &end);
+  if (end != t.c_str() + t.size()) return "\"" + t + "\" is not a number";
+  if (errno == ERANGE && std::abs(v) > 1.0) return "\"" + t + "\" is out of range for a double";
+  if (!std::isfinite(v)) return "\"" + t + "\" is not a finite number";
+  return "";
+}
+
+std::string toInt(const std::string& raw, int& v) {
+  const std::string t = trim(raw);
+  if (t.empty()) return "is empty, expected a whole number";
+  std::size_t k = (t[0] == '+' || t[0] == '-') ? 1 : 0;
+  if (k == t.size() || t.find_first_not_of("0123456789", k) != std::string::npos) {
+    double d;
+    if (toDouble(t, d).empty()) return "\"" + t + "\" is not a whole number (write it without a decimal point or exponent)";
+    return "\"" + t + "\" is not a whole number";
+  }
+  errno = 0;
+  const long long x = std::strtoll(t.c_str(), nullptr, 10);
+  if (errno == ERANGE || x > INT_MAX || x < INT_MIN) return "\"" + t + "\" is out of range for an int";
+  v = static_cast<int>(x);
+  return "";
+}
+
+std::string toBool(const std::string& raw, bool& v) {
+  std::string t = trim(raw);
+  for (char& c : t) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (t == "true") v = true;
+  else if (t == "false") v = false;
+  else return "\"" + trim(raw) + "\" is not a bool (true or false)";
+  return "";
+}
+
+// "{a, b, c}" -> its entries (trimmed).
+std::string splitArray(const std::string& raw, std::vector<std::string>& entries) {
+  const std::string t = trim(raw);
+  if (t.size() < 2 || t.front() != '{' || t.back() != '}')
+    return "\"" + t + "\" is not an array; write {a, b, c}";
+  const std::string inner = t.substr(1, t.size() - 2);
+  if (trim(inner).empty()) return "";
+  std::stringstream in(inner);
+  for (std::string e; std::getline(in, e, ',');) entries.push_back(trim(e));
+  if (!inner.empty() && inner.back() == ',') entries.push_back("");
+  return "";
+}
+
+void setValue(ParameterList& list, const std::string& name, const std::string& type, const std::string& value,
+              const std::function<void(const std::string&)>& fail) {
+  std::string err;
+  if (type == "double") {
+    double v = 0;
+    err = toDouble(value, v);
+    if (err.empty()) list.set(name, v);
+  } else if (type == "int") {
+    int v = 0;
+    err = toInt(value, v);
+    if (err.empty()) list.set(name, v);
+  } else if (type == "bool") {
+    bool v = false;
+    err = toBool(value, v);
+    if (err.empty()) list.set(name, v);
+  } else if (type == "string") {
+    list.set(name, value);
+  } else if (type == "Array(double)" || type == "Array(int)" || type == "Array(string)") {
+    std::vector<std::string> entries;
+    err = splitArray(value, entries);
+    if (err.empty()) {
+      if (type == "Array(double)") {
+        Array<double> a;
+        for (const auto& e : entries) {
+          double v = 0;
+          if (!(err = toDouble(e, v)).empty()) break;
+          a.push_back(v);
+        }
+        if (err.empty()) list.set(name, a);
+      } else if (type == "Array(int)") {
+        Array<int> a;
+        for (const auto& e : entries) {
+          int v = 0;
+          if (!(err = toInt(e, v)).empty()) break;
+          a.push_back(v);
+        }
+        if (err.empty()) list.set(name, a);
+      } else {
+        Array<std::string> a(entries.begin(), entries.end());
+        list.set(name, a);
+      }
+    }
+  } else {
+    fail("parameter \"" + name + "\" has type \"" + type +
+         "\"; types are int, double, bool, string, Array(int), Array(double), Array(string)");
+  }
+  if (!err.empty()) fail("parameter \"" + name + "\" (" + type + "): " + err);
+}
+
+ParameterList Parser::parse() {
+  if (s_.size() > kMaxBytes) fail("the file is larger than 16 MB; a deck is a few kB");
+  if (startsWith("\xEF\xBB\xBF")) advance(3);
+  struct Open {
+    ParameterList* list;
+    std::string path;
+    std::map<std::string, int> names;  // name -> line
+  };
+  ParameterList root;
+  std::vector<Open> stack;
+  bool done = false;
+  while (nextTag()) {
+    if (done) fail("content after the top-level ParameterList has ended");
+    advance();  // '<'
+    const bool closing = peek() == '/';
+    if (closing) advance();
+    const std::string tag = name();
+    if (closing) {
+      skipSpace();
+      if (peek() != '>') fail("expected '>' to close </" + tag + ">");
+      advance();
+      if (tag != "ParameterList" || stack.empty()) fail("unexpected </" + tag + ">");
+      stack.pop_back();
+      if (stack.empty()) done = true;
+      continue;
+    }
+    std::vector<Attribute> attrs;
+    bool selfClosing = false;
+    const int tagLine = line_;
+    while (true) {
+      skipSpace();
+      if (atEnd() || peek() == '<')
+        fail("the <" + tag + "> tag opened on line " + std::to_string(tagLine) + " is not closed (missing '/>' or '>')");
+      if (peek() == '/' && peek(1) == '>') {
+        advance(2);
+        selfClosing = true;
+        break;
+      }
+      if (peek() == '>') {
+        advance();
+        break;
+      }
+      Attribute a;
+      a.name = name();
+      skipSpace();
+      if (peek() != '=') fail("attribute " + a.name + " of <" + tag + "> has no value");
+      advance();
+      skipSpace();
+      a.value = attributeValue();
+      for (const auto& b : attrs)
+        if (b.name == a.name) fail("attribute " + a.name + " given twice in <" + tag + ">");
+      attrs.push_back(a);
+    }
+    auto attr = [&](const std::string& key) -> const std::string* {
+      for (const auto& a : attrs)
+        if (a.name == key) return &a.value;
+      return nullptr;
+    };
+    const int line = line_;
+    auto claim = [&](const std::string& n) {
+      Open& parent = stack.back();
+      const auto [it, fresh] = parent.names.emplace(n, line);
+      if (!fresh)
+        fail("\"" + n + "\" is given twice in \"" + parent.path + "\" (first on line " + std::to_string(it->second) +
+             ")");
+    };
+    if (tag == "ParameterList") {
+      const std::string* n = attr("name");
+      if (stack.empty()) {
+        root.setName(n ? *n : "ANONYMOUS");
+        stack.push_back({&root, n ? *n : "ANONYMOUS", {}});
+      } else {
+        if (!n) fail("a nested <ParameterList> needs a name attribute");
+        if (static_cast<int>(stack.size()) >= kMaxDepth)
+          fail("lists nested deeper than " + std::to_string(kMaxDepth) + " levels");
+        claim(*n);
+        ParameterList& sub = stack.back().list->sublist(*n);
+        stack.push_back({&sub, stack.back().path + "/" + *n, {}});
+      }
+      if (selfClosing) {
+        stack.pop_back();
+        if (stack.empty()) done = true;
+      }
+    } else if (tag == "Parameter") {
+      if (stack.empty()) fail("a <Parameter> outside any <ParameterList>");
+      if (!selfClosing) fail("<Parameter> must be closed in its own tag: <Parameter name=... type=... value=.../>");
+      const std::string *n = attr("name"), *type = attr("type"), *value = attr("value");
+      if (!n) fail("a <Parameter> without a name attribute");
+      if (!type) fail("parameter \"" + *n + "\" has no type attribute (int, double, bool, string, Array(...))");
+      if (!value) fail("parameter \"" + *n + "\" has no value attribute");
+      for (const auto& a : attrs)
+        if (a.name != "name" && a.name != "type" && a.name != "value" && a.name != "id" && a.name != "docString" &&
+            a.name != "isDefault" && a.name != "isUsed" && a.name != "validatorId")
+          fail("parameter \"" + *n + "\" has an unknown attribute " + a.name);
+      claim(*n);
+      setValue(*stack.back().list, *n, *type, *value, [&](const std::string& m) { fail(m); });
+    } else if (tag == "Validators" && !stack.empty() && stack.size() == 1) {
+      // Written by Teuchos after the top-level list's entries; nothing in a deck uses validators.
+      if (!selfClosing) skipUntil("</Validators>", "<Validators>");
+    } else {
+      fail("unknown element <" + tag + ">; a deck holds <ParameterList> and <Parameter> elements");
+    }
+  }
+  if (!done) {
+    if (stack.empty()) fail("no <ParameterList> found");
+    fail("the file ends inside <ParameterList name=\"" + stack.back().path + "\"> (a closing tag is missing)");
+  }
+  return root;
+}
+
+}  // namespace
+
+ParameterList parseParameterXml(const std::string& text, const std::string& source) {
+  return Parser(text, source).parse();
+}
+
+ParameterList readParameterXmlFile(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw InputError("file \"" + path + "\" does not exist");
+  if (std::filesystem::is_directory(path, ec)) throw InputError("\"" + path + "\" is a directory, not a deck file");
+  const auto size = std::filesystem::file_size(path, ec);
+  if (!ec && size > kMaxBytes) throw InputError("file \"" + path + "\" is larger than 16 MB; a deck is a few kB");
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw InputError("file \"" + path + "\" cannot be read");
+  std::ostringstream s;
+  s << f.rdbuf();
+  return parseParameterXml(s.str(), path);
+}
+
+}  // namespace bc::input

@@ -1,0 +1,28 @@
+// The XML reader of decks and study decks: the Teuchos parameter-list format
+//   <ParameterList name="BeamContact">
+//     <ParameterList name="Beams"> ... </ParameterList>
+//     <Parameter name="..." type="double" value="..."/>
+//   </ParameterList>
+// read strictly, with the file and line in every message:
+//  - a value must be its type entirely: "10abc" is no int, "30000.0xyz" no double, "10000.0" no int;
+//    reals must be finite (no nan, inf, or overflow); bools are true or false; arrays are {a, b, c}
+//    of such values;
+//  - a name given twice in one list is an error (naming both lines), not a silent overwrite;
+//  - types: int, double, bool, string, Array(int), Array(double), Array(string);
+//  - nesting deeper than 32 lists, a file over 16 MB, DOCTYPE/CDATA and text outside attributes are
+//    refused (the parser is iterative: no input can exhaust the stack).
+// Attributes Teuchos writes (id, docString, isDefault, isUsed) are accepted and ignored, so the
+// effective_parameters.xml of a run and a study's case decks read back.
+#pragma once
+#include <string>
+
+#include <Teuchos_ParameterList.hpp>
+
+namespace bc::input {
+
+// Parses `text`; `source` names it in messages ("deck.xml"). Throws core::InputError.
+Teuchos::ParameterList parseParameterXml(const std::string& text, const std::string& source);
+// Reads and parses a file. Throws core::InputError for a missing, unreadable or oversized file.
+Teuchos::ParameterList readParameterXmlFile(const std::string& path);
+
+}  // namespace bc::input
