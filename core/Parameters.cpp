@@ -87,6 +87,7 @@ double number(const Teuchos::ParameterEntry& e) {
 }
 std::string show(double v) {
   std::ostringstream s;
+  s.precision(15);
   s << v;
   return s.str();
 }

@@ -144,6 +144,28 @@ int main(int argc, char** argv) {
     }
     return studyCommand(args);
   }
+  // check builds the model only: no MPI in this process (so it is quick to call many times).
+  if (args[0] == "check") {
+    if (args.size() != 2) {
+      std::fprintf(stderr, "beamcontact: check takes one deck\n%s", kUsage);
+      return 1;
+    }
+    try {
+      bc::constraints::registerBuiltinEnforcers();
+      const auto problem = bc::input::buildProblem(bc::input::readDeckFile(args[1]),
+                                                   std::filesystem::path(args[1]).stem().string());
+      std::printf("ok: %s: %d nodes, %zu elements, %zu supports, %zu loads\n", args[1].c_str(),
+                  problem.model.initial.numNodes(), problem.beams->elements().size(), problem.model.supports.size(),
+                  problem.model.loads.size());
+      return 0;
+    } catch (const bc::core::InputError& e) {
+      std::fprintf(stderr, "beamcontact: input error: %s\n", e.what());
+      return 1;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "beamcontact: error: %s\n", e.what());
+      return 3;
+    }
+  }
   Tpetra::ScopeGuard scope(&argc, &argv);
   bc::core::installSignalHandlers();
   bc::constraints::registerBuiltinEnforcers();
@@ -155,15 +177,6 @@ int main(int argc, char** argv) {
         bc::input::referenceParameters().print(
             std::cout, Teuchos::ParameterList::PrintOptions().showDoc(true).indent(2).showTypes(true));
       }
-      return 0;
-    }
-    if (args[0] == "check" && args.size() == 2) {
-      const auto problem = bc::input::buildProblem(bc::input::readDeckFile(args[1]),
-                                                   std::filesystem::path(args[1]).stem().string());
-      if (root)
-        std::printf("ok: %s: %d nodes, %zu elements, %zu supports, %zu loads\n", args[1].c_str(),
-                    problem.model.initial.numNodes(), problem.beams->elements().size(), problem.model.supports.size(),
-                    problem.model.loads.size());
       return 0;
     }
     if (args[0] != "run" || args.size() < 2) {
