@@ -100,11 +100,11 @@ void writeFileAtomically(const fs::path& path, const std::string& text) {
   }
 }
 
-void installSignalHandlers() {
+void installSignalHandlers(bool restartCalls) {
   struct sigaction action {};
   action.sa_handler = onSignal;
   sigemptyset(&action.sa_mask);
-  action.sa_flags = SA_RESTART;
+  action.sa_flags = restartCalls ? SA_RESTART : 0;
   for (int sig : {SIGTERM, SIGINT, SIGHUP}) sigaction(sig, &action, nullptr);
   std::signal(SIGXFSZ, SIG_IGN);
 }

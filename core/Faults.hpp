@@ -62,8 +62,9 @@ std::string systemReason();
 
 // Signal handling (call once, after MPI is initialized): SIGTERM, SIGINT and SIGHUP are recorded;
 // SIGXFSZ is ignored so that a file size limit makes the write fail (and be reported) instead of
-// killing the process.
-void installSignalHandlers();
+// killing the process. With `restartCalls` false a signal interrupts a blocking call (EINTR), for a
+// process that waits on others.
+void installSignalHandlers(bool restartCalls = true);
 // The signal received so far on this rank (0: none).
 int receivedSignal();
 // Collective: the signal received on any rank (the largest number), 0 if none.

@@ -1,11 +1,13 @@
 #include "Study.hpp"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -19,6 +21,7 @@
 
 #include <Teuchos_XMLParameterListHelpers.hpp>
 
+#include "core/Faults.hpp"
 #include "core/Parameters.hpp"
 #include "input/XmlDeck.hpp"
 
@@ -66,6 +69,7 @@ struct Case {
   fs::path dir;
   std::string status = "not run", cause;
   int exitCode = -1;
+  bool kept = false;  // complete from an earlier run of the study (same deck)
 };
 
 const std::vector<std::string> kContactQuantities = {"Normal Force", "Tangential Force 1", "Tangential Force 2",
@@ -267,6 +271,14 @@ std::string lastLine(const fs::path& file, const std::string& prefix = "") {
   return last;
 }
 
+std::string readText(const fs::path& file) {
+  std::ifstream f(file);
+  if (!f) return "";
+  std::ostringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
 std::string selfExecutable() {
   std::error_code ec;
   const auto p = fs::read_symlink("/proc/self/exe", ec);
@@ -443,65 +455,47 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
       if (k == idx.size()) break;
     }
   }
+  // A case whose directory holds the same deck (same parameters, same base deck) and a complete run
+  // is kept from an earlier run of the study; any other case directory is cleared and run again.
+  // Case directories beyond this study's cases, and the last report, are from an earlier study.
+  {
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(dir / "cases")) {
+      const std::string n = entry.path().filename().string();
+      const bool number = n.size() == 3 && n.find_first_not_of("0123456789") == std::string::npos;
+      if (!number || std::stoi(n) < 1 || std::stoi(n) > static_cast<int>(all.size())) fs::remove_all(entry.path(), ec);
+    }
+    for (const auto& entry : fs::directory_iterator(dir))
+      if (entry.path().extension() == ".png" || entry.path().filename() == "report.md") fs::remove(entry.path(), ec);
+  }
+  int kept = 0;
   for (Case& c : all) {
     char name[16];
     std::snprintf(name, sizeof name, "%03d", c.index);
     c.dir = dir / "cases" / name;
-    fs::remove_all(c.dir);
-    fs::create_directories(c.dir);
     ParameterList deck(*baseDeck);
     for (const auto& [var, value] : c.settings)
       setValue(deck, *var, value, "case " + std::to_string(c.index) + " (group \"" + c.group + "\")");
     deck.sublist("Output").set("Directory", c.dir.string());
-    Teuchos::writeParameterListToXmlFile(deck, (c.dir / "deck.xml").string());
-  }
-
-  // Run them, several at once.
-  int parallel = options.parallel > 0 ? options.parallel : study->get<int>("Parallel Cases");
-  if (parallel <= 0) parallel = std::max(1u, std::thread::hardware_concurrency());
-  const std::string exe = selfExecutable();
-  std::printf("study %s: %zu cases from %s, %d at a time, in %s\n", stem.c_str(), all.size(), base.string().c_str(),
-              parallel, dir.string().c_str());
-  std::fflush(stdout);
-  std::map<pid_t, Case*> running;
-  std::size_t next = 0, done = 0;
-  const auto t0 = std::chrono::steady_clock::now();
-  while (done < all.size()) {
-    while (next < all.size() && static_cast<int>(running.size()) < parallel) {
-      running[launch(exe, all[next])] = &all[next];
-      ++next;
-    }
-    int status = 0;
-    const pid_t pid = waitpid(-1, &status, 0);
-    if (pid < 0) throw std::runtime_error("waiting for a case process failed");
-    const auto it = running.find(pid);
-    if (it == running.end()) continue;
-    Case& c = *it->second;
-    running.erase(it);
-    ++done;
-    c.exitCode = exitCode(status);
-    if (c.exitCode == 0) {
+    std::ostringstream xml;
+    Teuchos::writeParameterListToXmlOStream(deck, xml);
+    if (readText(c.dir / "deck.xml") == xml.str() && lastLine(c.dir / "status.txt").rfind("complete", 0) == 0) {
       c.status = "complete";
-    } else {
-      c.status = c.exitCode == 2 ? "incomplete" : c.exitCode == 1 ? "input error" : "failed";
-      // The run's own record first (status.txt: "incomplete: <cause>"), else its one-line error.
-      const std::string status = lastLine(c.dir / "status.txt");
-      c.cause = status.rfind("incomplete: ", 0) == 0 ? status.substr(12) : lastLine(c.dir / "log.txt", "beamcontact: ");
-      if (c.cause.empty()) c.cause = "exit code " + std::to_string(c.exitCode);
+      c.kept = true;
+      c.exitCode = 0;
+      ++kept;
+      continue;
     }
-    const int width = 30, filled = static_cast<int>(width * done / all.size());
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::printf("[%s%s] %3zu/%zu  %6.1f s  case %03d %-10s %s\n", std::string(filled, '#').c_str(),
-                std::string(width - filled, '.').c_str(), done, all.size(), elapsed, c.index, c.status.c_str(),
-                describe(c, columns).c_str());
-    std::fflush(stdout);
+    fs::remove_all(c.dir);
+    fs::create_directories(c.dir);
+    core::writeFileAtomically(c.dir / "deck.xml", xml.str());
   }
 
-  // The table.
+  // The table, rewritten (atomically) after every finished case, so an interrupted study keeps it.
   const std::vector<std::string> runColumns = {"newton_iterations", "max_newton_per_step", "passes", "steps", "last_T",
                                                "solve_seconds", "peak_memory_mb"};
-  {
-    std::ofstream csv(dir / "cases.csv");
+  auto writeTable = [&] {
+    std::ostringstream csv;
     csv << "case,group";
     for (const auto& c : columns) csv << ',' << csvField(c);
     csv << ",status";
@@ -527,7 +521,81 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
       }
       csv << ',' << csvField(c.cause) << '\n';
     }
+    core::writeFileAtomically(dir / "cases.csv", csv.str());
+  };
+
+  // Run them, several at once.
+  int parallel = options.parallel > 0 ? options.parallel : study->get<int>("Parallel Cases");
+  if (parallel <= 0) parallel = std::max(1u, std::thread::hardware_concurrency());
+  const std::string exe = selfExecutable();
+  std::printf("study %s: %zu cases from %s, %d at a time, in %s", stem.c_str(), all.size(), base.string().c_str(),
+              parallel, dir.string().c_str());
+  if (kept) std::printf(" (%d complete from an earlier run, kept)", kept);
+  std::printf("\n");
+  std::fflush(stdout);
+  // SIGTERM / SIGINT: the running cases get SIGTERM (each stops at its next Newton iteration and
+  // records itself interrupted), are waited for and recorded; no new case starts.
+  core::installSignalHandlers(false);
+  std::map<pid_t, Case*> running;
+  std::size_t next = 0, done = static_cast<std::size_t>(kept);
+  int stopSignal = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  writeTable();
+  while (done < all.size() && !(stopSignal && running.empty())) {
+    while (!stopSignal && next < all.size() && static_cast<int>(running.size()) < parallel) {
+      if (!all[next].kept) running[launch(exe, all[next])] = &all[next];
+      ++next;
+    }
+    if (running.empty()) break;
+    int status = 0;
+    const pid_t pid = waitpid(-1, &status, 0);
+    if (!stopSignal && core::receivedSignal()) {
+      stopSignal = core::receivedSignal();
+      std::printf("study %s: %s received; stopping the %zu running cases\n", stem.c_str(),
+                  core::signalName(stopSignal).c_str(), running.size());
+      std::fflush(stdout);
+      for (const auto& [p, c] : running) kill(p, SIGTERM);
+    }
+    if (pid < 0) {
+      if (errno == EINTR) continue;
+      throw std::runtime_error("waiting for a case process failed");
+    }
+    const auto it = running.find(pid);
+    if (it == running.end()) continue;
+    Case& c = *it->second;
+    running.erase(it);
+    ++done;
+    c.exitCode = exitCode(status);
+    const std::string runStatus = lastLine(c.dir / "status.txt");
+    if (c.exitCode == 0) {
+      c.status = "complete";
+    } else if (runStatus.rfind("interrupted: ", 0) == 0 || (stopSignal && c.exitCode > 128)) {
+      c.status = "interrupted";
+      c.cause = runStatus.empty() ? "stopped by " + core::signalName(c.exitCode - 128) : runStatus.substr(13);
+    } else {
+      c.status = c.exitCode == 2 ? "incomplete" : c.exitCode == 1 ? "input error" : "failed";
+      // The run's own record first (status.txt: "incomplete: <cause>"), else its one-line error.
+      c.cause = runStatus.rfind("incomplete: ", 0) == 0 ? runStatus.substr(12) : lastLine(c.dir / "log.txt", "beamcontact: ");
+      if (c.cause.empty()) c.cause = "exit code " + std::to_string(c.exitCode);
+    }
+    writeTable();
+    const int width = 30, filled = static_cast<int>(width * done / all.size());
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::printf("[%s%s] %3zu/%zu  %6.1f s  case %03d %-10s %s\n", std::string(filled, '#').c_str(),
+                std::string(width - filled, '.').c_str(), done, all.size(), elapsed, c.index, c.status.c_str(),
+                describe(c, columns).c_str());
+    std::fflush(stdout);
   }
+  if (stopSignal) {
+    writeTable();
+    std::printf("study %s: stopped by %s; %zu of %zu cases complete; run the study again to run the others\n",
+                stem.c_str(), core::signalName(stopSignal).c_str(),
+                static_cast<std::size_t>(std::count_if(all.begin(), all.end(), [](const Case& c) { return c.status == "complete"; })),
+                all.size());
+    return 128 + stopSignal;
+  }
+
+  writeTable();
   // What the report script needs to know.
   {
     std::ofstream j(dir / "study.json");

@@ -4,7 +4,9 @@
 - each complete case's outputs equal its own results at T = 1 (tracked_points.csv, the sum of the
   normal forces of contact_points.csv) and A's deflection within 8 % of the paper's Table 1
   (9.79-9.89);
-- report.md with the table, and the plot as a non-empty PNG."""
+- report.md with the table, and the plot as a non-empty PNG;
+- run again into the same directory, the three complete cases are kept untouched (their summary.csv
+  not rewritten) and the two others run again; a stale case directory (cases/099) is removed."""
 import csv
 import math
 import subprocess
@@ -12,6 +14,7 @@ import sys
 from pathlib import Path
 
 exe, deck, out = sys.argv[1], sys.argv[2], Path(sys.argv[3])
+subprocess.run(["rm", "-rf", str(out)])
 run = subprocess.run([exe, "study", deck, "--output", str(out), "--parallel", "2"], capture_output=True, text=True)
 print(run.stdout)
 print(run.stderr)
@@ -44,4 +47,14 @@ png = out / "F_N_vs_eps_N.png"
 data = png.read_bytes()
 assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 5000, len(data)
 assert "![F_N vs eps_N](F_N_vs_eps_N.png)" in report
-print("ok: study recorded 5 cases (3 complete, 1 incomplete, 1 input error), report and plot written")
+stamps = {c: (out / "cases" / c / "summary.csv").stat().st_mtime_ns for c in ("001", "002", "003")}
+(out / "cases" / "099").mkdir()
+again = subprocess.run([exe, "study", deck, "--output", str(out), "--parallel", "2"], capture_output=True, text=True)
+print(again.stdout)
+assert again.returncode == 2, f"rerun exit code {again.returncode}"
+assert "(3 complete from an earlier run, kept)" in again.stdout, again.stdout
+assert all((out / "cases" / c / "summary.csv").stat().st_mtime_ns == t for c, t in stamps.items()), "a kept case was rerun"
+assert not (out / "cases" / "099").exists(), "stale case directory left"
+assert [r["status"] for r in csv.DictReader(open(out / "cases.csv"))] == list(status.values())
+print("ok: study recorded 5 cases (3 complete, 1 incomplete, 1 input error), report and plot written; "
+      "a rerun kept the 3 complete cases")
