@@ -450,6 +450,9 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
         c.settings.push_back({&g.variables[k], g.variables[k].values[idx[k]]});
       }
       all.push_back(c);
+      if (all.size() > 10000)
+        throw InputError("the study has more than 10000 cases (group \"" + g.name +
+                         "\" alone multiplies its value lists); split it into several studies");
       std::size_t k = 0;
       while (k < idx.size() && ++idx[k] == g.variables[k].values.size()) idx[k++] = 0;
       if (k == idx.size()) break;

@@ -132,9 +132,15 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "beamcontact: render needs a results directory and an output file\n%s", kUsage);
       return 1;
     }
+    if (!std::filesystem::is_directory(args[1])) {
+      std::fprintf(stderr, "beamcontact: render: \"%s\" is not a results directory\n", args[1].c_str());
+      return 1;
+    }
     std::vector<std::string> command = {"/usr/bin/python3", BC_SOURCE_DIR "/drivers/render_stages.py"};
     command.insert(command.end(), args.begin() + 1, args.end());
-    return bc::drivers::runProgram(command) == 0 ? 0 : 3;
+    // The script exits 1 (2 from its argument parser) on a usage error, 3 otherwise.
+    const int code = bc::drivers::runProgram(command);
+    return code == 0 ? 0 : (code == 1 || code == 2) ? 1 : 3;
   }
   // A study only starts and watches case processes: no MPI in this process.
   if (args[0] == "study") {

@@ -62,16 +62,22 @@ def main():
     results = Path(a.results)
     pvd = results / "results.pvd"
     if not pvd.exists():
-        sys.exit(f"render_stages: {pvd} does not exist (was the run written with VTK output?)")
+        sys.exit(f"beamcontact: render: {pvd} does not exist (is {results} a results directory written with VTK output?)")
     steps = [(float(d.get("timestep")), d.get("file")) for d in ET.parse(pvd).getroot().iter("DataSet")]
-    stages = [float(s) for s in a.stages.split(",")]
+    try:
+        stages = [float(s) for s in a.stages.split(",")]
+        elev, azim = (float(v) for v in a.view.split(","))
+    except ValueError:
+        sys.exit(f"beamcontact: render: --stages takes numbers like 0.25,0.5,1 and --view two numbers ELEV,AZIM; got "
+                 f"{a.stages!r} and {a.view!r}")
+    if not steps:
+        sys.exit(f"beamcontact: render: {pvd} lists no step")
     chosen = [min(steps, key=lambda s: abs(s[0] - t)) for t in stages]
     data = [read(results / f) for _, f in chosen]
     allpts = np.vstack([d[2] for d in data])
     lo, hi = allpts.min(axis=0), allpts.max(axis=0)
     span = float((hi - lo).max())
     fmax = max([np.linalg.norm(f) for d in data for _, f in d[1]] + [0.0])
-    elev, azim = (float(v) for v in a.view.split(","))
 
     fig = plt.figure(figsize=(11, 9))
     for k, ((T, _), (faces, contacts, _)) in enumerate(zip(chosen, data)):
@@ -102,4 +108,11 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    # Usage errors exit 1 (argparse: 2) with one line; anything else is one line and exit 3.
+    try:
+        main()
+    except SystemExit:
+        raise
+    except Exception as e:  # noqa: BLE001 - reported as one line, not a traceback
+        print(f"beamcontact: render: {type(e).__name__}: {e}", file=sys.stderr)
+        sys.exit(3)

@@ -152,4 +152,10 @@ def main(directory):
 if __name__ == "__main__":
     if len(sys.argv) != 2:
         sys.exit("usage: study_report.py STUDY_DIR")
-    main(sys.argv[1])
+    try:
+        main(sys.argv[1])
+    except SystemExit:
+        raise
+    except Exception as e:  # noqa: BLE001 - reported as one line, not a traceback
+        print(f"beamcontact: study report: {type(e).__name__}: {e}", file=sys.stderr)
+        sys.exit(3)
