@@ -9,6 +9,7 @@ PACKAGES=(
   libopenmpi-dev openmpi-bin
   libgtest-dev libgmock-dev libbenchmark-dev
   python3-vtk9 python3-numpy python3-matplotlib
+  procps util-linux   # pgrep, prlimit: the fault tests
 )
 
 missing=()

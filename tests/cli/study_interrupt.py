@@ -16,7 +16,11 @@ exe, deck, out = sys.argv[1], sys.argv[2], Path(sys.argv[3])
 subprocess.run(["rm", "-rf", str(out)])
 p = subprocess.Popen([exe, "study", deck, "--output", str(out), "--parallel", "2", "--no-report"],
                      stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-time.sleep(1.5)
+# The signal goes once case 3 is running (cases 1 and 2 may be complete or running then).
+started = out / "cases" / "003" / "status.txt"
+deadline = time.time() + 60
+while time.time() < deadline and not (started.exists() and started.read_text().startswith("running")):
+    time.sleep(0.02)
 p.send_signal(signal.SIGTERM)
 t0 = time.time()
 text, _ = p.communicate(timeout=60)
