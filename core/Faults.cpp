@@ -43,7 +43,7 @@ void OutputFile::fail(const std::string& what) {
   const std::string reason = systemReason();
   if (file_) std::fclose(file_);
   file_ = nullptr;
-  throw OutputError("cannot " + what + " " + path_ + ": " + reason);
+  throw OutputError("cannot " + what + " " + path_ + ": " + reason, reason);
 }
 
 void OutputFile::open(const fs::path& path, bool append) {
@@ -55,7 +55,7 @@ void OutputFile::open(const fs::path& path, bool append) {
 }
 
 void OutputFile::write(const std::string& text) {
-  if (!file_) throw OutputError("cannot write " + path_ + ": the file is not open");
+  if (!file_) throw OutputError("cannot write " + path_ + ": the file is not open", "the file is not open");
   errno = 0;
   const long before = std::ftell(file_);
   if (std::fwrite(text.data(), 1, text.size(), file_) != text.size() || std::fflush(file_) != 0) {
@@ -75,7 +75,10 @@ void OutputFile::close() {
   errno = 0;
   std::FILE* f = file_;
   file_ = nullptr;
-  if (std::fclose(f) != 0) throw OutputError("cannot write " + path_ + ": " + systemReason());
+  if (std::fclose(f) != 0) {
+    const std::string reason = systemReason();
+    throw OutputError("cannot write " + path_ + ": " + reason, reason);
+  }
 }
 
 void writeFileAtomically(const fs::path& path, const std::string& text) {
@@ -86,17 +89,18 @@ void writeFileAtomically(const fs::path& path, const std::string& text) {
       f.open(tmp);
       f.write(text);
       f.close();
-    } catch (const OutputError&) {
+    } catch (const OutputError& e) {
+      // Named by the file the caller asked for; the reason is the one the failed call gave.
       std::error_code ignored;
       fs::remove(tmp, ignored);
-      throw OutputError("cannot write " + path.string() + ": " + systemReason());
+      throw OutputError("cannot write " + path.string() + ": " + e.reason(), e.reason());
     }
   }
   std::error_code ec;
   fs::rename(tmp, path, ec);
   if (ec) {
     fs::remove(tmp, ec);
-    throw OutputError("cannot write " + path.string() + ": " + ec.message());
+    throw OutputError("cannot write " + path.string() + ": " + ec.message(), ec.message());
   }
 }
 

@@ -22,7 +22,13 @@ namespace bc::core {
 // A results file could not be written (the message names the file and the reason).
 class OutputError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit OutputError(const std::string& what, std::string reason = "")
+      : std::runtime_error(what), reason_(std::move(reason)) {}
+  // The system's reason alone (e.g. "No space left on device"), when there is one.
+  const std::string& reason() const { return reason_; }
+
+ private:
+  std::string reason_;
 };
 
 // The run was stopped by a signal (its number is in signal()).

@@ -125,7 +125,6 @@ bool StaticSolver::increment(const StepCallback& onStep) {
   const double Ta = i == 0 ? 0.0 : settings_.loadFactors[i - 1], Tb = settings_.loadFactors[i];
   Progress& at = progress_;
   while (at.T < Tb) {
-    if (const int sig = receivedSignalOnAnyRank(*comm_)) throw Interrupted(sig);
     const double piece = (Tb - Ta) / double(1 << at.level);
     const double Tn = (Tb - at.T) <= 1.000001 * piece ? Tb : at.T + piece;
     std::string failure;

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <string>
 
@@ -49,6 +50,26 @@ const char* kUsage =
     "written (a study: some case did not complete; every case is recorded), 3 unexpected error,\n"
     "128 + N stopped by signal N (status.txt says so).\n";
 
+// Runs `body` and maps its errors to the exit codes above, each as one line on stderr (printed when
+// `print`: on rank 0 under MPI).
+int withExitCodes(bool print, const std::function<int()>& body) {
+  try {
+    return body();
+  } catch (const bc::core::InputError& e) {
+    if (print) std::fprintf(stderr, "beamcontact: input error: %s\n", e.what());
+    return 1;
+  } catch (const bc::core::OutputError& e) {
+    if (print) std::fprintf(stderr, "beamcontact: output error: %s\n", e.what());
+    return 2;
+  } catch (const std::bad_alloc&) {
+    if (print) std::fprintf(stderr, "beamcontact: error: out of memory (the model is too large for this machine)\n");
+    return 3;
+  } catch (const std::exception& e) {
+    if (print) std::fprintf(stderr, "beamcontact: error: %s\n", e.what());
+    return 3;
+  }
+}
+
 int studyCommand(const std::vector<std::string>& args) {
   bc::drivers::StudyOptions options;
   for (std::size_t i = 2; i < args.size(); ++i) {
@@ -70,15 +91,7 @@ int studyCommand(const std::vector<std::string>& args) {
       return 1;
     }
   }
-  try {
-    return bc::drivers::runStudy(args[1], options);
-  } catch (const bc::core::InputError& e) {
-    std::fprintf(stderr, "beamcontact: input error: %s\n", e.what());
-    return 1;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "beamcontact: error: %s\n", e.what());
-    return 3;
-  }
+  return withExitCodes(true, [&] { return bc::drivers::runStudy(args[1], options); });
 }
 
 int runDeck(const std::string& deck, const std::string& output, bool quiet, const std::string& restart) {
@@ -156,7 +169,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "beamcontact: check takes one deck\n%s", kUsage);
       return 1;
     }
-    try {
+    return withExitCodes(true, [&] {
       bc::constraints::registerBuiltinEnforcers();
       const auto problem = bc::input::buildProblem(bc::input::readDeckFile(args[1]),
                                                    std::filesystem::path(args[1]).stem().string());
@@ -164,19 +177,13 @@ int main(int argc, char** argv) {
                   problem.model.initial.numNodes(), problem.beams->elements().size(), problem.model.supports.size(),
                   problem.model.loads.size());
       return 0;
-    } catch (const bc::core::InputError& e) {
-      std::fprintf(stderr, "beamcontact: input error: %s\n", e.what());
-      return 1;
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "beamcontact: error: %s\n", e.what());
-      return 3;
-    }
+    });
   }
   Tpetra::ScopeGuard scope(&argc, &argv);
   bc::core::installSignalHandlers();
   bc::constraints::registerBuiltinEnforcers();
   const bool root = Tpetra::getDefaultComm()->getRank() == 0;
-  try {
+  return withExitCodes(root, [&] {
     if (args[0] == "--print-valid-parameters") {
       if (root) {
         std::cout << "BeamContact deck reference (ParameterList \"BeamContact\"):\n";
@@ -213,17 +220,5 @@ int main(int argc, char** argv) {
       return 1;
     }
     return runDeck(args[1], output, quiet, restart);
-  } catch (const bc::core::InputError& e) {
-    if (root) std::fprintf(stderr, "beamcontact: input error: %s\n", e.what());
-    return 1;
-  } catch (const bc::core::OutputError& e) {
-    if (root) std::fprintf(stderr, "beamcontact: output error: %s\n", e.what());
-    return 2;
-  } catch (const std::bad_alloc&) {
-    if (root) std::fprintf(stderr, "beamcontact: error: out of memory (the model is too large for this machine)\n");
-    return 3;
-  } catch (const std::exception& e) {
-    if (root) std::fprintf(stderr, "beamcontact: error: %s\n", e.what());
-    return 3;
-  }
+  });
 }

@@ -196,6 +196,21 @@ std::string splitArray(const std::string& raw, std::vector<std::string>& entries
   return "";
 }
 
+// Converts every entry with `convert` (toDouble, toInt) and sets the array; else what is wrong.
+template <class T>
+std::string setArray(ParameterList& list, const std::string& name, const std::vector<std::string>& entries,
+                     std::string (*convert)(const std::string&, T&)) {
+  Array<T> a;
+  for (const auto& e : entries) {
+    T v{};
+    const std::string err = convert(e, v);
+    if (!err.empty()) return err;
+    a.push_back(v);
+  }
+  list.set(name, a);
+  return "";
+}
+
 void setValue(ParameterList& list, const std::string& name, const std::string& type, const std::string& value,
               const std::function<void(const std::string&)>& fail) {
   std::string err;
@@ -217,26 +232,9 @@ void setValue(ParameterList& list, const std::string& name, const std::string& t
     std::vector<std::string> entries;
     err = splitArray(value, entries);
     if (err.empty()) {
-      if (type == "Array(double)") {
-        Array<double> a;
-        for (const auto& e : entries) {
-          double v = 0;
-          if (!(err = toDouble(e, v)).empty()) break;
-          a.push_back(v);
-        }
-        if (err.empty()) list.set(name, a);
-      } else if (type == "Array(int)") {
-        Array<int> a;
-        for (const auto& e : entries) {
-          int v = 0;
-          if (!(err = toInt(e, v)).empty()) break;
-          a.push_back(v);
-        }
-        if (err.empty()) list.set(name, a);
-      } else {
-        Array<std::string> a(entries.begin(), entries.end());
-        list.set(name, a);
-      }
+      if (type == "Array(double)") err = setArray<double>(list, name, entries, toDouble);
+      else if (type == "Array(int)") err = setArray<int>(list, name, entries, toInt);
+      else list.set(name, Array<std::string>(entries.begin(), entries.end()));
     }
   } else {
     fail("parameter \"" + name + "\" has type \"" + type +
