@@ -3,7 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "CoulombCone.hpp"
+#include "CoulombFriction.hpp"
+#include "RegularizedContactLaw.hpp"
 
 namespace bc::constraints {
 
@@ -22,31 +23,42 @@ const core::ParameterSpec& AugmentedLagrangeEnforcer::spec() {
   return s;
 }
 
-AugmentedLagrangeEnforcer::AugmentedLagrangeEnforcer(const Teuchos::ParameterList& v) {
-  p_.normalPenalty = v.get<double>("Normal Penalty Parameter");
-  p_.tangentialPenalty = v.get<double>("Tangential Penalty Parameter");
-  tolerance_ = v.get<double>("Gap Tolerance");
-  maxPasses_ = v.get<int>("Maximum Augmentations");
+AugmentedLagrangeEnforcer::AugmentedLagrangeEnforcer(const Teuchos::ParameterList& v)
+    : normalPenalty_(v.get<double>("Normal Penalty Parameter")),
+      tangentialPenalty_(v.get<double>("Tangential Penalty Parameter")),
+      tolerance_(v.get<double>("Gap Tolerance")),
+      maxPasses_(v.get<int>("Maximum Augmentations")) {}
+
+namespace {
+FrictionRegularization friction(const AugmentedLagrangeEnforcer::State& s, double eps) {
+  FrictionRegularization t;
+  t.lambdaHat[0] = s.lambdaT[0];
+  t.lambdaHat[1] = s.lambdaT[1];
+  t.penalty = eps;
+  return t;
+}
+}  // namespace
+
+bool AugmentedLagrangeEnforcer::contributes(double gapN, const PointState& s) const {
+  return stateOf<State>(s).lambdaN + normalPenalty_ * gapN < 0.0;
 }
 
-bool AugmentedLagrangeEnforcer::contributes(const ContactKinematics& k, const PointHistory& h) const {
-  return h.lambdaN + p_.normalPenalty * k.normal.value < 0.0;
+PointResult AugmentedLagrangeEnforcer::evaluate(const ContactPoint& p, const PointState& s, double* f,
+                                                double* K) const {
+  const State& h = stateOf<State>(s);
+  return regularizedEvaluate(p, linearNormalLaw(h.lambdaN, normalPenalty_), friction(h, tangentialPenalty_), f, K);
 }
 
-PointResult AugmentedLagrangeEnforcer::evaluate(const ContactKinematics& k, const PointHistory& h, double mu,
-                                                const double*, double* f, double* K) const {
-  return regularizedEvaluate(k, h, mu, parameters(), f, K);
-}
-
-bool AugmentedLagrangeEnforcer::acceptPoint(const ContactKinematics& k, PointHistory& h, double mu, const double*,
-                                            double& worstViolation) const {
-  const PointResult r = regularizedForces(k, h, mu, parameters());
+bool AugmentedLagrangeEnforcer::acceptPoint(const ContactPoint& p, PointState& s, double& worstViolation) const {
+  State& h = stateOf<State>(s);
+  const ContactKinematics& k = p.kinematics;
+  const PointResult r = regularizedForces(p, linearNormalLaw(h.lambdaN, normalPenalty_), friction(h, tangentialPenalty_));
   double violation = 0.0;
   if (r.active) {
     violation = std::abs(k.normal.value);
     const GapDerivatives* gt[2] = {&k.tangent1, &k.tangent2};
     for (int i = 0; i < 2; ++i)
-      if (mu > 0.0 && !r.slip[i]) violation = std::max(violation, std::abs(gt[i]->value));
+      if (p.friction > 0.0 && !r.slip[i]) violation = std::max(violation, std::abs(gt[i]->value));
   } else {
     violation = std::max(0.0, -k.normal.value);
   }
@@ -57,17 +69,18 @@ bool AugmentedLagrangeEnforcer::acceptPoint(const ContactKinematics& k, PointHis
   return violation <= tolerance_;
 }
 
-PointResult AugmentedLagrangeEnforcer::reportedForces(const ContactKinematics& k, const PointHistory& h, double mu,
-                                                      const double*) const {
+PointResult AugmentedLagrangeEnforcer::reportedForces(const ContactPoint& p, const PointState& s) const {
+  const State& h = stateOf<State>(s);
   PointResult r;
   r.active = h.lambdaN < 0.0;
   if (!r.active) return r;
   r.lambdaN = h.lambdaN;
+  const double mu = p.friction;
   const double limit = -mu * h.lambdaN * (1.0 - 1e-12);
-  const double length = std::sqrt(cone::lengthSquared(k.cosine, h.lambdaT));
+  const double length = std::sqrt(cone::lengthSquared(p.kinematics.cosine, h.lambdaT));
   for (int i = 0; i < 2; ++i) {
     r.lambdaT[i] = h.lambdaT[i];
-    r.slip[i] = mu > 0.0 && (frictionLaw() == FrictionLaw::PerLine ? std::abs(h.lambdaT[i]) : length) >= limit;
+    r.slip[i] = mu > 0.0 && (p.law == FrictionLaw::PerLine ? std::abs(h.lambdaT[i]) : length) >= limit;
   }
   return r;
 }

@@ -8,7 +8,6 @@
 // Parameter" [force/length], "Gap Tolerance" [length], "Maximum Augmentations".
 #pragma once
 #include "ConstraintEnforcer.hpp"
-#include "RegularizedContactLaw.hpp"
 #include "core/Parameters.hpp"
 
 namespace bc::constraints {
@@ -16,31 +15,34 @@ namespace bc::constraints {
 class AugmentedLagrangeEnforcer : public ConstraintEnforcer {
  public:
   static const char* name() { return "Augmented Lagrange"; }
+  static const char* description() { return "penalty springs around multiplier estimates, augmented until the gaps meet Gap Tolerance"; }
   static const core::ParameterSpec& spec();
   explicit AugmentedLagrangeEnforcer(const Teuchos::ParameterList& validated);
 
+  // The multiplier estimates lambda_hat (normal and friction), updated at each augmentation.
+  struct State : PointStateOf<State> {
+    double lambdaN = 0.0;
+    double lambdaT[2] = {0.0, 0.0};
+    void fields(StateFields& v) override {
+      v.real("lambda_N", lambdaN);
+      v.real("lambda_T1", lambdaT[0]);
+      v.real("lambda_T2", lambdaT[1]);
+    }
+  };
+
   std::string type() const override { return name(); }
-  double activationGap(const PointHistory& h) const override { return -h.lambdaN / p_.normalPenalty; }
-  bool contributes(const ContactKinematics& k, const PointHistory& h) const override;
-  PointResult evaluate(const ContactKinematics& k, const PointHistory& h, double mu, const double* lambda, double* f,
-                       double* K) const override;
-  bool acceptPoint(const ContactKinematics& k, PointHistory& h, double mu, const double* lambda,
-                   double& worstViolation) const override;
+  std::unique_ptr<PointState> newPointState() const override { return std::make_unique<State>(); }
+  bool contributes(double gapN, const PointState& s) const override;
+  double activationGap(const PointState& s) const override { return -stateOf<State>(s).lambdaN / normalPenalty_; }
+  PointResult evaluate(const ContactPoint& p, const PointState& s, double* f, double* K) const override;
+  bool acceptPoint(const ContactPoint& p, PointState& s, double& worstViolation) const override;
+  int maximumPasses() const override { return maxPasses_; }
   // acceptPoint has already set the estimates to the converged forces: report and keep those
   // (recomputing lambda_hat + eps g would count the last augmentation twice).
-  PointResult reportedForces(const ContactKinematics& k, const PointHistory& h, double mu,
-                             const double* lambda) const override;
-  void commitPoint(const ContactKinematics& k, PointHistory& h, double mu, const double* lambda) const override {}
-  int maximumPasses() const override { return maxPasses_; }
+  PointResult reportedForces(const ContactPoint& p, const PointState& s) const override;
 
  private:
-  RegularizedParameters parameters() const {
-    RegularizedParameters p = p_;
-    p.law = frictionLaw();
-    return p;
-  }
-  RegularizedParameters p_;
-  double tolerance_;
+  double normalPenalty_, tangentialPenalty_, tolerance_;
   int maxPasses_;
 };
 

@@ -1,39 +1,80 @@
-// How a contact constraint is enforced: the strategy interface. A strategy sees one contact point at
-// a time: its kinematics (gaps g_N, g_T1, g_T2 with first variations R and linearized variations K,
-// see ContactKinematics.hpp), the friction coefficient and the point's history, and adds the point's
-// residual and tangent. The contact manager does search, bookkeeping and assembly; a strategy is only
-// this local math plus what it does when Newton has converged (augment, change the active set).
+// How a contact constraint is enforced: the strategy interface. Read this file to write a strategy;
+// docs/contact.md walks through one ("your first strategy in 15 minutes").
 //
-// Sign conventions: lambda_N <= 0 is the normal contact force conjugate to g_N (paper's (3.2):
-// F_N = lambda_N; the reported normal force is -lambda_N >= 0); lambda_Ti is the friction force
-// conjugate to g_Ti. Coulomb friction by one of two laws (Contact/Friction Law):
-//  - Isotropic Coulomb: the tangential force vector F_T in the contact plane obeys |F_T| <= mu |lambda_N|;
-//    with the slip vector s = g_T1 a - g_T2 b (a, b unit line tangents, c = a . b) the force components
-//    conjugate to (g_T1, g_T2) give |F_T|^2 = lambda_T^T M^-1 lambda_T, M = [1 -c; -c 1];
-//  - Per Line: |lambda_Ti| <= mu |lambda_N| for each line independently (the seed paper's (4.3)); the
-//    resultant may then reach sqrt(2) mu |lambda_N|.
+// A strategy sees one contact point at a time (ContactPoint): its kinematics (gaps g_N, g_T1, g_T2,
+// each with its first variation R and linearized variation K, ContactKinematics.hpp), the friction
+// coefficient and law, and its multipliers if it owns any. It adds the point's residual and tangent,
+// and decides what happens when Newton has converged (change an active set, augment, accept). The
+// contact manager does search, bookkeeping, assembly and output; it never looks inside a strategy.
+//
+// What a strategy owns:
+//  - its parameters: a static spec() (core::ParameterSpec: names, defaults, ranges, docs), from which
+//    the deck's "Contact/Enforcement/<name>" sublist is validated and documented;
+//  - its per-point state: a struct derived from PointStateOf<...>, made by newPointState(), carried
+//    from step to step (restored when a step is cut, written to checkpoints through fields());
+//  - its multipliers: multipliers(state) says how many unknowns a point needs now; the manager asks
+//    the core allocator (core::ExtraUnknowns) for them and hands their values in ContactPoint::lambda;
+//  - its construction: a constructor from its validated sublist, registered with
+//    registerEnforcer<MyStrategy>() (EnforcerRegistry.hpp) or from a plug-in library.
+//
+// Sign conventions: lambda_N <= 0 is the normal contact force conjugate to g_N (the paper's (3.2);
+// the reported normal force is -lambda_N >= 0); lambda_Ti is the friction force conjugate to g_Ti.
+// The residual of a point is f = lambda_N R_N + lambda_T1 R_T1 + lambda_T2 R_T2 (+ the multipliers'
+// own rows), the tangent K its derivative with respect to the point's 24 nodal dofs (translations
+// and spin increments of the four nodes) and multipliers. Friction laws (Contact/Friction Law,
+// return mappings in CoulombFriction.hpp, usable by any strategy):
+//  - Isotropic Coulomb: the tangential force vector obeys |F_T| <= mu |lambda_N|; with the slip vector
+//    s = g_T1 a - g_T2 b (a, b unit line tangents, c = a . b) the components conjugate to (g_T1, g_T2)
+//    give |F_T|^2 = lambda_T^T M^-1 lambda_T, M = [1 -c; -c 1];
+//  - Per Line: |lambda_Ti| <= mu |lambda_N| for each line on its own (the seed paper's (4.3)).
 #pragma once
 #include <limits>
 #include <memory>
 #include <string>
-#include <vector>
-
-#include <Teuchos_ParameterList.hpp>
 
 #include "ContactKinematics.hpp"
 
 namespace bc::constraints {
 
-// What is carried from one converged step to the next (and, for augmented Lagrange, between passes).
-struct PointHistory {
-  double lambdaN = 0.0;      // multiplier estimate (augmented Lagrange) or converged value (Lagrange)
-  double lambdaT[2] = {0.0, 0.0};  // friction forces of the last converged step / estimates
-  bool active = false;       // Lagrange: point is in the active set
-  bool slip[2] = {false, false};   // Lagrange: slip state per line
-  double slipSign[2] = {1.0, 1.0}; // Lagrange: direction of the friction force in slip
+enum class FrictionLaw { IsotropicCoulomb, PerLine };
+
+// Visits the fields of a point state by name (checkpoints write and read them through this).
+class StateFields {
+ public:
+  virtual ~StateFields() = default;
+  virtual void real(const char* name, double& value) = 0;
+  virtual void flag(const char* name, bool& value) = 0;
 };
 
-// The result of evaluating a point: forces and state, for output and for the progress line.
+// A strategy's per-point state. Derive from PointStateOf<YourState> (it supplies clone()) and list
+// every member in fields() so that a restart continues exactly.
+class PointState {
+ public:
+  virtual ~PointState() = default;
+  virtual std::unique_ptr<PointState> clone() const = 0;
+  virtual void fields(StateFields& visit) {}
+};
+template <class Self>
+class PointStateOf : public PointState {
+ public:
+  std::unique_ptr<PointState> clone() const override { return std::make_unique<Self>(static_cast<const Self&>(*this)); }
+};
+// The state with no fields (strategies that keep nothing between steps).
+struct NoPointState : PointStateOf<NoPointState> {};
+
+// The typed view of a state the strategy made itself (newPointState).
+template <class S> S& stateOf(PointState& s) { return static_cast<S&>(s); }
+template <class S> const S& stateOf(const PointState& s) { return static_cast<const S&>(s); }
+
+// One contact point as a strategy sees it.
+struct ContactPoint {
+  const ContactKinematics& kinematics;
+  double friction = 0.0;            // Coulomb coefficient mu of the pair
+  FrictionLaw law = FrictionLaw::IsotropicCoulomb;
+  const double* lambda = nullptr;   // the point's multipliers (multipliers(state) of them), or null
+};
+
+// The forces of a point: for output, the progress line and the stopping tests.
 struct PointResult {
   bool active = false;
   double lambdaN = 0.0;
@@ -41,53 +82,44 @@ struct PointResult {
   bool slip[2] = {false, false};
 };
 
-enum class FrictionLaw { IsotropicCoulomb, PerLine };
-
 class ConstraintEnforcer {
  public:
   virtual ~ConstraintEnforcer() = default;
-  // The friction law the strategy enforces (set by the contact manager from the deck).
-  void setFrictionLaw(FrictionLaw law) { law_ = law; }
-  FrictionLaw frictionLaw() const { return law_; }
+  // The name under Contact/Enforcement/Type (the registry's key).
   virtual std::string type() const = 0;
-  // Where the point's force switches on within Newton, as a gap: the point acts once g_N falls below
-  // this (penalty: 0; augmented Lagrange: -lambda_hat_N / eps_N). Infinite for strategies whose
-  // active set changes only between Newton solves (Lagrange multipliers).
-  virtual double activationGap(const PointHistory& h) const { return -std::numeric_limits<double>::infinity(); }
-  // Extra unknowns per active contact point (3 for Lagrange multipliers: lambda_N, lambda_T1, lambda_T2).
-  virtual int multipliersPerPoint() const { return 0; }
-  // True when a point whose kinematics are `k` takes part in the system now (penalty: g_N < 0).
-  virtual bool contributes(const ContactKinematics& k, const PointHistory& h) const = 0;
-  // Adds the point's residual f (size n = 24 + multipliersPerPoint) and tangent K (n x n,
-  // row-major; may be null). `lambda` holds the point's current multipliers (null if none).
-  virtual PointResult evaluate(const ContactKinematics& k, const PointHistory& h, double mu, const double* lambda,
-                               double* f, double* K) const = 0;
-  // Newton has converged for this increment. First stage, for every point: the normal active set
-  // (activate, release); return false if it changed. Only when no point changed there, the second
-  // stage (acceptPoint) runs: friction states, augmentation. Mixing both in one pass makes active
-  // sets cycle, because slip directions would come from a configuration that no longer holds.
-  virtual bool acceptNormal(const ContactKinematics& k, PointHistory& h, double mu, const double* lambda) const {
-    return true;
-  }
-  // Second stage. Update `h` (e.g. augment the multipliers, change stick/slip); return false if the
-  // increment must be solved again with the updated history.
-  // `worstViolation` collects the largest constraint violation (for the stopping test and output).
-  virtual bool acceptPoint(const ContactKinematics& k, PointHistory& h, double mu, const double* lambda,
-                           double& worstViolation) const = 0;
-  // The forces of a point at a converged state, for output (called before commitPoint). By default
-  // the evaluation without assembly.
-  virtual PointResult reportedForces(const ContactKinematics& k, const PointHistory& h, double mu,
-                                     const double* lambda) const {
-    std::vector<double> f(kPairDofs + multipliersPerPoint(), 0.0);
-    return contributes(k, h) ? evaluate(k, h, mu, lambda, f.data(), nullptr) : PointResult{};
-  }
-  // History at the end of a converged increment (friction forces carried to the next increment).
-  virtual void commitPoint(const ContactKinematics& k, PointHistory& h, double mu, const double* lambda) const = 0;
-  // Upper bound on the Newton solves of one increment the strategy may ask for (augmentation passes).
-  virtual int maximumPasses() const { return 1; }
 
- private:
-  FrictionLaw law_ = FrictionLaw::IsotropicCoulomb;
+  // --- per-point state and multipliers -------------------------------------------------------------
+  virtual std::unique_ptr<PointState> newPointState() const { return std::make_unique<NoPointState>(); }
+  // Unknowns the point owns now (asked at the start of every Newton iteration; 0: none). A point
+  // whose count changes gets fresh (zero) values.
+  virtual int multipliers(const PointState& s) const { return 0; }
+
+  // --- within Newton ---------------------------------------------------------------------------------
+  // True when a point with normal gap `gapN` takes part in the system now (penalty: gapN < 0). Only
+  // the gap is known here: the kinematics with their derivatives are computed for points that pass.
+  virtual bool contributes(double gapN, const PointState& s) const = 0;
+  // Adds the point's residual f (size 24 + multipliers) and tangent K (square, row-major; null for a
+  // residual-only evaluation); returns its forces. f and K arrive zeroed.
+  virtual PointResult evaluate(const ContactPoint& p, const PointState& s, double* f, double* K) const = 0;
+  // Where the point's force switches on within Newton, as a gap (penalty 0): a Newton step that would
+  // carry an open point past it is shortened so the next tangent sees the point. Infinite for
+  // strategies whose active set changes only between Newton solves.
+  virtual double activationGap(const PointState& s) const { return -std::numeric_limits<double>::infinity(); }
+
+  // --- when Newton has converged for an increment ---------------------------------------------------
+  // First stage, for every point: the normal active set; return false if it changed (the increment
+  // is solved again). Only when no point changed there does the second stage run.
+  virtual bool acceptNormal(const ContactPoint& p, PointState& s) const { return true; }
+  // Second stage: friction states, augmentation. Return false to solve the increment again.
+  // `worstViolation` collects the largest constraint violation (stopping test and output).
+  virtual bool acceptPoint(const ContactPoint& p, PointState& s, double& worstViolation) const = 0;
+  // Upper bound on the Newton solves of one increment (active-set or augmentation passes).
+  virtual int maximumPasses() const { return 1; }
+  // The forces at the converged state, for output (before commitPoint). By default the evaluation
+  // without assembly.
+  virtual PointResult reportedForces(const ContactPoint& p, const PointState& s) const;
+  // The increment is accepted: keep what the next increment needs (e.g. the friction forces).
+  virtual void commitPoint(const ContactPoint& p, PointState& s) const {}
 };
 
 }  // namespace bc::constraints

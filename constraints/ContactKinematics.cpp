@@ -4,7 +4,7 @@
 
 namespace bc::constraints {
 
-using namespace bc::elements;
+using namespace bc::math;
 
 namespace {
 

@@ -20,12 +20,11 @@
 #pragma once
 #include <array>
 
-#include "elements/SmallMath.hpp"
+#include "core/SmallMath.hpp"
 
 namespace bc::constraints {
 
-using elements::Mat3d;
-using elements::Vec3d;
+using namespace bc::math;  // Vec3, Mat3 and the SO(3) maps
 
 constexpr int kPairDofs = 24;
 using Vector24 = std::array<double, kPairDofs>;

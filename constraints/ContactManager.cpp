@@ -22,7 +22,6 @@ using Key = std::tuple<int, int, int>;
 ContactManager::ContactManager(std::shared_ptr<const elements::BeamSet> beams, std::vector<ContactPairSpec> pairs,
                                std::unique_ptr<ConstraintEnforcer> enforcer, ContactOptions options)
     : beams_(std::move(beams)), pairs_(std::move(pairs)), enforcer_(std::move(enforcer)), options_(options) {
-  enforcer_->setFrictionLaw(options_.frictionLaw);
   for (const auto& b : beams_->beams()) {
     std::vector<Line> lines;
     if (b.section.shape == CrossSection::Shape::Rectangle) {
@@ -247,6 +246,7 @@ bool ContactManager::prepareIteration(core::State& state) {
     } else {
       changed = true;
       p.pair = std::get<0>(key); p.lineA = std::get<1>(key); p.lineB = std::get<2>(key);
+      p.state = PointStateHolder(enforcer_->newPointState());
       p.sigma = c.cp.sigma;
       p.xiPrev = beamCoordinate(c.elementA, c.cp.xi);
       p.etaPrev = beamCoordinate(c.elementB, c.cp.eta);
@@ -259,36 +259,36 @@ bool ContactManager::prepareIteration(core::State& state) {
   return layoutMultipliers(state) || changed;
 }
 
+namespace {
+core::ExtraUnknowns::Key extraKey(const ContactManager::Point& p) { return {p.pair, p.lineA, p.lineB}; }
+}  // namespace
+
 bool ContactManager::layoutMultipliers(core::State& state) {
-  const int m = enforcer_->multipliersPerPoint();
-  if (m == 0) return false;
-  std::vector<double> extra;
-  bool changed = false;
+  std::map<core::ExtraUnknowns::Key, int> wanted;
+  for (const auto& [key, p] : points_) wanted[extraKey(p)] = enforcer_->multipliers(*p.state);
+  const bool changed = state.extra.request(kExtraOwner, wanted);
   for (auto& [key, p] : points_) {
-    const int offset = p.history.active ? static_cast<int>(extra.size()) : -1;
-    if (offset >= 0) {
-      for (int j = 0; j < m; ++j)
-        extra.push_back(p.extraOffset >= 0 && p.extraOffset + j < (int)state.extra.size() ? state.extra[p.extraOffset + j]
-                                                                                           : 0.0);
-    }
-    changed = changed || offset != p.extraOffset;
-    p.extraOffset = offset;
+    const auto* block = state.extra.find(kExtraOwner, extraKey(p));
+    p.extraOffset = block ? block->offset : -1;
+    p.extraCount = block ? block->size : 0;
   }
-  changed = changed || extra.size() != state.extra.size();
-  state.extra = std::move(extra);
   return changed;
 }
 
-const double* ContactManager::multipliers(const Point& p, const core::State& state) const {
-  return p.extraOffset >= 0 ? &state.extra[p.extraOffset] : nullptr;
+const double* ContactManager::multipliers(const Point& p, const core::State& state, int* count) const {
+  const auto* block = state.extra.find(kExtraOwner, extraKey(p));
+  if (count) *count = block ? block->size : 0;
+  return block ? &state.extra[block->offset] : nullptr;
+}
+
+ContactPoint ContactManager::strategyView(const Point& p, const ContactKinematics& k, const core::State& state) const {
+  return ContactPoint{k, pairs_[p.pair].friction, options_.frictionLaw, multipliers(p, state)};
 }
 
 std::vector<GlobalDof> ContactManager::blockDofs(const Point& p) const {
   const auto d = pointDofs(p);
   std::vector<GlobalDof> dofs(d.begin(), d.end());
-  if (p.extraOffset >= 0)
-    for (int j = 0; j < enforcer_->multipliersPerPoint(); ++j)
-      dofs.push_back(GlobalDof(core::kDofsPerNode) * numNodes_ + p.extraOffset + j);
+  for (int j = 0; j < p.extraCount; ++j) dofs.push_back(GlobalDof(core::kDofsPerNode) * numNodes_ + p.extraOffset + j);
   return dofs;
 }
 
@@ -322,17 +322,13 @@ void ContactManager::evaluate(const core::State& state, const OwnsDof& owns, cor
   for (const auto& [key, p] : points_) {
     const auto d = blockDofs(p);
     if (!owns(d[0])) continue;
-    // Cheap test first: the full kinematics (with their derivatives) only where the point may act.
-    ContactKinematics probe;
-    probe.normal.value = pointGeometry(p, state).gap;
-    if (!enforcer_->contributes(probe, p.history)) continue;
+    // The full kinematics (with their derivatives) only where the point acts.
+    if (!enforcer_->contributes(pointGeometry(p, state).gap, *p.state)) continue;
     const ContactKinematics k = kinematics(p, state);
-    if (!enforcer_->contributes(k, p.history)) continue;
     const int n = static_cast<int>(d.size());
     f.assign(n, 0.0);
     K.assign(std::size_t(n) * n, 0.0);
-    enforcer_->evaluate(k, p.history, pairs_[p.pair].friction, multipliers(p, state), f.data(),
-                        tangent ? K.data() : nullptr);
+    enforcer_->evaluate(strategyView(p, k, state), *p.state, f.data(), tangent ? K.data() : nullptr);
     sink.add(d.data(), n, f.data(), tangent ? K.data() : nullptr);
   }
 }
@@ -361,7 +357,7 @@ void ContactManager::checkNoPassThrough(const core::State& state) const {
           std::abs(elems[p.elementB].index - elems[eb].index) > 1)
         continue;
       const ContactKinematics k = kinematics(p, state);
-      if (enforcer_->contributes(k, p.history) && k.normal.value < 0.0) return;
+      if (enforcer_->contributes(k.normal.value, *p.state) && k.normal.value < 0.0) return;
     }
     const auto& pair = pairs_[pi];
     std::ostringstream s;
@@ -386,13 +382,12 @@ bool ContactManager::acceptSolution(core::State& state) {
   std::vector<ContactKinematics> ks;
   for (auto& [key, p] : points_) {
     ks.push_back(kinematics(p, state));
-    all = enforcer_->acceptNormal(ks.back(), p.history, pairs_[p.pair].friction, multipliers(p, state)) && all;
+    all = enforcer_->acceptNormal(strategyView(p, ks.back(), state), *p.state) && all;
   }
   if (all) {
     std::size_t i = 0;
     for (auto& [key, p] : points_)
-      all = enforcer_->acceptPoint(ks[i++], p.history, pairs_[p.pair].friction, multipliers(p, state), worstViolation_) &&
-            all;
+      all = enforcer_->acceptPoint(strategyView(p, ks[i++], state), *p.state, worstViolation_) && all;
   }
   if (all) checkNoPassThrough(state);
   if (passes_ == 1) violations_.clear();
@@ -409,9 +404,9 @@ bool ContactManager::acceptSolution(core::State& state) {
 void ContactManager::commitStep(const core::State& state) {
   for (auto& [key, p] : points_) {
     const ContactKinematics k = kinematics(p, state);
-    const double* lambda = multipliers(p, state);
-    p.result = enforcer_->reportedForces(k, p.history, pairs_[p.pair].friction, lambda);
-    enforcer_->commitPoint(k, p.history, pairs_[p.pair].friction, lambda);
+    const ContactPoint view = strategyView(p, k, state);
+    p.result = enforcer_->reportedForces(view, *p.state);
+    enforcer_->commitPoint(view, *p.state);
     p.kinematics = k;
     const ClosestPoints cp = pointGeometry(p, state);
     p.position = 0.5 * (cp.pA + cp.pB);
@@ -437,12 +432,17 @@ void ContactManager::commitStep(const core::State& state) {
 
 void ContactManager::saveCommitted(core::CheckpointOut& out) const {
   out.label("contact").word(enforcer_->type()).integer(static_cast<long long>(committed_.size())).integer(lastPasses_);
+  // The strategy's point state, field by field (name and value).
+  struct Writer : StateFields {
+    core::CheckpointOut& out;
+    explicit Writer(core::CheckpointOut& o) : out(o) {}
+    void real(const char* name, double& v) override { out.word(name).real(v); }
+    void flag(const char* name, bool& v) override { out.word(name).integer(v ? 1 : 0); }
+  } writer(out);
   for (const auto& [key, p] : committed_) {
-    const PointHistory& h = p.history;
     out.label("point").integer(p.pair).integer(p.lineA).integer(p.lineB).integer(p.elementA).integer(p.elementB);
-    out.real(p.sigma).real(p.xiPrev).real(p.etaPrev).integer(p.extraOffset);
-    out.real(h.lambdaN).real(h.lambdaT[0]).real(h.lambdaT[1]).integer(h.active).integer(h.slip[0]).integer(h.slip[1]);
-    out.real(h.slipSign[0]).real(h.slipSign[1]);
+    out.real(p.sigma).real(p.xiPrev).real(p.etaPrev);
+    (*p.state).fields(writer);
   }
 }
 
@@ -452,6 +452,16 @@ void ContactManager::loadCommitted(core::CheckpointIn& in, const core::State& co
   const long long n = in.integer();
   lastPasses_ = static_cast<int>(in.integer());
   const int elements = static_cast<int>(beams_->elements().size());
+  struct Reader : StateFields {
+    core::CheckpointIn& in;
+    explicit Reader(core::CheckpointIn& i) : in(i) {}
+    void name(const char* expected) {
+      if (in.word() != core::CheckpointOut::token(expected))
+        in.fail(std::string("a contact point's state lacks \"") + expected + "\" (another strategy version?)");
+    }
+    void real(const char* n, double& v) override { name(n); v = in.real(); }
+    void flag(const char* n, bool& v) override { name(n); v = in.integer() != 0; }
+  } reader(in);
   committed_.clear();
   for (long long i = 0; i < n; ++i) {
     in.label("point");
@@ -467,18 +477,13 @@ void ContactManager::loadCommitted(core::CheckpointIn& in, const core::State& co
     p.sigma = in.real();
     p.xiPrev = in.real();
     p.etaPrev = in.real();
-    p.extraOffset = static_cast<int>(in.integer());
-    PointHistory& h = p.history;
-    h.lambdaN = in.real();
-    h.lambdaT[0] = in.real();
-    h.lambdaT[1] = in.real();
-    h.active = in.integer() != 0;
-    h.slip[0] = in.integer() != 0;
-    h.slip[1] = in.integer() != 0;
-    h.slipSign[0] = in.real();
-    h.slipSign[1] = in.real();
-    if (p.extraOffset >= 0 && std::size_t(p.extraOffset) + enforcer_->multipliersPerPoint() > committed.extra.size())
-      in.fail("a contact point's multipliers lie outside the state");
+    p.state = PointStateHolder(enforcer_->newPointState());
+    (*p.state).fields(reader);
+    const auto* block = committed.extra.find(kExtraOwner, extraKey(p));
+    p.extraOffset = block ? block->offset : -1;
+    p.extraCount = block ? block->size : 0;
+    if (p.extraCount != enforcer_->multipliers(*p.state))
+      in.fail("a contact point's multipliers do not match its state");
     committed_[{p.pair, p.lineA, p.lineB}] = p;
   }
   points_ = committed_;
@@ -503,7 +508,7 @@ double ContactManager::stepBound(const core::State& state, const std::vector<dou
   double bound = 1.0;
   std::unique_ptr<core::State> next;
   for (const auto& [key, p] : points_) {
-    const double activation = enforcer_->activationGap(p.history);
+    const double activation = enforcer_->activationGap(*p.state);
     if (!std::isfinite(activation)) return 1.0;
     const double a0 = pointGeometry(p, state).gap - activation;
     if (!(a0 > 0.0)) continue;
@@ -550,15 +555,15 @@ std::vector<std::string> ContactManager::tableRows() const {
 }
 
 void ContactManager::appendVtk(const core::State&, core::VtkMesh& mesh) const {
+  mesh.pointVectors["contact force"];  // in every step's file, also without contact
   for (const auto& [key, p] : committed_) {
     if (!p.result.active) continue;
+    const int point = mesh.addPoint(p.position, Vec3d{});
+    mesh.setPointVector("contact force", point, p.normalForce + p.tangentialForce);
     mesh.cellTypes.push_back(1);  // VTK_VERTEX
-    mesh.cells.push_back({static_cast<int>(mesh.points.size())});
+    mesh.cells.push_back({point});
     mesh.cellBeam.push_back(-1);
     mesh.cellElement.push_back(-1);
-    mesh.points.push_back(p.position);
-    mesh.pointDisplacement.push_back(Vec3d{});
-    mesh.pointForce.push_back(p.normalForce + p.tangentialForce);
   }
 }
 

@@ -12,8 +12,9 @@
 // so candidate element pairs are found without testing all pairs.
 //
 // History per point: the contact coordinates of the last converged step (the tangential gaps are
-// measured from them, mapped on the current configuration), the normal orientation, and what the
-// strategy keeps (friction forces, multiplier estimates). When a point moves to a neighbouring
+// measured from them, mapped on the current configuration), the normal orientation, and the
+// strategy's own point state (opaque here). A strategy's multipliers are extra unknowns of the state
+// (core::ExtraUnknowns, owner "contact", key (pair, line A, line B)), as many as it asks for. When a point moves to a neighbouring
 // element within a step, its tangential gap is the parameter difference times the current element's
 // line length (exact within one element).
 #pragma once
@@ -43,6 +44,25 @@ struct ContactOptions {
   FrictionLaw frictionLaw = FrictionLaw::IsotropicCoulomb;
 };
 
+// A strategy's point state with value semantics (copied by clone, so points can be committed,
+// marked and restored).
+class PointStateHolder {
+ public:
+  PointStateHolder() = default;
+  explicit PointStateHolder(std::unique_ptr<PointState> s) : s_(std::move(s)) {}
+  PointStateHolder(const PointStateHolder& o) : s_(o.s_ ? o.s_->clone() : nullptr) {}
+  PointStateHolder& operator=(const PointStateHolder& o) {
+    if (this != &o) s_ = o.s_ ? o.s_->clone() : nullptr;
+    return *this;
+  }
+  PointStateHolder(PointStateHolder&&) = default;
+  PointStateHolder& operator=(PointStateHolder&&) = default;
+  PointState& operator*() const { return *s_; }
+
+ private:
+  std::unique_ptr<PointState> s_;
+};
+
 class ContactManager : public core::Contribution {
  public:
   ContactManager(std::shared_ptr<const elements::BeamSet> beams, std::vector<ContactPairSpec> pairs,
@@ -61,6 +81,7 @@ class ContactManager : public core::Contribution {
   void saveCommitted(core::CheckpointOut& out) const override;
   void loadCommitted(core::CheckpointIn& in, const core::State& committed) override;
   void markIterate() override { marked_ = points_; }
+  static constexpr const char* kExtraOwner = "contact";
   double stepBound(const core::State& state, const std::vector<double>& du) const override;
   void returnToIterate() override { points_ = marked_; }
   std::string tableName() const override { return "contact_points.csv"; }
@@ -75,8 +96,8 @@ class ContactManager : public core::Contribution {
     int elementA = 0, elementB = 0;  // indices into the beam set's element list
     double sigma = 1.0;
     double xiPrev = 0.0, etaPrev = 0.0;  // previous converged point, as beam coordinates (element + xi)
-    PointHistory history;
-    int extraOffset = -1;  // first of the point's multipliers in State::extra (strategies with multipliers)
+    PointStateHolder state;  // the strategy's
+    int extraOffset = -1, extraCount = 0;  // its multipliers in State::extra (as laid out last)
     // Last committed values, for output.
     ContactKinematics kinematics;
     PointResult result;
@@ -94,8 +115,10 @@ class ContactManager : public core::Contribution {
   // Kinematics of a point at a state (public for tests of the assembled contact tangent).
   ContactKinematics kinematics(const Point& p, const core::State& state) const;
   std::array<core::GlobalDof, kPairDofs> pointDofs(const Point& p) const;
-  // The point's multipliers in `state` (null for strategies without them or inactive points).
-  const double* multipliers(const Point& p, const core::State& state) const;
+  // The point's multipliers in `state` (null when it has none) and how many there are.
+  const double* multipliers(const Point& p, const core::State& state, int* count = nullptr) const;
+  // The point as its strategy sees it, with kinematics `k` in `state`.
+  ContactPoint strategyView(const Point& p, const ContactKinematics& k, const core::State& state) const;
 
  private:
   struct Line {
@@ -119,8 +142,8 @@ class ContactManager : public core::Contribution {
   double beamCoordinate(int element, double xi) const;
   bool withinElement(int element, double xi) const;
   void checkNoPassThrough(const core::State& state) const;
-  // Gives every active point of a strategy with multipliers its place in State::extra, keeping the
-  // values of points that stay active; true if the layout changed.
+  // Asks the state's extra unknowns for the multipliers every point's strategy wants now (values of
+  // points that keep theirs are kept); true if the layout changed.
   bool layoutMultipliers(core::State& state);
   std::vector<core::GlobalDof> blockDofs(const Point& p) const;
 

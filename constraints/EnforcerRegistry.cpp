@@ -43,4 +43,37 @@ const EnforcerEntry& findEnforcer(const std::string& name, const std::string& pa
                          "\"; valid strategies are " + core::joinNames(enforcerNames()));
 }
 
+namespace {
+core::ParameterSpec enforcementSpec() {
+  core::ParameterSpec spec;
+  spec.addRequired("Type", std::string("Penalty"), "the enforcement strategy; its parameters go in the sublist of "
+                   "the same name", {}, "one of " + core::joinNames(enforcerNames()));
+  for (const auto& entry : registry())
+    spec.addSublist(entry.name, entry.spec->reference(), "used when Type is \"" + entry.name + "\": " + entry.description);
+  return spec;
+}
+}  // namespace
+
+const EnforcerEntry& validateEnforcement(Teuchos::ParameterList& e, const std::string& path) {
+  if (!e.isParameter("Type"))
+    throw core::InputError("missing required parameter \"" + path + "/Type\"; valid strategies are " +
+                           core::joinNames(enforcerNames()));
+  if (!e.isType<std::string>("Type"))
+    throw core::InputError("parameter \"" + path + "/Type\" has type " + e.getEntry("Type").getAny().typeName() +
+                           ", expected string");
+  const EnforcerEntry& chosen = findEnforcer(e.get<std::string>("Type"), path + "/Type");
+  enforcementSpec().apply(e, path);
+  e.sublist(chosen.name);
+  for (const auto& other : registry())
+    if (e.isSublist(other.name)) other.spec->apply(e.sublist(other.name), path + "/" + other.name);
+  return chosen;
+}
+
+Teuchos::ParameterList enforcementReference() { return enforcementSpec().reference(); }
+
+std::unique_ptr<ConstraintEnforcer> createEnforcer(const Teuchos::ParameterList& e) {
+  const EnforcerEntry& entry = findEnforcer(e.get<std::string>("Type"), "Enforcement/Type");
+  return entry.create(e.sublist(entry.name));
+}
+
 }  // namespace bc::constraints

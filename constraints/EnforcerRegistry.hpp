@@ -1,7 +1,10 @@
-// The one list of enforcement strategies. The deck's "Enforcement/Type" choices, the validation of
-// each strategy's own sublist (named like the strategy) and the "unknown type" error all come from
-// here. A new strategy is one file pair (a ConstraintEnforcer with a static spec()) plus one line in
-// registerBuiltinEnforcers(), or a call to registerEnforcer() from a program or test.
+// The one list of enforcement strategies. The deck's "Contact/Enforcement" sublist (its Type choices,
+// the validation of each strategy's own sublist, the "unknown strategy" error) and its reference in
+// `beamcontact --print-valid-parameters` all come from here.
+//
+// A built-in strategy is one file pair in constraints/ (picked up by CMake without editing it) plus
+// one line in registerBuiltinEnforcers(). A strategy elsewhere calls registerEnforcer<T>() from a
+// program, a test, or a plug-in library's entry point (Plugins.hpp).
 #pragma once
 #include <functional>
 #include <memory>
@@ -15,19 +18,33 @@ namespace bc::constraints {
 
 struct EnforcerEntry {
   std::string name;
-  const core::ParameterSpec* spec = nullptr;  // parameters of the strategy's sublist
+  std::string description;                     // one line for the reference
+  const core::ParameterSpec* spec = nullptr;   // parameters of the strategy's sublist
   std::function<std::unique_ptr<ConstraintEnforcer>(const Teuchos::ParameterList&)> create;
 };
 
+// Adds a strategy (replacing one of the same name).
 void registerEnforcer(EnforcerEntry entry);
+// T has static name(), description() and spec(), and a constructor from its validated sublist.
+template <class T> void registerEnforcer() {
+  registerEnforcer({T::name(), T::description(), &T::spec(),
+                    [](const Teuchos::ParameterList& p) { return std::make_unique<T>(p); }});
+}
 // Registers the built-in strategies: Penalty, Lagrange Multiplier, Augmented Lagrange (idempotent).
 void registerBuiltinEnforcers();
 const std::vector<EnforcerEntry>& enforcers();
 std::vector<std::string> enforcerNames();
+// The strategy named `name`; an input error naming `path` and the valid names if there is none.
 const EnforcerEntry& findEnforcer(const std::string& name, const std::string& path);
 
-template <class T> void registerEnforcer() {
-  registerEnforcer({T::name(), &T::spec(), [](const Teuchos::ParameterList& p) { return std::make_unique<T>(p); }});
-}
+// Validates a deck's Enforcement sublist `e` (at `path`) and fills in defaults: Type is required, the
+// chosen strategy's sublist is created when absent (so its defaults apply and each missing required
+// value is named), and the sublists of other registered strategies may stay (switching Type is one
+// edit) and are validated too. Returns the chosen strategy.
+const EnforcerEntry& validateEnforcement(Teuchos::ParameterList& e, const std::string& path);
+// The documented reference of the Enforcement sublist.
+Teuchos::ParameterList enforcementReference();
+// The chosen strategy, constructed from a validated Enforcement sublist.
+std::unique_ptr<ConstraintEnforcer> createEnforcer(const Teuchos::ParameterList& validatedEnforcement);
 
 }  // namespace bc::constraints

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "CoulombCone.hpp"
+#include "CoulombFriction.hpp"
 
 namespace bc::constraints {
 
@@ -25,14 +25,15 @@ const core::ParameterSpec& LagrangeMultiplierEnforcer::spec() {
   return s;
 }
 
-LagrangeMultiplierEnforcer::LagrangeMultiplierEnforcer(const Teuchos::ParameterList& v) {
-  tolerance_ = v.get<double>("Gap Tolerance");
-  maxPasses_ = v.get<int>("Maximum Active Set Iterations");
-  complementarity_ = v.get<double>("Friction Complementarity Parameter");
-}
+LagrangeMultiplierEnforcer::LagrangeMultiplierEnforcer(const Teuchos::ParameterList& v)
+    : tolerance_(v.get<double>("Gap Tolerance")),
+      maxPasses_(v.get<int>("Maximum Active Set Iterations")),
+      complementarity_(v.get<double>("Friction Complementarity Parameter")) {}
 
-bool LagrangeMultiplierEnforcer::isotropicFrictionRows(const ContactKinematics& k, double mu, const double* lambda,
-                                                       double* f, double* K) const {
+bool LagrangeMultiplierEnforcer::isotropicFrictionRows(const ContactPoint& p, double* f, double* K) const {
+  const ContactKinematics& k = p.kinematics;
+  const double mu = p.friction;
+  const double* lambda = p.lambda;
   // C(lambda_T, lambda_N, g_T, c) = lambda_T - P(lambda_T + c_T M g_T) = 0, P the projection on the
   // cone of radius mu max(0, -lambda_N): inside (stick) it reads -c_T M g_T = 0, outside (slip)
   // lambda_T = mu |lambda_N| (lambda_T + c_T M g_T) / |..|, the force at the limit along the slip.
@@ -66,8 +67,12 @@ bool LagrangeMultiplierEnforcer::isotropicFrictionRows(const ContactKinematics& 
   return slip;
 }
 
-PointResult LagrangeMultiplierEnforcer::evaluate(const ContactKinematics& k, const PointHistory& h, double mu,
-                                                 const double* lambda, double* f, double* K) const {
+PointResult LagrangeMultiplierEnforcer::evaluate(const ContactPoint& p, const PointState& s, double* f,
+                                                 double* K) const {
+  const State& h = stateOf<State>(s);
+  const ContactKinematics& k = p.kinematics;
+  const double mu = p.friction;
+  const double* lambda = p.lambda;
   PointResult r;
   r.active = h.active;
   if (!h.active) return r;
@@ -93,8 +98,8 @@ PointResult LagrangeMultiplierEnforcer::evaluate(const ContactKinematics& k, con
   if (K)
     for (int j = 0; j < kPairDofs; ++j) K[n * iN + j] += k.normal.R[j];
   // Tangential rows.
-  if (mu > 0.0 && frictionLaw() == FrictionLaw::IsotropicCoulomb) {
-    r.slip[0] = r.slip[1] = isotropicFrictionRows(k, mu, lambda, f, K);
+  if (mu > 0.0 && p.law == FrictionLaw::IsotropicCoulomb) {
+    r.slip[0] = r.slip[1] = isotropicFrictionRows(p, f, K);
     return r;
   }
   for (int t = 0; t < 2; ++t) {
@@ -118,8 +123,11 @@ PointResult LagrangeMultiplierEnforcer::evaluate(const ContactKinematics& k, con
   return r;
 }
 
-bool LagrangeMultiplierEnforcer::acceptNormal(const ContactKinematics& k, PointHistory& h, double mu,
-                                              const double* lambda) const {
+bool LagrangeMultiplierEnforcer::acceptNormal(const ContactPoint& p, PointState& s) const {
+  State& h = stateOf<State>(s);
+  const ContactKinematics& k = p.kinematics;
+  const double mu = p.friction;
+  const double* lambda = p.lambda;
   if (!h.active) {
     if (k.normal.value >= -tolerance_) return true;
     // Penetrating: activate. In friction it starts sliding in the direction it has moved since
@@ -128,7 +136,7 @@ bool LagrangeMultiplierEnforcer::acceptNormal(const ContactKinematics& k, PointH
     h.active = true;
     const double gT[2] = {k.tangent1.value, k.tangent2.value};
     for (int t = 0; t < 2; ++t) {
-      h.slip[t] = mu > 0.0 && frictionLaw() == FrictionLaw::PerLine;
+      h.slip[t] = mu > 0.0 && p.law == FrictionLaw::PerLine;
       h.slipSign[t] = gT[t] >= 0.0 ? 1.0 : -1.0;
     }
     return false;
@@ -136,23 +144,26 @@ bool LagrangeMultiplierEnforcer::acceptNormal(const ContactKinematics& k, PointH
   // Tension: release, but a point held by sticking friction first gets to slip (with lambda_N > 0
   // its Coulomb cone is empty, so the friction stage switches it); it is released only if it is
   // still in tension while slipping.
-  const bool held = frictionLaw() == FrictionLaw::PerLine && (h.slip[0] == false || h.slip[1] == false);
-  if (lambda[0] > 0.0 && !(held && mu > 0.0)) {
+  const bool held = p.law == FrictionLaw::PerLine && (h.slip[0] == false || h.slip[1] == false);
+  if (lambda && lambda[0] > 0.0 && !(held && mu > 0.0)) {
     h.active = false;
     return false;
   }
   return true;
 }
 
-bool LagrangeMultiplierEnforcer::acceptPoint(const ContactKinematics& k, PointHistory& h, double mu,
-                                             const double* lambda, double& worstViolation) const {
+bool LagrangeMultiplierEnforcer::acceptPoint(const ContactPoint& p, PointState& s, double& worstViolation) const {
+  State& h = stateOf<State>(s);
+  const ContactKinematics& k = p.kinematics;
+  const double mu = p.friction;
+  const double* lambda = p.lambda;
   if (!h.active) {
     worstViolation = std::max(worstViolation, std::max(0.0, -k.normal.value));
     return true;
   }
   worstViolation = std::max(worstViolation, std::abs(k.normal.value));
   // Isotropic Coulomb: stick and slip are settled inside Newton by the complementarity rows.
-  if (mu <= 0.0 || frictionLaw() == FrictionLaw::IsotropicCoulomb) return true;
+  if (mu <= 0.0 || p.law == FrictionLaw::IsotropicCoulomb) return true;
   const double lN = lambda[0];
   const GapDerivatives* gt[2] = {&k.tangent1, &k.tangent2};
   bool changed = false;
@@ -170,17 +181,6 @@ bool LagrangeMultiplierEnforcer::acceptPoint(const ContactKinematics& k, PointHi
     }
   }
   return !changed;
-}
-
-void LagrangeMultiplierEnforcer::commitPoint(const ContactKinematics&, PointHistory& h, double,
-                                             const double* lambda) const {
-  if (!h.active || !lambda) {
-    h.lambdaN = h.lambdaT[0] = h.lambdaT[1] = 0.0;
-    return;
-  }
-  h.lambdaN = lambda[0];
-  h.lambdaT[0] = lambda[1];
-  h.lambdaT[1] = lambda[2];
 }
 
 }  // namespace bc::constraints

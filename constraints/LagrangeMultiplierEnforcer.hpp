@@ -17,7 +17,7 @@
 //   line whose slip g_T opposes its force sticks.
 // That is the "Per Line" friction law. With "Isotropic Coulomb" the two friction rows are the
 // semismooth complementarity function lambda_T - P(lambda_T + c_T M g_T) = 0 (P the projection on the
-// cone |lambda_T|_{M^-1} <= mu |lambda_N|, CoulombCone.hpp): stick and slip and the slip direction are
+// cone |lambda_T|_{M^-1} <= mu |lambda_N|, CoulombFriction.hpp): stick and slip and the slip direction are
 // found by Newton itself, the active set only handles the normal contact.
 // Parameters (sublist "Lagrange Multiplier"): "Gap Tolerance" [length], "Maximum Active Set
 // Iterations", "Friction Complementarity Parameter" c_T [force/length].
@@ -30,23 +30,37 @@ namespace bc::constraints {
 class LagrangeMultiplierEnforcer : public ConstraintEnforcer {
  public:
   static const char* name() { return "Lagrange Multiplier"; }
+  static const char* description() { return "exact constraints with multipliers (lambda_N, lambda_T1, lambda_T2) per active point and an active set"; }
   static const core::ParameterSpec& spec();
   explicit LagrangeMultiplierEnforcer(const Teuchos::ParameterList& validated);
 
+  // The active set: whether the point is active (then it owns lambda_N, lambda_T1, lambda_T2) and,
+  // for Per Line friction, each line's stick/slip state and slip direction.
+  struct State : PointStateOf<State> {
+    bool active = false;
+    bool slip[2] = {false, false};
+    double slipSign[2] = {1.0, 1.0};
+    void fields(StateFields& v) override {
+      v.flag("active", active);
+      v.flag("slip_1", slip[0]);
+      v.flag("slip_2", slip[1]);
+      v.real("slip_sign_1", slipSign[0]);
+      v.real("slip_sign_2", slipSign[1]);
+    }
+  };
+
   std::string type() const override { return name(); }
-  int multipliersPerPoint() const override { return 3; }
-  bool contributes(const ContactKinematics& k, const PointHistory& h) const override { return h.active; }
-  PointResult evaluate(const ContactKinematics& k, const PointHistory& h, double mu, const double* lambda, double* f,
-                       double* K) const override;
-  bool acceptNormal(const ContactKinematics& k, PointHistory& h, double mu, const double* lambda) const override;
-  bool acceptPoint(const ContactKinematics& k, PointHistory& h, double mu, const double* lambda,
-                   double& worstViolation) const override;
-  void commitPoint(const ContactKinematics& k, PointHistory& h, double mu, const double* lambda) const override;
+  std::unique_ptr<PointState> newPointState() const override { return std::make_unique<State>(); }
+  int multipliers(const PointState& s) const override { return stateOf<State>(s).active ? 3 : 0; }
+  bool contributes(double, const PointState& s) const override { return stateOf<State>(s).active; }
+  PointResult evaluate(const ContactPoint& p, const PointState& s, double* f, double* K) const override;
+  bool acceptNormal(const ContactPoint& p, PointState& s) const override;
+  bool acceptPoint(const ContactPoint& p, PointState& s, double& worstViolation) const override;
   int maximumPasses() const override { return maxPasses_; }
 
  private:
   // Isotropic Coulomb: adds the two friction rows; returns true when the point slips.
-  bool isotropicFrictionRows(const ContactKinematics& k, double mu, const double* lambda, double* f, double* K) const;
+  bool isotropicFrictionRows(const ContactPoint& p, double* f, double* K) const;
   double tolerance_;
   int maxPasses_;
   double complementarity_;

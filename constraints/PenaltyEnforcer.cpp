@@ -1,7 +1,8 @@
 #include "PenaltyEnforcer.hpp"
 
 #include <algorithm>
-#include <cmath>
+
+#include "RegularizedContactLaw.hpp"
 
 namespace bc::constraints {
 
@@ -17,34 +18,35 @@ const core::ParameterSpec& PenaltyEnforcer::spec() {
   return s;
 }
 
-PenaltyEnforcer::PenaltyEnforcer(const Teuchos::ParameterList& v) {
-  p_.normalPenalty = v.get<double>("Normal Penalty Parameter");
-  p_.tangentialPenalty = v.get<double>("Tangential Penalty Parameter");
+PenaltyEnforcer::PenaltyEnforcer(const Teuchos::ParameterList& v)
+    : normalPenalty_(v.get<double>("Normal Penalty Parameter")),
+      tangentialPenalty_(v.get<double>("Tangential Penalty Parameter")) {}
+
+namespace {
+FrictionRegularization friction(const PenaltyEnforcer::State& s, double eps) {
+  FrictionRegularization t;
+  t.lambdaHat[0] = s.lambdaT[0];
+  t.lambdaHat[1] = s.lambdaT[1];
+  t.penalty = eps;
+  return t;
+}
+}  // namespace
+
+PointResult PenaltyEnforcer::evaluate(const ContactPoint& p, const PointState& s, double* f, double* K) const {
+  return regularizedEvaluate(p, linearNormalLaw(0.0, normalPenalty_), friction(stateOf<State>(s), tangentialPenalty_),
+                             f, K);
 }
 
-bool PenaltyEnforcer::contributes(const ContactKinematics& k, const PointHistory&) const {
-  return k.normal.value < 0.0;
-}
-
-PointResult PenaltyEnforcer::evaluate(const ContactKinematics& k, const PointHistory& h, double mu, const double*,
-                                      double* f, double* K) const {
-  PointHistory penalty = h;
-  penalty.lambdaN = 0.0;  // no normal multiplier estimate in the penalty method
-  return regularizedEvaluate(k, penalty, mu, parameters(), f, K);
-}
-
-bool PenaltyEnforcer::acceptPoint(const ContactKinematics& k, PointHistory&, double, const double*,
-                                  double& worstViolation) const {
-  worstViolation = std::max(worstViolation, std::max(0.0, -k.normal.value));
+bool PenaltyEnforcer::acceptPoint(const ContactPoint& p, PointState&, double& worstViolation) const {
+  worstViolation = std::max(worstViolation, std::max(0.0, -p.kinematics.normal.value));
   return true;
 }
 
-void PenaltyEnforcer::commitPoint(const ContactKinematics& k, PointHistory& h, double mu, const double*) const {
-  PointHistory penalty = h;
-  penalty.lambdaN = 0.0;
-  const PointResult r = regularizedForces(k, penalty, mu, parameters());
-  h.lambdaN = r.lambdaN;
-  for (int i = 0; i < 2; ++i) h.lambdaT[i] = r.lambdaT[i];
+void PenaltyEnforcer::commitPoint(const ContactPoint& p, PointState& s) const {
+  State& state = stateOf<State>(s);
+  const PointResult r =
+      regularizedForces(p, linearNormalLaw(0.0, normalPenalty_), friction(state, tangentialPenalty_));
+  for (int i = 0; i < 2; ++i) state.lambdaT[i] = r.lambdaT[i];
 }
 
 }  // namespace bc::constraints

@@ -1,10 +1,9 @@
 // Penalty method (seed paper (3.1), (3.7)-(3.8), (4.4), (4.10), (4.12)): normal force eps_N g_N while
-// penetrating, tangential forces eps_T times the elastic slip, return-mapped onto the Coulomb limit.
-// Parameters (sublist "Penalty"): "Normal Penalty Parameter" eps_N, "Tangential Penalty Parameter"
-// eps_T [force/length].
+// penetrating, tangential forces eps_T times the elastic slip, return-mapped onto the Coulomb limit
+// (RegularizedContactLaw.hpp). Parameters (sublist "Penalty"): "Normal Penalty Parameter" eps_N,
+// "Tangential Penalty Parameter" eps_T [force/length].
 #pragma once
 #include "ConstraintEnforcer.hpp"
-#include "RegularizedContactLaw.hpp"
 #include "core/Parameters.hpp"
 
 namespace bc::constraints {
@@ -12,25 +11,26 @@ namespace bc::constraints {
 class PenaltyEnforcer : public ConstraintEnforcer {
  public:
   static const char* name() { return "Penalty"; }
+  static const char* description() { return "normal and stick springs eps_N, eps_T; the gap is of order force / eps_N"; }
   static const core::ParameterSpec& spec();
   explicit PenaltyEnforcer(const Teuchos::ParameterList& validated);
 
+  // The friction forces of the last converged step: the trial force starts from them.
+  struct State : PointStateOf<State> {
+    double lambdaT[2] = {0.0, 0.0};
+    void fields(StateFields& v) override { v.real("lambda_T1", lambdaT[0]); v.real("lambda_T2", lambdaT[1]); }
+  };
+
   std::string type() const override { return name(); }
-  double activationGap(const PointHistory&) const override { return 0.0; }
-  bool contributes(const ContactKinematics& k, const PointHistory& h) const override;
-  PointResult evaluate(const ContactKinematics& k, const PointHistory& h, double mu, const double* lambda, double* f,
-                       double* K) const override;
-  bool acceptPoint(const ContactKinematics& k, PointHistory& h, double mu, const double* lambda,
-                   double& worstViolation) const override;
-  void commitPoint(const ContactKinematics& k, PointHistory& h, double mu, const double* lambda) const override;
+  std::unique_ptr<PointState> newPointState() const override { return std::make_unique<State>(); }
+  bool contributes(double gapN, const PointState&) const override { return gapN < 0.0; }
+  double activationGap(const PointState&) const override { return 0.0; }
+  PointResult evaluate(const ContactPoint& p, const PointState& s, double* f, double* K) const override;
+  bool acceptPoint(const ContactPoint& p, PointState& s, double& worstViolation) const override;
+  void commitPoint(const ContactPoint& p, PointState& s) const override;
 
  private:
-  RegularizedParameters parameters() const {
-    RegularizedParameters p = p_;
-    p.law = frictionLaw();
-    return p;
-  }
-  RegularizedParameters p_;
+  double normalPenalty_, tangentialPenalty_;
 };
 
 }  // namespace bc::constraints

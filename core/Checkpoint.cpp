@@ -1,5 +1,7 @@
 #include "Checkpoint.hpp"
 
+#include <map>
+
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -47,8 +49,12 @@ void CheckpointOut::state(const State& s) {
     for (double v : s.rotation[n].m) real(v);
     for (double v : s.rotationVector[n].v) real(v);
   }
-  label("extra").integer(static_cast<long long>(s.extra.size()));
-  for (double v : s.extra) real(v);
+  label("extra").integer(static_cast<long long>(s.extra.size())).integer(static_cast<long long>(s.extra.blocks().size()));
+  for (double v : s.extra.values()) real(v);
+  for (const auto& [id, block] : s.extra.blocks()) {
+    label("block").word(id.first).integer(block.offset).integer(block.size).integer(static_cast<long long>(id.second.size()));
+    for (long long k : id.second) integer(k);
+  }
 }
 
 CheckpointIn::CheckpointIn(const std::string& text, const std::string& source) : in_(text), source_(source) {}
@@ -99,10 +105,28 @@ void CheckpointIn::state(State& s) {
     for (double& v : s.rotationVector[n].v) v = real();
   }
   label("extra");
-  const long long m = integer();
-  if (m < 0 || m > 100000000) fail("bad number of extra unknowns");
-  s.extra.assign(static_cast<std::size_t>(m), 0.0);
-  for (double& v : s.extra) v = real();
+  const long long m = integer(), nb = integer();
+  if (m < 0 || m > 100000000 || nb < 0 || nb > m) fail("bad number of extra unknowns");
+  std::vector<double> values(static_cast<std::size_t>(m));
+  for (double& v : values) v = real();
+  std::map<std::pair<std::string, ExtraUnknowns::Key>, ExtraUnknowns::Block> blocks;
+  long long next = 0;
+  for (long long b = 0; b < nb; ++b) {
+    label("block");
+    const std::string owner = word();
+    ExtraUnknowns::Block block;
+    block.offset = static_cast<int>(integer());
+    block.size = static_cast<int>(integer());
+    const long long nk = integer();
+    if (nk < 0 || nk > 64) fail("bad extra-unknown key");
+    ExtraUnknowns::Key key(static_cast<std::size_t>(nk));
+    for (long long& k : key) k = integer();
+    if (block.offset != next || block.size <= 0 || block.offset + block.size > m) fail("extra unknowns out of order (it is damaged)");
+    next += block.size;
+    blocks[{owner, key}] = block;
+  }
+  if (next != m) fail("extra unknowns without an owner (it is damaged)");
+  s.extra.assign(std::move(blocks), std::move(values));
 }
 
 std::uint64_t fingerprint(const std::string& text) {

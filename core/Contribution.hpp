@@ -1,11 +1,14 @@
-// A Contribution adds terms to the global residual and tangent: the beam elements are one, contact
-// constraints will be others. It works on the replicated State and writes element-level blocks into
+// A Contribution adds terms to the global residual and tangent: the beam elements are one, each
+// constraint set (e.g. contact) another. Its three concerns are separate interfaces: Physics (blocks,
+// residual, tangent, Newton hooks), StepHistory (commit, restore, checkpoint) and Output (VTK,
+// tables, progress line). It works on the replicated State and writes element-level blocks into
 // an AssemblySink, so it needs no Tpetra (kernels stay unit-testable without MPI).
 //
 // Distribution: every rank asks each contribution for the blocks *it* evaluates (those whose first
 // global dof it owns, as told by the sink); the Assembler sums blocks across ranks.
 #pragma once
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -23,21 +26,35 @@ class AssemblySink {
   virtual void add(const GlobalDof* dofs, int n, const double* f, const double* K) = 0;
 };
 
-// A drawable piece of the model for VTK output: points, cells (VTK cell types) and per-point data.
+// A drawable piece of the model for VTK output: points, cells (VTK cell types), the displacement of
+// every point and named vector arrays that a contribution sets on its own points (zero elsewhere).
 struct VtkMesh {
   std::vector<Vec3d> points;
   std::vector<Vec3d> pointDisplacement;
-  std::vector<Vec3d> pointForce;  // contact force on beam B at contact points, zero elsewhere
+  std::map<std::string, std::vector<Vec3d>> pointVectors;
   std::vector<int> cellTypes;
   std::vector<std::vector<int>> cells;
-  std::vector<int> cellBeam;     // index of the beam a cell belongs to
-  std::vector<int> cellElement;  // element index within its beam
+  std::vector<int> cellBeam;     // index of the beam a cell belongs to (-1: none)
+  std::vector<int> cellElement;  // element index within its beam (-1: none)
+
+  int addPoint(const Vec3d& x, const Vec3d& displacement) {
+    points.push_back(x);
+    pointDisplacement.push_back(displacement);
+    return static_cast<int>(points.size()) - 1;
+  }
+  void setPointVector(const std::string& name, int point, const Vec3d& v) {
+    auto& a = pointVectors[name];
+    if (a.size() < points.size()) a.resize(points.size(), Vec3d{});
+    a[point] = v;
+  }
 };
 
-class Contribution {
+// The physics: what the contribution couples and adds to the residual and tangent, and its part in
+// Newton's iteration.
+class Physics {
  public:
   using OwnsDof = std::function<bool(GlobalDof)>;
-  virtual ~Contribution() = default;
+  virtual ~Physics() = default;
   virtual std::string name() const = 0;
   // Appends the dof blocks this rank evaluates (each block's dofs are coupled in the matrix graph).
   virtual void connectivity(const OwnsDof& owns, std::vector<std::vector<GlobalDof>>& blocks) const = 0;
@@ -45,39 +62,53 @@ class Contribution {
   virtual void evaluate(const State& state, const OwnsDof& owns, AssemblySink& sink, bool tangent) const = 0;
   // Strain energy (or constraint potential) of this rank's blocks; used in tests and output.
   virtual double energy(const State& state, const OwnsDof& owns) const { return 0.0; }
-  // Load-step life cycle: history is committed at a converged step and restored when a step is cut.
-  virtual void commitStep(const State& state) {}
-  virtual void restoreStep() {}
-  // Checkpoint and restart: write what commitStep kept (the history of the last converged step)
-  // exactly, and read it back; `committed` is that step's state, already restored.
-  virtual void saveCommitted(CheckpointOut& out) const {}
-  virtual void loadCommitted(CheckpointIn& in, const State& committed) {}
-  // Drawing for VTK output (called on rank 0 with the full state).
-  virtual void appendVtk(const State& state, VtkMesh& mesh) const {}
 
   // Nonlinear-solution hooks (all ranks, same replicated state). At the start of every Newton
-  // iteration: update what the contribution couples (contact search, active set, extra unknowns in
-  // `state`); return true when the matrix graph or the number of unknowns changed.
+  // iteration: update what the contribution couples (its own extra unknowns in `state.extra`, e.g.
+  // multipliers); return true when the matrix graph or the number of unknowns changed.
   virtual bool prepareIteration(State& state) { return false; }
   // Newton has converged for the increment: return true to accept, false to solve the increment
-  // again (augmentation, active-set change); throw std::runtime_error when that is no longer allowed.
+  // again (e.g. after updating multiplier estimates); throw std::runtime_error when that is no
+  // longer allowed.
   virtual bool acceptSolution(State& state) { return true; }
   // Line search: Newton remembers the iterate it is about to leave (markIterate) and may return to it
   // to try a shorter step (returnToIterate); a contribution restores what prepareIteration changed
-  // since the mark (e.g. which unknowns belong to which contact point).
+  // since the mark.
   virtual void markIterate() {}
   virtual void returnToIterate() {}
   // The largest fraction (<= 1) of the Newton step `du` from `state` that the contribution allows
-  // (e.g. a contact spring that is open now and would close at the full step: the step ends just past
+  // (e.g. a constraint that is open now and would close at the full step: the step ends just past
   // its first touch, so the next tangent knows its stiffness).
   virtual double stepBound(const State& state, const std::vector<double>& du) const { return 1.0; }
+};
 
-  // Per-step table written beside the results (file name, header after "step,T", rows of the last
-  // committed step), and a short text for the progress line.
+// The load-step life cycle: history committed at a converged step, restored when a step is cut, and
+// written to / read from a checkpoint.
+class StepHistory {
+ public:
+  virtual ~StepHistory() = default;
+  virtual void commitStep(const State& state) {}
+  virtual void restoreStep() {}
+  // Write what commitStep kept (the history of the last converged step) exactly, and read it back;
+  // `committed` is that step's state, already restored.
+  virtual void saveCommitted(CheckpointOut& out) const {}
+  virtual void loadCommitted(CheckpointIn& in, const State& committed) {}
+};
+
+// Output: drawing for VTK (called on rank 0 with the full state), a per-step table written beside the
+// results (file name, header after "step,T", rows of the last committed step) and a short text for
+// the progress line.
+class Output {
+ public:
+  virtual ~Output() = default;
+  virtual void appendVtk(const State& state, VtkMesh& mesh) const {}
   virtual std::string tableName() const { return ""; }
   virtual std::string tableHeader() const { return ""; }
   virtual std::vector<std::string> tableRows() const { return {}; }
   virtual std::string progressSummary() const { return ""; }
 };
+
+// What the model holds: all three concerns of one piece of the model.
+class Contribution : public Physics, public StepHistory, public Output {};
 
 }  // namespace bc::core

@@ -27,12 +27,15 @@ ParameterSpec& ParameterSpec::addChoice(const std::string& name, const std::stri
 ParameterSpec& ParameterSpec::addSublist(const std::string& name, const Teuchos::ParameterList& reference,
                                          const std::string& doc) {
   valid_.sublist(name, false, doc).setParameters(reference);
+  reference_.sublist(name, false, doc).setParameters(reference);
   sublists_.insert(name);
   return *this;
 }
 
 ParameterSpec& ParameterSpec::allowNamedSublists(const Teuchos::ParameterList& reference, const std::string& placeholder) {
   valid_.sublist(placeholder, false, "one sublist of this form per item; its name is the item's name")
+      .setParameters(reference);
+  reference_.sublist(placeholder, false, "one sublist of this form per item; its name is the item's name")
       .setParameters(reference);
   namedSublists_ = true;
   return *this;
@@ -78,6 +81,16 @@ void ParameterSpec::apply(Teuchos::ParameterList& user, const std::string& path)
     if (optional_.count(name)) continue;
     user.setEntry(name, valid_.getEntry(name));
   }
+}
+
+Teuchos::ParameterList ParameterSpec::example() const {
+  Teuchos::ParameterList e;
+  for (auto it = valid_.begin(); it != valid_.end(); ++it) {
+    const std::string& name = valid_.name(it);
+    if (valid_.entry(it).isList() || optional_.count(name)) continue;
+    e.setEntry(name, valid_.getEntry(name));
+  }
+  return e;
 }
 
 namespace {

@@ -6,6 +6,7 @@
 #pragma once
 #include <functional>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -28,14 +29,21 @@ class ParameterSpec {
   ParameterSpec& add(const std::string& name, const T& defaultValue, const std::string& doc, Check check = {},
                      const std::string& rule = "") {
     valid_.set(name, defaultValue, withRule(doc, rule));
+    reference_.set(name, defaultValue, withRule(doc, rule));
     if (check) checks_.push_back({name, check});
     return *this;
   }
+  // A value the user must give. `example` fixes its type and is a typical value: the reference shows
+  // it as an example, never as a default (example() uses it, e.g. to construct a strategy in tests).
   template <class T>
-  ParameterSpec& addRequired(const std::string& name, const T& sample, const std::string& doc, Check check = {},
+  ParameterSpec& addRequired(const std::string& name, const T& example, const std::string& doc, Check check = {},
                              const std::string& rule = "") {
-    add(name, sample, "(required) " + doc, check, rule);
+    add(name, example, "(required) " + doc, check, rule);
     required_.insert(name);
+    std::ostringstream e;
+    e << example;
+    reference_.set(name, std::string("<required " + valid_.getEntry(name).getAny().typeName() + ", e.g. " + e.str() + ">"),
+                   valid_.getEntry(name).docString());
     return *this;
   }
   template <class T>
@@ -54,14 +62,18 @@ class ParameterSpec {
 
   // Validates `user` (at `path`, e.g. "BeamContact/Beams/beam 1") and fills the defaults.
   void apply(Teuchos::ParameterList& user, const std::string& path) const;
-  // The documented reference list (for --print-valid-parameters).
-  const Teuchos::ParameterList& reference() const { return valid_; }
+  // The documented reference list (for --print-valid-parameters): defaults, and required values as
+  // "<required TYPE, e.g. EXAMPLE>".
+  const Teuchos::ParameterList& reference() const { return reference_; }
+  // A complete valid list: the defaults and, for required values, their examples (optional values
+  // left out). For tests and templates.
+  Teuchos::ParameterList example() const;
 
  private:
   static std::string withRule(const std::string& doc, const std::string& rule) {
     return rule.empty() ? doc : doc + " [" + rule + "]";
   }
-  Teuchos::ParameterList valid_;
+  Teuchos::ParameterList valid_, reference_;
   std::vector<std::pair<std::string, Check>> checks_;
   std::set<std::string> required_, optional_, sublists_;
   bool namedSublists_ = false;

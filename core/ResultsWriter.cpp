@@ -276,9 +276,14 @@ void ResultsWriter::writeVtk(int step, double T, const State& state) {
   f << "</DataArray>\n</Cells>\n<PointData Vectors=\"displacement\">\n"
     << "<DataArray type=\"Float64\" Name=\"displacement\" NumberOfComponents=\"3\" format=\"ascii\">\n";
   for (const auto& u : mesh.pointDisplacement) f << u[0] << " " << u[1] << " " << u[2] << "\n";
-  f << "</DataArray>\n<DataArray type=\"Float64\" Name=\"contact force\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-  for (const auto& u : mesh.pointForce) f << u[0] << " " << u[1] << " " << u[2] << "\n";
-  f << "</DataArray>\n</PointData>\n<CellData>\n<DataArray type=\"Int32\" Name=\"beam\" format=\"ascii\">\n";
+  f << "</DataArray>\n";
+  for (auto& [arrayName, values] : mesh.pointVectors) {
+    values.resize(mesh.points.size(), Vec3d{});
+    f << "<DataArray type=\"Float64\" Name=\"" << arrayName << "\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+    for (const auto& u : values) f << u[0] << " " << u[1] << " " << u[2] << "\n";
+    f << "</DataArray>\n";
+  }
+  f << "</PointData>\n<CellData>\n<DataArray type=\"Int32\" Name=\"beam\" format=\"ascii\">\n";
   for (int b : mesh.cellBeam) f << b << "\n";
   f << "</DataArray>\n<DataArray type=\"Int32\" Name=\"element\" format=\"ascii\">\n";
   for (int e : mesh.cellElement) f << e << "\n";

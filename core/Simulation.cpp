@@ -55,7 +55,7 @@ RunResult simulate(Model& model, const SolverSettings& settings, const Teuchos::
     const std::string source = (std::filesystem::path(options.outputDirectory) / "checkpoint.txt").string();
     CheckpointIn in(readCheckpointText(options.outputDirectory, *comm), source);
     in.label("beamcontact-checkpoint");
-    if (in.integer() != 1) in.fail("it has an unknown format version");
+    if (in.integer() != 2) in.fail("it has an unknown format version");
     in.label("deck");
     if (in.word() != options.fingerprint)
       in.fail("it was written for another deck (the deck changed outside its Output sublist)");
@@ -75,7 +75,7 @@ RunResult simulate(Model& model, const SolverSettings& settings, const Teuchos::
 
     auto checkpoint = [&] {
       CheckpointOut out;
-      out.label("beamcontact-checkpoint").integer(1);
+      out.label("beamcontact-checkpoint").integer(2);
       out.label("deck").word(options.fingerprint);
       out.label("summary").integer(summary.passes).integer(summary.maxIterationsPerStep).real(earlierSeconds);
       solver.saveCheckpoint(out);

@@ -254,7 +254,7 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
     const double ratio = (Tb - Ta) / (committedT_ - previousT_);
     for (int n = 0; n < trial_.numNodes(); ++n) {
       const Vec3d du_n = committed_.position[n] - previous_.position[n];
-      const Vec3d w = elements::logSO3(committed_.rotation[n] * elements::transpose(previous_.rotation[n]));
+      const Vec3d w = math::logSO3(committed_.rotation[n] * math::transpose(previous_.rotation[n]));
       for (int k = 0; k < 3; ++k) {
         du[std::size_t(kDofsPerNode) * n + k] = ratio * du_n[k];
         du[std::size_t(kDofsPerNode) * n + 3 + k] = ratio * w[k];

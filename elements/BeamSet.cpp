@@ -93,15 +93,11 @@ void BeamSet::appendVtk(const core::State& state, core::VtkMesh& mesh) const {
       const Mat3d Tcur = state.rotation[node] * e.data.T0;
       const Vec3d& X = state.reference[node];
       const Vec3d& x = state.position[node];
-      mesh.points.push_back(x);
-      mesh.pointDisplacement.push_back(x - X);
-      mesh.pointForce.push_back(Vec3d{});
+      mesh.addPoint(x, x - X);
       for (const auto& [py, pz] : outline) {
         const Vec3d cur = x + py * column(Tcur, 1) + pz * column(Tcur, 2);
         const Vec3d ref = X + py * column(Tref, 1) + pz * column(Tref, 2);
-        mesh.points.push_back(cur);
-        mesh.pointDisplacement.push_back(cur - ref);
-        mesh.pointForce.push_back(Vec3d{});
+        mesh.addPoint(cur, cur - ref);
       }
     }
     if (cs.shape == CrossSection::Shape::Rectangle) {

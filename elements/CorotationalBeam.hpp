@@ -18,9 +18,11 @@
 #pragma once
 #include <array>
 
-#include "SmallMath.hpp"
+#include "core/SmallMath.hpp"
 
 namespace bc::elements {
+
+using namespace bc::math;  // Vec3, Mat3 and the SO(3) maps
 
 struct BeamElementData {
   Vec3d X1{}, X2{};  // reference positions of the two nodes

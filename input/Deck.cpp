@@ -344,23 +344,7 @@ void buildContact(Problem& p, ParameterList& c, const std::string& path) {
   }
 
   ParameterList& e = c.sublist("Enforcement");
-  const std::string epath = path + "/Enforcement";
-  ParameterSpec enforcement;
-  enforcement.addChoice("Type", "Penalty", constraints::enforcerNames(), "enforcement strategy");
-  for (const auto& entry : constraints::enforcers())
-    enforcement.addSublist(entry.name, entry.spec->reference(), "parameters of the " + entry.name + " strategy");
-  if (!e.isParameter("Type"))
-    throw InputError("missing required parameter \"" + epath + "/Type\"; valid strategies are " +
-                     core::joinNames(constraints::enforcerNames()));
-  const std::string type = e.get<std::string>("Type");
-  const auto& entry = constraints::findEnforcer(type, epath + "/Type");
-  enforcement.apply(e, epath);
-  // Sublists of other registered strategies may stay in the deck (switching Type is one edit); they
-  // are validated too. The chosen strategy's sublist is created when absent, so its defaults apply
-  // and each missing required value is named.
-  e.sublist(type);
-  for (const auto& other : constraints::enforcers())
-    if (e.isSublist(other.name)) other.spec->apply(e.sublist(other.name), epath + "/" + other.name);
+  constraints::validateEnforcement(e, path + "/Enforcement");
 
   constraints::ContactOptions options;
   double largest = 0.0;
@@ -371,7 +355,7 @@ void buildContact(Problem& p, ParameterList& c, const std::string& path) {
   options.allowInitialPenetration = c.get<bool>("Allow Initial Penetration");
   options.frictionLaw = c.get<std::string>("Friction Law") == "Per Line" ? constraints::FrictionLaw::PerLine
                                                                          : constraints::FrictionLaw::IsotropicCoulomb;
-  auto manager = std::make_shared<constraints::ContactManager>(p.beams, pairs, entry.create(e.sublist(type)), options);
+  auto manager = std::make_shared<constraints::ContactManager>(p.beams, pairs, constraints::createEnforcer(e), options);
   manager->initialize(p.model.initial);
   p.contact = manager;
   p.model.contributions.push_back(manager);
@@ -669,10 +653,7 @@ ParameterList referenceParameters() {
   ref.sublist("Loads").sublist("<load name>").setParameters(loadSpec().reference());
   ref.sublist("Output").sublist("Tracked Points").sublist("<point name>").setParameters(trackedSpec().reference());
   ref.sublist("Contact").sublist("Pairs").sublist("<pair name>").setParameters(contactPairSpec().reference());
-  ParameterList& e = ref.sublist("Contact").sublist("Enforcement");
-  e.set("Type", std::string("Penalty"), "one of " + core::joinNames(constraints::enforcerNames()));
-  for (const auto& entry : constraints::enforcers())
-    e.sublist(entry.name, false, "used when Type is \"" + entry.name + "\"").setParameters(entry.spec->reference());
+  ref.sublist("Contact").sublist("Enforcement").setParameters(constraints::enforcementReference());
   return ref;
 }
 

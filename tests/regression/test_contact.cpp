@@ -96,9 +96,11 @@ void checkContactTangent(const std::string& type, const std::string& deck, doubl
   int slipping = 0, sticking = 0;
   for (const auto& [key, pt] : p.contact->points()) {
     const auto k = p.contact->kinematics(pt, s);
-    if (!p.contact->enforcer().contributes(k, pt.history)) continue;
+    if (!p.contact->enforcer().contributes(k.normal.value, *pt.state)) continue;
     std::vector<double> f(constraints::kPairDofs + 3, 0.0);
-    const auto r = p.contact->enforcer().evaluate(k, pt.history, mu, p.contact->multipliers(pt, s), f.data(), nullptr);
+    const auto view = p.contact->strategyView(pt, k, s);
+    ASSERT_EQ(view.friction, mu);
+    const auto r = p.contact->enforcer().evaluate(view, *pt.state, f.data(), nullptr);
     for (int i = 0; i < 2; ++i) (r.slip[i] ? slipping : sticking)++;
   }
   if (expectSlip) {
@@ -415,6 +417,7 @@ namespace {
 class FrictionlessSpring : public constraints::ConstraintEnforcer {
  public:
   static const char* name() { return "Frictionless Spring"; }
+  static const char* description() { return "a normal spring only"; }
   static const core::ParameterSpec& spec() {
     static const core::ParameterSpec s = [] {
       core::ParameterSpec p;
@@ -423,24 +426,19 @@ class FrictionlessSpring : public constraints::ConstraintEnforcer {
     }();
     return s;
   }
-  explicit FrictionlessSpring(const Teuchos::ParameterList& v) { p_.normalPenalty = v.get<double>("Contact Stiffness"); }
+  explicit FrictionlessSpring(const Teuchos::ParameterList& v) : stiffness_(v.get<double>("Contact Stiffness")) {}
   std::string type() const override { return name(); }
-  bool contributes(const constraints::ContactKinematics& k, const constraints::PointHistory&) const override {
-    return k.normal.value < 0.0;
+  bool contributes(double gapN, const constraints::PointState&) const override { return gapN < 0.0; }
+  constraints::PointResult evaluate(const constraints::ContactPoint& p, const constraints::PointState&, double* f,
+                                    double* K) const override {
+    constraints::ContactPoint frictionless = p;
+    frictionless.friction = 0.0;
+    return constraints::regularizedEvaluate(frictionless, constraints::linearNormalLaw(0.0, stiffness_), {}, f, K);
   }
-  constraints::PointResult evaluate(const constraints::ContactKinematics& k, const constraints::PointHistory&,
-                                    double, const double*, double* f, double* K) const override {
-    return constraints::regularizedEvaluate(k, constraints::PointHistory{}, 0.0, p_, f, K);
-  }
-  bool acceptPoint(const constraints::ContactKinematics&, constraints::PointHistory&, double, const double*,
-                   double&) const override {
-    return true;
-  }
-  void commitPoint(const constraints::ContactKinematics&, constraints::PointHistory&, double,
-                   const double*) const override {}
+  bool acceptPoint(const constraints::ContactPoint&, constraints::PointState&, double&) const override { return true; }
 
  private:
-  constraints::RegularizedParameters p_;
+  double stiffness_;
 };
 }  // namespace
 

@@ -9,7 +9,7 @@
 #include "constraints/ContactKinematics.hpp"
 
 using namespace bc::constraints;
-using namespace bc::elements;
+using namespace bc::math;
 
 namespace {
 

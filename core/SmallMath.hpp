@@ -7,7 +7,7 @@
 
 #include <Sacado.hpp>
 
-namespace bc::elements {
+namespace bc::math {
 
 // Innermost double of a (possibly nested) forward-AD value; used for branch decisions only.
 template <class T> double val(const T& x) { return Sacado::ScalarValue<T>::eval(x); }
@@ -142,4 +142,4 @@ template <class T> Vec3<T> logSO3(const Mat3<T>& R) {
   return {{factor * q1, factor * q2, factor * q3}};
 }
 
-}  // namespace bc::elements
+}  // namespace bc::math
