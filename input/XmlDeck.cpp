@@ -372,4 +372,21 @@ ParameterList readParameterXmlFile(const std::string& path) {
   return parseParameterXml(s.str(), path);
 }
 
+Teuchos::ParameterList& sublistAtPath(Teuchos::ParameterList& list, const std::string& path, bool create) {
+  Teuchos::ParameterList* at = &list;
+  std::size_t start = 0;
+  while (start <= path.size()) {
+    const auto slash = path.find('/', start);
+    const std::string name = path.substr(start, slash == std::string::npos ? std::string::npos : slash - start);
+    if (name.empty()) throw core::InputError("parameter path \"" + path + "\" has an empty name");
+    if (at->isParameter(name) && !at->isSublist(name))
+      throw core::InputError("\"" + name + "\" in path \"" + path + "\" is a parameter, not a sublist");
+    if (!create && !at->isSublist(name)) throw core::InputError("path \"" + path + "\" names no sublist");
+    at = &at->sublist(name);
+    if (slash == std::string::npos) break;
+    start = slash + 1;
+  }
+  return *at;
+}
+
 }  // namespace bc::input
