@@ -24,6 +24,7 @@
 #include "core/Faults.hpp"
 #include "core/Parameters.hpp"
 #include "input/XmlDeck.hpp"
+#include "input/Plugins.hpp"
 
 extern char** environ;
 
@@ -311,9 +312,27 @@ int exitCode(int status) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
 }
 
-pid_t launch(const std::string& exe, const Case& c) {
-  return spawn({exe, "run", (c.dir / "deck.xml").string(), "--output", c.dir.string(), "--quiet"},
-               (c.dir / "log.txt").string());
+}  // namespace
+
+std::string scriptPath(const std::string& name) {
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) throw std::runtime_error("cannot locate the beamcontact executable (/proc/self/exe): " + ec.message());
+  const fs::path script = exe.parent_path().parent_path() / "share" / "beamcontact" / name;
+  if (!fs::is_regular_file(script, ec))
+    throw std::runtime_error("the helper script " + script.string() + " is missing (install or build BeamContact again)");
+  return script.string();
+}
+
+namespace {
+
+pid_t launch(const std::string& exe, const Case& c, const std::vector<std::string>& plugins) {
+  std::vector<std::string> command = {exe, "run", (c.dir / "deck.xml").string(), "--output", c.dir.string(), "--quiet"};
+  for (const auto& p : plugins) {
+    command.push_back("--plugin");
+    command.push_back(p);
+  }
+  return spawn(command, (c.dir / "log.txt").string());
 }
 
 std::string describe(const Case& c, const std::vector<std::string>& columns) {
@@ -361,6 +380,8 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
   const fs::path base = (fs::path(studyFile).parent_path() / study->get<std::string>("Base Deck")).lexically_normal();
   if (!fs::exists(base)) throw InputError("parameter \"" + root + "/Base Deck\": file \"" + base.string() + "\" does not exist");
   const Teuchos::RCP<ParameterList> baseDeck = Teuchos::rcp(new ParameterList(input::readParameterXmlFile(base.string())));
+  // The base deck's Plugins become absolute paths, so each case's copy of the deck finds them.
+  input::loadDeckPlugins(*baseDeck, base.string());
   const double atT = study->get<double>("At T");
 
   // Groups and their cases.
@@ -531,6 +552,13 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
   int parallel = options.parallel > 0 ? options.parallel : study->get<int>("Parallel Cases");
   if (parallel <= 0) parallel = std::max(1u, std::thread::hardware_concurrency());
   const std::string exe = selfExecutable();
+  // Plug-ins as absolute paths: the cases run in their own folders.
+  std::vector<std::string> plugins;
+  for (const auto& p : options.plugins) {
+    std::error_code ec;
+    if (!fs::is_regular_file(p, ec)) throw InputError("plug-in \"" + p + "\" does not exist (or is not a file)");
+    plugins.push_back(fs::canonical(p).string());
+  }
   std::printf("study %s: %zu cases from %s, %d at a time, in %s", stem.c_str(), all.size(), base.string().c_str(),
               parallel, dir.string().c_str());
   if (kept) std::printf(" (%d complete from an earlier run, kept)", kept);
@@ -546,7 +574,7 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
   writeTable();
   while (done < all.size() && !(stopSignal && running.empty())) {
     while (!stopSignal && next < all.size() && static_cast<int>(running.size()) < parallel) {
-      if (!all[next].kept) running[launch(exe, all[next])] = &all[next];
+      if (!all[next].kept) running[launch(exe, all[next], plugins)] = &all[next];
       ++next;
     }
     if (running.empty()) break;
@@ -620,7 +648,7 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
   std::printf("study %s: %zu cases, %td complete, %td not; table %s\n", stem.c_str(), all.size(),
               static_cast<std::ptrdiff_t>(all.size()) - failed, failed, (dir / "cases.csv").string().c_str());
   if (options.report) {
-    const std::string script = std::string(BC_SOURCE_DIR) + "/drivers/study_report.py";
+    const std::string script = scriptPath("study_report.py");
     if (runProgram({"/usr/bin/python3", script, dir.string()}) != 0)
       throw std::runtime_error("the report script " + script + " failed; the table is in " + (dir / "cases.csv").string());
   }

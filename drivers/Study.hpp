@@ -20,7 +20,12 @@ struct StudyOptions {
   std::string output;     // study directory; default results/<study name>
   int parallel = 0;       // cases run at once; 0: the deck's "Parallel Cases", else the core count
   bool report = true;     // write report.md and the plots
+  std::vector<std::string> plugins;  // --plugin libraries, passed on to every case
 };
+
+// The installed helper script `name` (share/beamcontact beside the program's bin folder; in the
+// build tree, build/share/beamcontact). Throws when it is missing.
+std::string scriptPath(const std::string& name);
 
 // Runs `command` (program path and arguments, no shell) and returns its exit code (128 + signal
 // when killed); throws when it cannot be started.

@@ -20,6 +20,7 @@
 
 #include "Study.hpp"
 #include "constraints/EnforcerRegistry.hpp"
+#include "input/Plugins.hpp"
 
 #include "core/Faults.hpp"
 #include "core/Simulation.hpp"
@@ -28,16 +29,18 @@
 namespace {
 
 const char* kUsage =
-    "usage: beamcontact run DECK.xml [--output DIR] [--quiet] [--restart DIR]\n"
-    "       beamcontact check DECK.xml\n"
-    "       beamcontact study STUDY.xml [--output DIR] [--parallel N] [--no-report]\n"
+    "usage: beamcontact run DECK.xml [--output DIR] [--quiet] [--restart DIR] [--plugin LIB]...\n"
+    "       beamcontact check DECK.xml [--plugin LIB]...\n"
+    "       beamcontact study STUDY.xml [--output DIR] [--parallel N] [--no-report] [--plugin LIB]...\n"
     "       beamcontact render RESULTS_DIR OUT.png [--stages T1,T2,...] [--view ELEV,AZIM] [--title TEXT]\n"
-    "       beamcontact --print-valid-parameters\n"
+    "       beamcontact --print-valid-parameters [--plugin LIB]...\n"
     "       beamcontact --help\n"
     "\n"
     "Runs a BeamContact XML deck: geometrically nonlinear 3D beams, load factor T from 0 to 1.\n"
     "Results (CSV, VTK, status, effective parameters) go to the deck's Output/Directory, by\n"
     "default results/<deck name>, or to DIR.\n"
+    "--plugin LIB loads a shared library with strategies of its own (also the deck's Plugins list;\n"
+    "a study passes it to every case); docs/contact.md shows how to write one.\n"
     "check reads and validates a deck and checks the model (supports, duplicates) without running it.\n"
     "A study runs every case of a study deck (a base deck and the parameters to vary), N at a time\n"
     "(default: one per core), and writes cases.csv, report.md and plots (docs/studies.md).\n"
@@ -70,8 +73,9 @@ int withExitCodes(bool print, const std::function<int()>& body) {
   }
 }
 
-int studyCommand(const std::vector<std::string>& args) {
+int studyCommand(const std::vector<std::string>& args, const std::vector<std::string>& plugins) {
   bc::drivers::StudyOptions options;
+  options.plugins = plugins;
   for (std::size_t i = 2; i < args.size(); ++i) {
     if (args[i] == "--output" && i + 1 < args.size()) {
       options.output = args[++i];
@@ -98,7 +102,9 @@ int runDeck(const std::string& deck, const std::string& output, bool quiet, cons
   auto comm = Tpetra::getDefaultComm();
   const bool root = comm->getRank() == 0;
   const std::string stem = std::filesystem::path(deck).stem().string();
-  bc::input::Problem problem = bc::input::buildProblem(bc::input::readDeckFile(deck), stem);
+  Teuchos::ParameterList list = bc::input::readDeckFile(deck);
+  bc::input::loadDeckPlugins(list, deck);
+  bc::input::Problem problem = bc::input::buildProblem(list, stem);
   if (!restart.empty()) problem.outputDirectory = restart;
   else if (!output.empty()) problem.outputDirectory = output;
   bc::core::RunOptions options;
@@ -136,6 +142,17 @@ int runDeck(const std::string& deck, const std::string& output, bool quiet, cons
 
 int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
+  // --plugin LIB (any number, after the command): shared libraries with strategies of their own.
+  std::vector<std::string> plugins;
+  for (std::size_t i = 1; i < args.size();) {
+    if (args[i] != "--plugin") { ++i; continue; }
+    if (i + 1 >= args.size()) {
+      std::fprintf(stderr, "beamcontact: missing library after \"--plugin\"\n%s", kUsage);
+      return 1;
+    }
+    plugins.push_back(args[i + 1]);
+    args.erase(args.begin() + i, args.begin() + i + 2);
+  }
   if (args.empty() || args[0] == "--help" || args[0] == "-h") {
     std::fputs(kUsage, args.empty() ? stderr : stdout);
     return args.empty() ? 1 : 0;
@@ -149,7 +166,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "beamcontact: render: \"%s\" is not a results directory\n", args[1].c_str());
       return 1;
     }
-    std::vector<std::string> command = {"/usr/bin/python3", BC_SOURCE_DIR "/drivers/render_stages.py"};
+    std::vector<std::string> command = {"/usr/bin/python3", bc::drivers::scriptPath("render_stages.py")};
     command.insert(command.end(), args.begin() + 1, args.end());
     // The script exits 1 (2 from its argument parser) on a usage error, 3 otherwise.
     const int code = bc::drivers::runProgram(command);
@@ -161,7 +178,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "beamcontact: study needs a study deck\n%s", kUsage);
       return 1;
     }
-    return studyCommand(args);
+    return studyCommand(args, plugins);
   }
   // check builds the model only: no MPI in this process (so it is quick to call many times).
   if (args[0] == "check") {
@@ -171,8 +188,10 @@ int main(int argc, char** argv) {
     }
     return withExitCodes(true, [&] {
       bc::constraints::registerBuiltinEnforcers();
-      const auto problem = bc::input::buildProblem(bc::input::readDeckFile(args[1]),
-                                                   std::filesystem::path(args[1]).stem().string());
+      for (const auto& plugin : plugins) bc::input::loadPlugin(plugin);
+      Teuchos::ParameterList list = bc::input::readDeckFile(args[1]);
+      bc::input::loadDeckPlugins(list, args[1]);
+      const auto problem = bc::input::buildProblem(list, std::filesystem::path(args[1]).stem().string());
       std::printf("ok: %s: %d nodes, %zu elements, %zu supports, %zu loads\n", args[1].c_str(),
                   problem.model.initial.numNodes(), problem.beams->elements().size(), problem.model.supports.size(),
                   problem.model.loads.size());
@@ -184,6 +203,7 @@ int main(int argc, char** argv) {
   bc::constraints::registerBuiltinEnforcers();
   const bool root = Tpetra::getDefaultComm()->getRank() == 0;
   return withExitCodes(root, [&] {
+    for (const auto& plugin : plugins) bc::input::loadPlugin(plugin);
     if (args[0] == "--print-valid-parameters") {
       if (root) {
         std::cout << "BeamContact deck reference (ParameterList \"BeamContact\"):\n";

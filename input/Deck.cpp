@@ -177,6 +177,8 @@ const ParameterSpec& topSpec() {
     p.addSublist("Linear Solver", core::linearSolverSpec().reference(), "linear solver settings");
     p.addSublist("Output", outputSpec().reference(), "results directory and tracked points");
     p.addSublist("Contact", contactSpec().reference(), "beam-to-beam contact (optional)");
+    p.addOptional("Plugins", Array<std::string>(), "shared libraries loaded before the deck is read, e.g. a "
+                  "strategy of your own (paths relative to the deck's folder); see docs/contact.md");
     return p;
   }();
   return s;
