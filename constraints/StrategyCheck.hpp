@@ -1,5 +1,5 @@
 // Checks a strategy's tangent against central differences of its own residual, without Tpetra or
-// MPI: for each friction law and for mu = 0 (frictionless), 0.05 (slip) and 50 (stick), a crossing of
+// MPI: for each friction law and for mu = 0 (frictionless), 0.01 (slip) and 50 (stick), a crossing of
 // two beams' edge lines that penetrate and have slid since the last step is activated through the
 // strategy's acceptNormal/acceptPoint, given multipliers if it owns any, and its K is compared column
 // by column with (f(u + h e_j) - f(u - h e_j)) / 2h over the 24 nodal dofs (translations, and spin

@@ -354,6 +354,13 @@ int runProgram(const std::vector<std::string>& command) {
 }
 
 int runStudy(const std::string& studyFile, const StudyOptions& options) {
+  // Plug-ins as absolute paths: the cases run in their own folders.
+  std::vector<std::string> plugins;
+  for (const auto& p : options.plugins) {
+    std::error_code ec;
+    if (!fs::is_regular_file(p, ec)) throw InputError("plug-in \"" + p + "\" does not exist (or is not a file)");
+    plugins.push_back(fs::canonical(p).string());
+  }
   // Each case is its own process; under mpirun every rank would run the whole study.
   for (const char* var : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"}) {
     const char* size = std::getenv(var);
@@ -552,13 +559,6 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
   int parallel = options.parallel > 0 ? options.parallel : study->get<int>("Parallel Cases");
   if (parallel <= 0) parallel = std::max(1u, std::thread::hardware_concurrency());
   const std::string exe = selfExecutable();
-  // Plug-ins as absolute paths: the cases run in their own folders.
-  std::vector<std::string> plugins;
-  for (const auto& p : options.plugins) {
-    std::error_code ec;
-    if (!fs::is_regular_file(p, ec)) throw InputError("plug-in \"" + p + "\" does not exist (or is not a file)");
-    plugins.push_back(fs::canonical(p).string());
-  }
   std::printf("study %s: %zu cases from %s, %d at a time, in %s", stem.c_str(), all.size(), base.string().c_str(),
               parallel, dir.string().c_str());
   if (kept) std::printf(" (%d complete from an earlier run, kept)", kept);

@@ -1,0 +1,22 @@
+#!/bin/sh
+# The out-of-tree example (examples/external-strategy) against an installed BeamContact: install the
+# build tree to a scratch prefix, build the plug-in with find_package(BeamContact), check its tangent
+# against central differences, run its study with the installed program from a folder holding only
+# the two decks, check the study's normal forces against their closed form, and render a case.
+# Usage: external_strategy.sh BUILD_DIR SOURCE_DIR WORK_DIR
+set -eu
+build=$1 src=$2 work=$3
+rm -rf "$work"
+mkdir -p "$work/decks"
+cmake --install "$build" --prefix "$work/prefix" > "$work/install.log"
+cmake -S "$src/examples/external-strategy" -B "$work/example" -DCMAKE_PREFIX_PATH="$work/prefix" \
+  > "$work/configure.log" 2>&1 || { cat "$work/configure.log"; exit 1; }
+cmake --build "$work/example" -j 2 > "$work/build.log" 2>&1 || { cat "$work/build.log"; exit 1; }
+"$work/example/check_tangent"
+cp "$src/examples/external-strategy/study.xml" "$src/examples/external-strategy/press.xml" "$work/decks/"
+cd "$work/decks"
+"$work/prefix/bin/beamcontact" study study.xml --plugin "$work/example/libquadratic_penalty.so" --output "$work/study"
+/usr/bin/python3 "$src/examples/external-strategy/check_study.py" "$work/study"
+"$work/prefix/bin/beamcontact" render "$work/study/cases/003" "$work/case3.png"
+test -s "$work/case3.png"
+echo "external strategy: ok"
