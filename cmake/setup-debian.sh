@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
-# Installs everything BeamContact needs from Debian's packages. Idempotent: when every package is
-# already installed it only checks and returns (a second or two).
+# Installs what BeamContact needs from Debian's packages. Idempotent: when everything is present it
+# only checks and returns (a second or two). It never removes a package you have: the Python VTK
+# module is wanted, not a particular package, so a machine with ParaView's VTK (python3-paraview,
+# which conflicts with python3-vtk9) keeps it; apt is asked to install nothing it would have to
+# remove something for.
 set -euo pipefail
 
 PACKAGES=(
@@ -8,7 +11,7 @@ PACKAGES=(
   trilinos-all-dev libptscotch-dev libscotch-dev
   libopenmpi-dev openmpi-bin
   libgtest-dev libgmock-dev libbenchmark-dev
-  python3-vtk9 python3-numpy python3-matplotlib
+  python3-numpy python3-matplotlib
   procps util-linux   # pgrep, prlimit: the fault tests
 )
 
@@ -18,16 +21,21 @@ for p in "${PACKAGES[@]}"; do
     missing+=("$p")
   fi
 done
+# VTK for Python (reading results back, render): any package that provides the module will do.
+if ! /usr/bin/python3 -c "import vtk" >/dev/null 2>&1; then
+  missing+=(python3-vtk9)
+fi
 
 if [ ${#missing[@]} -eq 0 ]; then
-  echo "setup: all ${#PACKAGES[@]} packages present"
+  echo "setup: all packages present (Python's vtk module importable)"
   exit 0
 fi
 
-echo "setup: installing ${missing[*]}"
+echo "setup: installing ${missing[*]} (apt's progress follows)"
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 export DEBIAN_FRONTEND=noninteractive
-$SUDO apt-get update -qq
-$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+$SUDO apt-get update
+# --no-remove: apt stops with an error instead of removing a package of yours to make room.
+$SUDO apt-get install -y --no-install-recommends --no-remove -o Dpkg::Progress-Fancy=0 "${missing[@]}"
 echo "setup: done"

@@ -365,34 +365,26 @@ TEST(Example1, EachStrategyRunsToTheEnd) {
 }
 
 namespace {
-struct Gold {
-  const char* type;
-  double Aux, Auz, normal;
-};
-// Examples 2 and 3 (input/example2.xml, example3.xml: stand-in layouts, no published numbers) with
-// each strategy to T = 1. Gold: this code's own results of 2026-11-22 (penalty eps_N = 1e4,
-// eps_T = 400; Lagrange gap tolerance 1e-9; augmented Lagrange gap tolerance 1e-6), kept to 1e-5
-// relative (Newton stops within its tolerance; round-off differs between machines). Independent
-// checks: the augmented Lagrange result lands on the Lagrange one (to 1e-4; measured <= 2.2e-6, its
-// gap tolerance being 1e-6), and the friction stays within mu N.
-void checkExample(const std::string& deckName, const std::vector<Gold>& gold) {
+// Examples 2 and 3 (input/example2.xml, example3.xml) with each strategy to T = 1. Their gold values
+// live beside the decks (input/example2.gold, checked through the command line by
+// tests/cli/check_gold.py); here the independent checks: the augmented Lagrange result lands on the
+// Lagrange one (to 1e-4; measured <= 2.2e-6, its gap tolerance being 1e-6), and the friction stays
+// within mu N.
+void checkExample(const std::string& deckName) {
   std::map<std::string, std::array<double, 3>> got;
-  for (const Gold& g : gold) {
-    auto p = test::problemFromXml(inputDeck(deckName, g.type), "example");
+  for (const char* type : {"Lagrange Multiplier", "Penalty", "Augmented Lagrange"}) {
+    auto p = test::problemFromXml(inputDeck(deckName, type), "example");
     const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "example");
-    ASSERT_TRUE(r.report.completed) << deckName << ", " << g.type << ": " << r.report.failure;
+    ASSERT_TRUE(r.report.completed) << deckName << ", " << type << ": " << r.report.failure;
     const auto A = r.finalState.displacement(p.beams->beams()[0].nodes.back());
     const auto c = sums(p);
     std::printf("%s, %s: A (%.9f, %.9f)  N %.6f  T1 %.6f  steps %d  Newton %d  solve %.2f s\n", deckName.c_str(),
-                g.type, A[0], A[2], c.normal, c.tangential1, r.report.steps, r.report.newtonIterations, r.solveSeconds);
-    EXPECT_NEAR(A[0], g.Aux, 1e-5 * std::abs(g.Aux)) << g.type;
-    EXPECT_NEAR(A[2], g.Auz, 1e-5 * std::abs(g.Auz)) << g.type;
-    EXPECT_NEAR(c.normal, g.normal, 1e-5 * g.normal) << g.type;
+                type, A[0], A[2], c.normal, c.tangential1, r.report.steps, r.report.newtonIterations, r.solveSeconds);
     for (const auto& [key, pt] : p.contact->points()) {
       if (!pt.result.active) continue;
       for (double t : pt.result.lambdaT) EXPECT_LE(std::abs(t), -1.0 * pt.result.lambdaN * (1 + 1e-9));
     }
-    got[g.type] = {A[0], A[2], c.normal};
+    got[type] = {A[0], A[2], c.normal};
   }
   const auto& l = got["Lagrange Multiplier"];
   const auto& a = got["Augmented Lagrange"];
@@ -400,16 +392,8 @@ void checkExample(const std::string& deckName, const std::vector<Gold>& gold) {
 }
 }  // namespace
 
-TEST(PaperExamples, Example2EachStrategyMatchesGold) {
-  checkExample("example2.xml", {{"Lagrange Multiplier", -0.275684177, -5.162022302, 990.353089},
-                                {"Penalty", -0.246224269, -5.141136867, 966.258696},
-                                {"Augmented Lagrange", -0.275683565, -5.162023538, 990.352620}});
-}
-TEST(PaperExamples, Example3EachStrategyMatchesGold) {
-  checkExample("example3.xml", {{"Lagrange Multiplier", -0.210310807, -4.777150946, 661.977369},
-                                {"Penalty", -0.209860345, -4.724445125, 656.927044},
-                                {"Augmented Lagrange", -0.210310651, -4.777151592, 661.977305}});
-}
+TEST(PaperExamples, Example2AugmentedLagrangeLandsOnLagrangeWithinTheCone) { checkExample("example2.xml"); }
+TEST(PaperExamples, Example3AugmentedLagrangeLandsOnLagrangeWithinTheCone) { checkExample("example3.xml"); }
 
 namespace {
 // A strategy defined here, registered from the test: frictionless penalty with a stiffness given
