@@ -25,35 +25,45 @@ using namespace bc;
 
 namespace {
 
-std::string readFile(const std::string& path) {
-  std::ifstream f(path);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
+// Decks are parameter lists, edited by parameter path (input::replaceAtPath fails on a misspelt
+// path), never as text.
+using Deck = Teuchos::ParameterList;
+
+// "a, b, c" as an Array(double).
+Teuchos::Array<double> vec(const std::string& text) {
+  std::vector<double> v;
+  std::stringstream ss(text);
+  for (std::string x; std::getline(ss, x, ',');) v.push_back(std::stod(x));
+  return Teuchos::Array<double>(v);
 }
 
 // A deck of input/ with its enforcement strategy set to `type`.
-std::string inputDeck(const std::string& name, const std::string& type) {
-  return std::regex_replace(readFile(std::string(BC_SOURCE_DIR) + "/input/" + name),
-                            std::regex(R"(<Parameter name="Type" type="string" value="[^"]*"/>)"),
-                            "<Parameter name=\"Type\" type=\"string\" value=\"" + type + "\"/>");
+Deck inputDeck(const std::string& name, const std::string& type) {
+  Deck d = input::readParameterXmlFile(std::string(BC_SOURCE_DIR) + "/input/" + name);
+  input::replaceAtPath(d, "Contact/Enforcement/Type", type);
+  return d;
 }
 
-// Example 1's deck with the strategy, the motion of beam 2's ends, the increments and the penalty
-// parameters replaced.
-std::string example1(const std::string& type, const std::string& motion = "40.0, 0.0, -20.0", int increments = 50,
-                     double epsN = 1e4, double epsT = 400.0, double mu = 0.5) {
-  std::string s = inputDeck("example1.xml", type);
-  s = std::regex_replace(s, std::regex(R"(value="\{40.0, 0.0, -20.0\}")"), "value=\"{" + motion + "}\"");
-  s = std::regex_replace(s, std::regex(R"(name="Number of Increments" type="int" value="50")"),
-                         "name=\"Number of Increments\" type=\"int\" value=\"" + std::to_string(increments) + "\"");
-  s = std::regex_replace(s, std::regex(R"(name="Normal Penalty Parameter" type="double" value="10000.0")"),
-                         "name=\"Normal Penalty Parameter\" type=\"double\" value=\"" + test::num(epsN) + "\"");
-  s = std::regex_replace(s, std::regex(R"(name="Tangential Penalty Parameter" type="double" value="400.0")"),
-                         "name=\"Tangential Penalty Parameter\" type=\"double\" value=\"" + test::num(epsT) + "\"");
-  s = std::regex_replace(s, std::regex(R"(name="Friction Coefficient" type="double" value="0.5")"),
-                         "name=\"Friction Coefficient\" type=\"double\" value=\"" + test::num(mu) + "\"");
-  return s;
+// Example 1's deck with the strategy, the motion of beam 2's ends, the increments, the penalty
+// parameters (of Penalty and Augmented Lagrange) and the friction coefficient replaced.
+Deck example1(const std::string& type, const std::string& motion = "40.0, 0.0, -20.0", int increments = 50,
+              double epsN = 1e4, double epsT = 400.0, double mu = 0.5) {
+  Deck d = inputDeck("example1.xml", type);
+  for (const char* end : {"Supports/beam 2 start/Displacement", "Supports/beam 2 end/Displacement"})
+    input::replaceAtPath(d, end, vec(motion));
+  input::replaceAtPath(d, "Load Stepping/Number of Increments", increments);
+  for (const std::string s : {"Penalty", "Augmented Lagrange"}) {
+    input::replaceAtPath(d, "Contact/Enforcement/" + s + "/Normal Penalty Parameter", epsN);
+    input::replaceAtPath(d, "Contact/Enforcement/" + s + "/Tangential Penalty Parameter", epsT);
+  }
+  input::replaceAtPath(d, "Contact/Pairs/crossing/Friction Coefficient", mu);
+  return d;
+}
+
+// Beam 2 of Example 1 moved to run from `start` to `end`.
+void moveBeam2(Deck& d, const std::string& start, const std::string& end) {
+  input::replaceAtPath(d, "Beams/beam 2/Start", vec(start));
+  input::replaceAtPath(d, "Beams/beam 2/End", vec(end));
 }
 
 struct ContactSums {
@@ -82,10 +92,10 @@ double pressingForce(double W, double epsN, int points) {
 }
 
 // `motion` of beam 2's ends at T = 1, solved to T = 0.3, then beam 2 moved by `dx` along X.
-void checkContactTangent(const std::string& type, const std::string& deck, double dx, bool expectSlip,
+void checkContactTangent(const std::string& type, const Deck& deck, double dx, bool expectSlip,
                          bool expectStick, double mu) {
   auto comm = Tpetra::getDefaultComm();
-  auto p = test::problemFromXml(deck, "tangent_" + type);
+  auto p = input::buildProblem(deck, "tangent_" + type);
   p.solver.loadFactors = {0.1, 0.2, 0.3};
   const auto run = test::runQuiet(p, comm, "contact_tangent");
   ASSERT_TRUE(run.report.completed) << run.report.failure;
@@ -157,7 +167,7 @@ TEST(Pressing, PenaltyForceMatchesSeriesSpringsAndPenetrationFallsLikeOneOverEps
   const double W = 0.6;
   std::vector<double> eps = {1e3, 1e4, 1e5}, pen;
   for (double e : eps) {
-    auto p = test::problemFromXml(example1("Penalty", "0.0, 0.0, " + test::num(-W), 4, e, 400.0, 0.0), "press");
+    auto p = input::buildProblem(example1("Penalty", "0.0, 0.0, " + test::num(-W), 4, e, 400.0, 0.0), "press");
     const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "press");
     ASSERT_TRUE(r.report.completed) << r.report.failure;
     const auto c = sums(p);
@@ -184,20 +194,17 @@ namespace {
 // gives the exact discrete answer: N = (W - 0.5) / (c1 + c2 + 1/eps_N), c1 = a^3 / (3 E I1) with
 // a = 50 (cantilever), c2 = L^3 / (48 E I2) with L = 100 (beam 2 simply supported in bending), and
 // A's deflection N a^2 (3 L1 - a) / (6 E I1).
-std::string circles(const std::string& type, double W, double epsN, const std::string& motion = "", int increments = 4,
-                    double mu = 0.0) {
-  std::string s = example1(type, motion.empty() ? "0.0, 0.0, " + test::num(-W) : motion, increments, epsN, 400.0, mu);
-  const std::string rect1 = R"(<Parameter name="Shape" type="string" value="Rectangle"/>
-        <Parameter name="Width" type="double" value="10.0"/>   <!-- along global Y -->
-        <Parameter name="Height" type="double" value="10.0"/>  <!-- along global Z -->)";
-  const std::string rect2 = R"(<Parameter name="Shape" type="string" value="Rectangle"/>
-        <Parameter name="Width" type="double" value="5.0"/>    <!-- along global -X -->
-        <Parameter name="Height" type="double" value="5.0"/>   <!-- along global Z -->)";
-  s.replace(s.find(rect1), rect1.size(),
-            R"(<Parameter name="Shape" type="string" value="Circle"/><Parameter name="Radius" type="double" value="5.0"/>)");
-  s.replace(s.find(rect2), rect2.size(),
-            R"(<Parameter name="Shape" type="string" value="Circle"/><Parameter name="Radius" type="double" value="2.5"/>)");
-  return s;
+Deck circles(const std::string& type, double W, double epsN, const std::string& motion = "", int increments = 4,
+             double mu = 0.0) {
+  Deck d = example1(type, motion.empty() ? "0.0, 0.0, " + test::num(-W) : motion, increments, epsN, 400.0, mu);
+  for (const auto& [beam, radius] : {std::make_pair("beam 1", 5.0), std::make_pair("beam 2", 2.5)}) {
+    Deck& section = input::sublistAtPath(d, std::string("Beams/") + beam + "/Section", false);
+    section.remove("Width");
+    section.remove("Height");
+    section.set("Shape", std::string("Circle"));
+    section.set("Radius", radius);
+  }
+  return d;
 }
 }  // namespace
 
@@ -208,9 +215,8 @@ TEST(ContactTangent, AugmentedLagrangeSlip) {
   // Without the predictor: with these coarse increments (0.1) the extrapolated start of the step to
   // T = 0.2 leads to the four-point contact state, where the augmentations then stall at T = 0.25;
   // from the last converged state the path keeps two points up to T = 0.3, the state wanted here.
-  std::string deck = example1("Augmented Lagrange", "40.0, 0.0, -20.0", 10);
-  deck = std::regex_replace(deck, std::regex(R"(<ParameterList name="Load Stepping">)"),
-                            R"(<ParameterList name="Nonlinear Solver"><Parameter name="Predictor" type="string" value="None"/></ParameterList><ParameterList name="Load Stepping">)");
+  Deck deck = example1("Augmented Lagrange", "40.0, 0.0, -20.0", 10);
+  input::setAtPath(deck, "Nonlinear Solver/Predictor", std::string("None"));
   checkContactTangent("Augmented Lagrange", deck, 0.3, true, false, 0.5);
 }
 TEST(ContactTangent, LagrangeMultiplierSlipWithMultiplierRows) {
@@ -218,16 +224,14 @@ TEST(ContactTangent, LagrangeMultiplierSlipWithMultiplierRows) {
   checkContactTangent("Lagrange Multiplier", example1("Lagrange Multiplier", "40.0, 0.0, -20.0", 10), 0.3, true, false, 0.5);
 }
 TEST(ContactTangent, LagrangeMultiplierStick) {
-  std::string deck = circles("Lagrange Multiplier", 3.0, 1e4);
-  deck = std::regex_replace(deck, std::regex(R"(name="Friction Coefficient" type="double" value="0")"),
-                            R"(name="Friction Coefficient" type="double" value="5")");
+  Deck deck = circles("Lagrange Multiplier", 3.0, 1e4);
+  input::replaceAtPath(deck, "Contact/Pairs/crossing/Friction Coefficient", 5.0);
   checkContactTangent("Lagrange Multiplier", deck, 1e-3, false, true, 5.0);
 }
 TEST(ContactTangent, AugmentedLagrangeStick) {
   // One pressed point (circular sections) with mu = 5: both lines stick well inside the Coulomb cone.
-  std::string deck = circles("Augmented Lagrange", 3.0, 1e4);
-  deck = std::regex_replace(deck, std::regex(R"(name="Friction Coefficient" type="double" value="0")"),
-                            R"(name="Friction Coefficient" type="double" value="5")");
+  Deck deck = circles("Augmented Lagrange", 3.0, 1e4);
+  input::replaceAtPath(deck, "Contact/Pairs/crossing/Friction Coefficient", 5.0);
   checkContactTangent("Augmented Lagrange", deck, 1e-3, false, true, 5.0);
 }
 
@@ -237,7 +241,7 @@ TEST(Pressing, CircularSectionsMatchTheExactClosedForm) {
   const double c1 = std::pow(50.0, 3) / (3 * E * I1), c2 = std::pow(100.0, 3) / (48 * E * I2);
   std::vector<double> eps = {1e4, 1e5, 1e6}, pen;
   for (double e : eps) {
-    auto p = test::problemFromXml(circles("Penalty", W, e), "circles");
+    auto p = input::buildProblem(circles("Penalty", W, e), "circles");
     const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "circles");
     ASSERT_TRUE(r.report.completed) << r.report.failure;
     const auto c = sums(p);
@@ -261,7 +265,7 @@ TEST(Pressing, CircularSectionsMatchTheExactClosedForm) {
   // Lagrange multipliers: the rigid-contact answer with the gap at solver precision.
   double lagrangeN = 0.0;
   {
-    auto p = test::problemFromXml(circles("Lagrange Multiplier", W, 1e4), "circles_lm");
+    auto p = input::buildProblem(circles("Lagrange Multiplier", W, 1e4), "circles_lm");
     const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "circles_lm");
     ASSERT_TRUE(r.report.completed) << r.report.failure;
     const auto c = sums(p);
@@ -274,7 +278,7 @@ TEST(Pressing, CircularSectionsMatchTheExactClosedForm) {
   }
   // Augmented Lagrange: the rigid-contact answer, whatever eps_N, and the Lagrange one.
   for (double e : {1e3, 1e5}) {
-    auto p = test::problemFromXml(circles("Augmented Lagrange", W, e), "circles_al");
+    auto p = input::buildProblem(circles("Augmented Lagrange", W, e), "circles_al");
     const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "circles_al");
     ASSERT_TRUE(r.report.completed) << r.report.failure;
     const auto c = sums(p);
@@ -298,7 +302,7 @@ TEST(Pressing, AugmentedLagrangeGapFallsWithEachAugmentation) {
   const double pi = std::acos(-1.0), E = 30000.0;
   const double c1 = std::pow(50.0, 3) / (3 * E * pi * std::pow(5.0, 4) / 4);
   const double c2 = std::pow(100.0, 3) / (48 * E * pi * std::pow(2.5, 4) / 4);
-  auto p = test::problemFromXml(circles("Augmented Lagrange", 0.6, 1e3), "al_passes");
+  auto p = input::buildProblem(circles("Augmented Lagrange", 0.6, 1e3), "al_passes");
   auto comm = Tpetra::getDefaultComm();
   auto linear = core::makeLinearSolver(p.linearSolver);
   core::StaticSolver solver(comm, p.model, p.solver, *linear);
@@ -321,7 +325,7 @@ TEST(Pressing, AugmentedLagrangeMeetsGapToleranceIndependentlyOfEps) {
   const double W = 0.6;
   std::vector<double> forces;
   for (double e : {1e3, 1e4}) {
-    auto p = test::problemFromXml(example1("Augmented Lagrange", "0.0, 0.0, " + test::num(-W), 4, e, 400.0, 0.0), "al");
+    auto p = input::buildProblem(example1("Augmented Lagrange", "0.0, 0.0, " + test::num(-W), 4, e, 400.0, 0.0), "al");
     const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "al_press");
     ASSERT_TRUE(r.report.completed) << r.report.failure;
     const auto c = sums(p);
@@ -342,7 +346,7 @@ TEST(Pressing, AugmentedLagrangeMeetsGapToleranceIndependentlyOfEps) {
 
 TEST(Example1, EachStrategyRunsToTheEnd) {
   for (const std::string type : {"Penalty", "Lagrange Multiplier", "Augmented Lagrange"}) {
-    auto p = test::problemFromXml(example1(type), "example1");
+    auto p = input::buildProblem(example1(type), "example1");
     const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "example1");
     ASSERT_TRUE(r.report.completed) << type << ": " << r.report.failure;
     const auto& s = r.finalState;
@@ -373,7 +377,7 @@ namespace {
 void checkExample(const std::string& deckName) {
   std::map<std::string, std::array<double, 3>> got;
   for (const char* type : {"Lagrange Multiplier", "Penalty", "Augmented Lagrange"}) {
-    auto p = test::problemFromXml(inputDeck(deckName, type), "example");
+    auto p = input::buildProblem(inputDeck(deckName, type), "example");
     const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "example");
     ASSERT_TRUE(r.report.completed) << deckName << ", " << type << ": " << r.report.failure;
     const auto A = r.finalState.displacement(p.beams->beams()[0].nodes.back());
@@ -428,11 +432,9 @@ class FrictionlessSpring : public constraints::ConstraintEnforcer {
 
 TEST(Registry, StrategyRegisteredFromATestRuns) {
   constraints::registerEnforcer<FrictionlessSpring>();
-  std::string deck = example1("Frictionless Spring", "0.0, 0.0, -0.6", 4, 1e4, 400.0, 0.0);
-  deck = std::regex_replace(deck, std::regex(R"(<ParameterList name="Enforcement">)"),
-                            R"(<ParameterList name="Enforcement"><ParameterList name="Frictionless Spring">)"
-                            R"(<Parameter name="Contact Stiffness" type="double" value="10000.0"/></ParameterList>)");
-  auto p = test::problemFromXml(deck, "custom");
+  Deck deck = example1("Frictionless Spring", "0.0, 0.0, -0.6", 4, 1e4, 400.0, 0.0);
+  input::setAtPath(deck, "Contact/Enforcement/Frictionless Spring/Contact Stiffness", 1e4);
+  auto p = input::buildProblem(deck, "custom");
   EXPECT_EQ(p.contact->enforcer().type(), "Frictionless Spring");
   const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "custom");
   ASSERT_TRUE(r.report.completed) << r.report.failure;
@@ -467,9 +469,9 @@ TEST(Registry, EveryStrategySolvesThePressingCaseFromItsSpecification) {
 }
 
 TEST(ContactInput, BadInputsNameTheirCause) {
-  auto expectError = [](const std::string& xml, const std::string& pattern) {
+  auto expectError = [](const Deck& deck, const std::string& pattern) {
     try {
-      test::problemFromXml(xml);
+      input::buildProblem(deck, "test");
       ADD_FAILURE() << "no error; expected: " << pattern;
     } catch (const core::InputError& e) {
       EXPECT_TRUE(std::regex_search(std::string(e.what()), std::regex(pattern))) << e.what();
@@ -479,10 +481,12 @@ TEST(ContactInput, BadInputsNameTheirCause) {
               R"("BeamContact/Contact/Enforcement/Type": unknown enforcement strategy "Mortar"; valid strategies are "Penalty", .*"Augmented Lagrange")");
   expectError(example1("Penalty", "40.0, 0.0, -20.0", 50, -5.0),
               R"("BeamContact/Contact/Enforcement/Penalty/Normal Penalty Parameter": must be > 0, got -5)");
-  expectError(std::regex_replace(example1("Penalty"), std::regex(R"(<Parameter name="Friction Coefficient" type="double" value="0.5"/>)"), ""),
-              R"(missing required parameter "BeamContact/Contact/Pairs/crossing/Friction Coefficient")");
-  expectError(std::regex_replace(example1("Penalty"), std::regex(R"(, 8.0\}")"), R"(, 7.0}")"),
-              R"(beams "beam 1" and "beam 2" overlap at the start: gap -0.5)");
+  Deck noFriction = example1("Penalty");
+  input::sublistAtPath(noFriction, "Contact/Pairs/crossing", false).remove("Friction Coefficient");
+  expectError(noFriction, R"(missing required parameter "BeamContact/Contact/Pairs/crossing/Friction Coefficient")");
+  Deck overlapping = example1("Penalty");
+  moveBeam2(overlapping, "50.0, -50.0, 7.0", "50.0, 50.0, 7.0");
+  expectError(overlapping, R"(beams "beam 1" and "beam 2" overlap at the start: gap -0.5)");
 }
 
 TEST(Newton, ConvergesQuadraticallyNearAContactSolutionForEachStrategy) {
@@ -491,7 +495,7 @@ TEST(Newton, ConvergesQuadraticallyNearAContactSolutionForEachStrategy) {
   // p = log(eps_k+1) / log(eps_k), eps_k = ||du_k|| / ||du_0||, counted while eps_k < 1e-2 and
   // ||du_k+1|| > 1e-12, over the first Newton solve (before any augmentation pass).
   for (const std::string type : {"Penalty", "Lagrange Multiplier", "Augmented Lagrange"}) {
-    auto p = test::problemFromXml(circles(type, 3.0, 1e4), "newton_contact");
+    auto p = input::buildProblem(circles(type, 3.0, 1e4), "newton_contact");
     auto comm = Tpetra::getDefaultComm();
     const auto r = test::runQuiet(p, comm, "newton_contact");
     ASSERT_TRUE(r.report.completed) << r.report.failure;
@@ -527,26 +531,21 @@ namespace {
 // Initial gap 0.01 and a press of 0.01: the axes (7.5 apart) tilt with the beams' slopes theta and
 // the gap between the surfaces shrinks by about 7.5 theta^2 / 2 beyond the linear theory, a second
 // order effect that stays below 1e-3 of the press only while the deflections are this small.
-std::string crossedCantilevers(const std::string& type, double delta) {
-  std::string s = circles(type, 0.0, 1e4);
-  s = std::regex_replace(s, std::regex(R"(, 8.0\}")"), ", 7.51}\"");  // initial gap 0.01
-  const auto cut = [&](const std::string& from, const std::string& to) {
-    const auto a = s.find(from), b = s.find(to, a);
-    s.erase(a, b - a);
-  };
-  cut(R"(<ParameterList name="beam 2 start">)", R"(<ParameterList name="Contact">)");
-  const std::string supports = R"XML(<ParameterList name="beam 2 clamp">
-      <Parameter name="Beam" type="string" value="beam 2"/><Parameter name="Node" type="string" value="start"/>
-    </ParameterList>
-    <ParameterList name="beam 2 tip">
-      <Parameter name="Beam" type="string" value="beam 2"/><Parameter name="Node" type="string" value="end"/>
-      <Parameter name="Fixed" type="string" value="uz"/>
-      <Parameter name="Displacement" type="Array(double)" value="{0, 0, )XML" + test::num(-delta) + R"XML(}"/>
-    </ParameterList>
-  </ParameterList>
-  )XML";
-  s.insert(s.find(R"(<ParameterList name="Contact">)"), supports);
-  return s;
+Deck crossedCantilevers(const std::string& type, double delta) {
+  Deck d = circles(type, 0.0, 1e4);
+  moveBeam2(d, "50.0, -50.0, 7.51", "50.0, 50.0, 7.51");  // initial gap 0.01
+  // Beam 2 clamped at its start, its tip pushed down by delta.
+  Deck& supports = input::sublistAtPath(d, "Supports", false);
+  for (const char* old : {"beam 2 start", "beam 2 end", "symmetry at B"}) supports.remove(old);
+  Deck& clamp = supports.sublist("beam 2 clamp");
+  clamp.set("Beam", std::string("beam 2"));
+  clamp.set("Node", std::string("start"));
+  Deck& tip = supports.sublist("beam 2 tip");
+  tip.set("Beam", std::string("beam 2"));
+  tip.set("Node", std::string("end"));
+  tip.set("Fixed", std::string("uz"));
+  tip.set("Displacement", vec("0, 0, " + test::num(-delta)));
+  return d;
 }
 }  // namespace
 
@@ -559,7 +558,7 @@ TEST(CrossedCantilevers, NormalForceMatchesClosedForm) {
   const double delta = (g0 + 0.01) / c;  // closes the gap and presses by 0.01
   const double N = (c * delta - g0) / (f11 + f22);
   for (const std::string type : {"Lagrange Multiplier", "Augmented Lagrange", "Penalty"}) {
-    auto p = test::problemFromXml(crossedCantilevers(type, delta), "crossed");
+    auto p = input::buildProblem(crossedCantilevers(type, delta), "crossed");
     const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "crossed");
     ASSERT_TRUE(r.report.completed) << r.report.failure;
     const auto cs = sums(p);
@@ -598,17 +597,13 @@ TEST(StickThenSlip, FrictionGrowsWithTheStickStiffnessThenStaysAtMuN) {
                             simplySupported(s2, s2, L, EI2)) +
                     (50.0 + 2 * 50.0 + 60.0) / (4 * EA1);
   for (const std::string type : {"Lagrange Multiplier", "Penalty"}) {
-    std::string deck = circles(type, 0.0, 1e4, "0.05, 0.0, 0.0", 20, 0.3);
-    deck = std::regex_replace(deck, std::regex(R"(\{50.0, -50.0, 8.0\})"), "{55.0, -45.0, 7.45}");
-    deck = std::regex_replace(deck, std::regex(R"(\{50.0, 50.0, 8.0\})"), "{55.0, 55.0, 7.45}");
-    const auto a = deck.find(R"(<ParameterList name="symmetry at B">)");
-    deck.erase(a, deck.find("</ParameterList>", a) + 16 - a);
+    Deck deck = circles(type, 0.0, 1e4, "0.05, 0.0, 0.0", 20, 0.3);
+    moveBeam2(deck, "55.0, -45.0, 7.45", "55.0, 55.0, 7.45");
+    input::sublistAtPath(deck, "Supports", false).remove("symmetry at B");
     // Beam 2's start also holds uy and the twist rx; the bending rotations stay free at both ends.
-    const auto b = deck.find(R"(value="ux uz ry")");
-    deck.replace(b, 16, R"(value="ux uy uz rx ry")");
-    deck = std::regex_replace(deck, std::regex(R"(<ParameterList name="Pairs">)"),
-                              R"(<Parameter name="Allow Initial Penetration" type="bool" value="true"/><ParameterList name="Pairs">)");
-    auto p = test::problemFromXml(deck, "stick_slip");
+    input::replaceAtPath(deck, "Supports/beam 2 start/Fixed", std::string("ux uy uz rx ry"));
+    input::setAtPath(deck, "Contact/Allow Initial Penetration", true);
+    auto p = input::buildProblem(deck, "stick_slip");
     const double kT = 1.0 / (cT + (type == "Penalty" ? 1.0 / 400.0 : 0.0));
     int stick = 0, slip = 0;
     const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "stick_slip");
@@ -652,23 +647,23 @@ TEST(StickThenSlip, FrictionGrowsWithTheStickStiffnessThenStaysAtMuN) {
 // nodes, the friction cone, the reported force, stiff penalties.
 namespace {
 // The deck with its friction law set (the paper decks select "Per Line").
-std::string withLaw(const std::string& deck, const std::string& law) {
-  return std::regex_replace(deck, std::regex(R"X(name="Friction Law" type="string" value="[^"]*")X"),
-                            "name=\"Friction Law\" type=\"string\" value=\"" + law + "\"");
+Deck withLaw(Deck deck, const std::string& law) {
+  input::replaceAtPath(deck, "Contact/Friction Law", law);
+  return deck;
 }
 
 // Two thin crossed circular beams (r = 0.5): "lower" along X, clamped at both ends, 10 elements;
 // "upper" along Y at x = 45 and 3 above (gap 2), 11 elements (the crossing lies inside an element
 // of each beam), pinned ends driven down by 16 T. In 2 increments the first Newton step of the first
 // increment carries "upper" 5 below "lower" before the search has seen the pair.
-std::string pushedThrough(const std::string& type, int increments, double epsN) {
+Deck pushedThrough(const std::string& type, int increments, double epsN) {
   const std::string beam = R"X(<ParameterList name="Section"><Parameter name="Shape" type="string" value="Circle"/>)X"
                            R"X(<Parameter name="Radius" type="double" value="0.5"/></ParameterList>)X"
                            R"X(<ParameterList name="Material"><Parameter name="Young's Modulus" type="double" value="30000.0"/>)X"
                            R"X(<Parameter name="Poisson's Ratio" type="double" value="0.3"/></ParameterList>)X";
   const std::string end = R"X(<Parameter name="Fixed" type="string" value="ux uy uz ry"/>)X"
                           R"X(<Parameter name="Displacement" type="Array(double)" value="{0.0, 0.0, -16.0}"/>)X";
-  return R"X(<ParameterList name="BeamContact"><ParameterList name="Beams">
+  return input::parseParameterXml(R"X(<ParameterList name="BeamContact"><ParameterList name="Beams">
     <ParameterList name="lower"><Parameter name="Start" type="Array(double)" value="{0.0, 0.0, 0.0}"/>
       <Parameter name="End" type="Array(double)" value="{100.0, 0.0, 0.0}"/><Parameter name="Elements" type="int" value="10"/>)X" +
          beam + R"X(</ParameterList>
@@ -692,7 +687,7 @@ std::string pushedThrough(const std::string& type, int increments, double epsN) 
         <Parameter name="Tangential Penalty Parameter" type="double" value="10.0"/></ParameterList></ParameterList></ParameterList>
   <ParameterList name="Load Stepping"><Parameter name="Number of Increments" type="int" value=")X" +
          std::to_string(increments) + R"X("/></ParameterList>
-</ParameterList>)X";
+</ParameterList>)X", "pushed-through deck");
 }
 }  // namespace
 
@@ -702,7 +697,7 @@ TEST(PassThrough, TwoIncrementsGiveTheAnswerOfTwenty) {
     double N[2];
     int i = 0;
     for (int increments : {2, 20}) {
-      auto p = test::problemFromXml(pushedThrough(type, increments, 100.0), "push");
+      auto p = input::buildProblem(pushedThrough(type, increments, 100.0), "push");
       const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "push");
       ASSERT_TRUE(r.report.completed) << type << ", " << increments << " increments: " << r.report.failure;
       const auto c = sums(p);
@@ -719,7 +714,7 @@ TEST(PassThrough, DeepPenaltyPenetrationIsLegal) {
   // eps_N = 20: the equilibrium penetration exceeds r_A + r_B = 1 (the axes have crossed). Before it
   // was reported as "passed through each other". Penalty law: N = eps_N |g_N|.
   const double eps = 20.0;
-  auto p = test::problemFromXml(pushedThrough("Penalty", 20, eps), "deep");
+  auto p = input::buildProblem(pushedThrough("Penalty", 20, eps), "deep");
   const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "deep");
   ASSERT_TRUE(r.report.completed) << r.report.failure;
   const auto c = sums(p);
@@ -734,7 +729,7 @@ TEST(PassThrough, UnheldCrossingFailsTheIncrementAndIsNeverAResult) {
   // With the search margin at zero and the pair never found (a contact pair between beams far apart
   // at every iterate cannot cross unseen): here the check itself, on a state where "upper" lies
   // below "lower" with no contact point: the manager must refuse to accept it.
-  auto p = test::problemFromXml(pushedThrough("Penalty", 2, 100.0), "unheld");
+  auto p = input::buildProblem(pushedThrough("Penalty", 2, 100.0), "unheld");
   core::State s = p.model.initial;
   for (int n : p.beams->beams()[1].nodes) s.applyNodeIncrement(n, std::array<double, 6>{0, 0, -5.0, 0, 0, 0}.data());
   // The points as the search sees them from the initial state (none near): accepting must throw.
@@ -747,7 +742,7 @@ TEST(Nodes, CircularExample1CompletesWithEachStrategyAndLaw) {
   for (const std::string law : {"Per Line", "Isotropic Coulomb"}) {
     std::map<std::string, std::array<double, 3>> got;
     for (const std::string type : {"Penalty", "Lagrange Multiplier", "Augmented Lagrange"}) {
-      auto p = test::problemFromXml(withLaw(circles(type, 0.0, 1e4, "40.0, 0.0, -20.0", 50, 0.5), law), "circ_e1");
+      auto p = input::buildProblem(withLaw(circles(type, 0.0, 1e4, "40.0, 0.0, -20.0", 50, 0.5), law), "circ_e1");
       const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "circ_e1");
       ASSERT_TRUE(r.report.completed) << law << ", " << type << ": " << r.report.failure;
       const auto A = r.finalState.displacement(p.beams->beams()[0].nodes.back());
@@ -774,10 +769,9 @@ TEST(Nodes, Example1WithTwentyElementsAndIsotropicFrictionCompletes) {
   // must then agree (1e-4: the augmented gap tolerance is 1e-6).
   std::map<std::string, double> Auz;
   for (const std::string type : {"Lagrange Multiplier", "Augmented Lagrange"}) {
-    std::string deck = withLaw(example1(type, "40.0, 0.0, -20.0", 200), "Isotropic Coulomb");
-    deck = std::regex_replace(deck, std::regex(R"X(name="Elements" type="int" value="10")X"),
-                              R"X(name="Elements" type="int" value="20")X");
-    auto p = test::problemFromXml(deck, "e1_20");
+    Deck deck = withLaw(example1(type, "40.0, 0.0, -20.0", 200), "Isotropic Coulomb");
+    for (const char* beam : {"Beams/beam 1/Elements", "Beams/beam 2/Elements"}) input::replaceAtPath(deck, beam, 20);
+    auto p = input::buildProblem(deck, "e1_20");
     const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "e1_20");
     ASSERT_TRUE(r.report.completed) << type << ": " << r.report.failure;
     Auz[type] = r.finalState.displacement(p.beams->beams()[0].nodes.back())[2];
@@ -791,18 +785,13 @@ namespace {
 // Circles pressed with an initial overlap of 0.05 and then dragged by `drag` (X, Y) at both ends of
 // beam 2, which is clamped at its start and pinned at its end (no symmetry support). Beam 2 runs from
 // (25, -30) to (95, 40): 45 degrees to beam 1, crossing it at x = 55 inside an element of each.
-std::string dragged(const std::string& type, const std::string& law, double dx, double dy, double mu) {
-  std::string deck = circles(type, 0.0, 1e4, test::num(dx) + ", " + test::num(dy) + ", 0.0", 20, mu);
-  deck = std::regex_replace(deck, std::regex(R"X(\{50.0, -50.0, 8.0\})X"), "{25.0, -30.0, 7.45}");
-  deck = std::regex_replace(deck, std::regex(R"X(\{50.0, 50.0, 8.0\})X"), "{95.0, 40.0, 7.45}");
-  const auto a = deck.find(R"X(<ParameterList name="symmetry at B">)X");
-  deck.erase(a, deck.find("</ParameterList>", a) + 16 - a);
-  const auto b = deck.find(R"X(value="ux uz ry")X");
-  deck.replace(b, 16, R"X(value="all")X");
-  const auto e = deck.find(R"X(value="ux uz ry")X");
-  deck.replace(e, 16, R"X(value="ux uy uz")X");
-  deck = std::regex_replace(deck, std::regex(R"X(<ParameterList name="Pairs">)X"),
-                            R"X(<Parameter name="Allow Initial Penetration" type="bool" value="true"/><ParameterList name="Pairs">)X");
+Deck dragged(const std::string& type, const std::string& law, double dx, double dy, double mu) {
+  Deck deck = circles(type, 0.0, 1e4, test::num(dx) + ", " + test::num(dy) + ", 0.0", 20, mu);
+  moveBeam2(deck, "25.0, -30.0, 7.45", "95.0, 40.0, 7.45");
+  input::sublistAtPath(deck, "Supports", false).remove("symmetry at B");
+  input::replaceAtPath(deck, "Supports/beam 2 start/Fixed", std::string("all"));
+  input::replaceAtPath(deck, "Supports/beam 2 end/Fixed", std::string("ux uy uz"));
+  input::setAtPath(deck, "Contact/Allow Initial Penetration", true);
   return withLaw(deck, law);
 }
 }  // namespace
@@ -814,7 +803,7 @@ TEST(FrictionCone, IsotropicCoulombHoldsTheForceVectorOnTheCone) {
   const double mu = 0.3;
   for (const std::string type : {"Penalty", "Lagrange Multiplier", "Augmented Lagrange"}) {
     for (const std::string law : {"Isotropic Coulomb", "Per Line"}) {
-      auto p = test::problemFromXml(dragged(type, law, 0.0, 0.5, mu), "drag");
+      auto p = input::buildProblem(dragged(type, law, 0.0, 0.5, mu), "drag");
       const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "drag");
       ASSERT_TRUE(r.report.completed) << type << ", " << law << ": " << r.report.failure;
       ASSERT_EQ(p.contact->points().size(), 1u);
@@ -840,7 +829,7 @@ TEST(Output, AppliedContactForceBalancesTheSupportReactionsOfBeamB) {
   // the beam, from the residual at the supported dofs). 45 degrees between
   // the lines: before, the drawn force was wrong there ((-0.108, 0.176, 0.603) vs (-0.293, -0.076, 0.602)).
   for (const std::string type : {"Penalty", "Lagrange Multiplier"}) {
-    auto p = test::problemFromXml(dragged(type, "Isotropic Coulomb", 0.2, -0.1, 0.3), "balance");
+    auto p = input::buildProblem(dragged(type, "Isotropic Coulomb", 0.2, -0.1, 0.3), "balance");
     const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "balance");
     ASSERT_TRUE(r.report.completed) << r.report.failure;
     const auto& pt = p.contact->points().begin()->second;
@@ -874,7 +863,7 @@ TEST(StiffPenalty, Epsilon1e6PassesFirstContactOnExample1) {
   // result towards the Lagrange one (same friction law and eps_T).
   std::map<double, double> Auz;
   for (double eps : {1e4, 1e6}) {
-    auto p = test::problemFromXml(example1("Penalty", "40.0, 0.0, -20.0", 50, eps), "stiff");
+    auto p = input::buildProblem(example1("Penalty", "40.0, 0.0, -20.0", 50, eps), "stiff");
     const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "stiff");
     ASSERT_TRUE(r.report.completed) << eps << ": " << r.report.failure;
     int cut = 0;
@@ -883,7 +872,7 @@ TEST(StiffPenalty, Epsilon1e6PassesFirstContactOnExample1) {
     std::printf("Example 1, penalty eps_N %.0e: A uz %.6f, steps %d (deepest cut %d), Newton %d\n", eps, Auz[eps],
                 r.report.steps, cut, r.report.newtonIterations);
   }
-  auto p = test::problemFromXml(example1("Lagrange Multiplier"), "stiff_lm");
+  auto p = input::buildProblem(example1("Lagrange Multiplier"), "stiff_lm");
   const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "stiff_lm");
   ASSERT_TRUE(r.report.completed) << r.report.failure;
   const double lagrange = r.finalState.displacement(p.beams->beams()[0].nodes.back())[2];
@@ -901,16 +890,14 @@ TEST(ContactTangent, IsotropicSlip) {
   checkContactTangent("Lagrange Multiplier",
                       withLaw(example1("Lagrange Multiplier", "40.0, 0.0, -20.0", 10), "Isotropic Coulomb"), 0.3, true,
                       false, 0.5);
-  std::string deck = withLaw(example1("Augmented Lagrange", "40.0, 0.0, -20.0", 10), "Isotropic Coulomb");
-  deck = std::regex_replace(deck, std::regex(R"(<ParameterList name="Load Stepping">)"),
-                            R"(<ParameterList name="Nonlinear Solver"><Parameter name="Predictor" type="string" value="None"/></ParameterList><ParameterList name="Load Stepping">)");
+  Deck deck = withLaw(example1("Augmented Lagrange", "40.0, 0.0, -20.0", 10), "Isotropic Coulomb");
+  input::setAtPath(deck, "Nonlinear Solver/Predictor", std::string("None"));
   checkContactTangent("Augmented Lagrange", deck, 0.3, true, false, 0.5);
 }
 TEST(ContactTangent, IsotropicStick) {
   for (const std::string type : {"Penalty", "Lagrange Multiplier", "Augmented Lagrange"}) {
-    std::string deck = withLaw(circles(type, 3.0, 1e4), "Isotropic Coulomb");
-    deck = std::regex_replace(deck, std::regex(R"(name="Friction Coefficient" type="double" value="0")"),
-                              R"(name="Friction Coefficient" type="double" value="5")");
+    Deck deck = withLaw(circles(type, 3.0, 1e4), "Isotropic Coulomb");
+    input::replaceAtPath(deck, "Contact/Pairs/crossing/Friction Coefficient", 5.0);
     checkContactTangent(type, deck, 1e-3, false, true, 5.0);
   }
 }
@@ -918,10 +905,10 @@ TEST(ContactTangent, IsotropicStick) {
 TEST(StiffPenalty, Epsilon1e8OnExample1IsWithinATenthOfAPercentOfLagrange) {
   // eps_N = 1e8 with a stiff tangential penalty too (eps_T = 1e5: with the deck's 400 the elastic
   // stick slip alone leaves 0.3 %), 500 increments (Newton's quadratic region shrinks like 1/eps_N).
-  auto p = test::problemFromXml(example1("Penalty", "40.0, 0.0, -20.0", 500, 1e8, 1e5), "stiff8");
+  auto p = input::buildProblem(example1("Penalty", "40.0, 0.0, -20.0", 500, 1e8, 1e5), "stiff8");
   const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "stiff8");
   ASSERT_TRUE(r.report.completed) << r.report.failure;
-  auto l = test::problemFromXml(example1("Lagrange Multiplier"), "stiff8_lm");
+  auto l = input::buildProblem(example1("Lagrange Multiplier"), "stiff8_lm");
   const auto rl = test::runQuiet(l, Tpetra::getDefaultComm(), "stiff8_lm");
   ASSERT_TRUE(rl.report.completed) << rl.report.failure;
   const auto A = r.finalState.displacement(p.beams->beams()[0].nodes.back());
