@@ -85,30 +85,22 @@ TEST(RankAgreement, DirectSolver) { compare("Direct"); }
 TEST(RankAgreement, GmresSolver) { compare("GMRES"); }
 
 // Example 1 (contact, penalty and augmented Lagrange) on 2 ranks and on 1.
-#include <fstream>
-#include <sstream>
-
 namespace {
-std::string example1Deck(const std::string& type) {
-  std::ifstream f(std::string(BC_SOURCE_DIR) + "/input/example1.xml");
-  std::stringstream s;
-  s << f.rdbuf();
-  std::string d = s.str();
-  const std::string from = R"(<Parameter name="Type" type="string" value="Lagrange Multiplier"/>)";
-  d.replace(d.find(from), from.size(), R"(<Parameter name="Type" type="string" value=")" + type + R"("/>)");
-  // Solved to round-off, so that the comparison measures the ranks, not where Newton stopped inside
-  // its tolerance (friction carries such differences from step to step).
-  const std::string stepping = R"(<ParameterList name="Load Stepping">)";
-  d.replace(d.find(stepping), stepping.size(),
-            R"(<ParameterList name="Nonlinear Solver"><Parameter name="Residual Tolerance" type="double" value="1e-12"/>)"
-            R"(<Parameter name="Increment Tolerance" type="double" value="1e-12"/></ParameterList>)" + stepping);
+// Example 1's deck edited by parameter path: the strategy, and Newton solved to round-off, so that
+// the comparison measures the ranks, not where Newton stopped inside its tolerance (friction carries
+// such differences from step to step).
+Teuchos::ParameterList example1Deck(const std::string& type) {
+  Teuchos::ParameterList d = input::readParameterXmlFile(std::string(BC_SOURCE_DIR) + "/input/example1.xml");
+  input::replaceAtPath(d, "Contact/Enforcement/Type", type);
+  input::setAtPath(d, "Nonlinear Solver/Residual Tolerance", 1e-12);
+  input::setAtPath(d, "Nonlinear Solver/Increment Tolerance", 1e-12);
   return d;
 }
 void compareExample1(const std::string& type, double tolerance) {
   auto world = Tpetra::getDefaultComm();
   auto self = Teuchos::rcp(new Teuchos::MpiComm<int>(MPI_COMM_SELF));
-  auto pw = test::problemFromXml(example1Deck(type));
-  auto ps = test::problemFromXml(example1Deck(type));
+  auto pw = input::buildProblem(example1Deck(type), "example1");
+  auto ps = input::buildProblem(example1Deck(type), "example1");
   const auto rw = test::runQuiet(pw, world, "example1_world");
   const auto rs = test::runQuiet(ps, self, "example1_self" + std::to_string(world->getRank()));
   ASSERT_TRUE(rw.report.completed) << rw.report.failure;
