@@ -29,16 +29,6 @@ AugmentedLagrangeEnforcer::AugmentedLagrangeEnforcer(const Teuchos::ParameterLis
       tolerance_(v.get<double>("Gap Tolerance")),
       maxPasses_(v.get<int>("Maximum Augmentations")) {}
 
-namespace {
-FrictionRegularization friction(const AugmentedLagrangeEnforcer::State& s, double eps) {
-  FrictionRegularization t;
-  t.lambdaHat[0] = s.lambdaT[0];
-  t.lambdaHat[1] = s.lambdaT[1];
-  t.penalty = eps;
-  return t;
-}
-}  // namespace
-
 bool AugmentedLagrangeEnforcer::contributes(double gapN, const PointState& s) const {
   return stateOf<State>(s).lambdaN + normalPenalty_ * gapN < 0.0;
 }
@@ -46,13 +36,15 @@ bool AugmentedLagrangeEnforcer::contributes(double gapN, const PointState& s) co
 PointResult AugmentedLagrangeEnforcer::evaluate(const ContactPoint& p, const PointState& s, double* f,
                                                 double* K) const {
   const State& h = stateOf<State>(s);
-  return regularizedEvaluate(p, linearNormalLaw(h.lambdaN, normalPenalty_), friction(h, tangentialPenalty_), f, K);
+  const FrictionRegularization friction{{h.lambdaT[0], h.lambdaT[1]}, tangentialPenalty_};
+  return regularizedEvaluate(p, linearNormalLaw(h.lambdaN, normalPenalty_), friction, f, K);
 }
 
 bool AugmentedLagrangeEnforcer::acceptPoint(const ContactPoint& p, PointState& s, double& worstViolation) const {
   State& h = stateOf<State>(s);
   const ContactKinematics& k = p.kinematics;
-  const PointResult r = regularizedForces(p, linearNormalLaw(h.lambdaN, normalPenalty_), friction(h, tangentialPenalty_));
+  const FrictionRegularization friction{{h.lambdaT[0], h.lambdaT[1]}, tangentialPenalty_};
+  const PointResult r = regularizedForces(p, linearNormalLaw(h.lambdaN, normalPenalty_), friction);
   double violation = 0.0;
   if (r.active) {
     violation = std::abs(k.normal.value);

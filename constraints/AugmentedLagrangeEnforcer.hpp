@@ -15,7 +15,9 @@ namespace bc::constraints {
 class AugmentedLagrangeEnforcer : public ConstraintEnforcer {
  public:
   static const char* name() { return "Augmented Lagrange"; }
-  static const char* description() { return "penalty springs around multiplier estimates, augmented until the gaps meet Gap Tolerance"; }
+  static const char* description() {
+    return "penalty springs around multiplier estimates, augmented until the gaps meet Gap Tolerance";
+  }
   static const core::ParameterSpec& spec();
   explicit AugmentedLagrangeEnforcer(const Teuchos::ParameterList& validated);
 

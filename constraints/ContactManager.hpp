@@ -14,9 +14,9 @@
 // History per point: the contact coordinates of the last converged step (the tangential gaps are
 // measured from them, mapped on the current configuration), the normal orientation, and the
 // strategy's own point state (opaque here). A strategy's multipliers are extra unknowns of the state
-// (core::ExtraUnknowns, owner "contact", key (pair, line A, line B)), as many as it asks for. When a point moves to a neighbouring
-// element within a step, its tangential gap is the parameter difference times the current element's
-// line length (exact within one element).
+// (core::ExtraUnknowns, owner "contact", key (pair, line A, line B)), as many as it asks for.
+// When a point moves to a neighbouring element within a step, its tangential gap is the parameter
+// difference times the current element's line length (exact within one element).
 #pragma once
 #include <functional>
 #include <map>

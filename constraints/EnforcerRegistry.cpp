@@ -49,7 +49,8 @@ core::ParameterSpec enforcementSpec() {
   spec.addRequired("Type", std::string("Penalty"), "the enforcement strategy; its parameters go in the sublist of "
                    "the same name", {}, "one of " + core::joinNames(enforcerNames()));
   for (const auto& entry : registry())
-    spec.addSublist(entry.name, entry.spec->reference(), "used when Type is \"" + entry.name + "\": " + entry.description);
+    spec.addSublist(entry.name, entry.spec->reference(),
+                    "used when Type is \"" + entry.name + "\": " + entry.description);
   return spec;
 }
 }  // namespace

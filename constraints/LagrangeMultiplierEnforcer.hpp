@@ -30,7 +30,9 @@ namespace bc::constraints {
 class LagrangeMultiplierEnforcer : public ConstraintEnforcer {
  public:
   static const char* name() { return "Lagrange Multiplier"; }
-  static const char* description() { return "exact constraints with multipliers (lambda_N, lambda_T1, lambda_T2) per active point and an active set"; }
+  static const char* description() {
+    return "exact constraints with multipliers (lambda_N, lambda_T1, lambda_T2) per active point and an active set";
+  }
   static const core::ParameterSpec& spec();
   explicit LagrangeMultiplierEnforcer(const Teuchos::ParameterList& validated);
 

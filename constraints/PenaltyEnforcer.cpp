@@ -22,19 +22,10 @@ PenaltyEnforcer::PenaltyEnforcer(const Teuchos::ParameterList& v)
     : normalPenalty_(v.get<double>("Normal Penalty Parameter")),
       tangentialPenalty_(v.get<double>("Tangential Penalty Parameter")) {}
 
-namespace {
-FrictionRegularization friction(const PenaltyEnforcer::State& s, double eps) {
-  FrictionRegularization t;
-  t.lambdaHat[0] = s.lambdaT[0];
-  t.lambdaHat[1] = s.lambdaT[1];
-  t.penalty = eps;
-  return t;
-}
-}  // namespace
-
 PointResult PenaltyEnforcer::evaluate(const ContactPoint& p, const PointState& s, double* f, double* K) const {
-  return regularizedEvaluate(p, linearNormalLaw(0.0, normalPenalty_), friction(stateOf<State>(s), tangentialPenalty_),
-                             f, K);
+  const State& h = stateOf<State>(s);
+  const FrictionRegularization friction{{h.lambdaT[0], h.lambdaT[1]}, tangentialPenalty_};
+  return regularizedEvaluate(p, linearNormalLaw(0.0, normalPenalty_), friction, f, K);
 }
 
 bool PenaltyEnforcer::acceptPoint(const ContactPoint& p, PointState&, double& worstViolation) const {
@@ -44,8 +35,8 @@ bool PenaltyEnforcer::acceptPoint(const ContactPoint& p, PointState&, double& wo
 
 void PenaltyEnforcer::commitPoint(const ContactPoint& p, PointState& s) const {
   State& state = stateOf<State>(s);
-  const PointResult r =
-      regularizedForces(p, linearNormalLaw(0.0, normalPenalty_), friction(state, tangentialPenalty_));
+  const FrictionRegularization friction{{state.lambdaT[0], state.lambdaT[1]}, tangentialPenalty_};
+  const PointResult r = regularizedForces(p, linearNormalLaw(0.0, normalPenalty_), friction);
   for (int i = 0; i < 2; ++i) state.lambdaT[i] = r.lambdaT[i];
 }
 

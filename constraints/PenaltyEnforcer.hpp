@@ -11,7 +11,9 @@ namespace bc::constraints {
 class PenaltyEnforcer : public ConstraintEnforcer {
  public:
   static const char* name() { return "Penalty"; }
-  static const char* description() { return "normal and stick springs eps_N, eps_T; the gap is of order force / eps_N"; }
+  static const char* description() {
+    return "normal and stick springs eps_N, eps_T; the gap is of order force / eps_N";
+  }
   static const core::ParameterSpec& spec();
   explicit PenaltyEnforcer(const Teuchos::ParameterList& validated);
 

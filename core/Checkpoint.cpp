@@ -49,7 +49,8 @@ void CheckpointOut::state(const State& s) {
     for (double v : s.rotation[n].m) real(v);
     for (double v : s.rotationVector[n].v) real(v);
   }
-  label("extra").integer(static_cast<long long>(s.extra.size())).integer(static_cast<long long>(s.extra.blocks().size()));
+  label("extra").integer(static_cast<long long>(s.extra.size()));
+  integer(static_cast<long long>(s.extra.blocks().size()));
   for (double v : s.extra.values()) real(v);
   for (const auto& [id, block] : s.extra.blocks()) {
     label("block").word(id.first).integer(block.offset).integer(block.size).integer(static_cast<long long>(id.second.size()));

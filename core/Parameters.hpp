@@ -42,8 +42,8 @@ class ParameterSpec {
     required_.insert(name);
     std::ostringstream e;
     e << example;
-    reference_.set(name, std::string("<required " + valid_.getEntry(name).getAny().typeName() + ", e.g. " + e.str() + ">"),
-                   valid_.getEntry(name).docString());
+    const Teuchos::ParameterEntry& entry = valid_.getEntry(name);
+    reference_.set(name, "<required " + entry.getAny().typeName() + ", e.g. " + e.str() + ">", entry.docString());
     return *this;
   }
   template <class T>

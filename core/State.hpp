@@ -48,7 +48,8 @@ class ExtraUnknowns {
   // Returns true when the layout changed. `owner` is one word (it is written to checkpoints).
   bool request(const std::string& owner, const std::map<Key, int>& wanted) {
     for (char c : owner)
-      if (std::isspace(static_cast<unsigned char>(c))) throw std::logic_error("extra-unknown owner \"" + owner + "\" is not one word");
+      if (std::isspace(static_cast<unsigned char>(c)))
+        throw std::logic_error("extra-unknown owner \"" + owner + "\" is not one word");
     std::map<std::pair<std::string, Key>, Block> next;
     for (const auto& [k, b] : blocks_)
       if (k.first != owner) next.emplace(k, b);

@@ -30,17 +30,12 @@ namespace {
 NormalLaw quadraticLaw(double eps) {
   return [eps](const LawScalar& g) -> LawScalar { return -eps * g * g; };
 }
-FrictionRegularization friction(const QuadraticPenalty::State& s, double eps) {
-  FrictionRegularization t;
-  t.lambdaHat[0] = s.lambdaT[0];
-  t.lambdaHat[1] = s.lambdaT[1];
-  t.penalty = eps;
-  return t;
-}
 }  // namespace
 
 PointResult QuadraticPenalty::evaluate(const ContactPoint& p, const PointState& s, double* f, double* K) const {
-  return regularizedEvaluate(p, quadraticLaw(quadratic_), friction(stateOf<State>(s), tangential_), f, K);
+  const State& h = stateOf<State>(s);
+  const FrictionRegularization friction{{h.lambdaT[0], h.lambdaT[1]}, tangential_};
+  return regularizedEvaluate(p, quadraticLaw(quadratic_), friction, f, K);
 }
 
 bool QuadraticPenalty::acceptPoint(const ContactPoint& p, PointState&, double& worstViolation) const {
@@ -50,7 +45,8 @@ bool QuadraticPenalty::acceptPoint(const ContactPoint& p, PointState&, double& w
 
 void QuadraticPenalty::commitPoint(const ContactPoint& p, PointState& s) const {
   State& state = stateOf<State>(s);
-  const PointResult r = regularizedForces(p, quadraticLaw(quadratic_), friction(state, tangential_));
+  const FrictionRegularization friction{{state.lambdaT[0], state.lambdaT[1]}, tangential_};
+  const PointResult r = regularizedForces(p, quadraticLaw(quadratic_), friction);
   state.lambdaT[0] = r.lambdaT[0];
   state.lambdaT[1] = r.lambdaT[1];
 }
