@@ -118,6 +118,11 @@ bool Parser::nextTag() {
       fail("text outside an element (values go in the value=\"...\" attribute)");
     }
     if (startsWith("<!--")) {
+      // XML forbids "--" inside a comment (other readers, e.g. ParaView's or Python's, refuse it).
+      advance(4);
+      const std::size_t dashes = s_.find("--", i_), end = s_.find("-->", i_);
+      if (dashes != std::string::npos && dashes < end)
+        fail("\"--\" inside a comment (XML does not allow it; write it another way)");
       skipUntil("-->", "comment");
     } else if (startsWith("<?")) {
       skipUntil("?>", "declaration");

@@ -9,8 +9,8 @@
 //    of such values;
 //  - a name given twice in one list is an error (naming both lines), not a silent overwrite;
 //  - types: int, double, bool, string, Array(int), Array(double), Array(string);
-//  - nesting deeper than 32 lists, a file over 16 MB, DOCTYPE/CDATA and text outside attributes are
-//    refused (the parser is iterative: no input can exhaust the stack).
+//  - nesting deeper than 32 lists, a file over 16 MB, DOCTYPE/CDATA, "--" inside a comment and text
+//    outside attributes are refused (the parser is iterative: no input can exhaust the stack).
 // Attributes Teuchos writes (id, docString, isDefault, isUsed) are accepted and ignored, so the
 // effective_parameters.xml of a run and a study's case decks read back.
 #pragma once

@@ -19,4 +19,16 @@ cd "$work/decks"
 /usr/bin/python3 "$src/examples/external-strategy/check_study.py" "$work/study"
 "$work/prefix/bin/beamcontact" render "$work/study/cases/003" "$work/case3.png"
 test -s "$work/case3.png"
+# The deck's own Plugins (a path relative to the deck's folder) instead of --plugin.
+cp "$work/example/libquadratic_penalty.so" "$work/decks/"
+/usr/bin/python3 - "$work/decks/press.xml" "$work/decks/press_plugins.xml" <<'PY'
+import sys
+import xml.etree.ElementTree as ET
+tree = ET.parse(sys.argv[1])
+ET.SubElement(tree.getroot(), "Parameter", name="Plugins", type="Array(string)", value="{libquadratic_penalty.so}")
+tree.write(sys.argv[2])
+PY
+"$work/prefix/bin/beamcontact" run press_plugins.xml --output "$work/deck_plugins" --quiet
+grep -q "^complete" "$work/deck_plugins/status.txt"
+grep -q 'name="Type" type="string" value="Quadratic Penalty"' "$work/deck_plugins/effective_parameters.xml"
 echo "external strategy: ok"
