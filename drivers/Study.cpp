@@ -143,15 +143,16 @@ Variable readVariable(const ParameterList& v, const std::string& name, const std
 
 // Sets `path` ("A/B/name") in `deck` to the value, keeping the type the base deck has there.
 void setByPath(ParameterList& deck, const Variable& var, const std::string& value, const std::string& where) {
+  const auto slash = var.path.rfind('/');
   ParameterList* list = &deck;
-  std::string rest = var.path;
-  for (auto slash = rest.find('/'); slash != std::string::npos; slash = rest.find('/')) {
-    const std::string sub = rest.substr(0, slash);
-    if (list->isParameter(sub) && !list->isSublist(sub))
-      throw InputError(where + ": \"" + sub + "\" in path \"" + var.path + "\" is a parameter, not a sublist");
-    list = &list->sublist(sub);
-    rest = rest.substr(slash + 1);
+  if (slash != std::string::npos) {
+    try {
+      list = &input::sublistAtPath(deck, var.path.substr(0, slash));
+    } catch (const InputError& e) {
+      throw InputError(where + ": " + e.what());
+    }
   }
+  const std::string rest = var.path.substr(slash == std::string::npos ? 0 : slash + 1);
   const bool exists = list->isParameter(rest);
   if (exists && list->isSublist(rest))
     throw InputError(where + ": path \"" + var.path + "\" names a sublist, not a parameter");
