@@ -145,6 +145,10 @@ void ContactManager::forEachElementPair(const core::State& s,
             if (it == grid.end()) continue;
             for (int eb : it->second) {
               if (elems[eb].beam != pair.beamB || !tested.insert({(int)ea, eb}).second) continue;
+              // Elements that share a node (beams joined there) do not contact each other.
+              const BeamElement &A0 = elems[ea], &B0 = elems[eb];
+              if (A0.node1 == B0.node1 || A0.node1 == B0.node2 || A0.node2 == B0.node1 || A0.node2 == B0.node2)
+                continue;
               const Box& B = boxes[eb];
               bool overlap = true;
               for (int c = 0; c < 3; ++c) overlap = overlap && A.lo[c] <= B.hi[c] && B.lo[c] <= A.hi[c];

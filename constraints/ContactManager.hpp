@@ -9,7 +9,8 @@
 // the other beam take part, so a pair of rectangular beams has at most 2 x 2 = 4 points.
 //
 // Search: the elements' bounding boxes (inflated by "Search Margin") are hashed into a uniform grid,
-// so candidate element pairs are found without testing all pairs.
+// so candidate element pairs are found without testing all pairs. Elements that share a node (beams
+// joined there) are never a candidate pair.
 //
 // History per point: the contact coordinates of the last converged step (the tangential gaps are
 // measured from them, mapped on the current configuration), the normal orientation, and the

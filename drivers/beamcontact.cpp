@@ -192,9 +192,9 @@ int main(int argc, char** argv) {
       Teuchos::ParameterList list = bc::input::readDeckFile(args[1]);
       bc::input::loadDeckPlugins(list, args[1]);
       const auto problem = bc::input::buildProblem(list, std::filesystem::path(args[1]).stem().string());
-      std::printf("ok: %s: %d nodes, %zu elements, %zu supports, %zu loads\n", args[1].c_str(),
-                  problem.model.initial.numNodes(), problem.beams->elements().size(), problem.model.supports.size(),
-                  problem.model.loads.size());
+      std::printf("ok: %s: %d nodes, %zu elements, %d joints, %zu supports, %zu loads\n", args[1].c_str(),
+                  problem.model.initial.numNodes(), problem.beams->elements().size(), problem.joints,
+                  problem.model.supports.size(), problem.model.loads.size());
       return 0;
     });
   }

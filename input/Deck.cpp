@@ -8,7 +8,11 @@
 #include <filesystem>
 #include <cstdio>
 #include <fstream>
+#include <functional>
+#include <map>
+#include <numeric>
 #include <sstream>
+#include <unordered_map>
 
 #include <Teuchos_Array.hpp>
 #include <Teuchos_XMLParameterListHelpers.hpp>
@@ -413,24 +417,41 @@ std::string vectorText(const Vec3d& v) {
   return buf;
 }
 
-// Each beam must be held against all six rigid-body motions by the supports on its own nodes (beams
-// are not joined to each other, and contact, which acts only once beams touch, holds nothing at the
-// start). The rigid motions of a beam, u = t + w x (X - c) and spin w, restricted to its fixed dofs
-// form a matrix C (fixed dofs x 6); a motion in the null space of C^T C is free. Reports the first
-// free motion found, as a translation direction or a rotation axis through a point.
+// Each structure (a beam, or beams rigidly joined at shared nodes) must be held against all six
+// rigid-body motions by the supports on its own nodes (contact, which acts only once beams touch,
+// holds nothing at the start). The rigid motions of a structure, u = t + w x (X - c) and spin w,
+// restricted to its fixed dofs form a matrix C (fixed dofs x 6); a motion in the null space of C^T C
+// is free. Reports the first free motion found, as a translation direction or a rotation axis
+// through a point.
 void checkRigidBodyMotions(const Problem& p) {
   const core::State& s = p.model.initial;
   std::vector<std::array<bool, 6>> fixed(s.numNodes(), std::array<bool, 6>{});
   for (const auto& sup : p.model.supports)
     for (int n : sup.nodes)
       for (int k = 0; k < 6; ++k) fixed[n][k] = fixed[n][k] || sup.fixed[k];
-  for (const auto& beam : p.beams->beams()) {
+  // Structures: beams connected through shared nodes (union-find over the beams).
+  const auto& beams = p.beams->beams();
+  std::vector<int> parent(beams.size()), nodeBeam(s.numNodes(), -1);
+  std::iota(parent.begin(), parent.end(), 0);
+  std::function<int(int)> root = [&](int b) { return parent[b] == b ? b : parent[b] = root(parent[b]); };
+  for (std::size_t b = 0; b < beams.size(); ++b)
+    for (int n : beams[b].nodes) {
+      if (nodeBeam[n] >= 0) parent[root(static_cast<int>(b))] = root(nodeBeam[n]);
+      nodeBeam[n] = static_cast<int>(b);
+    }
+  std::map<int, std::vector<int>> structures;  // root -> beams, in deck order
+  for (std::size_t b = 0; b < beams.size(); ++b) structures[root(static_cast<int>(b))].push_back(static_cast<int>(b));
+  for (const auto& [r, members] : structures) {
+    std::vector<int> nodes;
+    for (int b : members) nodes.insert(nodes.end(), beams[b].nodes.begin(), beams[b].nodes.end());
+    std::sort(nodes.begin(), nodes.end());
+    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
     Vec3d c{};
-    for (int n : beam.nodes) c = c + (1.0 / beam.nodes.size()) * s.reference[n];
+    for (int n : nodes) c = c + (1.0 / nodes.size()) * s.reference[n];
     double L = 0.0;
-    for (int n : beam.nodes) L = std::max(L, norm(s.reference[n] - c));
+    for (int n : nodes) L = std::max(L, norm(s.reference[n] - c));
     std::array<std::array<double, 6>, 6> G{};
-    for (int n : beam.nodes) {
+    for (int n : nodes) {
       const Vec3d r = (1.0 / L) * (s.reference[n] - c);
       for (int k = 0; k < 6; ++k) {
         if (!fixed[n][k]) continue;
@@ -464,7 +485,12 @@ void checkRigidBodyMotions(const Problem& p) {
     }
     int free = 0;
     for (double l : lambda) free += l <= 1e-9;
-    throw InputError("beam \"" + beam.name + "\" is not held by its supports: " + motion +
+    std::string who = "beam \"" + beams[members[0]].name + "\"";
+    if (members.size() > 1) {
+      who = "the beams joined to \"" + beams[members[0]].name + "\" (" + std::to_string(members.size()) +
+            " beams sharing nodes)";
+    }
+    throw InputError(who + " is not held by its supports: " + motion +
                      (free > 1 ? " (and " + std::to_string(free - 1) + " more free rigid motions)" : "") +
                      "; fix more components (Supports/.../Fixed) on its nodes");
   }
@@ -483,6 +509,65 @@ void checkDuplicateBeams(const Problem& p) {
         throw InputError("beams \"" + beams[a].name + "\" and \"" + beams[b].name +
                          "\" have the same Start and End: a beam given twice?");
     }
+}
+
+// Joints: a beam end that coincides (within 1e-9 of the model's extent) with a node of another beam,
+// its end or an interior node, shares that node, so the beams are rigidly joined there: displacements
+// and rotations are continuous. Nodes of two beams that coincide away from both beams' ends are not
+// joined (crossing beams touch through contact, if at all). Renumbers the nodes (first appearance
+// order) and returns how many nodes were shared.
+int joinCoincidentNodes(std::vector<elements::Beam>& beams, std::vector<Vec3d>& reference) {
+  const std::size_t n = reference.size();
+  std::vector<int> owner(n, -1);
+  std::vector<char> isEnd(n, 0);
+  for (std::size_t b = 0; b < beams.size(); ++b) {
+    for (int node : beams[b].nodes) owner[node] = static_cast<int>(b);
+    isEnd[beams[b].nodes.front()] = isEnd[beams[b].nodes.back()] = 1;
+  }
+  Vec3d lo = reference[0], hi = reference[0];
+  for (const Vec3d& x : reference)
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], x[k]);
+      hi[k] = std::max(hi[k], x[k]);
+    }
+  const double tol = 1e-9 * std::max(norm(hi - lo), 1e-300);
+  // Nodes hashed into cells of size tol: a node within tol of another lies in a neighbouring cell.
+  auto cell = [&](const Vec3d& x, int k) { return static_cast<long long>(std::floor((x[k] - lo[k]) / tol)); };
+  auto key = [](long long i, long long j, long long k) { return (i * 73856093LL) ^ (j * 19349663LL) ^ (k * 83492791LL); };
+  std::unordered_map<long long, std::vector<int>> grid;
+  std::vector<int> rep(n);
+  std::iota(rep.begin(), rep.end(), 0);
+  int shared = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3d& x = reference[i];
+    const long long ci = cell(x, 0), cj = cell(x, 1), ck = cell(x, 2);
+    for (long long a = ci - 1; a <= ci + 1 && rep[i] == int(i); ++a)
+      for (long long b = cj - 1; b <= cj + 1 && rep[i] == int(i); ++b)
+        for (long long c = ck - 1; c <= ck + 1 && rep[i] == int(i); ++c) {
+          const auto it = grid.find(key(a, b, c));
+          if (it == grid.end()) continue;
+          for (int j : it->second)
+            if (owner[j] != owner[i] && (isEnd[i] || isEnd[j]) && norm(reference[j] - x) <= tol) {
+              rep[i] = rep[j];
+              ++shared;
+              break;
+            }
+        }
+    grid[key(ci, cj, ck)].push_back(static_cast<int>(i));
+  }
+  if (shared == 0) return 0;
+  std::vector<int> id(n, -1);
+  std::vector<Vec3d> merged;
+  for (std::size_t i = 0; i < n; ++i)
+    if (rep[i] == int(i)) {
+      id[i] = static_cast<int>(merged.size());
+      merged.push_back(reference[i]);
+    }
+  for (std::size_t i = 0; i < n; ++i) id[i] = id[rep[i]];
+  for (auto& beam : beams)
+    for (int& node : beam.nodes) node = id[node];
+  reference = std::move(merged);
+  return shared;
 }
 
 // What a model of `elements` beam elements needs, roughly (measured: about 4 kB per element for the
@@ -572,6 +657,7 @@ Problem buildProblem(ParameterList deck, const std::string& deckName) {
     p.beamIndex[name] = static_cast<int>(beams.size());
     beams.push_back(beam);
   });
+  p.joints = joinCoincidentNodes(beams, reference);
   state.resize(static_cast<int>(reference.size()));
   state.reference = reference;
   state.position = reference;

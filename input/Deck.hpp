@@ -23,6 +23,7 @@ struct Problem {
   core::Model model;
   std::shared_ptr<elements::BeamSet> beams;
   std::map<std::string, int> beamIndex;  // beam name -> index in beams->beams()
+  int joints = 0;                        // beam ends joined to a node of another beam
   std::shared_ptr<constraints::ContactManager> contact;  // null without a Contact sublist
   core::SolverSettings solver;
   Teuchos::ParameterList linearSolver;   // validated "Linear Solver" sublist
