@@ -29,6 +29,7 @@ double CrossSection::inertiaZ() const {
                                    : std::acos(-1.0) * std::pow(radius, 4) / 4.0;
 }
 double CrossSection::torsionConstant() const {
+  if (givenTorsionConstant > 0.0) return givenTorsionConstant;
   return shape == Shape::Rectangle ? rectangleTorsionConstant(width, height)
                                    : std::acos(-1.0) * std::pow(radius, 4) / 2.0;
 }

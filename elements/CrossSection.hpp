@@ -14,6 +14,7 @@ struct CrossSection {
   double width = 0.0;   // b, along local y (rectangle)
   double height = 0.0;  // h, along local z (rectangle)
   double radius = 0.0;  // circle
+  double givenTorsionConstant = 0.0;  // > 0: used instead of Saint-Venant's value (benchmarks stating GJ)
 
   double area() const;
   double inertiaY() const;  // integral of z^2: resists bending in the local x-z plane

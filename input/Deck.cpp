@@ -42,6 +42,9 @@ const ParameterSpec& sectionSpec() {
     p.addOptional("Width", 1.0, "Rectangle: side b along the section's local y axis [length]", core::positive(), "> 0");
     p.addOptional("Height", 1.0, "Rectangle: side h along the section's local z axis [length]", core::positive(), "> 0");
     p.addOptional("Radius", 1.0, "Circle: radius [length]", core::positive(), "> 0");
+    p.addOptional("Torsion Constant", 1.0,
+                  "J [length^4]; default: Saint-Venant's value for the shape (set it where a benchmark states GJ)",
+                  core::positive(), "> 0");
     return p;
   }();
   return s;
@@ -58,15 +61,53 @@ const ParameterSpec& materialSpec() {
   return s;
 }
 
+const ParameterSpec& arcSpec() {
+  static const ParameterSpec s = [] {
+    ParameterSpec p;
+    p.addRequired("Centre", zero3(), "centre of the circle [length]", core::vector3());
+    p.addRequired("Radius", 1.0, "radius [length]", core::positive(), "> 0");
+    p.addRequired("Normal", zero3(), "normal of the arc's plane; angles turn about it (right hand)", core::vector3());
+    p.addRequired("Reference Direction", zero3(), "direction of angle 0 (projected on the plane)", core::vector3());
+    p.addRequired("Start Angle", 0.0, "angle of the first node [degrees]");
+    p.addRequired("End Angle", 90.0, "angle of the last node [degrees]; |End - Start| <= 360");
+    return p;
+  }();
+  return s;
+}
+
+const ParameterSpec& helixSpec() {
+  static const ParameterSpec s = [] {
+    ParameterSpec p;
+    p.addRequired("Axis Point", zero3(), "a point of the helix axis, where the first node's height is 0 [length]",
+                  core::vector3());
+    p.addRequired("Axis Direction", zero3(), "direction of the axis; the helix turns about it (right hand)",
+                  core::vector3());
+    p.addRequired("Radius", 1.0, "radius [length]", core::positive(), "> 0");
+    p.addRequired("Pitch", 1.0, "rise along the axis per turn [length]", core::positive(), "> 0");
+    p.addRequired("Turns", 1.0, "number of turns (any positive real)", core::positive(), "> 0");
+    p.addRequired("Reference Direction", zero3(), "direction of the first node from the axis (projected)",
+                  core::vector3());
+    p.add("Start Angle", 0.0, "angle of the first node from the reference direction [degrees]");
+    return p;
+  }();
+  return s;
+}
+
 const ParameterSpec& beamSpec() {
   static const ParameterSpec s = [] {
     ParameterSpec p;
-    p.addRequired("Start", zero3(), "coordinates of the first node [length]", core::vector3());
-    p.addRequired("End", zero3(), "coordinates of the last node [length]", core::vector3());
-    p.addRequired("Elements", 10, "number of elements along the beam", core::wholeBetween(1, 10000000), "1 to 1e7");
+    p.addOptional("Start", zero3(), "straight beam: coordinates of the first node [length]", core::vector3());
+    p.addOptional("End", zero3(), "straight beam: coordinates of the last node [length]", core::vector3());
+    p.addOptional("Points", Array<double>(),
+                  "polyline: x1, y1, z1, x2, y2, z2, ... (at least two points), Elements per segment [length]");
+    p.addSublist("Arc", arcSpec().reference(), "circular arc (instead of Start and End), Elements in all");
+    p.addSublist("Helix", helixSpec().reference(), "helix (instead of Start and End), Elements in all");
+    p.addRequired("Elements", 10, "number of elements along the beam (a polyline: per segment)",
+                  core::wholeBetween(1, 10000000), "1 to 1e7");
     p.addOptional("Section Orientation", zero3(),
-                  "direction of the section's local y axis (the Width side); default: normal to the beam axis "
-                  "and to global Z (for a beam along Z: global Y)",
+                  "direction of the section's local y axis (the Width side), projected on each element's normal "
+                  "plane; default: normal to the axis and to global Z (for a beam along Z: global Y), for an arc "
+                  "its plane's normal, for a helix its axis",
                   core::vector3());
     p.addSublist("Section", sectionSpec().reference(), "cross-section");
     p.addSublist("Material", materialSpec().reference(), "linear elastic material");
@@ -511,6 +552,83 @@ void checkDuplicateBeams(const Problem& p) {
     }
 }
 
+// The nodes of a beam along its geometry (exactly one of Start and End, Points, Arc, Helix), and its
+// section orientation: given, or by default normal to the axis and global Z for straight beams and
+// polylines, the plane's normal for an arc and the axis for a helix (both stay across the curve, so
+// the section follows it: its local y axis is that vector projected on each element's normal plane).
+std::vector<Vec3d> beamPoints(const ParameterList& b, const std::string& path, int ne, Vec3d& sectionY) {
+  const bool straight = b.isParameter("Start") || b.isParameter("End");
+  const int kinds = int(straight) + int(b.isParameter("Points")) + int(b.isSublist("Arc")) + int(b.isSublist("Helix"));
+  if (kinds != 1)
+    throw InputError("beam \"" + path + "\" needs exactly one geometry: Start and End, Points, Arc or Helix" +
+                     (kinds ? " (it has " + std::to_string(kinds) + ")" : ""));
+  const bool given = b.isParameter("Section Orientation");
+  if (given) sectionY = toVec(b.get<Array<double>>("Section Orientation"));
+  auto unit = [&](const Vec3d& v, const std::string& what) {
+    if (!(norm(v) > 0.0)) throw InputError("parameter \"" + path + "/" + what + "\" is zero");
+    return (1.0 / norm(v)) * v;
+  };
+  std::vector<Vec3d> pts;
+  std::vector<Vec3d> corners;
+  if (straight) {
+    for (const char* k : {"Start", "End"})
+      if (!b.isParameter(k)) throw InputError("missing required parameter \"" + path + "/" + k + "\" (a straight beam)");
+    corners = {toVec(b.get<Array<double>>("Start")), toVec(b.get<Array<double>>("End"))};
+    if (!(norm(corners[1] - corners[0]) > 0.0)) throw InputError("beam \"" + path + "\" has zero length (Start equals End)");
+  } else if (b.isParameter("Points")) {
+    const auto& a = b.get<Array<double>>("Points");
+    if (a.size() < 6 || a.size() % 3 != 0)
+      throw InputError("parameter \"" + path + "/Points\" must hold x, y, z of at least two points, got " +
+                       std::to_string(a.size()) + " numbers");
+    for (std::size_t i = 0; i < std::size_t(a.size()); i += 3) {
+      if (!std::isfinite(a[i]) || !std::isfinite(a[i + 1]) || !std::isfinite(a[i + 2]))
+        throw InputError("parameter \"" + path + "/Points\" must be finite");
+      corners.push_back(Vec3d{{a[i], a[i + 1], a[i + 2]}});
+    }
+  }
+  if (!corners.empty()) {
+    for (std::size_t c = 0; c + 1 < corners.size(); ++c)
+      for (int k = 0; k < ne; ++k) pts.push_back(corners[c] + (double(k) / ne) * (corners[c + 1] - corners[c]));
+    pts.push_back(corners.back());
+    if (!given) {
+      const Vec3d Z{{0, 0, 1}};
+      const Vec3d c = cross(Z, corners[1] - corners[0]);
+      sectionY = norm(c) > 1e-8 * norm(corners[1] - corners[0]) ? (1.0 / norm(c)) * c : Vec3d{{0, 1, 0}};
+    }
+    return pts;
+  }
+  const double pi = std::acos(-1.0);
+  const bool arc = b.isSublist("Arc");
+  ParameterList& g = const_cast<ParameterList&>(b).sublist(arc ? "Arc" : "Helix");
+  const std::string gpath = path + (arc ? "/Arc" : "/Helix");
+  (arc ? arcSpec() : helixSpec()).apply(g, gpath);
+  const Vec3d n = unit(toVec(g.get<Array<double>>(arc ? "Normal" : "Axis Direction")), arc ? "Arc/Normal" : "Helix/Axis Direction");
+  const Vec3d r = toVec(g.get<Array<double>>("Reference Direction"));
+  const Vec3d rp = r - dot(r, n) * n;
+  if (!(norm(rp) > 1e-8 * std::max(norm(r), 1e-300)))
+    throw InputError("parameter \"" + gpath + "/Reference Direction\" is zero or along the " + (arc ? "normal" : "axis"));
+  const Vec3d e1 = (1.0 / norm(rp)) * rp, e2 = cross(n, e1);
+  const double R = g.get<double>("Radius");
+  const Vec3d c = toVec(g.get<Array<double>>(arc ? "Centre" : "Axis Point"));
+  double t0 = 0.0, t1 = 0.0, rise = 0.0;
+  if (arc) {
+    t0 = g.get<double>("Start Angle") * pi / 180.0;
+    t1 = g.get<double>("End Angle") * pi / 180.0;
+    if (!(std::abs(t1 - t0) > 0.0) || std::abs(t1 - t0) > 2 * pi * (1 + 1e-12))
+      throw InputError("parameters \"" + gpath + "/Start Angle\" and \"End Angle\" must differ by more than 0 and at most 360 degrees");
+  } else {
+    t0 = g.get<double>("Start Angle") * pi / 180.0;
+    t1 = t0 + 2 * pi * g.get<double>("Turns");
+    rise = g.get<double>("Pitch") / (2 * pi);
+  }
+  for (int k = 0; k <= ne; ++k) {
+    const double t = t0 + (double(k) / ne) * (t1 - t0);
+    pts.push_back(c + (R * std::cos(t)) * e1 + (R * std::sin(t)) * e2 + (rise * (t - t0)) * n);
+  }
+  if (!given) sectionY = n;
+  return pts;
+}
+
 // Joints: a beam end that coincides (within 1e-9 of the model's extent) with a node of another beam,
 // its end or an interior node, shares that node, so the beams are rigidly joined there: displacements
 // and rotations are continuous. Nodes of two beams that coincide away from both beams' ends are not
@@ -632,27 +750,22 @@ Problem buildProblem(ParameterList deck, const std::string& deckName) {
     }
     beam.material.youngsModulus = b.sublist("Material").get<double>("Young's Modulus");
     beam.material.poissonsRatio = b.sublist("Material").get<double>("Poisson's Ratio");
-    const Vec3d A = toVec(b.get<Array<double>>("Start")), B = toVec(b.get<Array<double>>("End"));
-    const Vec3d axis = B - A;
-    const double L = norm(axis);
-    if (!(L > 0.0)) throw InputError("beam \"" + path + "\" has zero length (Start equals End)");
-    const Vec3d e1 = (1.0 / L) * axis;
-    if (b.isParameter("Section Orientation")) {
-      beam.sectionY = toVec(b.get<Array<double>>("Section Orientation"));
-      const Vec3d c = cross(beam.sectionY, e1);
-      if (norm(c) <= 1e-8 * norm(beam.sectionY))
-        throw InputError("parameter \"" + path + "/Section Orientation\" is zero or parallel to the beam axis");
-    } else {
-      const Vec3d Z{{0, 0, 1}};
-      const Vec3d c = cross(Z, e1);
-      beam.sectionY = norm(c) > 1e-8 ? c : Vec3d{{0, 1, 0}};
-    }
+    if (sec.isParameter("Torsion Constant")) beam.section.givenTorsionConstant = sec.get<double>("Torsion Constant");
     const int ne = b.get<int>("Elements");
-    checkModelSize(reference.size() + std::size_t(ne));
+    const std::vector<Vec3d> points = beamPoints(b, path, ne, beam.sectionY);
+    for (std::size_t k = 0; k + 1 < points.size(); ++k) {
+      const Vec3d axis = points[k + 1] - points[k];
+      const double L = norm(axis);
+      if (!(L > 0.0)) throw InputError("beam \"" + path + "\" has an element of zero length (coincident points)");
+      if (norm(cross(beam.sectionY, (1.0 / L) * axis)) <= 1e-8 * norm(beam.sectionY))
+        throw InputError("parameter \"" + path + "/Section Orientation\" is zero or parallel to element " + std::to_string(k) +
+                         " of the beam (give a direction across the beam)");
+    }
+    checkModelSize(reference.size() + points.size());
     const int first = static_cast<int>(reference.size());
-    for (int k = 0; k <= ne; ++k) {
-      reference.push_back(A + (double(k) / ne) * axis);
-      beam.nodes.push_back(first + k);
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      reference.push_back(points[k]);
+      beam.nodes.push_back(first + static_cast<int>(k));
     }
     p.beamIndex[name] = static_cast<int>(beams.size());
     beams.push_back(beam);
