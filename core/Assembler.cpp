@@ -102,11 +102,6 @@ void Assembler::rebuild(const State& state) {
   overlapResidual_ = Teuchos::rcp(new Vector(overlapMap_));
   residual_ = Teuchos::rcp(new Vector(ownedMap_));
   externalLoad_ = Teuchos::rcp(new Vector(ownedMap_));
-  for (const NodalLoad& l : model_.loads)
-    for (int k = 0; k < 6; ++k) {
-      const GlobalDof g = GlobalDof(kDofsPerNode) * l.node + k;
-      if (owns_(g) && l.value[k] != 0.0) externalLoad_->sumIntoGlobalValue(g, l.value[k]);
-    }
 }
 
 void Assembler::assemble(const State& state, double loadFactor, bool tangent) {
@@ -129,7 +124,14 @@ void Assembler::assemble(const State& state, double loadFactor, bool tangent) {
   }
   residual_->putScalar(0.0);
   residual_->doExport(*overlapResidual_, *overlapToOwned_, Tpetra::ADD);
-  residual_->update(-loadFactor, *externalLoad_, 1.0);
+  // External loads at this load factor (each scaled by its load curve).
+  externalLoad_->putScalar(0.0);
+  for (const NodalLoad& l : model_.loads)
+    for (int k = 0; k < 6; ++k) {
+      const GlobalDof g = GlobalDof(kDofsPerNode) * l.node + k;
+      if (owns_(g) && l.value[k] != 0.0) externalLoad_->sumIntoGlobalValue(g, l.value[k] * l.curve(loadFactor));
+    }
+  residual_->update(-1.0, *externalLoad_, 1.0);
   fullResidual_ = gatherToAll(*residual_);
   for (GlobalDof g : constrained_)
     if (owns_(g)) residual_->replaceGlobalValue(g, 0.0);

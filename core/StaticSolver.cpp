@@ -265,7 +265,7 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
   for (const Support& s : model_.supports)
     for (int n : s.nodes)
       for (int k = 0; k < 6; ++k)
-        if (s.fixed[k]) du[std::size_t(kDofsPerNode) * n + k] = s.value[k] * (Tb - Ta);
+        if (s.fixed[k]) du[std::size_t(kDofsPerNode) * n + k] = s.value[k] * (s.curve(Tb) - s.curve(Ta));
   double stepNorm2 = 0.0;
   for (double v : du) stepNorm2 += v * v;
   std::vector<double> accumulated(du.begin(), du.begin() + ndof);
@@ -305,7 +305,7 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
     for (GlobalDof g : assembler_.constrainedDofs()) reactions2 += std::pow(assembler_.fullResidual()[g], 2);
     double ext2 = 0.0;
     for (const NodalLoad& l : model_.loads)
-      for (double v : l.value) ext2 += std::pow(Tb * v, 2);
+      for (double v : l.value) ext2 += std::pow(l.curve(Tb) * v, 2);
     if (kp == 0) firstResidual = rn;
     const double reference = std::max({firstResidual, std::sqrt(reactions2), std::sqrt(ext2)});
     // Backtracking: the residual did not fall (by 1e-4 of the step fraction), so go back to the last

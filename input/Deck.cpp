@@ -132,6 +132,7 @@ const ParameterSpec& supportSpec() {
     p.add("Displacement", zero3(), "prescribed displacement at T = 1 of the fixed ux uy uz [length]", core::vector3());
     p.add("Rotation", zero3(),
           "prescribed rotation at T = 1 of the fixed rx ry rz, as spins about the global axes [rad]", core::vector3());
+    p.addOptional("Load Curve", Array<double>(), "load history: T1, f1, T2, f2, ... (T from 0 to 1, increasing): the value at T is the value given here times f, linear between the points; default f = T");
     return p;
   }();
   return s;
@@ -143,6 +144,7 @@ const ParameterSpec& loadSpec() {
     addLocation(p);
     p.add("Force", zero3(), "point force at T = 1 (fixed direction) [force]", core::vector3());
     p.add("Moment", zero3(), "point moment at T = 1 about fixed global axes [force*length]", core::vector3());
+    p.addOptional("Load Curve", Array<double>(), "load history: T1, f1, T2, f2, ... (T from 0 to 1, increasing): the value at T is the value given here times f, linear between the points; default f = T");
     return p;
   }();
   return s;
@@ -629,6 +631,27 @@ std::vector<Vec3d> beamPoints(const ParameterList& b, const std::string& path, i
   return pts;
 }
 
+// A support's or load's "Load Curve": pairs (T, f) with T from 0 to 1, strictly increasing, finite.
+core::LoadCurve loadCurve(const ParameterList& item, const std::string& path) {
+  core::LoadCurve c;
+  if (!item.isParameter("Load Curve")) return c;
+  const auto& a = item.get<Array<double>>("Load Curve");
+  const std::string where = "parameter \"" + path + "/Load Curve\"";
+  if (a.size() < 4 || a.size() % 2 != 0)
+    throw InputError(where + " must hold pairs T, f (at least two: T = 0 and T = 1), got " + std::to_string(a.size()) +
+                     " numbers");
+  for (std::size_t i = 0; i < std::size_t(a.size()); i += 2) {
+    if (!std::isfinite(a[i]) || !std::isfinite(a[i + 1])) throw InputError(where + " must be finite");
+    if (!c.points.empty() && !(a[i] > c.points.back().first))
+      throw InputError(where + ": T must increase from pair to pair, got " + std::to_string(c.points.back().first) +
+                       " then " + std::to_string(a[i]));
+    c.points.emplace_back(a[i], a[i + 1]);
+  }
+  if (c.points.front().first != 0.0 || c.points.back().first != 1.0)
+    throw InputError(where + " must start at T = 0 and end at T = 1");
+  return c;
+}
+
 // Joints: a beam end that coincides (within 1e-9 of the model's extent) with a node of another beam,
 // its end or an interior node, shares that node, so the beams are rigidly joined there: displacements
 // and rotations are continuous. Nodes of two beams that coincide away from both beams' ends are not
@@ -792,6 +815,7 @@ Problem buildProblem(ParameterList deck, const std::string& deckName) {
                     throw InputError("parameter \"" + path + (k < 3 ? "/Displacement" : "/Rotation") +
                                      "\": a nonzero value is given for " + comp[k] + ", which is not in Fixed");
                 }
+                sup.curve = loadCurve(s, path);
                 p.model.supports.push_back(sup);
               });
   forEachItem(deck.sublist("Loads"), top + "/Loads", loadSpec(),
@@ -801,6 +825,7 @@ Problem buildProblem(ParameterList deck, const std::string& deckName) {
                 load.node = locate.nodes(l, path, false).front();
                 const auto f = l.get<Array<double>>("Force"), m = l.get<Array<double>>("Moment");
                 for (int k = 0; k < 3; ++k) { load.value[k] = f[k]; load.value[3 + k] = m[k]; }
+                load.curve = loadCurve(l, path);
                 p.model.loads.push_back(load);
               });
 

@@ -918,3 +918,84 @@ TEST(StiffPenalty, Epsilon1e8OnExample1IsWithinATenthOfAPercentOfLagrange) {
   EXPECT_NEAR(A[0], AL[0], 1e-3 * std::abs(AL[0]));
   EXPECT_NEAR(A[2], AL[2], 1e-3 * std::abs(AL[2]));
 }
+
+// ---------------------------------------------------------------------------------------------
+// Load histories: press, then slide. Example 1's layout with circular sections and mu = 0.3: beam 2's
+// ends are pressed down by 0.6 while T goes from 0 to 0.5 (load curve 0, 0, 0.5, 1, 1, 1) and then
+// moved by 1.0 along X while T goes to 1 (load curve 0, 0, 0.5, 0, 1, 1), each support with its own
+// curve. At T = 0.5 the state is the pure press: it equals the press alone (the same deck without
+// the drag, 10 increments to T = 1; 1e-9), and N is within 2 % of the exact Euler-Bernoulli closed
+// form of the frictionless press (sticking friction while pressing raises it by 0.7 to 1.2 %); at
+// T = 1 the point slides along beam 1: the friction force along beam 1's line is mu N (Isotropic
+// Coulomb: the whole tangential force). Isotropic Coulomb for Penalty and Augmented Lagrange; Per
+// Line for Lagrange multipliers, whose Isotropic rows cycle at the first contact of a pure normal
+// press (zero slip: the same happens without load curves; an open robustness fault).
+namespace {
+Deck pressThenSlide(const std::string& type, double mu, bool drag) {
+  const std::string law = type == "Lagrange Multiplier" ? "Per Line" : "Isotropic Coulomb";
+  Deck d = withLaw(circles(type, 0.6, 1e4, "", drag ? 20 : 10, mu), law);
+  const Teuchos::Array<double> press = vec("0, 0, 0.5, 1, 1, 1"), slide = vec("0, 0, 0.5, 0, 1, 1");
+  for (const std::string node : {"start", "end"}) {
+    const std::string s = "Supports/beam 2 " + node;
+    input::replaceAtPath(d, s + "/Fixed", std::string(drag ? "uz ry" : "ux uz ry"));
+    input::replaceAtPath(d, s + "/Displacement", vec("0, 0, -0.6"));
+    if (!drag) continue;
+    input::setAtPath(d, s + "/Load Curve", press);
+    Deck& move = input::sublistAtPath(d, s + " drag");
+    move.set("Beam", std::string("beam 2"));
+    move.set("Node", node);
+    move.set("Fixed", std::string("ux"));
+    move.set("Displacement", vec("1.0, 0, 0"));
+    move.set("Load Curve", slide);
+  }
+  return d;
+}
+
+// Normal force, tangential force and state of the active point in a run's contact_points.csv at T.
+struct CsvPoint {
+  double N = -1.0, T = 0.0, T1 = 0.0;  // normal force, tangential force length, component along line 1
+  std::string state;
+};
+CsvPoint contactAt(const std::string& run, double T) {
+  std::ifstream csv(test::scratchDirectory(run) + "/contact_points.csv");
+  std::string line;
+  std::getline(csv, line);
+  CsvPoint c;
+  while (std::getline(csv, line)) {
+    std::vector<std::string> f;
+    std::stringstream ls(line);
+    for (std::string x; std::getline(ls, x, ',');) f.push_back(x);
+    if (f.size() < 27 || f[16] != "1" || std::abs(std::stod(f[1]) - T) > 1e-12) continue;
+    c = {std::stod(f[11]), std::stod(f[26]), std::abs(std::stod(f[12])), f[14]};
+  }
+  return c;
+}
+}  // namespace
+
+TEST(LoadHistory, PressThenSlideGivesThePressThenMuN) {
+  const double pi = std::acos(-1.0), E = 30000.0, mu = 0.3;
+  const double I1 = pi * std::pow(5.0, 4) / 4, I2 = pi * std::pow(2.5, 4) / 4;
+  const double c1 = std::pow(50.0, 3) / (3 * E * I1), c2 = std::pow(100.0, 3) / (48 * E * I2);
+  for (const std::string type : {"Penalty", "Lagrange Multiplier", "Augmented Lagrange"}) {
+    auto p = input::buildProblem(pressThenSlide(type, mu, true), "press_slide");
+    const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "press_slide");
+    ASSERT_TRUE(r.report.completed) << type << ": " << r.report.failure;
+    const CsvPoint half = contactAt("press_slide_np1", 0.5), end = contactAt("press_slide_np1", 1.0);
+    auto q = input::buildProblem(pressThenSlide(type, mu, false), "press_only");
+    const auto rq = test::runQuiet(q, Tpetra::getDefaultComm(), "press_only");
+    ASSERT_TRUE(rq.report.completed) << type << ": " << rq.report.failure;
+    const CsvPoint alone = contactAt("press_only_np1", 1.0);
+    const double Npress = 0.1 / (c1 + c2 + (type == "Penalty" ? 1e-4 : 0.0));
+    std::printf("%s: N at T = 0.5 %.9f (press alone %.9f, frictionless closed form %.6f); at T = 1 N %.6f, "
+                "|F_T| %.6f = %.9f mu N, along line 1 %.9f mu N, %s\n",
+                type.c_str(), half.N, alone.N, Npress, end.N, end.T, end.T / (mu * end.N), end.T1 / (mu * end.N),
+                end.state.c_str());
+    EXPECT_NEAR(half.N, alone.N, 1e-9 * alone.N) << type;
+    EXPECT_NEAR(half.N, Npress, 2e-2 * Npress) << type;
+    EXPECT_EQ(end.state, "slip") << type;
+    EXPECT_NEAR(end.T1, mu * end.N, 1e-9 * end.N) << type;
+    if (type != "Lagrange Multiplier") {
+      EXPECT_NEAR(end.T, mu * end.N, 1e-9 * end.N) << type;
+    }
+  }
+}
