@@ -16,9 +16,11 @@ const core::ParameterSpec& LagrangeMultiplierEnforcer::spec() {
           core::positive(), "> 0");
     p.add("Maximum Active Set Iterations", 30, "Newton solves allowed per increment while the active set changes",
           core::atLeast(1), ">= 1");
-    p.add("Friction Complementarity Parameter", 1e3,
+    p.add("Friction Complementarity Parameter", 100.0,
           "Isotropic Coulomb: c_T of the friction rows lambda_T = P(lambda_T + c_T M g_T) (projection on the "
-          "cone); any c_T > 0 has the same solution, it only steers Newton's stick/slip guesses [force/length]",
+          "cone); any c_T > 0 has the same solution, it only steers Newton's stick/slip guesses: too large and "
+          "Newton's slip direction follows the slip increments' noise and cycles (a pure press at first "
+          "contact did with 1000); too small and it follows the force only [force/length]",
           core::positive(), "> 0");
     return p;
   }();
