@@ -11,6 +11,7 @@
 #include <functional>
 #include <map>
 #include <numeric>
+#include <set>
 #include <sstream>
 #include <unordered_map>
 
@@ -20,6 +21,7 @@
 #include "XmlDeck.hpp"
 
 #include "constraints/ContactManager.hpp"
+#include "elements/PinnedJoints.hpp"
 #include "core/Checkpoint.hpp"
 #include "constraints/EnforcerRegistry.hpp"
 
@@ -88,6 +90,22 @@ const ParameterSpec& helixSpec() {
     p.addRequired("Reference Direction", zero3(), "direction of the first node from the axis (projected)",
                   core::vector3());
     p.add("Start Angle", 0.0, "angle of the first node from the reference direction [degrees]");
+    return p;
+  }();
+  return s;
+}
+
+const ParameterSpec& jointSpec() {
+  static const ParameterSpec s = [] {
+    ParameterSpec p;
+    p.addRequired("Beam A", std::string("beam"), "the beam whose end is joined");
+    p.addRequired("Node A", std::string("end"), "its end: \"start\" or \"end\"");
+    p.addRequired("Beam B", std::string("beam"), "the beam it is joined to");
+    p.addRequired("Node B", std::string("start"),
+                  "the node of beam B at the same place: \"start\", \"end\", \"middle\" or an index 0..Elements");
+    p.addChoice("Type", "Rigid", {"Rigid", "Pinned"},
+                "\"Rigid\": one shared node (what coincident ends get without a Joint); \"Pinned\": translations "
+                "tied, rotations free (no moment through the joint)");
     return p;
   }();
   return s;
@@ -224,6 +242,8 @@ const ParameterSpec& topSpec() {
     p.addSublist("Linear Solver", core::linearSolverSpec().reference(), "linear solver settings");
     p.addSublist("Output", outputSpec().reference(), "results directory and tracked points");
     p.addSublist("Contact", contactSpec().reference(), "beam-to-beam contact (optional)");
+    p.addSublist("Joints", ParameterList(), "named joints between beam ends and nodes of other beams, Rigid or "
+                 "Pinned (coincident ends are joined rigidly without one)");
     p.addOptional("Plugins", Array<std::string>(), "shared libraries loaded before the deck is read, e.g. a "
                   "strategy of your own (paths relative to the deck's folder); see docs/contact.md");
     return p;
@@ -264,6 +284,25 @@ void forEachItem(ParameterList& parent, const std::string& path, const Parameter
   }
 }
 
+// The node of a beam with `ne` elements named by `node` ("start", "end", "middle" or an index).
+int nodeIndexOnBeam(const std::string& node, int ne, const std::string& path, const std::string& beam) {
+  if (node == "start") return 0;
+  if (node == "end") return ne;
+  if (node == "middle") {
+    if (ne % 2)
+      throw InputError("parameter \"" + path + "\": \"middle\" needs an even element count, beam \"" + beam +
+                       "\" has " + std::to_string(ne));
+    return ne / 2;
+  }
+  std::size_t used = 0;
+  int index = 0;
+  try { index = std::stoi(node, &used); } catch (...) { used = 0; }
+  if (used != node.size() || node.empty() || index < 0 || index > ne)
+    throw InputError("parameter \"" + path + "\": \"" + node + "\" is not \"start\", \"end\", \"middle\" or an index 0.." +
+                     std::to_string(ne));
+  return index;
+}
+
 class Locator {
  public:
   Locator(const Problem& p, const core::State& s) : p_(p), s_(s) {}
@@ -287,22 +326,7 @@ class Locator {
     }
     const auto& nodes = p_.beams->beams()[b->second].nodes;
     const int ne = static_cast<int>(nodes.size()) - 1;
-    const std::string node = item.get<std::string>("Node");
-    int index = 0;
-    if (node == "start") index = 0;
-    else if (node == "end") index = ne;
-    else if (node == "middle") {
-      if (ne % 2) throw InputError("parameter \"" + path + "/Node\": \"middle\" needs an even element count, beam \"" +
-                                   beam + "\" has " + std::to_string(ne));
-      index = ne / 2;
-    } else {
-      std::size_t used = 0;
-      try { index = std::stoi(node, &used); } catch (...) { used = 0; }
-      if (used != node.size() || node.empty() || index < 0 || index > ne)
-        throw InputError("parameter \"" + path + "/Node\": \"" + node +
-                         "\" is not \"start\", \"end\", \"middle\" or an index 0.." + std::to_string(ne));
-    }
-    return {nodes[index]};
+    return {nodes[nodeIndexOnBeam(item.get<std::string>("Node"), ne, path + "/Node", beam)]};
   }
 
  private:
@@ -472,6 +496,10 @@ void checkRigidBodyMotions(const Problem& p) {
   for (const auto& sup : p.model.supports)
     for (int n : sup.nodes)
       for (int k = 0; k < 6; ++k) fixed[n][k] = fixed[n][k] || sup.fixed[k];
+  // A pinned joint holds the translations of its two nodes (each structure is checked on its own: a
+  // beam pinned to another must be held against turning about the pin by its own supports).
+  for (const auto& [a, b] : p.pins)
+    for (int k = 0; k < 3; ++k) fixed[a][k] = fixed[b][k] = true;
   // Structures: beams connected through shared nodes (union-find over the beams).
   const auto& beams = p.beams->beams();
   std::vector<int> parent(beams.size()), nodeBeam(s.numNodes(), -1);
@@ -657,7 +685,9 @@ core::LoadCurve loadCurve(const ParameterList& item, const std::string& path) {
 // and rotations are continuous. Nodes of two beams that coincide away from both beams' ends are not
 // joined (crossing beams touch through contact, if at all). Renumbers the nodes (first appearance
 // order) and returns how many nodes were shared.
-int joinCoincidentNodes(std::vector<elements::Beam>& beams, std::vector<Vec3d>& reference) {
+int joinCoincidentNodes(std::vector<elements::Beam>& beams, std::vector<Vec3d>& reference,
+                        const std::set<std::pair<int, int>>& forced, const std::set<std::pair<int, int>>& kept,
+                        std::vector<int>& newId) {
   const std::size_t n = reference.size();
   std::vector<int> owner(n, -1);
   std::vector<char> isEnd(n, 0);
@@ -687,17 +717,20 @@ int joinCoincidentNodes(std::vector<elements::Beam>& beams, std::vector<Vec3d>& 
         for (long long c = ck - 1; c <= ck + 1 && rep[i] == int(i); ++c) {
           const auto it = grid.find(key(a, b, c));
           if (it == grid.end()) continue;
-          for (int j : it->second)
-            if (owner[j] != owner[i] && (isEnd[i] || isEnd[j]) && norm(reference[j] - x) <= tol) {
+          for (int j : it->second) {
+            const auto pair = std::make_pair(std::min<int>(i, j), std::max<int>(i, j));
+            if (kept.count(pair)) continue;
+            if (owner[j] != owner[i] && (isEnd[i] || isEnd[j] || forced.count(pair)) && norm(reference[j] - x) <= tol) {
               rep[i] = rep[j];
               ++shared;
               break;
             }
+          }
         }
     grid[key(ci, cj, ck)].push_back(static_cast<int>(i));
   }
-  if (shared == 0) return 0;
-  std::vector<int> id(n, -1);
+  std::vector<int>& id = newId;
+  id.assign(n, -1);
   std::vector<Vec3d> merged;
   for (std::size_t i = 0; i < n; ++i)
     if (rep[i] == int(i)) {
@@ -793,12 +826,61 @@ Problem buildProblem(ParameterList deck, const std::string& deckName) {
     p.beamIndex[name] = static_cast<int>(beams.size());
     beams.push_back(beam);
   });
-  p.joints = joinCoincidentNodes(beams, reference);
+  // Explicit joints: (beam, node) pairs that must coincide; Rigid ones are merged even between interior
+  // nodes, Pinned ones are kept apart and tied by the PinnedJoints contribution.
+  std::set<std::pair<int, int>> forced, kept;
+  std::vector<elements::PinnedJoint> pins;
+  if (deck.isSublist("Joints")) {
+    forEachItem(deck.sublist("Joints"), top + "/Joints", jointSpec(),
+                [&](ParameterList& j, const std::string& name, const std::string& path) {
+                  int ends[2] = {0, 0};
+                  for (int s = 0; s < 2; ++s) {
+                    const std::string key = s == 0 ? "A" : "B";
+                    const std::string beam = j.get<std::string>("Beam " + key);
+                    const auto b = p.beamIndex.find(beam);
+                    if (b == p.beamIndex.end())
+                      throw InputError("parameter \"" + path + "/Beam " + key + "\": unknown beam \"" + beam + "\"");
+                    const auto& nodes = beams[b->second].nodes;
+                    const std::string node = j.get<std::string>("Node " + key);
+                    if (s == 0 && node != "start" && node != "end")
+                      throw InputError("parameter \"" + path + "/Node A\": a joint starts at a beam end, \"start\" or "
+                                       "\"end\", not \"" + node + "\"");
+                    ends[s] = nodes[nodeIndexOnBeam(node, static_cast<int>(nodes.size()) - 1, path + "/Node " + key, beam)];
+                  }
+                  if (j.get<std::string>("Beam A") == j.get<std::string>("Beam B"))
+                    throw InputError("\"" + path + "\" joins beam \"" + j.get<std::string>("Beam A") + "\" to itself");
+                  const double d = norm(reference[ends[0]] - reference[ends[1]]);
+                  double extent = 0.0;
+                  for (const Vec3d& x : reference) extent = std::max(extent, norm(x - reference[0]));
+                  if (d > 1e-9 * extent)
+                    throw InputError("\"" + path + "\" joins nodes " + std::to_string(d) +
+                                     " apart; a joint's two nodes must be at the same place");
+                  const auto pair = std::make_pair(std::min(ends[0], ends[1]), std::max(ends[0], ends[1]));
+                  if (j.get<std::string>("Type") == "Pinned") {
+                    kept.insert(pair);
+                    pins.push_back({name, ends[0], ends[1]});
+                  } else {
+                    forced.insert(pair);
+                  }
+                });
+  }
+  std::vector<int> newId;
+  p.joints = joinCoincidentNodes(beams, reference, forced, kept, newId);
+  for (auto& pin : pins) {
+    pin.nodeA = newId[pin.nodeA];
+    pin.nodeB = newId[pin.nodeB];
+    if (pin.nodeA == pin.nodeB)
+      throw InputError("pinned joint \"" + pin.name + "\": its nodes are also rigidly joined (through a third beam "
+                       "or another joint)");
+    p.pins.emplace_back(pin.nodeA, pin.nodeB);
+  }
   state.resize(static_cast<int>(reference.size()));
   state.reference = reference;
   state.position = reference;
   for (const auto& beam : beams) p.beams->addBeam(beam, reference);
   p.model.contributions.push_back(p.beams);
+  p.joints += static_cast<int>(pins.size());
+  if (!pins.empty()) p.model.contributions.push_back(std::make_shared<elements::PinnedJoints>(pins));
 
   Locator locate(p, state);
   forEachItem(deck.sublist("Supports"), top + "/Supports", supportSpec(),

@@ -5,6 +5,8 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <Teuchos_ParameterList.hpp>
 
@@ -23,7 +25,8 @@ struct Problem {
   core::Model model;
   std::shared_ptr<elements::BeamSet> beams;
   std::map<std::string, int> beamIndex;  // beam name -> index in beams->beams()
-  int joints = 0;                        // beam ends joined to a node of another beam
+  int joints = 0;                        // beam ends joined to a node of another beam (rigid or pinned)
+  std::vector<std::pair<int, int>> pins;  // node pairs of the pinned joints
   std::shared_ptr<constraints::ContactManager> contact;  // null without a Contact sublist
   core::SolverSettings solver;
   Teuchos::ParameterList linearSolver;   // validated "Linear Solver" sublist

@@ -10,6 +10,7 @@
 
 #include "constraints/ContactManager.hpp"
 #include "elements/CrossSection.hpp"
+#include "elements/PinnedJoints.hpp"
 #include "support/TestSupport.hpp"
 
 using namespace bc;
@@ -322,4 +323,72 @@ TEST(CurvedBeams, HelixAndPolylinePlaceTheirNodes) {
   EXPECT_NEAR(X[rod.nodes[4]][0], 10.0, 1e-12);
   EXPECT_NEAR(X[rod.nodes[4]][1], 20.0, 1e-12);
   EXPECT_NEAR(X[rod.nodes[8]][2], 5.0, 1e-12);
+}
+
+// A pinned joint passes force but no moment. The L-frame with arm 2 pinned to arm 1's tip, arm 2's far
+// end held in translation and against spinning about its own axis (ux uy uz ry), a force P along -Z at
+// arm 2's middle: arm 2 is a simply supported span on one rigid and one elastic support (arm 1's tip,
+// compliance L1^3 / (3 E Iy)), statically determinate: each end carries P / 2, arm 1 no torsion, and
+//   w_mid = P L2^3 / (48 E Iy) + (1/2) (P/2) L1^3 / (3 E Iy),   joint force P / 2.
+// The same frame with a rigid joint is stiffer (arm 1's torsion and the joint moment help).
+TEST(Joints, PinnedJointPassesForceButNoMoment) {
+  const auto cs = elements::CrossSection::rectangle(b, h);
+  const double Iy = cs.inertiaY(), L1 = 100.0, L2 = 60.0, P = 1e-7 * E * Iy / (L1 * L1);
+  double w[2] = {0, 0};
+  for (int pinned = 0; pinned < 2; ++pinned) {
+    Teuchos::ParameterList deck = input::parseParameterXml(lFrame(L1, L2, "0, 0, 0"), "L-frame");
+    input::replaceAtPath(deck, "Loads/tip/Node", std::string("middle"));
+    input::replaceAtPath(deck, "Loads/tip/Force", Teuchos::Array<double>(std::vector<double>{0, 0, -P}));
+    Teuchos::ParameterList& far = input::sublistAtPath(deck, "Supports/far");
+    far.set("Beam", std::string("arm 2"));
+    far.set("Node", std::string("end"));
+    far.set("Fixed", std::string("ux uy uz ry"));
+    Teuchos::ParameterList& joint = input::sublistAtPath(deck, "Joints/corner");
+    joint.set("Beam A", std::string("arm 2"));
+    joint.set("Node A", std::string("start"));
+    joint.set("Beam B", std::string("arm 1"));
+    joint.set("Node B", std::string("end"));
+    joint.set("Type", std::string(pinned ? "Pinned" : "Rigid"));
+    auto p = input::buildProblem(deck, "lframe_pin");
+    EXPECT_EQ(p.model.initial.numNodes(), pinned ? 22 : 21);
+    const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "lframe_pin");
+    ASSERT_TRUE(r.report.completed) << r.report.failure;
+    const int mid = p.beams->beams()[1].nodes[5];
+    w[pinned] = -r.finalState.displacement(mid)[2];
+    if (pinned) {
+      const double expected = P * std::pow(L2, 3) / (48 * E * Iy) + 0.5 * (P / 2) * std::pow(L1, 3) / (3 * E * Iy);
+      const auto& pins = dynamic_cast<const elements::PinnedJoints&>(*p.model.contributions.back());
+      const auto F = pins.force(r.finalState, 0);
+      std::printf("pinned L-frame: w_mid = %.10e (closed form %.10e), joint force (%.3e, %.3e, %.10e) (P/2 = %.10e)\n",
+                  w[1], expected, F[0], F[1], F[2], P / 2);
+      EXPECT_NEAR(w[1], expected, 1e-6 * expected);
+      EXPECT_NEAR(std::abs(F[2]), P / 2, 1e-6 * P);
+      // No moment: arm 1's tip does not twist (rotation about X), though it bends.
+      const int tip1 = p.beams->beams()[0].nodes.back();
+      EXPECT_LT(std::abs(r.finalState.rotationVector[tip1][0]), 1e-6 * std::abs(r.finalState.rotationVector[tip1][1]));
+    }
+  }
+  std::printf("rigid joint: w_mid = %.10e (pinned %.10e)\n", w[0], w[1]);
+  EXPECT_LT(w[0], w[1]);
+}
+
+// A beam pinned to a held one, with no support of its own, can still turn about the pin: refused,
+// naming the beam and the axis through the pin.
+TEST(Joints, APinnedBeamMustHoldItsOwnRotation) {
+  Teuchos::ParameterList deck = input::parseParameterXml(lFrame(100.0, 60.0, "0, 0, 0.001"), "L-frame");
+  Teuchos::ParameterList& joint = input::sublistAtPath(deck, "Joints/corner");
+  joint.set("Beam A", std::string("arm 2"));
+  joint.set("Node A", std::string("start"));
+  joint.set("Beam B", std::string("arm 1"));
+  joint.set("Node B", std::string("end"));
+  joint.set("Type", std::string("Pinned"));
+  try {
+    input::buildProblem(deck, "lframe_unheld_pin");
+    ADD_FAILURE() << "a beam free to turn about its pin was accepted";
+  } catch (const core::InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("beam \"arm 2\" is not held by its supports: it can rotate about the axis"), std::string::npos)
+        << what;
+    EXPECT_NE(what.find("through (100, 0, 0)"), std::string::npos) << what;
+  }
 }
