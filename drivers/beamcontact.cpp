@@ -21,6 +21,7 @@
 #include "Study.hpp"
 #include "constraints/EnforcerRegistry.hpp"
 #include "input/Plugins.hpp"
+#include "Generate.hpp"
 
 #include "core/Faults.hpp"
 #include "core/Simulation.hpp"
@@ -33,6 +34,8 @@ const char* kUsage =
     "       beamcontact check DECK.xml [--plugin LIB]...\n"
     "       beamcontact study STUDY.xml [--output DIR] [--parallel N] [--no-report] [--plugin LIB]...\n"
     "       beamcontact render RESULTS_DIR OUT.png [--stages T1,T2,...] [--view ELEV,AZIM] [--title TEXT]\n"
+    "       beamcontact generate grid [--n N] [--m M] [--spacing S] [--radius R] [--gap G] [--press P]\n"
+    "                [--elements E] [--youngs-modulus Y] [--friction MU] [--penalty EPS] [--increments K] [--output FILE]\n"
     "       beamcontact --print-valid-parameters [--plugin LIB]...\n"
     "       beamcontact --help\n"
     "\n"
@@ -41,6 +44,7 @@ const char* kUsage =
     "default results/<deck name>, or to DIR.\n"
     "--plugin LIB loads a shared library with strategies of its own (also the deck's Plugins list;\n"
     "a study passes it to every case); docs/contact.md shows how to write one.\n"
+    "generate writes a many-beam deck (grid: two layers of crossing beams pressed together).\n"
     "check reads and validates a deck and checks the model (supports, duplicates) without running it.\n"
     "A study runs every case of a study deck (a base deck and the parameters to vary), N at a time\n"
     "(default: one per core), and writes cases.csv, report.md and plots (docs/studies.md).\n"
@@ -180,6 +184,8 @@ int main(int argc, char** argv) {
     }
     return studyCommand(args, plugins);
   }
+  // generate writes a deck from a few parameters: no MPI in this process.
+  if (args[0] == "generate") return withExitCodes(true, [&] { return bc::drivers::generateDeck(args); });
   // check builds the model only: no MPI in this process (so it is quick to call many times).
   if (args[0] == "check") {
     if (args.size() != 2) {

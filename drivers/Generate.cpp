@@ -1,0 +1,152 @@
+#include "Generate.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <sstream>
+
+#include <Teuchos_Array.hpp>
+#include <Teuchos_ParameterList.hpp>
+#include <Teuchos_XMLParameterListHelpers.hpp>
+
+#include "core/Faults.hpp"
+#include "core/Parameters.hpp"
+
+namespace bc::drivers {
+
+using core::InputError;
+using Teuchos::Array;
+using Teuchos::ParameterList;
+
+namespace {
+
+// Options with their defaults and meaning; every given option must be one of them.
+struct Options {
+  std::map<std::string, std::pair<double, std::string>> values;
+  double operator[](const std::string& k) const { return values.at(k).first; }
+  int whole(const std::string& k, int lo, int hi) const {
+    const double v = values.at(k).first;
+    if (v != std::floor(v) || v < lo || v > hi)
+      throw InputError("generate: --" + k + " takes a whole number from " + std::to_string(lo) + " to " +
+                       std::to_string(hi));
+    return static_cast<int>(v);
+  }
+};
+
+Array<double> vec(double x, double y, double z) { return Array<double>(std::vector<double>{x, y, z}); }
+
+ParameterList& beam(ParameterList& beams, const std::string& name, const Array<double>& a, const Array<double>& b,
+                    int elements, double radius, double E) {
+  ParameterList& l = beams.sublist(name);
+  l.set("Start", a);
+  l.set("End", b);
+  l.set("Elements", elements);
+  l.sublist("Section").set("Shape", std::string("Circle"));
+  l.sublist("Section").set("Radius", radius);
+  l.sublist("Material").set("Young's Modulus", E);
+  l.sublist("Material").set("Poisson's Ratio", 0.3);
+  return l;
+}
+
+void support(ParameterList& supports, const std::string& name, const std::string& beamName, const std::string& node,
+             const std::string& fixed, const Array<double>& displacement) {
+  ParameterList& s = supports.sublist(name);
+  s.set("Beam", beamName);
+  s.set("Node", node);
+  s.set("Fixed", fixed);
+  s.set("Displacement", displacement);
+}
+
+// Two layers of crossing circular beams: n along X at z = 0 (pinned ends, twist held), m along Y above
+// them with a gap, their pinned ends pressed down by --press. Crossings are at the mid-points of the
+// spacing grid; with --elements per beam the crossings fall between nodes unless chosen otherwise.
+ParameterList grid(const Options& o) {
+  const int n = o.whole("n", 1, 1000), m = o.whole("m", 1, 1000), ne = o.whole("elements", 1, 100000);
+  const double s = o["spacing"], r = o["radius"], gap = o["gap"];
+  if (!(s > 2 * r) || !(r > 0) || !(gap >= 0)) throw InputError("generate grid: need spacing > 2 radius > 0, gap >= 0");
+  ParameterList deck("BeamContact");
+  ParameterList& beams = deck.sublist("Beams");
+  ParameterList& supports = deck.sublist("Supports");
+  const double lx = s * (m + 1), ly = s * (n + 1), z = 2 * r + gap;
+  for (int j = 0; j < n; ++j) {
+    const std::string name = "x" + std::to_string(j + 1);
+    beam(beams, name, vec(0, s * (j + 1), 0), vec(lx, s * (j + 1), 0), ne, r, o["youngs-modulus"]);
+    support(supports, name + " start", name, "start", "ux uy uz rx", vec(0, 0, 0));
+    support(supports, name + " end", name, "end", "uy uz rx", vec(0, 0, 0));
+  }
+  for (int i = 0; i < m; ++i) {
+    const std::string name = "y" + std::to_string(i + 1);
+    beam(beams, name, vec(s * (i + 1), 0, z), vec(s * (i + 1), ly, z), ne, r, o["youngs-modulus"]);
+    support(supports, name + " start", name, "start", "ux uy uz ry", vec(0, 0, -o["press"]));
+    support(supports, name + " end", name, "end", "ux uz ry", vec(0, 0, -o["press"]));
+  }
+  ParameterList& contact = deck.sublist("Contact");
+  contact.set("All Pairs", true);
+  contact.set("Friction Coefficient", o["friction"]);
+  ParameterList& e = contact.sublist("Enforcement");
+  e.set("Type", std::string("Penalty"));
+  e.sublist("Penalty").set("Normal Penalty Parameter", o["penalty"]);
+  e.sublist("Penalty").set("Tangential Penalty Parameter", o["penalty"] / 10);
+  e.sublist("Augmented Lagrange").set("Normal Penalty Parameter", o["penalty"]);
+  e.sublist("Augmented Lagrange").set("Tangential Penalty Parameter", o["penalty"] / 10);
+  deck.sublist("Load Stepping").set("Number of Increments", o.whole("increments", 1, 1000000));
+  return deck;
+}
+
+}  // namespace
+
+int generateDeck(const std::vector<std::string>& args) {
+  if (args.size() < 2) throw InputError("generate needs a kind: grid");
+  const std::string kind = args[1];
+  Options o;
+  std::string output;
+  if (kind == "grid") {
+    o.values = {{"n", {3, "beams along X (bottom layer)"}},
+                {"m", {3, "beams along Y (top layer)"}},
+                {"spacing", {10.0, "distance between neighbouring beams of a layer [length]"}},
+                {"radius", {1.0, "radius of every beam [length]"}},
+                {"gap", {0.1, "gap between the layers at the start [length]"}},
+                {"press", {0.5, "downward motion of the top layer's ends at T = 1 [length]"}},
+                {"elements", {9, "elements per beam"}},
+                {"youngs-modulus", {1e5, "E [force/length^2]"}},
+                {"friction", {0.2, "Coulomb coefficient of every pair"}},
+                {"penalty", {1e4, "eps_N of Penalty and Augmented Lagrange (eps_T = eps_N / 10) [force/length]"}},
+                {"increments", {10, "load increments"}}};
+  } else {
+    throw InputError("generate: unknown kind \"" + kind + "\"; kinds are \"grid\"");
+  }
+  for (std::size_t i = 2; i < args.size(); i += 2) {
+    const std::string key = args[i].rfind("--", 0) == 0 ? args[i].substr(2) : "";
+    if (key == "output" && i + 1 < args.size()) {
+      output = args[i + 1];
+      continue;
+    }
+    const auto it = o.values.find(key);
+    if (it == o.values.end() || i + 1 >= args.size()) {
+      std::string names;
+      for (const auto& [k, v] : o.values) names += " --" + k;
+      throw InputError("generate " + kind + ": unknown or incomplete option \"" + args[i] + "\"; options are" + names +
+                       " --output");
+    }
+    std::size_t used = 0;
+    double v = 0;
+    try { v = std::stod(args[i + 1], &used); } catch (...) { used = 0; }
+    if (used != args[i + 1].size() || !std::isfinite(v))
+      throw InputError("generate " + kind + ": --" + key + " takes a number, got \"" + args[i + 1] + "\"");
+    it->second.first = v;
+  }
+  const ParameterList deck = grid(o);
+  std::ostringstream xml;
+  xml << "<!-- Generated by: beamcontact generate " << kind;
+  for (const auto& [k, v] : o.values) xml << " " << k << "=" << v.first;
+  xml << "\n     Units are those of the options (consistent length and force). -->\n";
+  Teuchos::writeParameterListToXmlOStream(deck, xml);
+  if (output.empty()) {
+    std::fputs(xml.str().c_str(), stdout);
+  } else {
+    core::writeFileAtomically(output, xml.str());
+  }
+  return 0;
+}
+
+}  // namespace bc::drivers
