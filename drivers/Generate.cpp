@@ -93,10 +93,66 @@ ParameterList grid(const Options& o) {
   return deck;
 }
 
+// A plain-weave mat: n warp yarns along X and m weft yarns along Y, circular, each a polyline through
+// z = +-amplitude cos(pi t / spacing) (warp and weft in opposite phase, neighbours alternating), so at
+// every crossing the two yarns pass on opposite sides with 2 amplitude - 2 radius between their
+// surfaces (amplitude = radius + gap / 2). Every yarn end is pinned (twist held); the warp yarns' ends
+// are pulled apart along X by --pull at T = 1, straightening them against the wefts.
+ParameterList weave(const Options& o) {
+  const int n = o.whole("n", 1, 1000), m = o.whole("m", 1, 1000), per = o.whole("elements", 2, 1000);
+  const double s = o["spacing"], r = o["radius"], gap = o["gap"], E = o["youngs-modulus"];
+  if (!(s > 4 * r) || !(r > 0) || !(gap >= 0)) throw InputError("generate weave: need spacing > 4 radius > 0, gap >= 0");
+  const double a = r + 0.5 * gap, pi = std::acos(-1.0);
+  ParameterList deck("BeamContact");
+  ParameterList& beams = deck.sublist("Beams");
+  ParameterList& supports = deck.sublist("Supports");
+  // Yarn k of a family runs over t in [0, (count + 1) s], sampled `per` points per spacing.
+  auto yarn = [&](const std::string& name, int count, bool warp, int k) {
+    const double L = (count + 1) * s, across = (k + 1) * s, phase = warp ? (k % 2 ? pi : 0.0) : (k % 2 ? 0.0 : pi);
+    std::vector<double> pts;
+    const int samples = (count + 1) * per;
+    for (int q = 0; q <= samples; ++q) {
+      const double t = L * q / samples, z = a * std::cos(pi * t / s + phase);
+      if (warp) pts.insert(pts.end(), {t, across, z});
+      else pts.insert(pts.end(), {across, t, z});
+    }
+    ParameterList& l = beams.sublist(name);
+    l.set("Points", Array<double>(pts));
+    l.set("Elements", 1);
+    l.sublist("Section").set("Shape", std::string("Circle"));
+    l.sublist("Section").set("Radius", r);
+    l.sublist("Material").set("Young's Modulus", E);
+    l.sublist("Material").set("Poisson's Ratio", 0.3);
+  };
+  for (int j = 0; j < n; ++j) {
+    const std::string name = "warp " + std::to_string(j + 1);
+    yarn(name, m, true, j);
+    support(supports, name + " start", name, "start", "ux uy uz rx", vec(-0.5 * o["pull"], 0, 0));
+    support(supports, name + " end", name, "end", "ux uy uz rx", vec(0.5 * o["pull"], 0, 0));
+  }
+  for (int i = 0; i < m; ++i) {
+    const std::string name = "weft " + std::to_string(i + 1);
+    yarn(name, n, false, i);
+    support(supports, name + " start", name, "start", "ux uy uz ry", vec(0, 0, 0));
+    support(supports, name + " end", name, "end", "ux uy uz ry", vec(0, 0, 0));
+  }
+  ParameterList& contact = deck.sublist("Contact");
+  contact.set("All Pairs", true);
+  contact.set("Friction Coefficient", o["friction"]);
+  ParameterList& e = contact.sublist("Enforcement");
+  e.set("Type", std::string("Penalty"));
+  for (const char* strategy : {"Penalty", "Augmented Lagrange"}) {
+    e.sublist(strategy).set("Normal Penalty Parameter", o["penalty"]);
+    e.sublist(strategy).set("Tangential Penalty Parameter", o["penalty"] / 10);
+  }
+  deck.sublist("Load Stepping").set("Number of Increments", o.whole("increments", 1, 1000000));
+  return deck;
+}
+
 }  // namespace
 
 int generateDeck(const std::vector<std::string>& args) {
-  if (args.size() < 2) throw InputError("generate needs a kind: grid");
+  if (args.size() < 2) throw InputError("generate needs a kind: grid or weave");
   const std::string kind = args[1];
   Options o;
   std::string output;
@@ -112,8 +168,20 @@ int generateDeck(const std::vector<std::string>& args) {
                 {"friction", {0.2, "Coulomb coefficient of every pair"}},
                 {"penalty", {1e4, "eps_N of Penalty and Augmented Lagrange (eps_T = eps_N / 10) [force/length]"}},
                 {"increments", {10, "load increments"}}};
+  } else if (kind == "weave") {
+    o.values = {{"n", {3, "warp yarns (along X)"}},
+                {"m", {3, "weft yarns (along Y)"}},
+                {"spacing", {10.0, "distance between neighbouring yarns [length]"}},
+                {"radius", {1.0, "radius of every yarn [length]"}},
+                {"gap", {0.1, "gap between crossing yarns at the start [length]"}},
+                {"pull", {0.2, "stretch of the warp yarns at T = 1 (each end moves half) [length]"}},
+                {"elements", {8, "elements per spacing along each yarn (the undulation's polyline)"}},
+                {"youngs-modulus", {1e5, "E [force/length^2]"}},
+                {"friction", {0.2, "Coulomb coefficient of every pair"}},
+                {"penalty", {1e4, "eps_N of Penalty and Augmented Lagrange (eps_T = eps_N / 10) [force/length]"}},
+                {"increments", {10, "load increments"}}};
   } else {
-    throw InputError("generate: unknown kind \"" + kind + "\"; kinds are \"grid\"");
+    throw InputError("generate: unknown kind \"" + kind + "\"; kinds are \"grid\", \"weave\"");
   }
   for (std::size_t i = 2; i < args.size(); i += 2) {
     const std::string key = args[i].rfind("--", 0) == 0 ? args[i].substr(2) : "";
@@ -135,7 +203,7 @@ int generateDeck(const std::vector<std::string>& args) {
       throw InputError("generate " + kind + ": --" + key + " takes a number, got \"" + args[i + 1] + "\"");
     it->second.first = v;
   }
-  const ParameterList deck = grid(o);
+  const ParameterList deck = kind == "grid" ? grid(o) : weave(o);
   std::ostringstream xml;
   xml << "<!-- Generated by: beamcontact generate " << kind;
   for (const auto& [k, v] : o.values) xml << " " << k << "=" << v.first;

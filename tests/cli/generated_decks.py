@@ -1,14 +1,15 @@
 #!/usr/bin/python3
-"""The grid generator's deck (beamcontact generate grid, 3 x 3 crossing beams pressed together) run
-with each strategy, and with Penalty on 2 ranks. Checks:
+"""A generator's deck (beamcontact generate KIND, 3 x 3) run with each strategy, and with Penalty on 2
+ranks. Checks:
   - every run completes;
-  - equilibrium at T = 1: the z components of the forces the contact points apply on the top layer
-    (every pair's beam B; normal and tangential vectors of contact_points.csv) balance the top
-    layer's support reactions along z (1e-6 of the sum: the top layer carries nothing else);
+  - equilibrium at T = 1: the forces the contact points apply on the second family of beams (every
+    pair's beam B: the grid's top layer, the weave's wefts; normal and tangential vectors of
+    contact_points.csv) balance that family's support reactions, component by component (1e-6 of the
+    largest: those beams carry nothing else);
   - the contact pattern is the same for every strategy (the same points active);
   - Lagrange and augmented Lagrange agree (total normal force, 1e-4);
   - 2 ranks give the 1-rank contact rows (1e-8 of the largest value).
-Usage: generated_grid.py BEAMCONTACT WORKDIR MPIEXEC...
+Usage: generated_decks.py KIND FAMILY_B_PREFIX BEAMCONTACT WORKDIR MPIEXEC...
 """
 import csv
 import os
@@ -27,7 +28,7 @@ def rows_at_end(path):
     return [r for r in rows if r["step"] == last]
 
 
-def run(exe, deck, out, mpi=None):
+def run(exe, deck, out, family, mpi=None):
     cmd = (mpi or []) + [exe, "run", deck, "--output", out, "--quiet"]
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode != 0:
@@ -36,16 +37,18 @@ def run(exe, deck, out, mpi=None):
     reactions = rows_at_end(os.path.join(out, "reactions.csv"))[0]
     active = sorted((c["pair"], c["line_A"], c["line_B"]) for c in contact if c["active"] == "1")
     total = sum(float(c["normal_force"]) for c in contact if c["active"] == "1")
-    on_top = sum(float(c["normal_force_z"]) + float(c["tangential_force_z"]) for c in contact if c["active"] == "1")
-    top = sum(float(v) for k, v in reactions.items() if k.startswith("y") and k.endswith("_Fz"))
-    return active, total, (on_top, top), contact
+    on_b = [sum(float(c["normal_force_" + a]) + float(c["tangential_force_" + a]) for c in contact if c["active"] == "1")
+            for a in "xyz"]
+    supports = [sum(float(v) for k, v in reactions.items() if k.startswith(family) and k.endswith("_F" + a))
+                for a in "xyz"]
+    return active, total, (on_b, supports), contact
 
 
 def main():
-    exe, work, mpi = sys.argv[1], sys.argv[2], sys.argv[3:]
+    kind, family, exe, work, mpi = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4], sys.argv[5:]
     os.makedirs(work, exist_ok=True)
-    base = os.path.join(work, "grid.xml")
-    subprocess.run([exe, "generate", "grid", "--n", "3", "--m", "3", "--output", base], check=True)
+    base = os.path.join(work, kind + ".xml")
+    subprocess.run([exe, "generate", kind, "--n", "3", "--m", "3", "--output", base], check=True)
     results = {}
     failures = 0
     for strategy in ["Penalty", "Lagrange Multiplier", "Augmented Lagrange"]:
@@ -54,14 +57,16 @@ def main():
         set_parameter(tree.getroot(), "Output/Write VTK", "bool", "false")
         deck = os.path.join(work, strategy.replace(" ", "_") + ".xml")
         tree.write(deck)
-        active, total, (on_top, top), contact = run(exe, deck, os.path.join(work, strategy.replace(" ", "_")))
+        active, total, (on_b, supports), contact = run(exe, deck, os.path.join(work, strategy.replace(" ", "_")), family)
         results[strategy] = (active, total, contact)
-        balance = abs(on_top + top) / abs(top)
-        print(f"{strategy:20s} {len(active)} active points, total N {total:.6f}; on the top layer along z: contact "
-              f"{on_top:.9f}, supports {top:.9f}, balance {balance:.1e}")
+        scale = max(abs(v) for v in supports)
+        balance = max(abs(a + b) for a, b in zip(on_b, supports)) / scale
+        print(f"{strategy:20s} {len(active)} active points, total N {total:.6f}; on the {family} beams: contact "
+              f"({', '.join(f'{v:.6f}' for v in on_b)}), supports ({', '.join(f'{v:.6f}' for v in supports)}), "
+              f"balance {balance:.1e}")
         failures += not (balance < 1e-6)
         if strategy == "Penalty":
-            _, total2, _, contact2 = run(exe, deck, os.path.join(work, "penalty_np2"), mpi)
+            _, total2, _, contact2 = run(exe, deck, os.path.join(work, "penalty_np2"), family, mpi)
             scale = max(abs(float(v)) for c in contact for k, v in c.items() if k.startswith("normal_force"))
             diff = max(abs(float(a[k]) - float(b[k])) for a, b in zip(contact, contact2)
                        for k in a if k.startswith("normal_force") or k.startswith("tangential_force"))
