@@ -35,16 +35,21 @@ struct Options {
 
 Array<double> vec(double x, double y, double z) { return Array<double>(std::vector<double>{x, y, z}); }
 
+// A circular section of radius r, E and nu = 0.3.
+void circleOf(ParameterList& beam, double r, double E) {
+  beam.sublist("Section").set("Shape", std::string("Circle"));
+  beam.sublist("Section").set("Radius", r);
+  beam.sublist("Material").set("Young's Modulus", E);
+  beam.sublist("Material").set("Poisson's Ratio", 0.3);
+}
+
 ParameterList& beam(ParameterList& beams, const std::string& name, const Array<double>& a, const Array<double>& b,
                     int elements, double radius, double E) {
   ParameterList& l = beams.sublist(name);
   l.set("Start", a);
   l.set("End", b);
   l.set("Elements", elements);
-  l.sublist("Section").set("Shape", std::string("Circle"));
-  l.sublist("Section").set("Radius", radius);
-  l.sublist("Material").set("Young's Modulus", E);
-  l.sublist("Material").set("Poisson's Ratio", 0.3);
+  circleOf(l, radius, E);
   return l;
 }
 
@@ -55,6 +60,21 @@ void support(ParameterList& supports, const std::string& name, const std::string
   s.set("Node", node);
   s.set("Fixed", fixed);
   s.set("Displacement", displacement);
+}
+
+// All pairs in contact with the options' friction, Penalty (and Augmented Lagrange's parameters, so
+// switching Type is one edit), and the load increments.
+void contactAndStepping(ParameterList& deck, const Options& o) {
+  ParameterList& contact = deck.sublist("Contact");
+  contact.set("All Pairs", true);
+  contact.set("Friction Coefficient", o["friction"]);
+  ParameterList& e = contact.sublist("Enforcement");
+  e.set("Type", std::string("Penalty"));
+  for (const char* strategy : {"Penalty", "Augmented Lagrange"}) {
+    e.sublist(strategy).set("Normal Penalty Parameter", o["penalty"]);
+    e.sublist(strategy).set("Tangential Penalty Parameter", o["penalty"] / 10);
+  }
+  deck.sublist("Load Stepping").set("Number of Increments", o.whole("increments", 1, 1000000));
 }
 
 // Two layers of crossing circular beams: n along X at z = 0 (pinned ends, twist held), m along Y above
@@ -80,16 +100,7 @@ ParameterList grid(const Options& o) {
     support(supports, name + " start", name, "start", "ux uy uz ry", vec(0, 0, -o["press"]));
     support(supports, name + " end", name, "end", "ux uz ry", vec(0, 0, -o["press"]));
   }
-  ParameterList& contact = deck.sublist("Contact");
-  contact.set("All Pairs", true);
-  contact.set("Friction Coefficient", o["friction"]);
-  ParameterList& e = contact.sublist("Enforcement");
-  e.set("Type", std::string("Penalty"));
-  e.sublist("Penalty").set("Normal Penalty Parameter", o["penalty"]);
-  e.sublist("Penalty").set("Tangential Penalty Parameter", o["penalty"] / 10);
-  e.sublist("Augmented Lagrange").set("Normal Penalty Parameter", o["penalty"]);
-  e.sublist("Augmented Lagrange").set("Tangential Penalty Parameter", o["penalty"] / 10);
-  deck.sublist("Load Stepping").set("Number of Increments", o.whole("increments", 1, 1000000));
+  contactAndStepping(deck, o);
   return deck;
 }
 
@@ -119,10 +130,7 @@ ParameterList weave(const Options& o) {
     ParameterList& l = beams.sublist(name);
     l.set("Points", Array<double>(pts));
     l.set("Elements", 1);
-    l.sublist("Section").set("Shape", std::string("Circle"));
-    l.sublist("Section").set("Radius", r);
-    l.sublist("Material").set("Young's Modulus", E);
-    l.sublist("Material").set("Poisson's Ratio", 0.3);
+    circleOf(l, r, E);
   };
   for (int j = 0; j < n; ++j) {
     const std::string name = "warp " + std::to_string(j + 1);
@@ -136,16 +144,7 @@ ParameterList weave(const Options& o) {
     support(supports, name + " start", name, "start", "ux uy uz ry", vec(0, 0, 0));
     support(supports, name + " end", name, "end", "ux uy uz ry", vec(0, 0, 0));
   }
-  ParameterList& contact = deck.sublist("Contact");
-  contact.set("All Pairs", true);
-  contact.set("Friction Coefficient", o["friction"]);
-  ParameterList& e = contact.sublist("Enforcement");
-  e.set("Type", std::string("Penalty"));
-  for (const char* strategy : {"Penalty", "Augmented Lagrange"}) {
-    e.sublist(strategy).set("Normal Penalty Parameter", o["penalty"]);
-    e.sublist(strategy).set("Tangential Penalty Parameter", o["penalty"] / 10);
-  }
-  deck.sublist("Load Stepping").set("Number of Increments", o.whole("increments", 1, 1000000));
+  contactAndStepping(deck, o);
   return deck;
 }
 
