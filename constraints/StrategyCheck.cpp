@@ -97,25 +97,24 @@ std::vector<TangentCheck> checkTangent(const ConstraintEnforcer& strategy) {
       for (int j = 0; j < n; ++j) {
         std::fill(fp.begin(), fp.end(), 0.0);
         std::fill(fm.begin(), fm.end(), 0.0);
+        double h = 1e-6;
         if (j < kPairDofs) {
-          const double h = 1e-6;
           const ContactKinematics kp = contactKinematics(perturbed(in, j, h), cp.sigma, xiPrev, etaPrev);
           const ContactKinematics km = contactKinematics(perturbed(in, j, -h), cp.sigma, xiPrev, etaPrev);
           strategy.evaluate(view(kp), *state, fp.data(), nullptr);
           strategy.evaluate(view(km), *state, fm.data(), nullptr);
-          for (int i = 0; i < n; ++i)
-            c.maxError = std::max(c.maxError, std::abs((fp[i] - fm[i]) / (2 * h) - K[std::size_t(n) * i + j]));
         } else {
-          const double h = 1e-6 * std::max(1.0, std::abs(lambda[j - kPairDofs]));
-          const double saved = lambda[j - kPairDofs];
-          lambda[j - kPairDofs] = saved + h;
+          double& l = lambda[j - kPairDofs];
+          const double saved = l;
+          h *= std::max(1.0, std::abs(saved));
+          l = saved + h;
           strategy.evaluate(view(k), *state, fp.data(), nullptr);
-          lambda[j - kPairDofs] = saved - h;
+          l = saved - h;
           strategy.evaluate(view(k), *state, fm.data(), nullptr);
-          lambda[j - kPairDofs] = saved;
-          for (int i = 0; i < n; ++i)
-            c.maxError = std::max(c.maxError, std::abs((fp[i] - fm[i]) / (2 * h) - K[std::size_t(n) * i + j]));
+          l = saved;
         }
+        for (int i = 0; i < n; ++i)
+          c.maxError = std::max(c.maxError, std::abs((fp[i] - fm[i]) / (2 * h) - K[std::size_t(n) * i + j]));
       }
       // The residual-only evaluation is the same residual.
       std::vector<double> f0(n, 0.0);

@@ -155,30 +155,25 @@ int generateDeck(const std::vector<std::string>& args) {
   const std::string kind = args[1];
   Options o;
   std::string output;
+  // Options every generator has, then its own.
+  o.values = {{"spacing", {10.0, "distance between neighbouring beams of a family [length]"}},
+              {"radius", {1.0, "radius of every beam [length]"}},
+              {"youngs-modulus", {1e5, "E [force/length^2]"}},
+              {"friction", {0.2, "Coulomb coefficient of every pair"}},
+              {"penalty", {1e4, "eps_N of Penalty and Augmented Lagrange (eps_T = eps_N / 10) [force/length]"}},
+              {"increments", {10, "load increments"}}};
   if (kind == "grid") {
-    o.values = {{"n", {3, "beams along X (bottom layer)"}},
-                {"m", {3, "beams along Y (top layer)"}},
-                {"spacing", {10.0, "distance between neighbouring beams of a layer [length]"}},
-                {"radius", {1.0, "radius of every beam [length]"}},
-                {"gap", {0.1, "gap between the layers at the start [length]"}},
-                {"press", {0.5, "downward motion of the top layer's ends at T = 1 [length]"}},
-                {"elements", {9, "elements per beam"}},
-                {"youngs-modulus", {1e5, "E [force/length^2]"}},
-                {"friction", {0.2, "Coulomb coefficient of every pair"}},
-                {"penalty", {1e4, "eps_N of Penalty and Augmented Lagrange (eps_T = eps_N / 10) [force/length]"}},
-                {"increments", {10, "load increments"}}};
+    o.values.insert({{"n", {3, "beams along X (bottom layer)"}},
+                     {"m", {3, "beams along Y (top layer)"}},
+                     {"gap", {0.1, "gap between the layers at the start [length]"}},
+                     {"press", {0.5, "downward motion of the top layer's ends at T = 1 [length]"}},
+                     {"elements", {9, "elements per beam"}}});
   } else if (kind == "weave") {
-    o.values = {{"n", {3, "warp yarns (along X)"}},
-                {"m", {3, "weft yarns (along Y)"}},
-                {"spacing", {10.0, "distance between neighbouring yarns [length]"}},
-                {"radius", {1.0, "radius of every yarn [length]"}},
-                {"gap", {0.1, "gap between crossing yarns at the start [length]"}},
-                {"pull", {0.2, "stretch of the warp yarns at T = 1 (each end moves half) [length]"}},
-                {"elements", {8, "elements per spacing along each yarn (the undulation's polyline)"}},
-                {"youngs-modulus", {1e5, "E [force/length^2]"}},
-                {"friction", {0.2, "Coulomb coefficient of every pair"}},
-                {"penalty", {1e4, "eps_N of Penalty and Augmented Lagrange (eps_T = eps_N / 10) [force/length]"}},
-                {"increments", {10, "load increments"}}};
+    o.values.insert({{"n", {3, "warp yarns (along X)"}},
+                     {"m", {3, "weft yarns (along Y)"}},
+                     {"gap", {0.1, "gap between crossing yarns at the start [length]"}},
+                     {"pull", {0.2, "stretch of the warp yarns at T = 1 (each end moves half) [length]"}},
+                     {"elements", {8, "elements per spacing along each yarn (the undulation's polyline)"}}});
   } else {
     throw InputError("generate: unknown kind \"" + kind + "\"; kinds are \"grid\", \"weave\"");
   }

@@ -303,6 +303,17 @@ int nodeIndexOnBeam(const std::string& node, int ne, const std::string& path, co
   return index;
 }
 
+// The index of the beam named `name`; an input error at `where` listing the beams if there is none.
+int beamNamed(const std::map<std::string, int>& beamIndex, const std::string& name, const std::string& where) {
+  const auto b = beamIndex.find(name);
+  if (b == beamIndex.end()) {
+    std::vector<std::string> names;
+    for (const auto& [n, i] : beamIndex) names.push_back(n);
+    throw InputError("parameter \"" + where + "\": unknown beam \"" + name + "\"; beams are " + core::joinNames(names));
+  }
+  return b->second;
+}
+
 class Locator {
  public:
   Locator(const Problem& p, const core::State& s) : p_(p), s_(s) {}
@@ -317,14 +328,7 @@ class Locator {
     if (!hasBeam || !hasNode)
       throw InputError("\"" + path + "\": missing location; give \"Beam\" and \"Node\", or \"Point\"");
     const std::string beam = item.get<std::string>("Beam");
-    const auto b = p_.beamIndex.find(beam);
-    if (b == p_.beamIndex.end()) {
-      std::vector<std::string> names;
-      for (const auto& [n, i] : p_.beamIndex) names.push_back(n);
-      throw InputError("parameter \"" + path + "/Beam\": unknown beam \"" + beam + "\"; beams are " +
-                       core::joinNames(names));
-    }
-    const auto& nodes = p_.beams->beams()[b->second].nodes;
+    const auto& nodes = p_.beams->beams()[beamNamed(p_.beamIndex, beam, path + "/Beam")].nodes;
     const int ne = static_cast<int>(nodes.size()) - 1;
     return {nodes[nodeIndexOnBeam(item.get<std::string>("Node"), ne, path + "/Node", beam)]};
   }
@@ -373,15 +377,6 @@ std::array<bool, 6> parseFixed(const std::string& text, const std::string& path)
 
 void buildContact(Problem& p, ParameterList& c, const std::string& path) {
   contactSpec().apply(c, path);
-  auto beamNamed = [&](const std::string& name, const std::string& where) {
-    const auto b = p.beamIndex.find(name);
-    if (b == p.beamIndex.end()) {
-      std::vector<std::string> names;
-      for (const auto& [n, i] : p.beamIndex) names.push_back(n);
-      throw InputError("parameter \"" + where + "\": unknown beam \"" + name + "\"; beams are " + core::joinNames(names));
-    }
-    return b->second;
-  };
   std::vector<constraints::ContactPairSpec> pairs;
   if (c.get<bool>("All Pairs")) {
     if (!c.isParameter("Friction Coefficient"))
@@ -396,8 +391,8 @@ void buildContact(Problem& p, ParameterList& c, const std::string& path) {
   }
   forEachItem(c.sublist("Pairs"), path + "/Pairs", contactPairSpec(),
               [&](ParameterList& q, const std::string& name, const std::string& qpath) {
-                const int a = beamNamed(q.get<std::string>("Beam A"), qpath + "/Beam A");
-                const int b = beamNamed(q.get<std::string>("Beam B"), qpath + "/Beam B");
+                const int a = beamNamed(p.beamIndex, q.get<std::string>("Beam A"), qpath + "/Beam A");
+                const int b = beamNamed(p.beamIndex, q.get<std::string>("Beam B"), qpath + "/Beam B");
                 if (a == b) throw InputError("contact pair \"" + qpath + "\" names the same beam twice");
                 pairs.push_back({a, b, q.get<double>("Friction Coefficient"), name});
               });
@@ -586,7 +581,7 @@ void checkDuplicateBeams(const Problem& p) {
 // section orientation: given, or by default normal to the axis and global Z for straight beams and
 // polylines, the plane's normal for an arc and the axis for a helix (both stay across the curve, so
 // the section follows it: its local y axis is that vector projected on each element's normal plane).
-std::vector<Vec3d> beamPoints(const ParameterList& b, const std::string& path, int ne, Vec3d& sectionY) {
+std::vector<Vec3d> beamPoints(ParameterList& b, const std::string& path, int ne, Vec3d& sectionY) {
   const bool straight = b.isParameter("Start") || b.isParameter("End");
   const int kinds = int(straight) + int(b.isParameter("Points")) + int(b.isSublist("Arc")) + int(b.isSublist("Helix"));
   if (kinds != 1)
@@ -629,7 +624,7 @@ std::vector<Vec3d> beamPoints(const ParameterList& b, const std::string& path, i
   }
   const double pi = std::acos(-1.0);
   const bool arc = b.isSublist("Arc");
-  ParameterList& g = const_cast<ParameterList&>(b).sublist(arc ? "Arc" : "Helix");
+  ParameterList& g = b.sublist(arc ? "Arc" : "Helix");
   const std::string gpath = path + (arc ? "/Arc" : "/Helix");
   (arc ? arcSpec() : helixSpec()).apply(g, gpath);
   const Vec3d n = unit(toVec(g.get<Array<double>>(arc ? "Normal" : "Axis Direction")), arc ? "Arc/Normal" : "Helix/Axis Direction");
@@ -680,6 +675,17 @@ core::LoadCurve loadCurve(const ParameterList& item, const std::string& path) {
   return c;
 }
 
+// Nodes closer than this are at the same place (joints): 1e-9 of the model's bounding-box diagonal.
+double coincidenceTolerance(const std::vector<Vec3d>& reference) {
+  Vec3d lo = reference[0], hi = reference[0];
+  for (const Vec3d& x : reference)
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], x[k]);
+      hi[k] = std::max(hi[k], x[k]);
+    }
+  return 1e-9 * std::max(norm(hi - lo), 1e-300);
+}
+
 // Joints: a beam end that coincides (within 1e-9 of the model's extent) with a node of another beam,
 // its end or an interior node, shares that node, so the beams are rigidly joined there: displacements
 // and rotations are continuous. Nodes of two beams that coincide away from both beams' ends are not
@@ -695,13 +701,10 @@ int joinCoincidentNodes(std::vector<elements::Beam>& beams, std::vector<Vec3d>& 
     for (int node : beams[b].nodes) owner[node] = static_cast<int>(b);
     isEnd[beams[b].nodes.front()] = isEnd[beams[b].nodes.back()] = 1;
   }
-  Vec3d lo = reference[0], hi = reference[0];
+  Vec3d lo = reference[0];
   for (const Vec3d& x : reference)
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = std::min(lo[k], x[k]);
-      hi[k] = std::max(hi[k], x[k]);
-    }
-  const double tol = 1e-9 * std::max(norm(hi - lo), 1e-300);
+    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], x[k]);
+  const double tol = coincidenceTolerance(reference);
   // Nodes hashed into cells of size tol: a node within tol of another lies in a neighbouring cell.
   auto cell = [&](const Vec3d& x, int k) { return static_cast<long long>(std::floor((x[k] - lo[k]) / tol)); };
   auto key = [](long long i, long long j, long long k) { return (i * 73856093LL) ^ (j * 19349663LL) ^ (k * 83492791LL); };
@@ -831,16 +834,14 @@ Problem buildProblem(ParameterList deck, const std::string& deckName) {
   std::set<std::pair<int, int>> forced, kept;
   std::vector<elements::PinnedJoint> pins;
   if (deck.isSublist("Joints")) {
+    const double tolerance = coincidenceTolerance(reference);
     forEachItem(deck.sublist("Joints"), top + "/Joints", jointSpec(),
                 [&](ParameterList& j, const std::string& name, const std::string& path) {
                   int ends[2] = {0, 0};
                   for (int s = 0; s < 2; ++s) {
                     const std::string key = s == 0 ? "A" : "B";
                     const std::string beam = j.get<std::string>("Beam " + key);
-                    const auto b = p.beamIndex.find(beam);
-                    if (b == p.beamIndex.end())
-                      throw InputError("parameter \"" + path + "/Beam " + key + "\": unknown beam \"" + beam + "\"");
-                    const auto& nodes = beams[b->second].nodes;
+                    const auto& nodes = beams[beamNamed(p.beamIndex, beam, path + "/Beam " + key)].nodes;
                     const std::string node = j.get<std::string>("Node " + key);
                     if (s == 0 && node != "start" && node != "end")
                       throw InputError("parameter \"" + path + "/Node A\": a joint starts at a beam end, \"start\" or "
@@ -850,9 +851,7 @@ Problem buildProblem(ParameterList deck, const std::string& deckName) {
                   if (j.get<std::string>("Beam A") == j.get<std::string>("Beam B"))
                     throw InputError("\"" + path + "\" joins beam \"" + j.get<std::string>("Beam A") + "\" to itself");
                   const double d = norm(reference[ends[0]] - reference[ends[1]]);
-                  double extent = 0.0;
-                  for (const Vec3d& x : reference) extent = std::max(extent, norm(x - reference[0]));
-                  if (d > 1e-9 * extent)
+                  if (d > tolerance)
                     throw InputError("\"" + path + "\" joins nodes " + std::to_string(d) +
                                      " apart; a joint's two nodes must be at the same place");
                   const auto pair = std::make_pair(std::min(ends[0], ends[1]), std::max(ends[0], ends[1]));
