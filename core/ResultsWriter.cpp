@@ -178,7 +178,7 @@ void ResultsWriter::openTables(bool append) {
     if (!append) tables_.back()->write("step,T," + c->tableHeader() + "\n");
   }
   if (append) return;
-  steps_.write("step,T,cut_level,newton_iterations,passes,final_residual,linear_iterations,backtracks\n");
+  steps_.write("step,T,cut_level,newton_iterations,passes,final_residual,linear_iterations,backtracks,stalls\n");
   std::string h = "step,T";
   for (const auto& p : model_.tracked)
     for (const char* c : {"ux", "uy", "uz", "rx", "ry", "rz"}) h += "," + p.name + "_" + c;
@@ -214,7 +214,7 @@ void ResultsWriter::writeStep(const StepReport& step, const State& state, const 
     std::ostringstream row;
     row << std::setprecision(12);
     row << step.step << "," << step.T << "," << step.cutLevel << "," << step.iterations << "," << step.passes << ","
-        << step.history.back().residualNorm << "," << linear << "," << step.backtracks << "\n";
+        << step.history.back().residualNorm << "," << linear << "," << step.backtracks << "," << step.stalls << "\n";
     steps_.write(row.str());
     row.str("");
     row << step.step << "," << step.T;

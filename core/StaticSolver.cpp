@@ -37,11 +37,13 @@ const ParameterSpec& newtonSpec() {
     s.addChoice("Predictor", "Extrapolate", {"Extrapolate", "None"},
                 "start of each increment's Newton iterations: \"Extrapolate\" continues the last converged "
                 "increment (scaled to this one) on the free dofs; \"None\" starts from the last converged state");
-    s.addChoice("Line Search", "None", {"None", "Backtracking"},
+    s.addChoice("Line Search", "When Stalled", {"When Stalled", "None", "Backtracking"},
                 "\"None\": full Newton steps (but a contact that would close within a step shortens it); "
                 "\"Backtracking\": an iterate whose residual did not fall is replaced by one with half the step, up "
                 "to Maximum Backtracks times (large-rotation beam paths are not monotone in ||r||: there it costs "
-                "iterations)");
+                "iterations); \"When Stalled\": full steps while ||r|| keeps falling, backtracking for the rest of "
+                "the Newton solve once its lowest ||r|| has not halved in 4 iterations (e.g. a slip direction that "
+                "flips from one iterate to the next makes full-step Newton cycle)");
     s.add("Maximum Backtracks", 8, "step halvings allowed per Newton iteration (Line Search)", wholeBetween(1, 50),
           "1 to 50");
     s.add("Divergence Factor", 1e10, "an iterate whose residual exceeds this times the reference diverged",
@@ -77,7 +79,10 @@ SolverSettings readSolverSettings(const Teuchos::ParameterList& stepping, const 
   s.divergenceFactor = newton.get<double>("Divergence Factor");
   s.printIterations = newton.get<bool>("Print Iterations");
   s.extrapolate = newton.get<std::string>("Predictor") == "Extrapolate";
-  s.lineSearch = newton.get<std::string>("Line Search") == "Backtracking";
+  const std::string search = newton.get<std::string>("Line Search");
+  s.lineSearch = search == "Backtracking" ? LineSearch::Backtracking
+                 : search == "None"       ? LineSearch::None
+                                          : LineSearch::WhenStalled;
   s.maxBacktracks = newton.get<int>("Maximum Backtracks");
   return s;
 }
@@ -280,6 +285,12 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
   std::vector<double> lastStep;
   double alpha = 1.0, lastResidual = 0.0;
   int backtracks = 0;
+  // Whether this Newton solve backtracks (always, never, or from when it stalls: its lowest residual
+  // `best` last halved at iteration `progressAt`).
+  bool searching = settings_.lineSearch == LineSearch::Backtracking;
+  double best = 0.0;
+  int progressAt = 0;
+  constexpr int kStallIterations = 4;
   for (int k = 0;; ++k) {
     if (const int sig = receivedSignalOnAnyRank(*comm_)) throw Interrupted(sig);
     const int kp = k - passStart;
@@ -306,13 +317,21 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
     double ext2 = 0.0;
     for (const NodalLoad& l : model_.loads)
       for (double v : l.value) ext2 += std::pow(l.curve(Tb) * v, 2);
-    if (kp == 0) firstResidual = rn;
+    if (kp == 0) {
+      firstResidual = rn;
+      best = rn;
+      progressAt = 0;
+      searching = settings_.lineSearch == LineSearch::Backtracking;
+    } else if (rn < 0.5 * best) {
+      best = rn;
+      progressAt = kp;
+    }
     const double reference = std::max({firstResidual, std::sqrt(reactions2), std::sqrt(ext2)});
     // Backtracking: the residual did not fall (by 1e-4 of the step fraction), so go back to the last
     // iterate and take half the step. Not once the Newton step was already below its tolerance (the
     // residual may then sit at its round-off floor). The recorded increment norm stays the full
     // Newton step's, so a short step never passes for convergence.
-    if (settings_.lineSearch && kp > 0 && !likelyConverged && !lastStep.empty() &&
+    if (searching && kp > 0 && !likelyConverged && !lastStep.empty() &&
         backtracks < settings_.maxBacktracks && std::isfinite(lastResidual) &&
         !(rn <= (1.0 - 1e-4 * alpha) * lastResidual) && rn > settings_.residualTolerance * reference) {
       const double shorter = 0.5 * alpha;
@@ -425,7 +444,13 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
     report.history[k].linearIterations = lin.iterations;
     report.history[k].linearResidual = lin.relativeResidual;
     lastStep.clear();  // a step shortened to close a contact is taken as it is
-    if (settings_.lineSearch && bound >= 1.0) {
+    if (!searching && settings_.lineSearch == LineSearch::WhenStalled && kp - progressAt >= kStallIterations) {
+      searching = true;
+      ++report.stalls;
+      if (settings_.printIterations && comm_->getRank() == 0)
+        std::printf("    T %.6g  iteration %2d  stalled: backtracking from here\n", Tb, k);
+    }
+    if (searching && bound >= 1.0) {
       lastIterate = trial_;
       for (auto& c : model_.contributions) c->markIterate();
       lastStep = inc;

@@ -48,6 +48,7 @@ struct StepReport {
   int cutLevel = 0;    // 0 for a configured increment, k for a piece of a k-times halved one
   int iterations = 0;  // Newton iterations (linear solves), over all passes
   int backtracks = 0;  // line-search step halvings, over all iterations
+  int stalls = 0;      // Newton solves that stalled and went on with backtracking (When Stalled)
   int boundedSteps = 0;  // Newton steps shortened because a contact would close within them
   int passes = 1;      // Newton solves of the increment (augmentation / active-set passes)
   std::vector<NewtonIterate> history;
@@ -62,6 +63,8 @@ struct RunReport {
   int interrupted = 0;  // the signal that stopped the run (0: none)
 };
 
+enum class LineSearch { None, Backtracking, WhenStalled };
+
 struct SolverSettings {
   std::vector<double> loadFactors;  // increasing, ending at 1
   int maxStepCuts = 5;
@@ -71,7 +74,7 @@ struct SolverSettings {
   double divergenceFactor = 1e10;  // ||r|| above this times the reference is divergence
   bool printIterations = false;     // one line per Newton iteration on rank 0
   bool extrapolate = true;          // predictor: the free dofs continue the last step's increment
-  bool lineSearch = false;          // backtracking on ||r||
+  LineSearch lineSearch = LineSearch::WhenStalled;  // backtracking on ||r||
   int maxBacktracks = 8;
 };
 

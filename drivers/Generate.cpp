@@ -1,8 +1,12 @@
 #include "Generate.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <map>
+#include <random>
 #include <sstream>
 
 #include <Teuchos_Array.hpp>
@@ -148,20 +152,110 @@ ParameterList weave(const Options& o) {
   return deck;
 }
 
+
+// Closest distance of the segments [a, b] and [c, d]: the minimum of a convex quadratic over the unit
+// square of segment parameters, at its stationary point if that lies inside, else on an edge (the
+// distance of an end point to the other segment).
+double segmentDistance(const std::array<double, 3>& a, const std::array<double, 3>& b, const std::array<double, 3>& c,
+                       const std::array<double, 3>& d) {
+  using V = std::array<double, 3>;
+  auto sub = [](const V& x, const V& y) { return V{x[0] - y[0], x[1] - y[1], x[2] - y[2]}; };
+  auto dot = [](const V& x, const V& y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; };
+  auto at = [](const V& x, const V& t, double s) { return V{x[0] + s * t[0], x[1] + s * t[1], x[2] + s * t[2]}; };
+  auto toSegment = [&](const V& p, const V& x, const V& t) {
+    const double tt = dot(t, t), s = tt > 0 ? std::clamp(dot(sub(p, x), t) / tt, 0.0, 1.0) : 0.0;
+    const V q = sub(p, at(x, t, s));
+    return std::sqrt(dot(q, q));
+  };
+  const V u = sub(b, a), v = sub(d, c), w = sub(a, c);
+  double best = std::min({toSegment(a, c, v), toSegment(b, c, v), toSegment(c, a, u), toSegment(d, a, u)});
+  const double uu = dot(u, u), uv = dot(u, v), vv = dot(v, v), det = uu * vv - uv * uv;
+  if (det > 1e-12 * uu * vv) {
+    const double s = (uv * dot(v, w) - vv * dot(u, w)) / det, t = (uu * dot(v, w) - uv * dot(u, w)) / det;
+    if (s > 0 && s < 1 && t > 0 && t < 1) {
+      const V q = sub(at(a, u, s), at(c, v, t));
+      best = std::min(best, std::sqrt(dot(q, q)));
+    }
+  }
+  return best;
+}
+
+// A random fibre network: straight circular fibres of one length with centres uniform in the box
+// [0, box]^2 x [0, height], in-plane angles uniform, out-of-plane angles uniform within +-tilt. A drawn
+// fibre is kept only if its surface stays --gap clear of every fibre kept before, and, where the two
+// could touch during the compression (axes closer than 2 radius + gap + compress height), if they
+// cross at --min-angle or more: point contact is undefined between nearly parallel fibres (line
+// contact, issue 11). Each fibre's start is clamped and its end pinned, and the fibre is moved down
+// by the compression at its centre, u_z = -compress z_centre at T = 1 (the mat is squeezed; moving
+// its ends by the affine field instead would shorten every tilted fibre by about compress sin^2 of
+// its tilt, beyond the Euler strain of a slender fibre, and buckle it). The fibres touch where the
+// compression brings their crossings together. Reproducible: the sequence
+// comes from std::mt19937_64, whose output the C++ standard fixes, seeded with --seed.
+ParameterList network(const Options& o) {
+  using V = std::array<double, 3>;
+  const int count = o.whole("fibres", 1, 100000), ne = o.whole("elements", 1, 100000);
+  const double L = o["box"], H = o["height"], len = o["length"], r = o["radius"], gap = o["gap"];
+  const double pi = std::acos(-1.0), tilt = o["tilt"] * pi / 180, minAngle = o["min-angle"] * pi / 180;
+  const double compress = o["compress"];
+  if (!(L > 0) || !(H >= 0) || !(len > 0) || !(r > 0) || !(gap >= 0))
+    throw InputError("generate network: need box > 0, height >= 0, length > 0, radius > 0, gap >= 0");
+  if (!(tilt >= 0 && tilt <= pi / 2) || !(minAngle >= 0 && minAngle < pi / 2))
+    throw InputError("generate network: need 0 <= tilt <= 90 and 0 <= min-angle < 90 (degrees)");
+  if (!(compress >= 0 && compress < 1)) throw InputError("generate network: need 0 <= compress < 1");
+  std::mt19937_64 random(static_cast<std::uint64_t>(o.whole("seed", 0, 2000000000)));
+  auto uniform = [&](double lo, double hi) { return lo + (hi - lo) * static_cast<double>(random() >> 11) * 0x1.0p-53; };
+  std::vector<std::pair<V, V>> kept;
+  const long attempts = 1000L * count;
+  for (long tries = 0; static_cast<int>(kept.size()) < count; ++tries) {
+    if (tries == attempts)
+      throw InputError("generate network: placed only " + std::to_string(kept.size()) + " of " + std::to_string(count) +
+                       " fibres in " + std::to_string(attempts) +
+                       " draws; give fewer --fibres, a smaller --radius, --gap or --min-angle, or a larger --box or --height");
+    const V c{uniform(0, L), uniform(0, L), uniform(0, H)};
+    const double phi = uniform(0, pi), theta = uniform(-tilt, tilt);
+    const V d{std::cos(theta) * std::cos(phi), std::cos(theta) * std::sin(phi), std::sin(theta)};
+    const V a{c[0] - 0.5 * len * d[0], c[1] - 0.5 * len * d[1], c[2] - 0.5 * len * d[2]};
+    const V b{c[0] + 0.5 * len * d[0], c[1] + 0.5 * len * d[1], c[2] + 0.5 * len * d[2]};
+    bool fits = true;
+    for (const auto& [p, q] : kept) {
+      const double dist = segmentDistance(a, b, p, q);
+      if (dist < 2 * r + gap) { fits = false; break; }
+      const V e{q[0] - p[0], q[1] - p[1], q[2] - p[2]};
+      const double cosine = std::abs(d[0] * e[0] + d[1] * e[1] + d[2] * e[2]) / len;
+      if (dist < 2 * r + gap + compress * H && cosine > std::cos(minAngle)) { fits = false; break; }
+    }
+    if (fits) kept.push_back({a, b});
+  }
+  ParameterList deck("BeamContact");
+  ParameterList& beams = deck.sublist("Beams");
+  ParameterList& supports = deck.sublist("Supports");
+  for (int k = 0; k < count; ++k) {
+    const std::string name = "f" + std::to_string(k + 1);
+    const auto& [a, b] = kept[k];
+    beam(beams, name, vec(a[0], a[1], a[2]), vec(b[0], b[1], b[2]), ne, r, o["youngs-modulus"]);
+    const double down = -compress * 0.5 * (a[2] + b[2]);
+    support(supports, name + " start", name, "start", "all", vec(0, 0, down));
+    support(supports, name + " end", name, "end", "ux uy uz", vec(0, 0, down));
+  }
+  contactAndStepping(deck, o);
+  return deck;
+}
+
 }  // namespace
 
 int generateDeck(const std::vector<std::string>& args) {
-  if (args.size() < 2) throw InputError("generate needs a kind: grid or weave");
+  if (args.size() < 2) throw InputError("generate needs a kind: grid, weave or network");
   const std::string kind = args[1];
   Options o;
   std::string output;
   // Options every generator has, then its own.
-  o.values = {{"spacing", {10.0, "distance between neighbouring beams of a family [length]"}},
-              {"radius", {1.0, "radius of every beam [length]"}},
+  o.values = {{"radius", {1.0, "radius of every beam [length]"}},
               {"youngs-modulus", {1e5, "E [force/length^2]"}},
               {"friction", {0.2, "Coulomb coefficient of every pair"}},
               {"penalty", {1e4, "eps_N of Penalty and Augmented Lagrange (eps_T = eps_N / 10) [force/length]"}},
               {"increments", {10, "load increments"}}};
+  if (kind == "grid" || kind == "weave")
+    o.values.insert({"spacing", {10.0, "distance between neighbouring beams of a family [length]"}});
   if (kind == "grid") {
     o.values.insert({{"n", {3, "beams along X (bottom layer)"}},
                      {"m", {3, "beams along Y (top layer)"}},
@@ -174,8 +268,19 @@ int generateDeck(const std::vector<std::string>& args) {
                      {"gap", {0.1, "gap between crossing yarns at the start [length]"}},
                      {"pull", {0.2, "stretch of the warp yarns at T = 1 (each end moves half) [length]"}},
                      {"elements", {8, "elements per spacing along each yarn (the undulation's polyline)"}}});
+  } else if (kind == "network") {
+    o.values.insert({{"fibres", {20, "fibres"}},
+                     {"box", {50.0, "side of the square the fibre centres lie in [length]"}},
+                     {"height", {6.0, "height of the box the fibre centres lie in [length]"}},
+                     {"length", {40.0, "length of every fibre [length]"}},
+                     {"tilt", {10.0, "largest angle of a fibre out of the plane [degrees]"}},
+                     {"gap", {0.2, "least distance between fibre surfaces at the start [length]"}},
+                     {"min-angle", {10.0, "least crossing angle of fibres that may touch [degrees]"}},
+                     {"compress", {0.3, "compression of the box height at T = 1 (each fibre moves down by compress z_centre)"}},
+                     {"seed", {1, "seed of the random sequence (the same seed gives the same deck)"}},
+                     {"elements", {8, "elements per fibre"}}});
   } else {
-    throw InputError("generate: unknown kind \"" + kind + "\"; kinds are \"grid\", \"weave\"");
+    throw InputError("generate: unknown kind \"" + kind + "\"; kinds are \"grid\", \"weave\", \"network\"");
   }
   for (std::size_t i = 2; i < args.size(); i += 2) {
     const std::string key = args[i].rfind("--", 0) == 0 ? args[i].substr(2) : "";
@@ -197,7 +302,7 @@ int generateDeck(const std::vector<std::string>& args) {
       throw InputError("generate " + kind + ": --" + key + " takes a number, got \"" + args[i + 1] + "\"");
     it->second.first = v;
   }
-  const ParameterList deck = kind == "grid" ? grid(o) : weave(o);
+  const ParameterList deck = kind == "grid" ? grid(o) : kind == "weave" ? weave(o) : network(o);
   std::ostringstream xml;
   xml << "<!-- Generated by: beamcontact generate " << kind;
   for (const auto& [k, v] : o.values) xml << " " << k << "=" << v.first;
