@@ -22,6 +22,10 @@ using Key = std::tuple<int, int, int>;
 ContactManager::ContactManager(std::shared_ptr<const elements::BeamSet> beams, std::vector<ContactPairSpec> pairs,
                                std::unique_ptr<ConstraintEnforcer> enforcer, ContactOptions options)
     : beams_(std::move(beams)), pairs_(std::move(pairs)), enforcer_(std::move(enforcer)), options_(options) {
+  for (const auto& [a, b] : options_.joinedNodes) {
+    joined_.insert({a, b});
+    joined_.insert({b, a});
+  }
   for (const auto& b : beams_->beams()) {
     std::vector<Line> lines;
     if (b.section.shape == CrossSection::Shape::Rectangle) {
@@ -145,10 +149,13 @@ void ContactManager::forEachElementPair(const core::State& s,
             if (it == grid.end()) continue;
             for (int eb : it->second) {
               if (elems[eb].beam != pair.beamB || !tested.insert({(int)ea, eb}).second) continue;
-              // Elements that share a node (beams joined there) do not contact each other.
+              // Elements that share a node (beams joined there) or whose nodes are pinned together
+              // do not contact each other.
               const BeamElement &A0 = elems[ea], &B0 = elems[eb];
-              if (A0.node1 == B0.node1 || A0.node1 == B0.node2 || A0.node2 == B0.node1 || A0.node2 == B0.node2)
-                continue;
+              bool joined = false;
+              for (int na : {A0.node1, A0.node2})
+                for (int nb : {B0.node1, B0.node2}) joined = joined || na == nb || joined_.count({na, nb});
+              if (joined) continue;
               const Box& B = boxes[eb];
               bool overlap = true;
               for (int c = 0; c < 3; ++c) overlap = overlap && A.lo[c] <= B.hi[c] && B.lo[c] <= A.hi[c];

@@ -10,7 +10,7 @@
 //
 // Search: the elements' bounding boxes (inflated by "Search Margin") are hashed into a uniform grid,
 // so candidate element pairs are found without testing all pairs. Elements that share a node (beams
-// joined there) are never a candidate pair.
+// joined there) or whose nodes are pinned together are never a candidate pair.
 //
 // History per point: the contact coordinates of the last converged step (the tangential gaps are
 // measured from them, mapped on the current configuration), the normal orientation, and the
@@ -22,6 +22,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,9 @@ struct ContactOptions {
   double minimumSinAngle = 1e-3;       // lines closer to parallel are skipped (point contact undefined)
   bool allowInitialPenetration = false;
   FrictionLaw frictionLaw = FrictionLaw::IsotropicCoulomb;
+  // Pairs of distinct nodes joined without sharing a node (pinned joints): elements meeting there
+  // are no contact candidates, like elements that share a node.
+  std::vector<std::pair<int, int>> joinedNodes;
 };
 
 // A strategy's point state with value semantics (copied by clone, so points can be committed,
@@ -153,6 +157,7 @@ class ContactManager : public core::Contribution {
   std::unique_ptr<ConstraintEnforcer> enforcer_;
   ContactOptions options_;
   std::vector<std::vector<Line>> lines_;  // per beam
+  std::set<std::pair<int, int>> joined_;  // options_.joinedNodes, both orders
   std::map<std::tuple<int, int, int>, Point> points_, committed_, marked_;
   core::State reference_;  // the last converged state (orientation of new points, swept search)
   int numNodes_ = 0;

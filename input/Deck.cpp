@@ -423,6 +423,9 @@ void buildContact(Problem& p, ParameterList& c, const std::string& path) {
   options.allowInitialPenetration = c.get<bool>("Allow Initial Penetration");
   options.frictionLaw = c.get<std::string>("Friction Law") == "Per Line" ? constraints::FrictionLaw::PerLine
                                                                          : constraints::FrictionLaw::IsotropicCoulomb;
+  for (const auto& c : p.model.contributions)
+    if (const auto* pins = dynamic_cast<const elements::PinnedJoints*>(c.get()))
+      for (const auto& j : pins->joints()) options.joinedNodes.push_back({j.nodeA, j.nodeB});
   auto manager = std::make_shared<constraints::ContactManager>(p.beams, pairs, constraints::createEnforcer(e), options);
   manager->initialize(p.model.initial);
   p.contact = manager;

@@ -334,8 +334,11 @@ TEST(CurvedBeams, HelixAndPolylinePlaceTheirNodes) {
 TEST(Joints, PinnedJointPassesForceButNoMoment) {
   const auto cs = elements::CrossSection::rectangle(b, h);
   const double Iy = cs.inertiaY(), L1 = 100.0, L2 = 60.0, P = 1e-7 * E * Iy / (L1 * L1);
-  double w[2] = {0, 0};
-  for (int pinned = 0; pinned < 2; ++pinned) {
+  double w[3] = {0, 0, 0};
+  // Variants: rigid joint, pinned joint, pinned joint with All Pairs contact (the elements meeting at
+  // the pin are no contact candidates, as if they shared the node: same answer, no contact point).
+  for (int variant = 0; variant < 3; ++variant) {
+    const bool pinned = variant > 0;
     Teuchos::ParameterList deck = input::parseParameterXml(lFrame(L1, L2, "0, 0, 0"), "L-frame");
     input::replaceAtPath(deck, "Loads/tip/Node", std::string("middle"));
     input::replaceAtPath(deck, "Loads/tip/Force", Teuchos::Array<double>(std::vector<double>{0, 0, -P}));
@@ -349,15 +352,28 @@ TEST(Joints, PinnedJointPassesForceButNoMoment) {
     joint.set("Beam B", std::string("arm 1"));
     joint.set("Node B", std::string("end"));
     joint.set("Type", std::string(pinned ? "Pinned" : "Rigid"));
+    if (variant == 2) {
+      Teuchos::ParameterList& contact = deck.sublist("Contact");
+      contact.set("All Pairs", true);
+      contact.set("Friction Coefficient", 0.0);
+      contact.sublist("Enforcement").set("Type", std::string("Penalty"));
+      contact.sublist("Enforcement").sublist("Penalty").set("Normal Penalty Parameter", 1e4);
+      contact.sublist("Enforcement").sublist("Penalty").set("Tangential Penalty Parameter", 1e3);
+    }
     auto p = input::buildProblem(deck, "lframe_pin");
     EXPECT_EQ(p.model.initial.numNodes(), pinned ? 22 : 21);
     const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "lframe_pin");
     ASSERT_TRUE(r.report.completed) << r.report.failure;
     const int mid = p.beams->beams()[1].nodes[5];
-    w[pinned] = -r.finalState.displacement(mid)[2];
-    if (pinned) {
+    w[variant] = -r.finalState.displacement(mid)[2];
+    if (variant == 2) {
+      ASSERT_TRUE(p.contact);
+      EXPECT_TRUE(p.contact->points().empty()) << "the arms were found in contact at their pin";
+      std::printf("pinned L-frame with All Pairs contact: w_mid = %.10e (without contact %.10e)\n", w[2], w[1]);
+      EXPECT_NEAR(w[2], w[1], 1e-12 * w[1]);
+    } else if (pinned) {
       const double expected = P * std::pow(L2, 3) / (48 * E * Iy) + 0.5 * (P / 2) * std::pow(L1, 3) / (3 * E * Iy);
-      const auto& pins = dynamic_cast<const elements::PinnedJoints&>(*p.model.contributions.back());
+      const auto& pins = dynamic_cast<const elements::PinnedJoints&>(*p.model.contributions[1]);
       const auto F = pins.force(r.finalState, 0);
       std::printf("pinned L-frame: w_mid = %.10e (closed form %.10e), joint force (%.3e, %.3e, %.10e) (P/2 = %.10e)\n",
                   w[1], expected, F[0], F[1], F[2], P / 2);
