@@ -1,6 +1,7 @@
 #include "ContactManager.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <functional>
 #include <memory>
@@ -26,7 +27,18 @@ ContactManager::ContactManager(std::shared_ptr<const elements::BeamSet> beams, s
     joined_.insert({a, b});
     joined_.insert({b, a});
   }
+  std::map<int, int> uses;  // elements per node (a free end has one, and no pin)
+  for (const auto& e : beams_->elements()) {
+    ++uses[e.node1];
+    ++uses[e.node2];
+  }
+  for (const auto& [node, n] : uses)
+    if (n == 1 && std::none_of(joined_.begin(), joined_.end(), [&](const auto& j) { return j.first == node; }))
+      freeEnd_.insert(node);
   for (const auto& b : beams_->beams()) {
+    inscribed_.push_back(b.section.shape == CrossSection::Shape::Rectangle
+                             ? 0.5 * std::min(b.section.width, b.section.height)
+                             : b.section.radius);
     std::vector<Line> lines;
     if (b.section.shape == CrossSection::Shape::Rectangle) {
       const double y = 0.5 * b.section.width, z = 0.5 * b.section.height;
@@ -240,6 +252,7 @@ void ContactManager::initialize(core::State& state) {
       throw core::InputError(s.str());
     }
   }
+  checkNoUnseenContact(state, true);
   prepareIteration(state);
   committed_ = points_;
 }
@@ -344,6 +357,76 @@ void ContactManager::evaluate(const core::State& state, const OwnsDof& owns, cor
   }
 }
 
+
+namespace {
+// Closest points of the segments [a1, a2] and [b1, b2] (parameters clamped to [0, 1]): the minimum of
+// a convex quadratic over the unit square, at its stationary point if inside, else on an edge.
+struct SegmentClosest {
+  double s = 0.0, t = 0.0, distance = 0.0;
+};
+SegmentClosest segmentClosest(const Vec3d& a1, const Vec3d& a2, const Vec3d& b1, const Vec3d& b2) {
+  const Vec3d u = a2 - a1, v = b2 - b1, w = a1 - b1;
+  const double uu = dot(u, u), uv = dot(u, v), vv = dot(v, v);
+  SegmentClosest best{0.0, 0.0, std::numeric_limits<double>::infinity()};
+  auto consider = [&](double s, double t) {
+    const double d = norm(a1 + s * u - b1 - t * v);
+    if (d < best.distance) best = {s, t, d};
+  };
+  auto onB = [&](const Vec3d& p) { return vv > 0 ? std::clamp(dot(p - b1, v) / vv, 0.0, 1.0) : 0.0; };
+  auto onA = [&](const Vec3d& p) { return uu > 0 ? std::clamp(dot(p - a1, u) / uu, 0.0, 1.0) : 0.0; };
+  consider(0.0, onB(a1));
+  consider(1.0, onB(a2));
+  consider(onA(b1), 0.0);
+  consider(onA(b2), 1.0);
+  const double det = uu * vv - uv * uv;
+  if (det > 1e-12 * uu * vv) {
+    const double s = (uv * dot(v, w) - vv * dot(u, w)) / det, t = (uu * dot(v, w) - uv * dot(u, w)) / det;
+    if (s > 0 && s < 1 && t > 0 && t < 1) consider(s, t);
+  }
+  return best;
+}
+}  // namespace
+
+void ContactManager::checkNoUnseenContact(const core::State& state, bool atStart) const {
+  // Contacts the point model cannot see: two beams whose axes come closer than the sum of their
+  // sections' inscribed radii (so they surely overlap) where no contact point can exist:
+  //  - at a free beam end (the closest points of the two lines lie beyond it, so no element pair
+  //    has them inside both elements): an end pressed into the side of another beam;
+  //  - nearly parallel (sine of the angle below "Parallel Line Tolerance"): point contact is
+  //    undefined there.
+  // A state with such an overlap is not a solution: the increment fails (a run cannot complete with
+  // it), and at the start the deck is refused.
+  const auto& elems = beams_->elements();
+  forEachElementPair(state, [&](int pi, int ea, int eb) {
+    const auto& pair = pairs_[pi];
+    const double reach = inscribed_[pair.beamA] + inscribed_[pair.beamB];
+    const BeamElement &A = elems[ea], &B = elems[eb];
+    const Vec3d &a1 = state.position[A.node1], &a2 = state.position[A.node2];
+    const Vec3d &b1 = state.position[B.node1], &b2 = state.position[B.node2];
+    const SegmentClosest c = segmentClosest(a1, a2, b1, b2);
+    if (!(c.distance < reach * (1.0 - 1e-9))) return;
+    const double sine = norm(cross(a2 - a1, b2 - b1)) / (norm(a2 - a1) * norm(b2 - b1));
+    const bool endA = (c.s == 0.0 && freeEnd_.count(A.node1)) || (c.s == 1.0 && freeEnd_.count(A.node2));
+    const bool endB = (c.t == 0.0 && freeEnd_.count(B.node1)) || (c.t == 1.0 && freeEnd_.count(B.node2));
+    const bool parallel = sine < options_.minimumSinAngle;
+    if (!parallel && !endA && !endB) return;
+    const Vec3d at = a1 + c.s * (a2 - a1);
+    std::ostringstream s;
+    s << "beams \"" << beams_->beams()[pair.beamA].name << "\" and \"" << beams_->beams()[pair.beamB].name
+      << "\" overlap near (" << at[0] << ", " << at[1] << ", " << at[2] << "), axes " << c.distance << " apart, ";
+    if (parallel)
+      s << "lying nearly parallel (sine of their angle " << sine
+        << " below Contact/Parallel Line Tolerance): point contact cannot model this contact (line contact is not "
+           "implemented)";
+    else
+      s << "at the free end of beam \"" << beams_->beams()[endA ? pair.beamA : pair.beamB].name
+        << "\": contact at a beam end is not modelled (a contact point needs the closest points of the two lines "
+           "within both beams)";
+    if (atStart) throw core::InputError(s.str() + "; move the beams apart");
+    throw std::runtime_error(s.str());
+  });
+}
+
 void ContactManager::checkNoPassThrough(const core::State& state) const {
   // Beams passed through each other when the axes of two of their elements crossed between the last
   // converged state and this one (the signed distance of the axes, oriented by continuity of
@@ -400,7 +483,10 @@ bool ContactManager::acceptSolution(core::State& state) {
     for (auto& [key, p] : points_)
       all = enforcer_->acceptPoint(strategyView(p, ks[i++], state), *p.state, worstViolation_) && all;
   }
-  if (all) checkNoPassThrough(state);
+  if (all) {
+    checkNoPassThrough(state);
+    checkNoUnseenContact(state, false);
+  }
   if (passes_ == 1) violations_.clear();
   violations_.push_back(worstViolation_);
   if (!all && passes_ >= enforcer_->maximumPasses()) {

@@ -147,6 +147,9 @@ class ContactManager : public core::Contribution {
   double beamCoordinate(int element, double xi) const;
   bool withinElement(int element, double xi) const;
   void checkNoPassThrough(const core::State& state) const;
+  // Overlaps no contact point can see (at a free beam end, or between nearly parallel beams): an
+  // error (InputError at the start, else the increment fails).
+  void checkNoUnseenContact(const core::State& state, bool atStart) const;
   // Asks the state's extra unknowns for the multipliers every point's strategy wants now (values of
   // points that keep theirs are kept); true if the layout changed.
   bool layoutMultipliers(core::State& state);
@@ -158,6 +161,8 @@ class ContactManager : public core::Contribution {
   ContactOptions options_;
   std::vector<std::vector<Line>> lines_;  // per beam
   std::set<std::pair<int, int>> joined_;  // options_.joinedNodes, both orders
+  std::set<int> freeEnd_;                 // nodes at a beam end that no other element or pin uses
+  std::vector<double> inscribed_;         // per beam: radius of the largest circle in its section
   std::map<std::tuple<int, int, int>, Point> points_, committed_, marked_;
   core::State reference_;  // the last converged state (orientation of new points, swept search)
   int numNodes_ = 0;

@@ -184,8 +184,9 @@ double segmentDistance(const std::array<double, 3>& a, const std::array<double, 
 // [0, box]^2 x [0, height], in-plane angles uniform, out-of-plane angles uniform within +-tilt. A drawn
 // fibre is kept only if its surface stays --gap clear of every fibre kept before, and, where the two
 // could touch during the compression (axes closer than 2 radius + gap + compress height), if they
-// cross at --min-angle or more: point contact is undefined between nearly parallel fibres (line
-// contact, issue 11). Each fibre's start is clamped and its end pinned, and the fibre is moved down
+// cross at --min-angle or more (point contact is undefined between nearly parallel fibres: line
+// contact, issue 11) and no end of either lies that close to the other (contact at a beam end is not
+// modelled). Each fibre's start is clamped and its end pinned, and the fibre is moved down
 // by the compression at its centre, u_z = -compress z_centre at T = 1 (the mat is squeezed; moving
 // its ends by the affine field instead would shorten every tilted fibre by about compress sin^2 of
 // its tilt, beyond the Euler strain of a slender fibre, and buckle it). The fibres touch where the
@@ -222,7 +223,14 @@ ParameterList network(const Options& o) {
       if (dist < 2 * r + gap) { fits = false; break; }
       const V e{q[0] - p[0], q[1] - p[1], q[2] - p[2]};
       const double cosine = std::abs(d[0] * e[0] + d[1] * e[1] + d[2] * e[2]) / len;
-      if (dist < 2 * r + gap + compress * H && cosine > std::cos(minAngle)) { fits = false; break; }
+      const double reach = 2 * r + gap + compress * H;
+      if (dist < reach && cosine > std::cos(minAngle)) { fits = false; break; }
+      // No fibre end within reach of another fibre: contact at a beam end is not modelled.
+      if (dist < reach && std::min({segmentDistance(a, a, p, q), segmentDistance(b, b, p, q), segmentDistance(p, p, a, b),
+                                    segmentDistance(q, q, a, b)}) < reach) {
+        fits = false;
+        break;
+      }
     }
     if (fits) kept.push_back({a, b});
   }

@@ -736,6 +736,48 @@ TEST(PassThrough, UnheldCrossingFailsTheIncrementAndIsNeverAResult) {
   EXPECT_THROW(p.contact->acceptSolution(s), std::runtime_error);
 }
 
+// Overlaps no contact point can see must never end "complete". The pushed-through deck with "upper"
+// moved (a) parallel above "lower" (before: the run completed with the beams 13 inside each other
+// and no force) and (b) short of "lower", its end 0.2 beside lower's axis, pushed down past it (the
+// closest points of the two lines lie beyond upper's end: no contact point exists). Each run stops
+// with the cause; the same overlaps present at the start refuse the deck.
+TEST(UnseenContact, ParallelBeamsAndBeamEndsStopTheRunWithTheCause) {
+  using Array = Teuchos::Array<double>;
+  struct Case {
+    const char* name;
+    std::vector<double> start, end;
+    const char* cause;
+  };
+  const std::vector<Case> cases = {
+      {"parallel", {0.0, 0.0, 3.0}, {100.0, 0.0, 3.0}, "nearly parallel"},
+      {"end", {45.0, -50.0, 3.0}, {45.0, -0.2, 3.0}, "at the free end of beam \"upper\""}};
+  for (const auto& c : cases) {
+    auto deck = pushedThrough("Penalty", 20, 100.0);
+    input::replaceAtPath(deck, "Beams/upper/Start", Array(c.start));
+    input::replaceAtPath(deck, "Beams/upper/End", Array(c.end));
+    for (const char* support : {"Supports/c/Fixed", "Supports/d/Fixed"})
+      input::replaceAtPath(deck, support, std::string("all"));
+    auto p = input::buildProblem(deck, c.name);
+    const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), c.name);
+    std::printf("%s: completed %d, T reached %.4f: %s\n", c.name, r.report.completed, r.report.lastT,
+                r.report.failure.c_str());
+    EXPECT_FALSE(r.report.completed) << c.name;
+    EXPECT_NE(r.report.failure.find(c.cause), std::string::npos) << r.report.failure;
+    // The beams touch when upper has come down by 2 of its 16: the last converged state is before that.
+    EXPECT_LT(r.report.lastT, 2.0 / 16.0 + 1e-9) << c.name;
+    Array s(c.start), e(c.end);
+    s[2] = e[2] = 0.5;
+    input::replaceAtPath(deck, "Beams/upper/Start", s);
+    input::replaceAtPath(deck, "Beams/upper/End", e);
+    try {
+      input::buildProblem(deck, c.name);
+      ADD_FAILURE() << c.name << ": overlapping beams at the start were accepted";
+    } catch (const core::InputError& error) {
+      EXPECT_NE(std::string(error.what()).find(c.cause), std::string::npos) << error.what();
+    }
+  }
+}
+
 TEST(Nodes, CircularExample1CompletesWithEachStrategyAndLaw) {
   // The crossing of Example 1 with circular sections lies on a node of each beam (x = 50 on beam 1,
   // beam 2's centre node). Before: every strategy stopped at T = 0.025.
