@@ -2,8 +2,10 @@
 // runs on double and on Sacado forward-AD types. Also the SO(3) maps used by the finite-rotation
 // update: exp (Rodrigues) and log (via the unit quaternion, stable at zero angle).
 #pragma once
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 #include <Sacado.hpp>
 
@@ -140,6 +142,34 @@ template <class T> Vec3<T> logSO3(const Mat3<T>& R) {
     factor = 2.0 * atan2(s, q0) / s;
   }
   return {{factor * q1, factor * q2, factor * q3}};
+}
+
+
+// Closest points of the segments [a1, a2] and [b1, b2] (parameters clamped to [0, 1]): the minimum of
+// a convex quadratic over the unit square, at its stationary point if inside, else on an edge.
+struct SegmentClosest {
+  double s = 0.0, t = 0.0, distance = 0.0;
+};
+inline SegmentClosest segmentClosest(const Vec3d& a1, const Vec3d& a2, const Vec3d& b1, const Vec3d& b2) {
+  const Vec3d u = a2 - a1, v = b2 - b1, w = a1 - b1;
+  const double uu = dot(u, u), uv = dot(u, v), vv = dot(v, v);
+  SegmentClosest best{0.0, 0.0, std::numeric_limits<double>::infinity()};
+  auto consider = [&](double s, double t) {
+    const double d = norm(a1 + s * u - b1 - t * v);
+    if (d < best.distance) best = {s, t, d};
+  };
+  auto onB = [&](const Vec3d& p) { return vv > 0 ? std::clamp(dot(p - b1, v) / vv, 0.0, 1.0) : 0.0; };
+  auto onA = [&](const Vec3d& p) { return uu > 0 ? std::clamp(dot(p - a1, u) / uu, 0.0, 1.0) : 0.0; };
+  consider(0.0, onB(a1));
+  consider(1.0, onB(a2));
+  consider(onA(b1), 0.0);
+  consider(onA(b2), 1.0);
+  const double det = uu * vv - uv * uv;
+  if (det > 1e-12 * uu * vv) {
+    const double s = (uv * dot(v, w) - vv * dot(u, w)) / det, t = (uu * dot(v, w) - uv * dot(u, w)) / det;
+    if (s > 0 && s < 1 && t > 0 && t < 1) consider(s, t);
+  }
+  return best;
 }
 
 }  // namespace bc::math

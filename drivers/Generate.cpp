@@ -15,6 +15,7 @@
 
 #include "core/Faults.hpp"
 #include "core/Parameters.hpp"
+#include "core/SmallMath.hpp"
 
 namespace bc::drivers {
 
@@ -153,33 +154,6 @@ ParameterList weave(const Options& o) {
 }
 
 
-// Closest distance of the segments [a, b] and [c, d]: the minimum of a convex quadratic over the unit
-// square of segment parameters, at its stationary point if that lies inside, else on an edge (the
-// distance of an end point to the other segment).
-double segmentDistance(const std::array<double, 3>& a, const std::array<double, 3>& b, const std::array<double, 3>& c,
-                       const std::array<double, 3>& d) {
-  using V = std::array<double, 3>;
-  auto sub = [](const V& x, const V& y) { return V{x[0] - y[0], x[1] - y[1], x[2] - y[2]}; };
-  auto dot = [](const V& x, const V& y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; };
-  auto at = [](const V& x, const V& t, double s) { return V{x[0] + s * t[0], x[1] + s * t[1], x[2] + s * t[2]}; };
-  auto toSegment = [&](const V& p, const V& x, const V& t) {
-    const double tt = dot(t, t), s = tt > 0 ? std::clamp(dot(sub(p, x), t) / tt, 0.0, 1.0) : 0.0;
-    const V q = sub(p, at(x, t, s));
-    return std::sqrt(dot(q, q));
-  };
-  const V u = sub(b, a), v = sub(d, c), w = sub(a, c);
-  double best = std::min({toSegment(a, c, v), toSegment(b, c, v), toSegment(c, a, u), toSegment(d, a, u)});
-  const double uu = dot(u, u), uv = dot(u, v), vv = dot(v, v), det = uu * vv - uv * uv;
-  if (det > 1e-12 * uu * vv) {
-    const double s = (uv * dot(v, w) - vv * dot(u, w)) / det, t = (uu * dot(v, w) - uv * dot(u, w)) / det;
-    if (s > 0 && s < 1 && t > 0 && t < 1) {
-      const V q = sub(at(a, u, s), at(c, v, t));
-      best = std::min(best, std::sqrt(dot(q, q)));
-    }
-  }
-  return best;
-}
-
 // A random fibre network: straight circular fibres of one length with centres uniform in the box
 // [0, box]^2 x [0, height], in-plane angles uniform, out-of-plane angles uniform within +-tilt. A drawn
 // fibre is kept only if its surface stays --gap clear of every fibre kept before, and, where the two
@@ -193,7 +167,10 @@ double segmentDistance(const std::array<double, 3>& a, const std::array<double, 
 // compression brings their crossings together. Reproducible: the sequence
 // comes from std::mt19937_64, whose output the C++ standard fixes, seeded with --seed.
 ParameterList network(const Options& o) {
-  using V = std::array<double, 3>;
+  using V = math::Vec3d;
+  const auto segmentDistance = [](const V& a, const V& b, const V& c, const V& d) {
+    return math::segmentClosest(a, b, c, d).distance;
+  };
   const int count = o.whole("fibres", 1, 100000), ne = o.whole("elements", 1, 100000);
   const double L = o["box"], H = o["height"], len = o["length"], r = o["radius"], gap = o["gap"];
   const double pi = std::acos(-1.0), tilt = o["tilt"] * pi / 180, minAngle = o["min-angle"] * pi / 180;
@@ -212,16 +189,16 @@ ParameterList network(const Options& o) {
       throw InputError("generate network: placed only " + std::to_string(kept.size()) + " of " + std::to_string(count) +
                        " fibres in " + std::to_string(attempts) +
                        " draws; give fewer --fibres, a smaller --radius, --gap or --min-angle, or a larger --box or --height");
-    const V c{uniform(0, L), uniform(0, L), uniform(0, H)};
+    const V c{{uniform(0, L), uniform(0, L), uniform(0, H)}};
     const double phi = uniform(0, pi), theta = uniform(-tilt, tilt);
-    const V d{std::cos(theta) * std::cos(phi), std::cos(theta) * std::sin(phi), std::sin(theta)};
-    const V a{c[0] - 0.5 * len * d[0], c[1] - 0.5 * len * d[1], c[2] - 0.5 * len * d[2]};
-    const V b{c[0] + 0.5 * len * d[0], c[1] + 0.5 * len * d[1], c[2] + 0.5 * len * d[2]};
+    const V d{{std::cos(theta) * std::cos(phi), std::cos(theta) * std::sin(phi), std::sin(theta)}};
+    const V a{{c[0] - 0.5 * len * d[0], c[1] - 0.5 * len * d[1], c[2] - 0.5 * len * d[2]}};
+    const V b{{c[0] + 0.5 * len * d[0], c[1] + 0.5 * len * d[1], c[2] + 0.5 * len * d[2]}};
     bool fits = true;
     for (const auto& [p, q] : kept) {
       const double dist = segmentDistance(a, b, p, q);
       if (dist < 2 * r + gap) { fits = false; break; }
-      const V e{q[0] - p[0], q[1] - p[1], q[2] - p[2]};
+      const V e{{q[0] - p[0], q[1] - p[1], q[2] - p[2]}};
       const double cosine = std::abs(d[0] * e[0] + d[1] * e[1] + d[2] * e[2]) / len;
       const double reach = 2 * r + gap + compress * H;
       if (dist < reach && cosine > std::cos(minAngle)) { fits = false; break; }
