@@ -23,6 +23,7 @@ using Key = std::tuple<int, int, int>;
 ContactManager::ContactManager(std::shared_ptr<const elements::BeamSet> beams, std::vector<ContactPairSpec> pairs,
                                std::unique_ptr<ConstraintEnforcer> enforcer, ContactOptions options)
     : beams_(std::move(beams)), pairs_(std::move(pairs)), enforcer_(std::move(enforcer)), options_(options) {
+  for (std::size_t i = 0; i < pairs_.size(); ++i) pairIndex_[{pairs_[i].beamA, pairs_[i].beamB}] = static_cast<int>(i);
   for (const auto& [a, b] : options_.joinedNodes) {
     joined_.insert({a, b});
     joined_.insert({b, a});
@@ -145,11 +146,15 @@ void ContactManager::forEachElementPair(const core::State& s,
       for (long long j = j0; j <= j1; ++j)
         for (long long k = k0; k <= k1; ++k) grid[cellKey(i, j, k)].push_back(static_cast<int>(e));
   }
-  for (std::size_t pi = 0; pi < pairs_.size(); ++pi) {
-    const auto& pair = pairs_[pi];
-    std::set<std::pair<int, int>> tested;
-    for (std::size_t ea = 0; ea < elems.size(); ++ea) {
-      if (elems[ea].beam != pair.beamA) continue;
+  // Element pairs (pair, element of its beam A, element of its beam B) whose boxes overlap, found
+  // from each element's cells (not by looping over every pair and element: with All Pairs of n
+  // beams that is n^2 / 2 pairs), then visited pair by pair in element order.
+  std::vector<std::tuple<int, int, int>> found;
+  std::vector<int> seen;
+  for (std::size_t ea = 0; ea < elems.size(); ++ea) {
+    if (!inPairs.count(elems[ea].beam)) continue;
+    seen.clear();
+    {
       const Box& A = boxes[ea];
       const auto [i0, i1] = range(A, 0);
       const auto [j0, j1] = range(A, 1);
@@ -160,7 +165,9 @@ void ContactManager::forEachElementPair(const core::State& s,
             auto it = grid.find(cellKey(i, j, k));
             if (it == grid.end()) continue;
             for (int eb : it->second) {
-              if (elems[eb].beam != pair.beamB || !tested.insert({(int)ea, eb}).second) continue;
+              const auto pairIt = pairIndex_.find({elems[ea].beam, elems[eb].beam});
+              if (pairIt == pairIndex_.end() || std::find(seen.begin(), seen.end(), eb) != seen.end()) continue;
+              seen.push_back(eb);
               // Elements that share a node (beams joined there) or whose nodes are pinned together
               // do not contact each other.
               const BeamElement &A0 = elems[ea], &B0 = elems[eb];
@@ -171,11 +178,14 @@ void ContactManager::forEachElementPair(const core::State& s,
               const Box& B = boxes[eb];
               bool overlap = true;
               for (int c = 0; c < 3; ++c) overlap = overlap && A.lo[c] <= B.hi[c] && B.lo[c] <= A.hi[c];
-              if (overlap) visit((int)pi, (int)ea, eb);
+              if (overlap) found.emplace_back(pairIt->second, (int)ea, eb);
             }
           }
     }
   }
+  std::stable_sort(found.begin(), found.end(),
+                   [](const auto& a, const auto& b) { return std::get<0>(a) < std::get<0>(b); });
+  for (const auto& [pi, ea, eb] : found) visit(pi, ea, eb);
 }
 
 bool ContactManager::nearElement(int element, double xi) const {

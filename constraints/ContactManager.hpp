@@ -161,6 +161,7 @@ class ContactManager : public core::Contribution {
   ContactOptions options_;
   std::vector<std::vector<Line>> lines_;  // per beam
   std::set<std::pair<int, int>> joined_;  // options_.joinedNodes, both orders
+  std::map<std::pair<int, int>, int> pairIndex_;  // (beam A, beam B) -> index into pairs_
   std::set<int> freeEnd_;                 // nodes at a beam end that no other element or pin uses
   std::vector<double> inscribed_;         // per beam: radius of the largest circle in its section
   std::map<std::tuple<int, int, int>, Point> points_, committed_, marked_;
