@@ -46,6 +46,31 @@ Gaps<T> gaps(const Vec3<T>& pA1, const Vec3<T>& pA2, const Vec3<T>& pB1, const V
   return g;
 }
 
+// Line contact at a Gauss point of line A (fixed parameter xi, a material point) against line B: the
+// point projected on line B (t_B . (p_B - p_A) = 0, linear in eta for a straight line), the normal
+// along p_B - p_A, the gap |p_B - p_A| - (r_A + r_B), and the slip along line B from etaPrev. Line A's
+// own tangential gap is zero (the point is material on A).
+template <class T>
+Gaps<T> lineGaps(const Vec3<T>& pA1, const Vec3<T>& pA2, const Vec3<T>& pB1, const Vec3<T>& pB2, double radiusSum,
+                 double xi, double etaPrev) {
+  using std::sqrt;
+  Gaps<T> g;
+  const Vec3<T> tA = pA2 - pA1, tB = pB2 - pB1;
+  const Vec3<T> pA = pA1 + xi * tA;
+  g.xi = T(xi);
+  g.eta = dot(tB, pA - pB1) / dot(tB, tB);
+  const Vec3<T> d = pB1 + g.eta * tB - pA;
+  g.gN = sqrt(dot(d, d)) - radiusSum;
+  g.gT1 = T(0.0);
+  g.gT2 = (g.eta - etaPrev) * sqrt(dot(tB, tB));
+  g.cosine = dot(tA, tB) / (sqrt(dot(tA, tA)) * sqrt(dot(tB, tB)));
+  return g;
+}
+
+// R and K of every gap from their gradients and Hessians in the 12 end-point coordinates.
+template <class Fn>
+ContactKinematics kinematicsOf(const LinePairInput& in, Fn gapsOf);
+
 }  // namespace
 
 ClosestPoints closestPoints(const LinePairInput& in) {
@@ -70,6 +95,34 @@ ClosestPoints closestPoints(const LinePairInput& in) {
 }
 
 ContactKinematics contactKinematics(const LinePairInput& in, double sigma, double xiPrev, double etaPrev) {
+  return kinematicsOf(in, [&](const auto& P) { return gaps(P[0], P[1], P[2], P[3], in.radiusSum, sigma, xiPrev, etaPrev); });
+}
+
+ClosestPoints lineProjection(const LinePairInput& in, double xi) {
+  ClosestPoints cp;
+  const Vec3d pA1 = in.xA1 + in.RA1 * in.oA, pA2 = in.xA2 + in.RA2 * in.oA;
+  const Vec3d pB1 = in.xB1 + in.RB1 * in.oB, pB2 = in.xB2 + in.RB2 * in.oB;
+  const Vec3d tA = pA2 - pA1, tB = pB2 - pB1;
+  cp.sinAngle = norm(cross(tB, tA)) / (norm(tA) * norm(tB));
+  cp.xi = xi;
+  cp.pA = pA1 + xi * tA;
+  cp.eta = dot(tB, cp.pA - pB1) / dot(tB, tB);
+  cp.pB = pB1 + cp.eta * tB;
+  cp.cA = in.xA1 + xi * (in.xA2 - in.xA1);
+  cp.cB = in.xB1 + cp.eta * (in.xB2 - in.xB1);
+  cp.distance = norm(cp.pB - cp.pA);
+  cp.normal = cp.distance > 0.0 ? (1.0 / cp.distance) * (cp.pB - cp.pA) : Vec3d{};
+  cp.gap = cp.distance - in.radiusSum;
+  return cp;
+}
+
+ContactKinematics lineKinematics(const LinePairInput& in, double xi, double etaPrev) {
+  return kinematicsOf(in, [&](const auto& P) { return lineGaps(P[0], P[1], P[2], P[3], in.radiusSum, xi, etaPrev); });
+}
+
+namespace {
+template <class Fn>
+ContactKinematics kinematicsOf(const LinePairInput& in, Fn gapsOf) {
   // The gaps depend on the 24 dofs only through the four line end points P_m = x_m + R_m o (12
   // coordinates). Nested forward AD gives the gradient G and Hessian H of each gap in those 12;
   // the chain rule then gives R and K in the 24 dofs. With the spin variation w (inner) and the
@@ -89,7 +142,7 @@ ContactKinematics contactKinematics(const LinePairInput& in, double sigma, doubl
     const Vec3d p = *x[m] + r[m];
     for (int a = 0; a < 3; ++a) P[m][a] = Out(kPoints, 3 * m + a, In(kPoints, 3 * m + a, p[a]));
   }
-  const Gaps<Out> g = gaps(P[0], P[1], P[2], P[3], in.radiusSum, sigma, xiPrev, etaPrev);
+  const Gaps<Out> g = gapsOf(P);
 
   // J: 12 x 24, dP_(m,a) / d dof; nonzero only in node m's 6 columns: [I, -skew(r_m)].
   double J[kPoints][kPairDofs] = {};
@@ -153,5 +206,7 @@ ContactKinematics contactKinematics(const LinePairInput& in, double sigma, doubl
   }
   return out;
 }
+
+}  // namespace
 
 }  // namespace bc::constraints

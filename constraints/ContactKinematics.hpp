@@ -66,6 +66,15 @@ struct ContactKinematics {
   Vector24 cosineR{};
 };
 
+// Line contact (circular sections, nearly parallel axes) at the Gauss point xi of line A: its
+// projection on line B, in double precision (sinAngle, xi, eta, pA, pB, cA, cB, distance, normal along
+// p_B - p_A, gap = distance - (r_A + r_B); sigma unused).
+ClosestPoints lineProjection(const LinePairInput& in, double xi);
+// The gaps of that Gauss point with their derivatives: g_N = |p_B - p_A| - (r_A + r_B) with eta from
+// the projection (its dependence included), g_T1 = 0 (the point is material on A), g_T2 = (eta -
+// etaPrev) |p_B2 - p_B1| (slip along B).
+ContactKinematics lineKinematics(const LinePairInput& in, double xi, double etaPrev);
+
 // All gaps and their derivatives at the current state; `sigma` from closestPoints (or the history),
 // `xiPrev`, `etaPrev` the previous converged contact point (for the tangential gaps).
 ContactKinematics contactKinematics(const LinePairInput& in, double sigma, double xiPrev, double etaPrev);

@@ -102,3 +102,68 @@ TEST(ContactKinematics, VariationsMatchCentralDifferences) {
   EXPECT_LT(worstR, 1e-6);
   EXPECT_LT(worstK, 1e-6);
 }
+
+// Line contact at a Gauss point: two parallel circular beams (axes along X, B 2.5 above A, radii
+// summing to 2): at xi = 0.3 on A's element from x = 0 to 10 the projection on B's element from
+// x = -2 to 8 is eta = 0.5, the gap 0.5, the normal +Z; moving B up by dz opens the gap by dz, shared
+// by B's nodes as 1 - eta and eta; A's point (material) moves with its nodes as 1 - xi and xi.
+TEST(LineKinematics, ParallelBeamsGapAndProjection) {
+  LinePairInput in;
+  in.xA1 = {{0, 0, 0}}; in.xA2 = {{10, 0, 0}};
+  in.xB1 = {{-2, 0, 2.5}}; in.xB2 = {{8, 0, 2.5}};
+  in.RA1 = in.RA2 = in.RB1 = in.RB2 = identity3<double>();
+  in.radiusSum = 2.0;
+  const auto cp = lineProjection(in, 0.3);
+  EXPECT_NEAR(cp.eta, 0.5, 1e-14);
+  EXPECT_NEAR(cp.gap, 0.5, 1e-14);
+  EXPECT_NEAR(cp.normal[2], 1.0, 1e-14);
+  EXPECT_NEAR(cp.sinAngle, 0.0, 1e-14);
+  const auto k = lineKinematics(in, 0.3, 0.45);
+  EXPECT_NEAR(k.normal.value, 0.5, 1e-14);
+  EXPECT_NEAR(k.normal.R[12 + 2], 0.5, 1e-14);
+  EXPECT_NEAR(k.normal.R[18 + 2], 0.5, 1e-14);
+  EXPECT_NEAR(k.normal.R[2], -0.7, 1e-14);
+  EXPECT_NEAR(k.normal.R[6 + 2], -0.3, 1e-14);
+  EXPECT_NEAR(k.tangent2.value, 0.05 * 10, 1e-13);  // (eta - etaPrev) |t_B|
+  EXPECT_NEAR(k.tangent1.value, 0.0, 0.0);
+}
+
+TEST(LineKinematics, VariationsMatchCentralDifferences) {
+  std::mt19937 g(23);
+  double worstR = 0.0, worstK = 0.0;
+  for (int trial = 0; trial < 10; ++trial) {
+    LinePairInput in;
+    in.xA1 = {{0, 0, 0}}; in.xA2 = {{10, 0, 0}};
+    in.xB1 = {{-2, 0.3, 2.5}}; in.xB2 = {{8, -0.2, 2.6}};  // nearly parallel, not exactly
+    in.oA = trial % 2 ? Vec3d{{0, 0.4, 0.2}} : Vec3d{};      // off-axis lines too (general offsets)
+    in.oB = trial % 2 ? Vec3d{{0, -0.3, 0.1}} : Vec3d{};
+    const Mat3d Q = expSO3(randomVec(g, 1.0));
+    for (Vec3d* x : {&in.xA1, &in.xA2, &in.xB1, &in.xB2}) *x = Q * (*x + randomVec(g, 0.3));
+    for (Mat3d* R : {&in.RA1, &in.RA2, &in.RB1, &in.RB2}) *R = Q * expSO3(randomVec(g, 0.3));
+    in.radiusSum = 2.0;
+    const double xi = 0.1 + 0.08 * trial, etaP = 0.4;
+    const auto k = lineKinematics(in, xi, etaP);
+    const double h = 1e-6;
+    double rmax = 0, kmax = 0, errR = 0, errK = 0;
+    for (int j = 0; j < kPairDofs; ++j) {
+      const auto kp = lineKinematics(perturbedState(in, j, h), xi, etaP);
+      const auto km = lineKinematics(perturbedState(in, j, -h), xi, etaP);
+      const GapDerivatives* a[2] = {&k.normal, &k.tangent2};
+      const GapDerivatives* p[2] = {&kp.normal, &kp.tangent2};
+      const GapDerivatives* m[2] = {&km.normal, &km.tangent2};
+      for (int q = 0; q < 2; ++q) {
+        rmax = std::max(rmax, std::abs(a[q]->R[j]));
+        errR = std::max(errR, std::abs((p[q]->value - m[q]->value) / (2 * h) - a[q]->R[j]));
+        for (int i = 0; i < kPairDofs; ++i) {
+          kmax = std::max(kmax, std::abs(a[q]->K[kPairDofs * i + j]));
+          errK = std::max(errK, std::abs((p[q]->R[i] - m[q]->R[i]) / (2 * h) - a[q]->K[kPairDofs * i + j]));
+        }
+      }
+    }
+    worstR = std::max(worstR, errR / rmax);
+    worstK = std::max(worstK, errK / kmax);
+  }
+  std::printf("line contact, max relative error: R %.2e, K %.2e\n", worstR, worstK);
+  EXPECT_LT(worstR, 1e-6);
+  EXPECT_LT(worstK, 1e-6);
+}
