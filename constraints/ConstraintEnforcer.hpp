@@ -113,6 +113,12 @@ class ConstraintEnforcer {
   // Second stage: friction states, augmentation. Return false to solve the increment again.
   // `worstViolation` collects the largest constraint violation (stopping test and output).
   virtual bool acceptPoint(const ContactPoint& p, PointState& s, double& worstViolation) const = 0;
+  // Whether the strategy can enforce line contact: the contact manager then hands it the Gauss points
+  // of nearly parallel circular beams as points (each standing for a length of line A; the manager
+  // weights the residual and tangent by that length, so the law acts per unit length). A strategy
+  // with multipliers per point would over-constrain a line (a multiplier per Gauss point is not a
+  // stable discretization), so it says no; such beams then stop the run as an unseen contact.
+  virtual bool enforcesLines() const { return true; }
   // Upper bound on the Newton solves of one increment (active-set or augmentation passes).
   virtual int maximumPasses() const { return 1; }
   // The forces at the converged state, for output (before commitPoint). By default the evaluation

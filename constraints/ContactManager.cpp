@@ -24,6 +24,27 @@ ContactManager::ContactManager(std::shared_ptr<const elements::BeamSet> beams, s
                                std::unique_ptr<ConstraintEnforcer> enforcer, ContactOptions options)
     : beams_(std::move(beams)), pairs_(std::move(pairs)), enforcer_(std::move(enforcer)), options_(options) {
   for (std::size_t i = 0; i < pairs_.size(); ++i) pairIndex_[{pairs_[i].beamA, pairs_[i].beamB}] = static_cast<int>(i);
+  lineContact_ = enforcer_->enforcesLines() && options_.lineSinAngle > 0.0 && options_.lineGaussPoints > 0;
+  // Gauss-Legendre points on [0, 1]: roots of P_n by Newton's method from the Chebyshev guesses.
+  const int n = std::max(options_.lineGaussPoints, 1);
+  for (int i = 0; i < n; ++i) {
+    double x = std::cos(M_PI * (i + 0.75) / (n + 0.5)), dp = 1.0;
+    for (int it = 0; it < 100; ++it) {
+      double p0 = 1.0, p1 = x;
+      for (int k = 2; k <= n; ++k) {
+        const double p2 = ((2 * k - 1) * x * p1 - (k - 1) * p0) / k;
+        p0 = p1;
+        p1 = p2;
+      }
+      if (n == 1) p0 = 1.0, p1 = x;
+      dp = n * (x * p1 - p0) / (x * x - 1.0);
+      const double step = p1 / dp;
+      x -= step;
+      if (std::abs(step) < 1e-16) break;
+    }
+    gaussXi_.push_back(0.5 * (1.0 - x));
+    gaussWeight_.push_back(1.0 / ((1.0 - x * x) * dp * dp));  // (2 / ((1 - x^2) P_n'^2)) / 2
+  }
   for (const auto& [a, b] : options_.joinedNodes) {
     joined_.insert({a, b});
     joined_.insert({b, a});
@@ -60,6 +81,20 @@ ContactManager::ContactManager(std::shared_ptr<const elements::BeamSet> beams, s
 
 double ContactManager::beamCoordinate(int element, double xi) const {
   return beams_->elements()[element].index + xi;
+}
+
+bool ContactManager::inLineContact(int pair, int elementA, int elementB) const {
+  if (!lineContact_) return false;
+  const auto& beams = beams_->beams();
+  if (beams[pairs_[pair].beamA].section.shape != CrossSection::Shape::Circle ||
+      beams[pairs_[pair].beamB].section.shape != CrossSection::Shape::Circle)
+    return false;
+  const ClosestPoints ref = closestPoints(axisInput(elementA, elementB, reference_));
+  return ref.sinAngle < options_.lineSinAngle;
+}
+
+double ContactManager::lineWeight(const Point& p) const {
+  return gaussWeight_[p.gauss()] * beams_->elements()[p.elementA].data.L0;
 }
 
 bool ContactManager::withinElement(int element, double xi) const {
@@ -213,6 +248,26 @@ std::map<Key, ContactManager::Candidate> ContactManager::detect(const core::Stat
   std::map<Key, double> outside;  // how far the chosen candidate lies from its elements' centres
   forEachElementPair(s, [&](int pi, int ea, int eb) {
     const auto& pair = pairs_[pi];
+    if (inLineContact(pi, ea, eb)) {
+      // Each Gauss point of the element of beam A, on the element of beam B its projection falls
+      // in (a known point keeps its element while within kStay beyond it, as point contact does).
+      const LinePairInput in = lineInput(ea, 0, eb, 0, s);
+      for (int q = 0; q < (int)gaussXi_.size(); ++q) {
+        const ClosestPoints cp = lineProjection(in, gaussXi_[q]);
+        if (!withinElement(eb, cp.eta)) continue;
+        const Key key{pi, -1 - q, ea};
+        constexpr double kStay = 0.05;
+        double out = std::abs(cp.eta - 0.5);
+        const auto known = points_.find(key);
+        if (known != points_.end() && known->second.elementB == eb && out <= 0.5 + kStay) out = -1.0;
+        auto f = outside.find(key);
+        if (f == outside.end() || out < f->second) {
+          found[key] = Candidate{ea, eb, cp};
+          outside[key] = out;
+        }
+      }
+      return;
+    }
     for (int la = 0; la < (int)lines_[pair.beamA].size(); ++la)
       for (int lb = 0; lb < (int)lines_[pair.beamB].size(); ++lb) {
         const LinePairInput in = lineInput(ea, la, eb, lb, s);
@@ -316,7 +371,8 @@ const double* ContactManager::multipliers(const Point& p, const core::State& sta
 }
 
 ContactPoint ContactManager::strategyView(const Point& p, const ContactKinematics& k, const core::State& state) const {
-  return ContactPoint{k, pairs_[p.pair].friction, options_.frictionLaw, multipliers(p, state)};
+  // Line contact is frictionless here (the transverse slip of a line is not modelled yet).
+  return ContactPoint{k, p.line() ? 0.0 : pairs_[p.pair].friction, options_.frictionLaw, multipliers(p, state)};
 }
 
 std::vector<GlobalDof> ContactManager::blockDofs(const Point& p) const {
@@ -337,6 +393,9 @@ std::array<GlobalDof, kPairDofs> ContactManager::pointDofs(const Point& p) const
 }
 
 ContactKinematics ContactManager::kinematics(const Point& p, const core::State& state) const {
+  if (p.line())
+    return lineKinematics(lineInput(p.elementA, 0, p.elementB, 0, state), gaussXi_[p.gauss()],
+                          p.etaPrev - beams_->elements()[p.elementB].index);
   const LinePairInput in = lineInput(p.elementA, p.lineA, p.elementB, p.lineB, state);
   const double xiPrev = p.xiPrev - beams_->elements()[p.elementA].index;
   const double etaPrev = p.etaPrev - beams_->elements()[p.elementB].index;
@@ -363,6 +422,12 @@ void ContactManager::evaluate(const core::State& state, const OwnsDof& owns, cor
     f.assign(n, 0.0);
     K.assign(std::size_t(n) * n, 0.0);
     enforcer_->evaluate(strategyView(p, k, state), *p.state, f.data(), tangent ? K.data() : nullptr);
+    if (p.line()) {
+      const double w = lineWeight(p);
+      for (double& v : f) v *= w;
+      if (tangent)
+        for (double& v : K) v *= w;
+    }
     sink.add(d.data(), n, f.data(), tangent ? K.data() : nullptr);
   }
 }
@@ -381,6 +446,7 @@ void ContactManager::checkNoUnseenContact(const core::State& state, bool atStart
   const auto& elems = beams_->elements();
   forEachElementPair(state, [&](int pi, int ea, int eb) {
     const auto& pair = pairs_[pi];
+    if (inLineContact(pi, ea, eb)) return;  // line contact sees parallel beams and their ends
     const double reach = inscribed_[pair.beamA] + inscribed_[pair.beamB];
     const BeamElement &A = elems[ea], &B = elems[eb];
     const Vec3d &a1 = state.position[A.node1], &a2 = state.position[A.node2];
@@ -390,7 +456,7 @@ void ContactManager::checkNoUnseenContact(const core::State& state, bool atStart
     const double sine = norm(cross(a2 - a1, b2 - b1)) / (norm(a2 - a1) * norm(b2 - b1));
     const bool endA = (c.s == 0.0 && freeEnd_.count(A.node1)) || (c.s == 1.0 && freeEnd_.count(A.node2));
     const bool endB = (c.t == 0.0 && freeEnd_.count(B.node1)) || (c.t == 1.0 && freeEnd_.count(B.node2));
-    const bool parallel = sine < options_.minimumSinAngle;
+    const bool parallel = sine < options_.minimumSinAngle && !inLineContact(pi, ea, eb);
     if (!parallel && !endA && !endB) return;
     const Vec3d at = a1 + c.s * (a2 - a1);
     std::ostringstream s;
@@ -398,8 +464,9 @@ void ContactManager::checkNoUnseenContact(const core::State& state, bool atStart
       << "\" overlap near (" << at[0] << ", " << at[1] << ", " << at[2] << "), axes " << c.distance << " apart, ";
     if (parallel)
       s << "lying nearly parallel (sine of their angle " << sine
-        << " below Contact/Parallel Line Tolerance): point contact cannot model this contact (line contact is not "
-           "implemented)";
+        << " below Contact/Parallel Line Tolerance): point contact cannot model this contact, and line contact "
+           "is available only between circular sections with a strategy that enforces lines (Penalty, Augmented "
+           "Lagrange; not " << enforcer_->type() << ")";
     else
       s << "at the free end of beam \"" << beams_->beams()[endA ? pair.beamA : pair.beamB].name
         << "\": contact at a beam end is not modelled (a contact point needs the closest points of the two lines "
@@ -486,6 +553,11 @@ void ContactManager::commitStep(const core::State& state) {
     const ContactPoint view = strategyView(p, k, state);
     p.result = enforcer_->reportedForces(view, *p.state);
     enforcer_->commitPoint(view, *p.state);
+    if (p.line()) {  // reported as the force of the length the Gauss point stands for
+      const double w = lineWeight(p);
+      p.result.lambdaN *= w;
+      for (double& t : p.result.lambdaT) t *= w;
+    }
     p.kinematics = k;
     const ClosestPoints cp = pointGeometry(p, state);
     p.position = 0.5 * (cp.pA + cp.pB);
@@ -572,6 +644,11 @@ void ContactManager::loadCommitted(core::CheckpointIn& in, const core::State& co
 }
 
 ClosestPoints ContactManager::pointGeometry(const Point& p, const core::State& s) const {
+  if (p.line()) {
+    ClosestPoints cp = lineProjection(lineInput(p.elementA, 0, p.elementB, 0, s), gaussXi_[p.gauss()]);
+    cp.sinAngle = 1.0;  // a line point is defined at any angle
+    return cp;
+  }
   const LinePairInput in = lineInput(p.elementA, p.lineA, p.elementB, p.lineB, s);
   ClosestPoints cp = closestPoints(in);
   orient(cp, p.sigma, in.radiusSum);

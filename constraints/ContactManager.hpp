@@ -44,6 +44,11 @@ struct ContactOptions {
   double minimumSinAngle = 1e-3;       // lines closer to parallel are skipped (point contact undefined)
   bool allowInitialPenetration = false;
   FrictionLaw frictionLaw = FrictionLaw::IsotropicCoulomb;
+  // Line contact: element pairs of two circular beams whose axes' angle (at the last converged
+  // state) has a sine below this are in line contact, with this many Gauss points per element of
+  // beam A (frictionless); 0 switches line contact off.
+  double lineSinAngle = 0.0871557427476582;  // sin 5 degrees
+  int lineGaussPoints = 6;
   // Pairs of distinct nodes joined without sharing a node (pinned joints): elements meeting there
   // are no contact candidates, like elements that share a node.
   std::vector<std::pair<int, int>> joinedNodes;
@@ -97,7 +102,11 @@ class ContactManager : public core::Contribution {
 
   // For tests: the current points and their results of the last commit.
   struct Point {
+    // A point contact has its two lines (lineA, lineB >= 0). A Gauss point of line contact has
+    // lineA = -1 - its Gauss index and lineB = its element of beam A (so the key is unique).
     int pair = 0, lineA = 0, lineB = 0;
+    bool line() const { return lineA < 0; }
+    int gauss() const { return -1 - lineA; }
     int elementA = 0, elementB = 0;  // indices into the beam set's element list
     double sigma = 1.0;
     double xiPrev = 0.0, etaPrev = 0.0;  // previous converged point, as beam coordinates (element + xi)
@@ -164,6 +173,13 @@ class ContactManager : public core::Contribution {
   std::map<std::pair<int, int>, int> pairIndex_;  // (beam A, beam B) -> index into pairs_
   std::set<int> freeEnd_;                 // nodes at a beam end that no other element or pin uses
   std::vector<double> inscribed_;         // per beam: radius of the largest circle in its section
+  std::vector<double> gaussXi_, gaussWeight_;  // line contact: Gauss points on [0, 1], weights summing to 1
+  bool lineContact_ = false;              // the strategy enforces lines and lineSinAngle > 0
+  // Whether the element pair is in line contact (both beams circular, axes nearly parallel at the
+  // last converged state).
+  bool inLineContact(int pair, int elementA, int elementB) const;
+  // The length of line A a Gauss point stands for (its weight times the element's reference length).
+  double lineWeight(const Point& p) const;
   std::map<std::tuple<int, int, int>, Point> points_, committed_, marked_;
   core::State reference_;  // the last converged state (orientation of new points, swept search)
   int numNodes_ = 0;

@@ -138,6 +138,12 @@ ParameterSpec::Check inRange(double lo, double hi) {
     return (v > lo && v <= hi) ? std::string() : "must be in (" + show(lo) + ", " + show(hi) + "], got " + show(v);
   };
 }
+ParameterSpec::Check closedRange(double lo, double hi) {
+  return [lo, hi](const Teuchos::ParameterEntry& e) {
+    const double v = number(e);
+    return (v >= lo && v <= hi) ? std::string() : "must be in [" + show(lo) + ", " + show(hi) + "], got " + show(v);
+  };
+}
 ParameterSpec::Check vector3() {
   return [](const Teuchos::ParameterEntry& e) {
     const auto& a = Teuchos::any_cast<Teuchos::Array<double>>(e.getAny());

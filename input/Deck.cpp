@@ -219,6 +219,13 @@ const ParameterSpec& contactSpec() {
     p.add("Parallel Line Tolerance", 1e-3,
           "contact lines whose angle has a sine below this are skipped (point contact is undefined there)",
           core::inRange(0.0, 1.0), "in (0, 1]");
+    p.add("Line Contact Angle", 5.0,
+          "element pairs of two circular beams whose axes are closer to parallel than this (at the last converged "
+          "state) are in line contact (a traction along the line, frictionless) instead of point contact; 0: no "
+          "line contact [degrees]",
+          core::closedRange(0.0, 45.0), "0 to 45");
+    p.add("Line Gauss Points", 6, "Gauss points of line contact per element of beam A", core::wholeBetween(1, 32),
+          "1 to 32");
     p.add("Allow Initial Penetration", false, "accept beams that overlap at T = 0 instead of stopping");
     p.addChoice("Friction Law", "Isotropic Coulomb", {"Isotropic Coulomb", "Per Line"},
                 "\"Isotropic Coulomb\": the tangential force vector obeys |F_T| <= mu F_N; \"Per Line\": each of "
@@ -421,6 +428,8 @@ void buildContact(Problem& p, ParameterList& c, const std::string& path) {
   options.searchMargin = c.isParameter("Search Margin") ? c.get<double>("Search Margin") : 0.5 * largest;
   options.minimumSinAngle = c.get<double>("Parallel Line Tolerance");
   options.allowInitialPenetration = c.get<bool>("Allow Initial Penetration");
+  options.lineSinAngle = std::sin(c.get<double>("Line Contact Angle") * std::acos(-1.0) / 180.0);
+  options.lineGaussPoints = c.get<int>("Line Gauss Points");
   options.frictionLaw = c.get<std::string>("Friction Law") == "Per Line" ? constraints::FrictionLaw::PerLine
                                                                          : constraints::FrictionLaw::IsotropicCoulomb;
   for (const auto& c : p.model.contributions)
