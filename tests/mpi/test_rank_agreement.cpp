@@ -84,23 +84,23 @@ void compare(const std::string& solver) {
 TEST(RankAgreement, DirectSolver) { compare("Direct"); }
 TEST(RankAgreement, GmresSolver) { compare("GMRES"); }
 
-// Example 1 (contact, penalty and augmented Lagrange) on 2 ranks and on 1.
+// Example 1 (point contact, each strategy) and the parallel rods (line contact) on 2 ranks and on 1.
 namespace {
 // Example 1's deck edited by parameter path: the strategy, and Newton solved to round-off, so that
 // the comparison measures the ranks, not where Newton stopped inside its tolerance (friction carries
 // such differences from step to step).
-Teuchos::ParameterList example1Deck(const std::string& type) {
-  Teuchos::ParameterList d = input::readParameterXmlFile(std::string(BC_SOURCE_DIR) + "/input/example1.xml");
+Teuchos::ParameterList deckWith(const std::string& file, const std::string& type) {
+  Teuchos::ParameterList d = input::readParameterXmlFile(std::string(BC_SOURCE_DIR) + "/input/" + file);
   input::replaceAtPath(d, "Contact/Enforcement/Type", type);
   input::setAtPath(d, "Nonlinear Solver/Residual Tolerance", 1e-12);
   input::setAtPath(d, "Nonlinear Solver/Increment Tolerance", 1e-12);
   return d;
 }
-void compareExample1(const std::string& type, double tolerance) {
+void compareDeck(const std::string& file, const std::string& type, double tolerance) {
   auto world = Tpetra::getDefaultComm();
   auto self = Teuchos::rcp(new Teuchos::MpiComm<int>(MPI_COMM_SELF));
-  auto pw = input::buildProblem(example1Deck(type), "example1");
-  auto ps = input::buildProblem(example1Deck(type), "example1");
+  auto pw = input::buildProblem(deckWith(file, type), "example1");
+  auto ps = input::buildProblem(deckWith(file, type), "example1");
   const auto rw = test::runQuiet(pw, world, "example1_world");
   const auto rs = test::runQuiet(ps, self, "example1_self" + std::to_string(world->getRank()));
   ASSERT_TRUE(rw.report.completed) << rw.report.failure;
@@ -112,7 +112,7 @@ void compareExample1(const std::string& type, double tolerance) {
       diff = std::max(diff, std::abs(rw.finalState.displacement(n)[k] - rs.finalState.displacement(n)[k]));
     }
   if (world->getRank() == 0)
-    std::printf("Example 1, %s, %d ranks vs 1: max |du| / max |u| = %.2e, Newton %d vs %d\n", type.c_str(),
+    std::printf("%s, %s, %d ranks vs 1: max |du| / max |u| = %.2e, Newton %d vs %d\n", file.c_str(), type.c_str(),
                 world->getSize(), diff / umax, rw.report.newtonIterations, rs.report.newtonIterations);
   EXPECT_LT(diff / umax, tolerance);
 }
@@ -121,6 +121,9 @@ void compareExample1(const std::string& type, double tolerance) {
 // Each strategy to round-off. (Penalty once differed by 5e-5 where a point touched with a force of
 // about zero and came out "open" on one rank count and "slip" on the other; with the predictor the
 // path no longer passes through that state. A tie there would again show up here.)
-TEST(RankAgreement, Example1Penalty) { compareExample1("Penalty", 1e-10); }
-TEST(RankAgreement, Example1AugmentedLagrange) { compareExample1("Augmented Lagrange", 1e-10); }
-TEST(RankAgreement, Example1LagrangeMultiplier) { compareExample1("Lagrange Multiplier", 1e-10); }
+TEST(RankAgreement, Example1Penalty) { compareDeck("example1.xml", "Penalty", 1e-10); }
+TEST(RankAgreement, Example1AugmentedLagrange) { compareDeck("example1.xml", "Augmented Lagrange", 1e-10); }
+TEST(RankAgreement, Example1LagrangeMultiplier) { compareDeck("example1.xml", "Lagrange Multiplier", 1e-10); }
+// Line contact (two parallel rods, input/parallel_rods.xml).
+TEST(RankAgreement, LineContactPenalty) { compareDeck("parallel_rods.xml", "Penalty", 1e-10); }
+TEST(RankAgreement, LineContactAugmentedLagrange) { compareDeck("parallel_rods.xml", "Augmented Lagrange", 1e-10); }
