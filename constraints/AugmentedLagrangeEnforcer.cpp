@@ -54,6 +54,8 @@ bool AugmentedLagrangeEnforcer::acceptPoint(const ContactPoint& p, PointState& s
   } else {
     violation = std::max(0.0, -k.normal.value);
   }
+  // A point blended with line contact carries only its share of the force: its gap counts as much.
+  violation *= p.weight;
   worstViolation = std::max(worstViolation, violation);
   // Uzawa update of the estimates.
   h.lambdaN = r.lambdaN;

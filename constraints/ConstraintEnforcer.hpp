@@ -72,6 +72,10 @@ struct ContactPoint {
   double friction = 0.0;            // Coulomb coefficient mu of the pair
   FrictionLaw law = FrictionLaw::IsotropicCoulomb;
   const double* lambda = nullptr;   // the point's multipliers (multipliers(state) of them), or null
+  // Its share where point and line contact are blended (all-angle contact of circular beams): the
+  // manager scales the point's residual and tangent by it; in (0, 1], 1 elsewhere. A strategy that
+  // judges constraint violations may weigh them by it.
+  double weight = 1.0;
 };
 
 // The forces of a point: for output, the progress line and the stopping tests.

@@ -19,6 +19,7 @@
 // When a point moves to a neighbouring element within a step, its tangential gap is the parameter
 // difference times the current element's line length (exact within one element).
 #pragma once
+#include <cmath>
 #include <functional>
 #include <map>
 #include <memory>
@@ -44,10 +45,11 @@ struct ContactOptions {
   double minimumSinAngle = 1e-3;       // lines closer to parallel are skipped (point contact undefined)
   bool allowInitialPenetration = false;
   FrictionLaw frictionLaw = FrictionLaw::IsotropicCoulomb;
-  // Line contact: element pairs of two circular beams whose axes' angle (at the last converged
-  // state) has a sine below this are in line contact, with this many Gauss points per element of
-  // beam A (frictionless); 0 switches line contact off.
-  double lineSinAngle = 0.0871557427476582;  // sin 5 degrees
+  // All-angle contact of two circular beams (radians): line contact (Gauss points along the line,
+  // frictionless) below lineAngle, point contact above pointAngle, a C1 blend of the two between;
+  // lineAngle 0 switches line contact off. Gauss points per element of beam A.
+  double lineAngle = 5.0 * M_PI / 180.0;
+  double pointAngle = 15.0 * M_PI / 180.0;
   int lineGaussPoints = 6;
   // Pairs of distinct nodes joined without sharing a node (pinned joints): elements meeting there
   // are no contact candidates, like elements that share a node.
@@ -175,9 +177,17 @@ class ContactManager : public core::Contribution {
   std::vector<double> inscribed_;         // per beam: radius of the largest circle in its section
   std::vector<double> gaussXi_, gaussWeight_;  // line contact: Gauss points on [0, 1], weights summing to 1
   bool lineContact_ = false;              // the strategy enforces lines and lineSinAngle > 0
-  // Whether the element pair is in line contact (both beams circular, axes nearly parallel at the
-  // last converged state).
+  // All-angle contact: whether the pair blends point and line contact (both beams circular and the
+  // strategy enforces lines); the angle of two elements' axes in `s`; whether an element pair has
+  // line points / point contacts (by its angle at the last converged state, with margins beyond the
+  // blend so a pair that turns within an increment has both); and the blend weight of a point at its
+  // axes' cosine (point contact zeta, line point 1 - zeta), with its gradient in the 24 dofs from
+  // the cosine's first variation.
+  bool blends(int pair) const;
+  double axisAngle(int elementA, int elementB, const core::State& s) const;
   bool inLineContact(int pair, int elementA, int elementB) const;
+  bool inPointContact(int pair, int elementA, int elementB) const;
+  double blendWeight(const Point& p, double cosine, const double* cosineR, Vector24* gradient) const;
   // The length of line A a Gauss point stands for (its weight times the element's reference length).
   double lineWeight(const Point& p) const;
   std::map<std::tuple<int, int, int>, Point> points_, committed_, marked_;

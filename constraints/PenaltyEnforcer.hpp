@@ -4,6 +4,7 @@
 // "Tangential Penalty Parameter" eps_T [force/length].
 #pragma once
 #include "ConstraintEnforcer.hpp"
+#include "RegularizedContactLaw.hpp"
 #include "core/Parameters.hpp"
 
 namespace bc::constraints {
@@ -33,6 +34,7 @@ class PenaltyEnforcer : public ConstraintEnforcer {
 
  private:
   double normalPenalty_, tangentialPenalty_;
+  NormalLaw law_;  // linear, or smoothed over "Regularization Gap"
 };
 
 }  // namespace bc::constraints

@@ -10,6 +10,15 @@ NormalLaw linearNormalLaw(double lambdaHatN, double epsN) {
   return [lambdaHatN, epsN](const LawScalar& g) -> LawScalar { return lambdaHatN + epsN * g; };
 }
 
+NormalLaw smoothedPenaltyLaw(double epsN, double g0) {
+  if (!(g0 > 0.0)) return linearNormalLaw(0.0, epsN);
+  return [epsN, g0](const LawScalar& g) -> LawScalar {
+    if (!(g.val() < 0.0)) return LawScalar(0.0);
+    if (g.val() > -g0) return -0.5 * epsN * g * g / g0;
+    return epsN * (g + 0.5 * g0);
+  };
+}
+
 namespace {
 
 // The multipliers as functions of s = (g_N, g_T1, g_T2, c); active = lambda_N < 0.

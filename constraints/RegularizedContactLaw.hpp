@@ -27,6 +27,11 @@ using NormalLaw = std::function<LawScalar(const LawScalar& gapN)>;
 
 // The linear law lambda_hat_N + eps_N g_N (penalty: lambda_hat_N = 0).
 NormalLaw linearNormalLaw(double lambdaHatN, double epsN);
+// The penalty law with a C1 onset over the first g0 of penetration: -eps_N g^2 / (2 g0) for
+// -g0 < g < 0, then eps_N (g + g0 / 2) (linear, shifted by eps_N g0 / 2); g0 = 0: linear. A kink at
+// first contact makes Newton cycle where many points touch at once (a line, a dense grid); the
+// smooth onset removes it.
+NormalLaw smoothedPenaltyLaw(double epsN, double g0);
 
 // The friction part: estimates lambda_hat_T (the forces carried from the last converged step or
 // augmentation) and the stick stiffness eps_T.

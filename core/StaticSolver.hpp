@@ -118,6 +118,7 @@ class StaticSolver {
   LinearSolver& linear_;
   Teuchos::RCP<Teuchos::StackedTimer> timer_;
   Assembler assembler_;
+  double modelSize_ = 0.0;  // largest distance of a reference node from the origin [length]
   State committed_, trial_;
   State previous_;            // the converged state before committed_ (for the predictor)
   double previousT_ = -1.0, committedT_ = 0.0;  // their load factors; previousT_ < 0: none yet

@@ -220,10 +220,13 @@ const ParameterSpec& contactSpec() {
           "contact lines whose angle has a sine below this are skipped (point contact is undefined there)",
           core::inRange(0.0, 1.0), "in (0, 1]");
     p.add("Line Contact Angle", 5.0,
-          "element pairs of two circular beams whose axes are closer to parallel than this (at the last converged "
-          "state) are in line contact (a traction along the line, frictionless) instead of point contact; 0: no "
-          "line contact [degrees]",
+          "two circular beams' elements whose axes are closer to parallel than this are in line contact (a "
+          "traction along the line, frictionless); between this and Point Contact Angle line and point contact "
+          "are blended smoothly; 0: no line contact [degrees]",
           core::closedRange(0.0, 45.0), "0 to 45");
+    p.add("Point Contact Angle", 15.0,
+          "above this angle two circular beams' elements are in point contact only [degrees]",
+          core::closedRange(0.0, 60.0), "0 to 60, above Line Contact Angle");
     p.add("Line Gauss Points", 6, "Gauss points of line contact per element of beam A", core::wholeBetween(1, 32),
           "1 to 32");
     p.add("Allow Initial Penetration", false, "accept beams that overlap at T = 0 instead of stopping");
@@ -428,7 +431,12 @@ void buildContact(Problem& p, ParameterList& c, const std::string& path) {
   options.searchMargin = c.isParameter("Search Margin") ? c.get<double>("Search Margin") : 0.5 * largest;
   options.minimumSinAngle = c.get<double>("Parallel Line Tolerance");
   options.allowInitialPenetration = c.get<bool>("Allow Initial Penetration");
-  options.lineSinAngle = std::sin(c.get<double>("Line Contact Angle") * std::acos(-1.0) / 180.0);
+  options.lineAngle = c.get<double>("Line Contact Angle") * std::acos(-1.0) / 180.0;
+  options.pointAngle = c.get<double>("Point Contact Angle") * std::acos(-1.0) / 180.0;
+  if (options.lineAngle > 0.0 && !(options.pointAngle > options.lineAngle))
+    throw InputError("parameter \"" + path + "/Point Contact Angle\" (" + std::to_string(c.get<double>("Point Contact Angle")) +
+                     ") must exceed \"" + path + "/Line Contact Angle\" (" + std::to_string(c.get<double>("Line Contact Angle")) +
+                     ")");
   options.lineGaussPoints = c.get<int>("Line Gauss Points");
   options.frictionLaw = c.get<std::string>("Friction Law") == "Per Line" ? constraints::FrictionLaw::PerLine
                                                                          : constraints::FrictionLaw::IsotropicCoulomb;
