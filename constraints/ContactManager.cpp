@@ -612,6 +612,7 @@ void ContactManager::commitStep(const core::State& state) {
       p.result.lambdaN *= w;
       for (double& t : p.result.lambdaT) t *= w;
       if (w == 0.0) p.result.active = false;
+      if (p.line() && p.result.active && pairs_[p.pair].friction > 0.0) frictionlessLines_.insert(p.pair);
     }
     p.kinematics = k;
     const ClosestPoints cp = pointGeometry(p, state);
@@ -695,6 +696,10 @@ void ContactManager::loadCommitted(core::CheckpointIn& in, const core::State& co
   points_ = committed_;
   marked_ = committed_;
   reference_ = committed;
+  // (The frictionless-line warning is not in the checkpoint: it is renewed from the restored points
+  // and the steps that follow.)
+  for (const auto& [key, p] : committed_)
+    if (p.line() && pairs_[p.pair].friction > 0.0) frictionlessLines_.insert(p.pair);
   passes_ = 0;
 }
 
@@ -780,6 +785,17 @@ void ContactManager::appendVtk(const core::State&, core::VtkMesh& mesh) const {
     mesh.cellBeam.push_back(-1);
     mesh.cellElement.push_back(-1);
   }
+}
+
+std::vector<std::string> ContactManager::warnings() const {
+  std::vector<std::string> w;
+  for (int pair : frictionlessLines_) {
+    std::ostringstream s;
+    s << "contact pair \"" << pairs_[pair].name << "\" has friction coefficient " << pairs_[pair].friction
+      << ", but its beams were in line contact (nearly parallel), which is frictionless: no friction acted there";
+    w.push_back(s.str());
+  }
+  return w;
 }
 
 std::string ContactManager::progressSummary() const {

@@ -100,6 +100,7 @@ class ContactManager : public core::Contribution {
   std::string tableHeader() const override;
   std::vector<std::string> tableRows() const override;
   std::string progressSummary() const override;
+  std::vector<std::string> warnings() const override;
   void appendVtk(const core::State& state, core::VtkMesh& mesh) const override;
 
   // For tests: the current points and their results of the last commit.
@@ -176,7 +177,8 @@ class ContactManager : public core::Contribution {
   std::set<int> freeEnd_;                 // nodes at a beam end that no other element or pin uses
   std::vector<double> inscribed_;         // per beam: radius of the largest circle in its section
   std::vector<double> gaussXi_, gaussWeight_;  // line contact: Gauss points on [0, 1], weights summing to 1
-  bool lineContact_ = false;              // the strategy enforces lines and lineSinAngle > 0
+  bool lineContact_ = false;              // the strategy enforces lines and lineAngle > 0
+  std::set<int> frictionlessLines_;       // pairs with friction whose line points carried force
   // All-angle contact: whether the pair blends point and line contact (both beams circular and the
   // strategy enforces lines); the angle of two elements' axes in `s`; whether an element pair has
   // line points / point contacts (by its angle at the last converged state, with margins beyond the

@@ -106,6 +106,9 @@ class Output {
   virtual std::string tableHeader() const { return ""; }
   virtual std::vector<std::string> tableRows() const { return {}; }
   virtual std::string progressSummary() const { return ""; }
+  // What the run could not model as asked (e.g. friction along a line contact): each a sentence,
+  // written to status.txt after "complete" and printed; read when the run ends.
+  virtual std::vector<std::string> warnings() const { return {}; }
 };
 
 // What the model holds: all three concerns of one piece of the model.

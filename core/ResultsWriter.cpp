@@ -332,6 +332,7 @@ void ResultsWriter::finish(const RunReport& run, const std::string& timerReport)
         << " converged steps (checkpoint.txt holds the last one; continue with --restart)";
     else
       s << "incomplete: stopped at T = " << run.lastT << " after " << run.steps << " converged steps; " << run.failure;
+    for (const auto& w : run.warnings) s << "\nwarning: " << w;
     writeStatus(s.str());
   });
 }

@@ -83,7 +83,7 @@ RunResult simulate(Model& model, const SolverSettings& settings, const Teuchos::
     };
 
     const auto t0 = std::chrono::steady_clock::now();
-    const RunReport run = solver.run([&](const StepReport& step, const State& state, const Assembler& assembler) {
+    RunReport run = solver.run([&](const StepReport& step, const State& state, const Assembler& assembler) {
       writer.writeStep(step, state, assembler.fullResidual());
       result.steps.push_back(step);
       summary.maxIterationsPerStep = std::max(summary.maxIterationsPerStep, step.iterations);
@@ -114,6 +114,8 @@ RunResult simulate(Model& model, const SolverSettings& settings, const Teuchos::
     opts.output_fraction = true;
     opts.output_minmax = comm->getSize() > 1;
     timer->report(report, comm, opts);
+    for (const auto& c : model.contributions)
+      for (const auto& w : c->warnings()) run.warnings.push_back(w);
     summary.run = run;
     summary.solveSeconds = earlierSeconds + (run.interrupted ? 0.0 : seconds);
     writer.writeSummary(summary);

@@ -60,6 +60,7 @@ struct RunReport {
   int newtonIterations = 0;
   double lastT = 0.0;
   std::string failure;  // cause, when not completed
+  std::vector<std::string> warnings;  // what the contributions could not model (Contribution::warnings)
   int interrupted = 0;  // the signal that stopped the run (0: none)
 };
 

@@ -142,6 +142,7 @@ int runDeck(const std::string& deck, const std::string& output, bool quiet, cons
     else
       std::fprintf(stderr, "beamcontact: run incomplete: stopped at T = %g: %s (converged steps are in %s)\n",
                    result.report.lastT, result.report.failure.c_str(), problem.outputDirectory.c_str());
+    for (const auto& w : result.report.warnings) std::fprintf(stderr, "beamcontact: warning: %s\n", w.c_str());
   }
   if (result.report.interrupted) return 128 + result.report.interrupted;
   return result.report.completed ? 0 : 2;

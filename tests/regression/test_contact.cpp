@@ -1125,9 +1125,13 @@ TEST(LineContact, RigidPunchGivesThePenaltyTractionPerUnitLength) {
     support(deck, "ground", i, "all");
     support(deck, "rod", i, "all", -1e-4);
   }
+  // With friction on the pair: line contact is frictionless, and the run says so.
+  input::replaceAtPath(deck, "Contact/Pairs/line/Friction Coefficient", 0.3);
   auto p = input::buildProblem(deck, "punch");
   const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "punch");
   ASSERT_TRUE(r.report.completed) << r.report.failure;
+  ASSERT_EQ(r.report.warnings.size(), 1u);
+  EXPECT_NE(r.report.warnings[0].find("frictionless"), std::string::npos) << r.report.warnings[0];
   const auto s = lineSums(p);
   std::printf("matching meshes: %d Gauss points active of %d, total %.12f (eps_N d L = 100), gaps %.12e .. %.12e\n",
               s.active, s.points, s.total, s.gapMin, s.gapMax);
