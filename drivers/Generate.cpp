@@ -226,10 +226,86 @@ ParameterList network(const Options& o) {
   return deck;
 }
 
+// A strand: --wires helical wires of radius r around the Z axis (lay length, turns), around a straight
+// core wire (--core 1, radius core-radius) or none (--core 0). The helix radius puts each wire
+// --gap clear of its neighbours and of the core (below). Every wire is clamped at both ends; the
+// ends at the top are pulled along the axis by --stretch at T = 1, so the helices tighten onto the
+// core or onto each other. Neighbouring helices of one lay are parallel: line contact (Penalty with
+// --regularization as its Regularization Gap, or Augmented Lagrange); a helix on the straight core
+// crosses it at the lay angle.
+ParameterList strand(const Options& o) {
+  const int wires = o.whole("wires", 2, 36), core = o.whole("core", 0, 1), per = o.whole("elements", 4, 10000);
+  const double r = o["radius"], rc = o["core-radius"] > 0 ? o["core-radius"] : 1.05 * r, lay = o["lay-length"];
+  const double turns = o["turns"], gap = o["gap"], pi = std::acos(-1.0);
+  if (!(r > 0) || !(lay > 0) || !(turns > 0) || !(gap >= 0))
+    throw InputError("generate strand: need radius > 0, lay-length > 0, turns > 0, gap >= 0");
+  const int elements = std::max(1, static_cast<int>(std::lround(per * turns)));
+  // The helix radius: the smallest R at which the wires' polylines (the elements the contact sees:
+  // chords, inside the helix) keep gap between neighbouring surfaces and, with a core, between each
+  // wire and the core. Neighbouring helices are closest along a line tilted by the lay angle, so
+  // r / sin(pi / wires) is not enough; found by bisection on the chords' closest distances.
+  auto polyline = [&](double R, int k) {
+    std::vector<math::Vec3d> p;
+    for (int q = 0; q <= elements; ++q) {
+      const double t = 2 * pi * (turns * q / elements + double(k) / wires);
+      p.push_back(math::Vec3d{{R * std::cos(t), R * std::sin(t), lay * turns * q / elements}});
+    }
+    return p;
+  };
+  auto clearance = [&](double R) {
+    const auto a = polyline(R, 0), b = polyline(R, 1);
+    double c = 1e300;
+    for (std::size_t i = 0; i + 1 < a.size(); ++i) {
+      for (std::size_t j = 0; j + 1 < b.size(); ++j)
+        c = std::min(c, math::segmentClosest(a[i], a[i + 1], b[j], b[j + 1]).distance - 2 * r);
+      if (core)
+        c = std::min(c, math::segmentClosest(a[i], a[i + 1], math::Vec3d{{0, 0, 0}}, math::Vec3d{{0, 0, lay * turns}})
+                                .distance - r - rc);
+    }
+    return c;
+  };
+  double lo = 0.5 * r, hi = 10 * (r + rc + gap + r / std::sin(pi / wires));
+  for (int it = 0; it < 200; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (clearance(mid) < gap ? lo : hi) = mid;
+  }
+  const double R = hi;
+  ParameterList deck("BeamContact");
+  ParameterList& beams = deck.sublist("Beams");
+  ParameterList& supports = deck.sublist("Supports");
+  const double length = lay * turns;
+  auto clamp = [&](const std::string& name) {
+    support(supports, name + " start", name, "start", "all", vec(0, 0, 0));
+    support(supports, name + " end", name, "end", "all", vec(0, 0, o["stretch"]));
+  };
+  if (core) {
+    beam(beams, "core", vec(0, 0, 0), vec(0, 0, length), elements, rc, o["youngs-modulus"]);
+    clamp("core");
+  }
+  for (int k = 0; k < wires; ++k) {
+    const std::string name = "wire " + std::to_string(k + 1);
+    ParameterList& l = beams.sublist(name);
+    ParameterList& h = l.sublist("Helix");
+    h.set("Axis Point", vec(0, 0, 0));
+    h.set("Axis Direction", vec(0, 0, 1));
+    h.set("Radius", R);
+    h.set("Pitch", lay);
+    h.set("Turns", turns);
+    h.set("Reference Direction", vec(1, 0, 0));
+    h.set("Start Angle", 360.0 * k / wires);
+    l.set("Elements", elements);
+    circleOf(l, r, o["youngs-modulus"]);
+    clamp(name);
+  }
+  contactAndStepping(deck, o);
+  deck.sublist("Contact").sublist("Enforcement").sublist("Penalty").set("Regularization Gap", o["regularization"]);
+  return deck;
+}
+
 }  // namespace
 
 int generateDeck(const std::vector<std::string>& args) {
-  if (args.size() < 2) throw InputError("generate needs a kind: grid, weave or network");
+  if (args.size() < 2) throw InputError("generate needs a kind: grid, weave, network or strand");
   const std::string kind = args[1];
   Options o;
   std::string output;
@@ -264,8 +340,18 @@ int generateDeck(const std::vector<std::string>& args) {
                      {"compress", {0.3, "compression of the box height at T = 1 (each fibre moves down by compress z_centre)"}},
                      {"seed", {1, "seed of the random sequence (the same seed gives the same deck)"}},
                      {"elements", {8, "elements per fibre"}}});
+  } else if (kind == "strand") {
+    o.values.insert({{"wires", {3, "helical wires around the axis"}},
+                     {"core", {0, "1: a straight core wire inside them, 0: none"}},
+                     {"core-radius", {0.0, "radius of the core wire; 0: 1.05 radius [length]"}},
+                     {"lay-length", {40.0, "rise of a wire per turn (pitch) [length]"}},
+                     {"turns", {1.0, "turns of the wires (the strand is lay-length x turns long)"}},
+                     {"gap", {0.01, "radial clearance of the wires at the start [length]"}},
+                     {"stretch", {0.05, "axial motion of the strand's top ends at T = 1 [length]"}},
+                     {"regularization", {1e-3, "Penalty's Regularization Gap (line contact) [length]"}},
+                     {"elements", {24, "elements per turn of every wire"}}});
   } else {
-    throw InputError("generate: unknown kind \"" + kind + "\"; kinds are \"grid\", \"weave\", \"network\"");
+    throw InputError("generate: unknown kind \"" + kind + "\"; kinds are \"grid\", \"weave\", \"network\", \"strand\"");
   }
   for (std::size_t i = 2; i < args.size(); i += 2) {
     const std::string key = args[i].rfind("--", 0) == 0 ? args[i].substr(2) : "";
@@ -287,7 +373,10 @@ int generateDeck(const std::vector<std::string>& args) {
       throw InputError("generate " + kind + ": --" + key + " takes a number, got \"" + args[i + 1] + "\"");
     it->second.first = v;
   }
-  const ParameterList deck = kind == "grid" ? grid(o) : kind == "weave" ? weave(o) : network(o);
+  const ParameterList deck = kind == "grid"    ? grid(o)
+                             : kind == "weave" ? weave(o)
+                             : kind == "strand" ? strand(o)
+                                                : network(o);
   std::ostringstream xml;
   xml << "<!-- Generated by: beamcontact generate " << kind;
   for (const auto& [k, v] : o.values) xml << " " << k << "=" << v.first;

@@ -1,6 +1,7 @@
 #!/usr/bin/python3
-"""A generator's deck (beamcontact generate KIND: grid and weave 3 x 3, network of 20 fibres) run with
-each strategy, and with Penalty on 2 ranks. Checks:
+"""A generator's deck (beamcontact generate KIND: grid and weave 3 x 3, network of 20 fibres, strand of
+3 wires stretched by 0.4) run with each strategy (the strand: Penalty only), and with Penalty on 2
+ranks. Checks:
   - every run completes, with contact;
   - equilibrium at T = 1 of every beam: the forces its contact points apply on it (on a pair's beam B
     the normal and tangential vectors of contact_points.csv, on beam A their opposite) balance its
@@ -9,7 +10,8 @@ each strategy, and with Penalty on 2 ranks. Checks:
   - the contact pattern is the same for every strategy (the same points active);
   - Lagrange and augmented Lagrange (Gap Tolerance 1e-9) agree (total normal force, 1e-4);
   - 2 ranks give the 1-rank contact rows (1e-8 of the largest value).
-The network is run frictionless here (Coulomb friction is path dependent, and the strategies may cut
+The strand's three pairs of wires are in line contact along the lay (10 line points or more over
+half the length or more). The network is run frictionless here (Coulomb friction is path dependent, and the strategies may cut
 different increments). With friction 0.2 and Penalty, full-step Newton cycles in some increments
 (slip directions flipping between iterates, ||r|| alternating between two values): with "Line
 Search" = "None" those increments are cut; the default line search ("When Stalled") must solve them
@@ -33,7 +35,13 @@ def rows_at_end(path):
     return [r for r in rows if r["step"] == last]
 
 
-GENERATOR_OPTIONS = {"grid": ["--n", "3", "--m", "3"], "weave": ["--n", "3", "--m", "3"], "network": ["--fibres", "20", "--penalty", "1e5", "--friction", "0"]}
+GENERATOR_OPTIONS = {"grid": ["--n", "3", "--m", "3"], "weave": ["--n", "3", "--m", "3"],
+                     "strand": ["--wires", "3", "--stretch", "0.4"], "network": ["--fibres", "20", "--penalty", "1e5", "--friction", "0"]}
+
+
+# The strand's wires are in line contact, which Lagrange multipliers do not enforce yet and on which
+# augmented Lagrange's augmentations do not converge yet (it stops at T = 0.24): Penalty only.
+STRATEGIES = {"strand": ["Penalty"]}
 
 
 def run(exe, deck, out, mpi=None):
@@ -61,6 +69,23 @@ def run(exe, deck, out, mpi=None):
             beam = k[:-3].rsplit(" ", 1)[0]
             balance.setdefault(beam, [[0.0] * 3, [0.0] * 3])[1]["xyz".index(k[-1])] += float(v)
     return active, total, balance, contact
+
+
+def check_strand_lines(contact):
+    """Every pair of neighbouring wires in line contact along the lay: at least 10 active line points
+    (line_A < 0), spread over at least half the strand's length (40)."""
+    failures = 0
+    pairs = {}
+    for c in contact:
+        if c["active"] == "1" and int(c["line_A"]) < 0:
+            pairs.setdefault(c["pair"], []).append((float(c["z"]), float(c["normal_force"])))
+    for name in ("wire 1-wire 2", "wire 1-wire 3", "wire 2-wire 3"):
+        points = sorted(pairs.get(name, []))
+        span = points[-1][0] - points[0][0] if points else 0.0
+        print(f"{name}: {len(points)} line points active over z = {points[0][0] if points else 0:.1f} .. "
+              f"{points[-1][0] if points else 0:.1f}, total {sum(f for _, f in points):.3f}")
+        failures += not (len(points) >= 10 and span >= 20.0)
+    return failures
 
 
 def check_stalled_newton(exe, work):
@@ -94,7 +119,7 @@ def main():
     subprocess.run([exe, "generate", kind] + GENERATOR_OPTIONS[kind] + ["--output", base], check=True)
     results = {}
     failures = 0
-    for strategy in ["Penalty", "Lagrange Multiplier", "Augmented Lagrange"]:
+    for strategy in STRATEGIES.get(kind, ["Penalty", "Lagrange Multiplier", "Augmented Lagrange"]):
         tree = ET.parse(base)
         set_parameter(tree.getroot(), "Contact/Enforcement/Type", "string", strategy)
         set_parameter(tree.getroot(), "Output/Write VTK", "bool", "false")
@@ -118,13 +143,16 @@ def main():
                        for k in a if k.startswith("normal_force") or k.startswith("tangential_force"))
             print(f"Penalty on 2 ranks: total N {total2:.6f}, max difference of the contact rows / scale {diff / scale:.1e}")
             failures += not (len(contact) == len(contact2) and diff <= 1e-8 * scale)
+    if kind == "strand":
+        failures += check_strand_lines(results["Penalty"][2])
     patterns = {s: r[0] for s, r in results.items()}
     if len(set(map(tuple, patterns.values()))) != 1:
         print("contact patterns differ:", patterns)
         failures += 1
-    nl, na = results["Lagrange Multiplier"][1], results["Augmented Lagrange"][1]
-    print(f"Lagrange vs augmented Lagrange: {abs(nl - na) / nl:.1e}")
-    failures += not (abs(nl - na) <= 1e-4 * nl)
+    if "Lagrange Multiplier" in results:
+        nl, na = results["Lagrange Multiplier"][1], results["Augmented Lagrange"][1]
+        print(f"Lagrange vs augmented Lagrange: {abs(nl - na) / nl:.1e}")
+        failures += not (abs(nl - na) <= 1e-4 * nl)
     if kind == "network":
         failures += check_stalled_newton(exe, work)
     if failures:
