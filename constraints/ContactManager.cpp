@@ -456,8 +456,10 @@ void ContactManager::evaluate(const core::State& state, const OwnsDof& owns, cor
     if (!owns(d[0])) continue;
     // The full kinematics (with their derivatives) only where the point acts.
     if (!enforcer_->contributes(pointGeometry(p, state).gap, *p.state)) continue;
-    const double cosine = std::cos(axisAngle(p.elementA, p.elementB, state));
-    if (blendWeight(p, cosine, nullptr, nullptr) == 0.0) continue;
+    // A point of a blended pair whose weight is zero now carries nothing (the angle, cheap, first).
+    if (blends(p.pair) &&
+        blendWeight(p, std::cos(axisAngle(p.elementA, p.elementB, state)), nullptr, nullptr) == 0.0)
+      continue;
     const ContactKinematics k = kinematics(p, state);
     const int n = static_cast<int>(d.size());
     f.assign(n, 0.0);

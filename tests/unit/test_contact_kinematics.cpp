@@ -44,6 +44,30 @@ LinePairInput perturbedState(const LinePairInput& in, int dof, double h) {
   return p;
 }
 
+// Largest relative errors of R (against central differences of the gaps) and of K (against those of
+// R) over the 24 dofs, for the gaps `which` of the kinematics `kernel(state)` computes at `in`.
+template <class Kernel>
+std::pair<double, double> centralDifferenceErrors(const LinePairInput& in, Kernel kernel,
+                                                  std::initializer_list<GapDerivatives ContactKinematics::*> which) {
+  const auto k = kernel(in);
+  const double h = 1e-6;
+  double rmax = 0, kmax = 0, errR = 0, errK = 0;
+  for (int j = 0; j < kPairDofs; ++j) {
+    const auto kp = kernel(perturbedState(in, j, h));
+    const auto km = kernel(perturbedState(in, j, -h));
+    for (auto gap : which) {
+      const GapDerivatives &a = k.*gap, &p = kp.*gap, &m = km.*gap;
+      rmax = std::max(rmax, std::abs(a.R[j]));
+      errR = std::max(errR, std::abs((p.value - m.value) / (2 * h) - a.R[j]));
+      for (int i = 0; i < kPairDofs; ++i) {
+        kmax = std::max(kmax, std::abs(a.K[kPairDofs * i + j]));
+        errK = std::max(errK, std::abs((p.R[i] - m.R[i]) / (2 * h) - a.K[kPairDofs * i + j]));
+      }
+    }
+  }
+  return {errR / rmax, errK / kmax};
+}
+
 }  // namespace
 
 TEST(ContactKinematics, CrossedBeamsGapAndPoints) {
@@ -77,26 +101,11 @@ TEST(ContactKinematics, VariationsMatchCentralDifferences) {
     in.radiusSum = trial % 2 ? 0.7 : 0.0;
     const auto cp = closestPoints(in);
     const double xiP = cp.xi - 0.05, etaP = cp.eta + 0.03;
-    const auto k = contactKinematics(in, cp.sigma, xiP, etaP);
-    const double h = 1e-6;
-    double rmax = 0, kmax = 0, errR = 0, errK = 0;
-    for (int j = 0; j < kPairDofs; ++j) {
-      const auto kp = contactKinematics(perturbedState(in, j, h), cp.sigma, xiP, etaP);
-      const auto km = contactKinematics(perturbedState(in, j, -h), cp.sigma, xiP, etaP);
-      const GapDerivatives* a[3] = {&k.normal, &k.tangent1, &k.tangent2};
-      const GapDerivatives* p[3] = {&kp.normal, &kp.tangent1, &kp.tangent2};
-      const GapDerivatives* m[3] = {&km.normal, &km.tangent1, &km.tangent2};
-      for (int q = 0; q < 3; ++q) {
-        rmax = std::max(rmax, std::abs(a[q]->R[j]));
-        errR = std::max(errR, std::abs((p[q]->value - m[q]->value) / (2 * h) - a[q]->R[j]));
-        for (int i = 0; i < kPairDofs; ++i) {
-          kmax = std::max(kmax, std::abs(a[q]->K[kPairDofs * i + j]));
-          errK = std::max(errK, std::abs((p[q]->R[i] - m[q]->R[i]) / (2 * h) - a[q]->K[kPairDofs * i + j]));
-        }
-      }
-    }
-    worstR = std::max(worstR, errR / rmax);
-    worstK = std::max(worstK, errK / kmax);
+    const auto [errR, errK] = centralDifferenceErrors(
+        in, [&](const LinePairInput& s) { return contactKinematics(s, cp.sigma, xiP, etaP); },
+        {&ContactKinematics::normal, &ContactKinematics::tangent1, &ContactKinematics::tangent2});
+    worstR = std::max(worstR, errR);
+    worstK = std::max(worstK, errK);
   }
   std::printf("max relative error: R (first variations) %.2e, K (linearized variations) %.2e\n", worstR, worstK);
   EXPECT_LT(worstR, 1e-6);
@@ -142,26 +151,11 @@ TEST(LineKinematics, VariationsMatchCentralDifferences) {
     for (Mat3d* R : {&in.RA1, &in.RA2, &in.RB1, &in.RB2}) *R = Q * expSO3(randomVec(g, 0.3));
     in.radiusSum = 2.0;
     const double xi = 0.1 + 0.08 * trial, etaP = 0.4;
-    const auto k = lineKinematics(in, xi, etaP);
-    const double h = 1e-6;
-    double rmax = 0, kmax = 0, errR = 0, errK = 0;
-    for (int j = 0; j < kPairDofs; ++j) {
-      const auto kp = lineKinematics(perturbedState(in, j, h), xi, etaP);
-      const auto km = lineKinematics(perturbedState(in, j, -h), xi, etaP);
-      const GapDerivatives* a[2] = {&k.normal, &k.tangent2};
-      const GapDerivatives* p[2] = {&kp.normal, &kp.tangent2};
-      const GapDerivatives* m[2] = {&km.normal, &km.tangent2};
-      for (int q = 0; q < 2; ++q) {
-        rmax = std::max(rmax, std::abs(a[q]->R[j]));
-        errR = std::max(errR, std::abs((p[q]->value - m[q]->value) / (2 * h) - a[q]->R[j]));
-        for (int i = 0; i < kPairDofs; ++i) {
-          kmax = std::max(kmax, std::abs(a[q]->K[kPairDofs * i + j]));
-          errK = std::max(errK, std::abs((p[q]->R[i] - m[q]->R[i]) / (2 * h) - a[q]->K[kPairDofs * i + j]));
-        }
-      }
-    }
-    worstR = std::max(worstR, errR / rmax);
-    worstK = std::max(worstK, errK / kmax);
+    const auto [errR, errK] = centralDifferenceErrors(
+        in, [&](const LinePairInput& s) { return lineKinematics(s, xi, etaP); },
+        {&ContactKinematics::normal, &ContactKinematics::tangent2});
+    worstR = std::max(worstR, errR);
+    worstK = std::max(worstK, errK);
   }
   std::printf("line contact, max relative error: R %.2e, K %.2e\n", worstR, worstK);
   EXPECT_LT(worstR, 1e-6);
