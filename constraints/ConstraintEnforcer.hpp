@@ -117,12 +117,27 @@ class ConstraintEnforcer {
   // Second stage: friction states, augmentation. Return false to solve the increment again.
   // `worstViolation` collects the largest constraint violation (stopping test and output).
   virtual bool acceptPoint(const ContactPoint& p, PointState& s, double& worstViolation) const = 0;
-  // Whether the strategy can enforce line contact: the contact manager then hands it the Gauss points
-  // of nearly parallel circular beams as points (each standing for a length of line A; the manager
-  // weights the residual and tangent by that length, so the law acts per unit length). A strategy
-  // with multipliers per point would over-constrain a line (a multiplier per Gauss point is not a
-  // stable discretization), so it says no; such beams then stop the run as an unseen contact.
-  virtual bool enforcesLines() const { return true; }
+  // Line contact (nearly parallel circular beams): the contact manager hands a strategy the Gauss
+  // points along line A (each standing for a length of it; the manager weights the residual and
+  // tangent by that length, so the law acts per unit length). Where the strategy's multipliers live:
+  //  - PerPoint: each Gauss point is a point like any other, with its own state and multipliers.
+  //    Right for strategies without multipliers (Penalty) or with point-local history only
+  //    (Augmented Lagrange). A multiplier per Gauss point over-constrains a line (more constraints
+  //    than the beams have dofs there: not a stable discretization).
+  //  - Nodal: a mortar field on the nodes of line A. Each node of beam A in line contact with a pair
+  //    is a "line node": it has a state (newPointState) and multipliers(state) unknowns Lambda_a. A
+  //    Gauss point at xi of an element with nodes a, b sees lambda = N_a Lambda_a + N_b Lambda_b
+  //    (N linear; a node without multipliers counts zero) and the state of the nearer node that has
+  //    multipliers; it takes part when that node's state contributes(). Its multiplier rows are
+  //    tested with the same N (node a's rows are the integral of N_a times the point's rows, the
+  //    manager does that). The active set is the nodes': acceptNormal, acceptPoint, reportedForces
+  //    and commitPoint see a node as a point whose kinematics carry only the weighted gap
+  //    g_a = int N_a g_N ds / int N_a ds (normal.value; tangential values 0, no derivatives) and
+  //    whose lambda is Lambda_a.
+  //  - None: the strategy cannot enforce lines; nearly parallel beams then stop the run as an unseen
+  //    contact.
+  enum class LineField { None, PerPoint, Nodal };
+  virtual LineField lineField() const { return LineField::PerPoint; }
   // Upper bound on the Newton solves of one increment (active-set or augmentation passes).
   virtual int maximumPasses() const { return 1; }
   // The forces at the converged state, for output (before commitPoint). By default the evaluation

@@ -24,7 +24,9 @@ ContactManager::ContactManager(std::shared_ptr<const elements::BeamSet> beams, s
                                std::unique_ptr<ConstraintEnforcer> enforcer, ContactOptions options)
     : beams_(std::move(beams)), pairs_(std::move(pairs)), enforcer_(std::move(enforcer)), options_(options) {
   for (std::size_t i = 0; i < pairs_.size(); ++i) pairIndex_[{pairs_[i].beamA, pairs_[i].beamB}] = static_cast<int>(i);
-  lineContact_ = enforcer_->enforcesLines() && options_.lineAngle > 0.0 && options_.lineGaussPoints > 0;
+  lineContact_ = enforcer_->lineField() != ConstraintEnforcer::LineField::None && options_.lineAngle > 0.0 &&
+                 options_.lineGaussPoints > 0;
+  nodalLines_ = lineContact_ && enforcer_->lineField() == ConstraintEnforcer::LineField::Nodal;
   // Gauss-Legendre points on [0, 1]: roots of P_n by Newton's method from the Chebyshev guesses.
   const int n = std::max(options_.lineGaussPoints, 1);
   for (int i = 0; i < n; ++i) {
@@ -363,7 +365,7 @@ void ContactManager::initialize(core::State& state) {
 bool ContactManager::prepareIteration(core::State& state) {
   const auto cands = detect(state);
   std::map<Key, Point> next;
-  bool changed = cands.size() != points_.size();
+  bool changed = false;
   for (const auto& [key, c] : cands) {
     auto it = points_.find(key);
     Point p;
@@ -382,7 +384,40 @@ bool ContactManager::prepareIteration(core::State& state) {
     p.elementB = c.elementB;
     next[key] = p;
   }
+  if (nodalLines_) {
+    // The line nodes of the Gauss points (kept with their state, or new).
+    std::vector<Key> nodes;
+    for (const auto& [key, p] : next)
+      if (p.line())
+        for (int n : {fieldNode(p.elementA, 0), fieldNode(p.elementA, 1)})
+          if (!next.count(Key{p.pair, Point::kLineNode, n})) {
+            const Key nk{p.pair, Point::kLineNode, n};
+            const auto it = points_.find(nk);
+            Point q;
+            if (it != points_.end()) {
+              q = it->second;
+            } else {
+              changed = true;
+              q.pair = p.pair; q.lineA = Point::kLineNode; q.lineB = n;
+              q.elementA = q.elementB = p.elementA;
+              q.state = PointStateHolder(enforcer_->newPointState());
+            }
+            next[nk] = q;
+          }
+  }
+  changed = changed || next.size() != points_.size();
   points_ = std::move(next);
+  if (nodalLines_) {
+    // A line node whose Gauss points carry (almost) nothing now, because they left the other beam or
+    // the pair turned into point contact, has no rows to determine its multipliers: it gives them up.
+    const auto gaps = nodeGaps(state);
+    for (auto& [key, p] : points_) {
+      if (!p.node() || enforcer_->multipliers(*p.state) == 0) continue;
+      const auto g = gaps.find(key);
+      if (g == gaps.end() || !(g->second.weight > 1e-3 * g->second.full))
+        p.state = PointStateHolder(enforcer_->newPointState());
+    }
+  }
   return layoutMultipliers(state) || changed;
 }
 
@@ -392,7 +427,8 @@ core::ExtraUnknowns::Key extraKey(const ContactManager::Point& p) { return {p.pa
 
 bool ContactManager::layoutMultipliers(core::State& state) {
   std::map<core::ExtraUnknowns::Key, int> wanted;
-  for (const auto& [key, p] : points_) wanted[extraKey(p)] = enforcer_->multipliers(*p.state);
+  for (const auto& [key, p] : points_)
+    wanted[extraKey(p)] = nodalLines_ && p.line() ? 0 : enforcer_->multipliers(*p.state);
   const bool changed = state.extra.request(kExtraOwner, wanted);
   for (auto& [key, p] : points_) {
     const auto* block = state.extra.find(kExtraOwner, extraKey(p));
@@ -418,7 +454,122 @@ std::vector<GlobalDof> ContactManager::blockDofs(const Point& p) const {
   const auto d = pointDofs(p);
   std::vector<GlobalDof> dofs(d.begin(), d.end());
   for (int j = 0; j < p.extraCount; ++j) dofs.push_back(GlobalDof(core::kDofsPerNode) * numNodes_ + p.extraOffset + j);
+  if (nodalLines_ && p.line())
+    for (const FieldShare& n : fieldShares(p))
+      if (n.record)
+        for (int j = 0; j < n.record->extraCount; ++j)
+          dofs.push_back(GlobalDof(core::kDofsPerNode) * numNodes_ + n.record->extraOffset + j);
   return dofs;
+}
+
+int ContactManager::fieldNode(int element, int side) const {
+  const BeamElement& e = beams_->elements()[element];
+  const auto& nodes = beams_->beams()[e.beam].nodes;
+  const int last = static_cast<int>(nodes.size()) - 1;
+  int i = e.index + side;
+  if (last == 1) i = 0;  // one element: one field node
+  else if (i == 0) i = 1;
+  else if (i == last) i = last - 1;
+  return nodes[i];
+}
+
+std::vector<ContactManager::FieldShare> ContactManager::fieldShares(const Point& p) const {
+  const double xi = gaussXi_[p.gauss()];
+  std::vector<FieldShare> shares;
+  for (int side = 0; side < 2; ++side) {
+    const int node = fieldNode(p.elementA, side);
+    const double N = side == 0 ? 1.0 - xi : xi;
+    if (!shares.empty() && shares.back().node == node) {
+      shares.back().N += N;
+      continue;
+    }
+    FieldShare f;
+    f.node = node;
+    f.N = N;
+    const auto it = points_.find(Key{p.pair, Point::kLineNode, node});
+    if (it != points_.end()) f.record = &it->second;
+    shares.push_back(f);
+  }
+  return shares;
+}
+
+std::map<Key, ContactManager::NodeGap> ContactManager::nodeGaps(const core::State& s) const {
+  std::map<Key, NodeGap> gaps;
+  for (const auto& [key, p] : points_) {
+    if (!p.line()) continue;
+    const double length = lineWeight(p);
+    const double w = length * blendWeight(p, std::cos(axisAngle(p.elementA, p.elementB, s)), nullptr, nullptr);
+    const double gap = w > 0.0 ? pointGeometry(p, s).gap : 0.0;
+    for (const FieldShare& f : fieldShares(p)) {
+      NodeGap& g = gaps[Key{p.pair, Point::kLineNode, f.node}];
+      g.weighted += w * f.N * gap;
+      g.weight += w * f.N;
+      g.full += length * f.N;
+    }
+  }
+  for (auto& [key, g] : gaps)
+    if (g.weight > 0.0) g.weighted /= g.weight;
+  return gaps;
+}
+
+ContactPoint ContactManager::nodeView(const Point& node, const ContactKinematics& k, const core::State& s) const {
+  return ContactPoint{k, 0.0, options_.frictionLaw, multipliers(node, s), 1.0};
+}
+
+const PointState* ContactManager::actingState(const Point& p) const {
+  if (!(nodalLines_ && p.line())) return &*p.state;
+  // The field node with the largest share among those that have multipliers.
+  const Point* host = nullptr;
+  double best = -1.0;
+  for (const FieldShare& f : fieldShares(p))
+    if (f.record && f.record->extraCount > 0 && f.N > best) {
+      host = f.record;
+      best = f.N;
+    }
+  return host ? &*host->state : nullptr;
+}
+
+bool ContactManager::evaluateNodal(const Point& p, const ContactKinematics& k, const core::State& s,
+                                   std::vector<double>& f, std::vector<double>* K, PointResult* result) const {
+  // lambda = N_a Lambda_a + N_b Lambda_b; the point's multiplier rows and columns are mapped on the
+  // nodes' with the same N (block = E^T point E with E the interpolation).
+  const PointState* host = actingState(p);
+  if (!host || !enforcer_->contributes(k.normal.value, *host)) return false;
+  const int m = enforcer_->multipliers(*host);
+  std::vector<double> lambda(m, 0.0);
+  std::vector<std::vector<std::pair<int, double>>> to(kPairDofs + m);  // point dof -> (block dof, factor)
+  for (int i = 0; i < kPairDofs; ++i) to[i].push_back({i, 1.0});
+  int slot = kPairDofs;
+  for (const FieldShare& n : fieldShares(p)) {
+    if (!n.record || n.record->extraCount == 0) continue;
+    if (n.record->extraCount != m)
+      throw std::logic_error(enforcer_->type() + ": the two line nodes of a Gauss point own different numbers of multipliers");
+    const double* values = &s.extra[n.record->extraOffset];
+    for (int q = 0; q < m; ++q) {
+      lambda[q] += n.N * values[q];
+      to[kPairDofs + q].push_back({slot + q, n.N});
+    }
+    slot += m;
+  }
+  const int np = kPairDofs + m, nb = slot;
+  std::vector<double> fp(np, 0.0), Kp(K ? std::size_t(np) * np : 0, 0.0);
+  const ContactPoint view{k, 0.0, options_.frictionLaw, lambda.data(), blendWeight(p, k.cosine, nullptr, nullptr)};
+  const PointResult r = enforcer_->evaluate(view, *host, fp.data(), K ? Kp.data() : nullptr);
+  if (result) *result = r;
+  f.assign(nb, 0.0);
+  for (int i = 0; i < np; ++i)
+    for (const auto& [bi, ci] : to[i]) f[bi] += ci * fp[i];
+  if (K) {
+    K->assign(std::size_t(nb) * nb, 0.0);
+    for (int i = 0; i < np; ++i)
+      for (int j = 0; j < np; ++j) {
+        const double v = Kp[std::size_t(np) * i + j];
+        if (v == 0.0) continue;
+        for (const auto& [bi, ci] : to[i])
+          for (const auto& [bj, cj] : to[j]) (*K)[std::size_t(nb) * bi + bj] += ci * cj * v;
+      }
+  }
+  return true;
 }
 
 std::array<GlobalDof, kPairDofs> ContactManager::pointDofs(const Point& p) const {
@@ -452,19 +603,25 @@ void ContactManager::evaluate(const core::State& state, const OwnsDof& owns, cor
                               bool tangent) const {
   std::vector<double> f, K;
   for (const auto& [key, p] : points_) {
+    if (p.node()) continue;  // a line node's rows come from its Gauss points
     const auto d = blockDofs(p);
     if (!owns(d[0])) continue;
     // The full kinematics (with their derivatives) only where the point acts.
-    if (!enforcer_->contributes(pointGeometry(p, state).gap, *p.state)) continue;
+    const PointState* acting = actingState(p);
+    if (!acting || !enforcer_->contributes(pointGeometry(p, state).gap, *acting)) continue;
     // A point of a blended pair whose weight is zero now carries nothing (the angle, cheap, first).
     if (blends(p.pair) &&
         blendWeight(p, std::cos(axisAngle(p.elementA, p.elementB, state)), nullptr, nullptr) == 0.0)
       continue;
     const ContactKinematics k = kinematics(p, state);
     const int n = static_cast<int>(d.size());
-    f.assign(n, 0.0);
-    K.assign(std::size_t(n) * n, 0.0);
-    enforcer_->evaluate(strategyView(p, k, state), *p.state, f.data(), tangent ? K.data() : nullptr);
+    if (nodalLines_ && p.line()) {
+      if (!evaluateNodal(p, k, state, f, tangent ? &K : nullptr, nullptr)) continue;
+    } else {
+      f.assign(n, 0.0);
+      K.assign(std::size_t(n) * n, 0.0);
+      enforcer_->evaluate(strategyView(p, k, state), *p.state, f.data(), tangent ? K.data() : nullptr);
+    }
     // Weighted by the blend between point and line contact (w(u), its gradient in the tangent:
     // K <- w K + f (x) grad w) and, for a line point, by the length it stands for.
     Vector24 gradient;
@@ -513,15 +670,18 @@ void ContactManager::checkNoUnseenContact(const core::State& state, bool atStart
     std::ostringstream s;
     s << "beams \"" << beams_->beams()[pair.beamA].name << "\" and \"" << beams_->beams()[pair.beamB].name
       << "\" overlap near (" << at[0] << ", " << at[1] << ", " << at[2] << "), axes " << c.distance << " apart, ";
-    if (parallel)
+    if (parallel) {
       s << "lying nearly parallel (sine of their angle " << sine
         << " below Contact/Parallel Line Tolerance): point contact cannot model this contact, and line contact "
-           "is available only between circular sections with a strategy that enforces lines (Penalty, Augmented "
-           "Lagrange; not " << enforcer_->type() << ")";
-    else
+           "is available only between circular sections";
+      if (!lineContact_)
+        s << " with a strategy that enforces lines and Contact/Line Contact Angle > 0 (" << enforcer_->type()
+          << " here does not)";
+    } else {
       s << "at the free end of beam \"" << beams_->beams()[endA ? pair.beamA : pair.beamB].name
         << "\": contact at a beam end is not modelled (a contact point needs the closest points of the two lines "
            "within both beams)";
+    }
     if (atStart) throw core::InputError(s.str() + "; move the beams apart");
     throw std::runtime_error(s.str());
   });
@@ -550,8 +710,10 @@ void ContactManager::checkNoPassThrough(const core::State& state) const {
       if (p.pair != pi || std::abs(elems[p.elementA].index - elems[ea].index) > 1 ||
           std::abs(elems[p.elementB].index - elems[eb].index) > 1)
         continue;
+      if (p.node()) continue;
+      const PointState* acting = actingState(p);
       const ContactKinematics k = kinematics(p, state);
-      if (enforcer_->contributes(k.normal.value, *p.state) && k.normal.value < 0.0) return;
+      if (acting && enforcer_->contributes(k.normal.value, *acting) && k.normal.value < 0.0) return;
     }
     const auto& pair = pairs_[pi];
     std::ostringstream s;
@@ -575,16 +737,28 @@ bool ContactManager::acceptSolution(core::State& state) {
   bool all = true;
   std::vector<ContactKinematics> ks;
   // A point whose blend weight is zero carries nothing: the strategy does not judge it.
+  // With a nodal line field the line nodes are judged, on their weighted gaps, not the Gauss points.
   std::vector<bool> carries;
+  const auto gaps = nodalLines_ ? nodeGaps(state) : std::map<Key, NodeGap>{};
+  const auto view = [&](const Point& p, const ContactKinematics& k) {
+    return p.node() ? nodeView(p, k, state) : strategyView(p, k, state);
+  };
   for (auto& [key, p] : points_) {
-    ks.push_back(kinematics(p, state));
-    carries.push_back(blendWeight(p, ks.back().cosine, nullptr, nullptr) > 0.0);
-    if (carries.back()) all = enforcer_->acceptNormal(strategyView(p, ks.back(), state), *p.state) && all;
+    if (p.node()) {
+      ks.emplace_back();
+      const auto g = gaps.find(key);
+      carries.push_back(g != gaps.end() && g->second.weight > 0.0);
+      if (carries.back()) ks.back().normal.value = g->second.weighted;
+    } else {
+      ks.push_back(kinematics(p, state));
+      carries.push_back(!(nodalLines_ && p.line()) && blendWeight(p, ks.back().cosine, nullptr, nullptr) > 0.0);
+    }
+    if (carries.back()) all = enforcer_->acceptNormal(view(p, ks.back()), *p.state) && all;
   }
   if (all) {
     std::size_t i = 0;
     for (auto& [key, p] : points_) {
-      if (carries[i]) all = enforcer_->acceptPoint(strategyView(p, ks[i], state), *p.state, worstViolation_) && all;
+      if (carries[i]) all = enforcer_->acceptPoint(view(p, ks[i]), *p.state, worstViolation_) && all;
       ++i;
     }
   }
@@ -604,11 +778,29 @@ bool ContactManager::acceptSolution(core::State& state) {
 }
 
 void ContactManager::commitStep(const core::State& state) {
+  const auto gaps = nodalLines_ ? nodeGaps(state) : std::map<Key, NodeGap>{};
   for (auto& [key, p] : points_) {
+    if (p.node()) {  // a line node: its multipliers (reported through its Gauss points)
+      ContactKinematics k;
+      const auto g = gaps.find(key);
+      if (g != gaps.end()) k.normal.value = g->second.weighted;
+      const ContactPoint view = nodeView(p, k, state);
+      p.result = enforcer_->reportedForces(view, *p.state);
+      enforcer_->commitPoint(view, *p.state);
+      p.kinematics = k;
+      p.position = state.position[p.lineB];
+      continue;
+    }
     const ContactKinematics k = kinematics(p, state);
     const ContactPoint view = strategyView(p, k, state);
-    p.result = enforcer_->reportedForces(view, *p.state);
-    enforcer_->commitPoint(view, *p.state);
+    if (nodalLines_ && p.line()) {
+      std::vector<double> f;
+      p.result = PointResult{};
+      evaluateNodal(p, k, state, f, nullptr, &p.result);
+    } else {
+      p.result = enforcer_->reportedForces(view, *p.state);
+      enforcer_->commitPoint(view, *p.state);
+    }
     {  // reported as applied: times the blend weight and, for a line point, its length
       const double w = blendWeight(p, k.cosine, nullptr, nullptr) * (p.line() ? lineWeight(p) : 1.0);
       p.result.lambdaN *= w;
@@ -726,6 +918,7 @@ double ContactManager::stepBound(const core::State& state, const std::vector<dou
   double bound = 1.0;
   std::unique_ptr<core::State> next;
   for (const auto& [key, p] : points_) {
+    if (p.node()) continue;
     const double activation = enforcer_->activationGap(*p.state);
     if (!std::isfinite(activation)) return 1.0;
     // Not for line points: each stands for a short length (a soft spring), and at a contact zone's
@@ -761,6 +954,7 @@ std::string ContactManager::tableHeader() const {
 std::vector<std::string> ContactManager::tableRows() const {
   std::vector<std::string> rows;
   for (const auto& [key, p] : committed_) {
+    if (p.node()) continue;
     std::ostringstream s;
     s.precision(12);
     const auto state = [&](int i) { return !p.result.active ? "open" : (p.result.slip[i] ? "slip" : "stick"); };
@@ -779,7 +973,7 @@ std::vector<std::string> ContactManager::tableRows() const {
 void ContactManager::appendVtk(const core::State&, core::VtkMesh& mesh) const {
   mesh.pointVectors["contact force"];  // in every step's file, also without contact
   for (const auto& [key, p] : committed_) {
-    if (!p.result.active) continue;
+    if (!p.result.active || p.node()) continue;
     const int point = mesh.addPoint(p.position, Vec3d{});
     mesh.setPointVector("contact force", point, p.normalForce + p.tangentialForce);
     mesh.cellTypes.push_back(1);  // VTK_VERTEX
@@ -803,7 +997,7 @@ std::vector<std::string> ContactManager::warnings() const {
 std::string ContactManager::progressSummary() const {
   int active = 0, stick = 0, slip = 0;
   for (const auto& [key, p] : committed_) {
-    if (!p.result.active) continue;
+    if (!p.result.active || p.node()) continue;
     ++active;
     for (int i = 0; i < 2; ++i) (p.result.slip[i] ? slip : stick)++;
   }

@@ -19,6 +19,7 @@
 // When a point moves to a neighbouring element within a step, its tangential gap is the parameter
 // difference times the current element's line length (exact within one element).
 #pragma once
+#include <array>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -106,9 +107,13 @@ class ContactManager : public core::Contribution {
   // For tests: the current points and their results of the last commit.
   struct Point {
     // A point contact has its two lines (lineA, lineB >= 0). A Gauss point of line contact has
-    // lineA = -1 - its Gauss index and lineB = its element of beam A (so the key is unique).
+    // lineA = -1 - its Gauss index and lineB = its element of beam A (so the key is unique). A line
+    // node (the node of a strategy's multiplier field on line A, ConstraintEnforcer::LineField::Nodal)
+    // has lineA = kLineNode and lineB = its node; its elements are one element of beam A at that node.
+    static constexpr int kLineNode = -1000000;
     int pair = 0, lineA = 0, lineB = 0;
-    bool line() const { return lineA < 0; }
+    bool node() const { return lineA == kLineNode; }
+    bool line() const { return lineA < 0 && lineA != kLineNode; }
     int gauss() const { return -1 - lineA; }
     int elementA = 0, elementB = 0;  // indices into the beam set's element list
     double sigma = 1.0;
@@ -134,6 +139,9 @@ class ContactManager : public core::Contribution {
   std::array<core::GlobalDof, kPairDofs> pointDofs(const Point& p) const;
   // The point's multipliers in `state` (null when it has none) and how many there are.
   const double* multipliers(const Point& p, const core::State& state, int* count = nullptr) const;
+  // The state that decides whether a point acts: its own, or for a Gauss point of a nodal line field
+  // the state of its nearer line node with multipliers (null: none has any).
+  const PointState* actingState(const Point& p) const;
   // The point as its strategy sees it, with kinematics `k` in `state`.
   ContactPoint strategyView(const Point& p, const ContactKinematics& k, const core::State& state) const;
 
@@ -178,6 +186,33 @@ class ContactManager : public core::Contribution {
   std::vector<double> inscribed_;         // per beam: radius of the largest circle in its section
   std::vector<double> gaussXi_, gaussWeight_;  // line contact: Gauss points on [0, 1], weights summing to 1
   bool lineContact_ = false;              // the strategy enforces lines and lineAngle > 0
+  bool nodalLines_ = false;               // ... with a multiplier field on the nodes of line A
+  // Nodal line fields. The field's nodes are beam A's nodes, except its two end nodes: their shape
+  // functions are merged into their neighbours' (the field is constant on a beam's end elements;
+  // a beam of one element has one multiplier node). An end node's own multiplier would constrain
+  // the gap where the supports of both beams often fix it already (rods held at the same ends), so
+  // the constraints would be redundant and the multipliers undetermined. fieldNode(element, side)
+  // is the node carrying the multipliers of the element's node `side` (0, 1); fieldShares(p) the
+  // distinct field nodes of a Gauss point with their shape values N (summing to 1) and their
+  // records (null where none exists).
+  int fieldNode(int element, int side) const;
+  struct FieldShare {
+    int node = -1;
+    double N = 0.0;
+    const Point* record = nullptr;
+  };
+  std::vector<FieldShare> fieldShares(const Point& p) const;
+  // Per field node: the weighted gap int N_a g_N ds / int N_a ds and the weight int N_a ds (Gauss
+  // weights times lengths times the line points' blend weights) at `s`.
+  struct NodeGap {
+    double weighted = 0.0, weight = 0.0, full = 0.0;  // full: the weight without the blend
+  };
+  std::map<std::tuple<int, int, int>, NodeGap> nodeGaps(const core::State& s) const;
+  // The view a strategy gets of a line node (its weighted gap, its multipliers).
+  ContactPoint nodeView(const Point& node, const ContactKinematics& k, const core::State& s) const;
+  // Evaluates a Gauss point of a nodal line field: residual and tangent over blockDofs(p).
+  bool evaluateNodal(const Point& p, const ContactKinematics& k, const core::State& s, std::vector<double>& f,
+                     std::vector<double>* K, PointResult* result) const;
   std::set<int> frictionlessLines_;       // pairs with friction whose line points carried force
   // All-angle contact: whether the pair blends point and line contact (both beams circular and the
   // strategy enforces lines); the angle of two elements' axes in `s`; whether an element pair has

@@ -35,7 +35,9 @@ class LagrangeMultiplierEnforcer : public ConstraintEnforcer {
   }
   static const core::ParameterSpec& spec();
   explicit LagrangeMultiplierEnforcer(const Teuchos::ParameterList& validated);
-  bool enforcesLines() const override { return false; }  // needs a mortar multiplier field (issue 11)
+  // On lines: the multipliers interpolated linearly between the nodes of line A (mortar), with the
+  // active set on the nodes' weighted gaps (docs/contact.md, "Lagrange multipliers on lines").
+  LineField lineField() const override { return LineField::Nodal; }
 
   // The active set: whether the point is active (then it owns lambda_N, lambda_T1, lambda_T2) and,
   // for Per Line friction, each line's stick/slip state and slip direction.
