@@ -46,20 +46,56 @@ Gaps<T> gaps(const Vec3<T>& pA1, const Vec3<T>& pA2, const Vec3<T>& pB1, const V
   return g;
 }
 
-// Line contact at a Gauss point of line A (fixed parameter xi, a material point) against line B: the
-// point projected on line B (t_B . (p_B - p_A) = 0, linear in eta for a straight line), the normal
-// along p_B - p_A, the gap |p_B - p_A| - (r_A + r_B), and the slip along line B from etaPrev. Line A's
-// own tangential gap is zero (the point is material on A).
+// The cubic Hermite curve through P1, P2 with end tangents V1, V2 (per unit parameter) at u, and its
+// first and second derivatives in u.
 template <class T>
-Gaps<T> lineGaps(const Vec3<T>& pA1, const Vec3<T>& pA2, const Vec3<T>& pB1, const Vec3<T>& pB2, double radiusSum,
-                 double xi, double etaPrev) {
+struct Same {
+  using type = T;
+};
+template <class T, class U>
+void hermite(const Vec3<T>& P1, const Vec3<T>& V1, const Vec3<T>& P2, const Vec3<T>& V2, const U& u,
+             typename Same<Vec3<T>>::type* x, typename Same<Vec3<T>>::type* dx, typename Same<Vec3<T>>::type* ddx) {
+  const U u2 = u * u, u3 = u2 * u;
+  if (x) *x = (1.0 - 3.0 * u2 + 2.0 * u3) * P1 + (u - 2.0 * u2 + u3) * V1 + (3.0 * u2 - 2.0 * u3) * P2 + (u3 - u2) * V2;
+  if (dx) *dx = (6.0 * u2 - 6.0 * u) * P1 + (1.0 - 4.0 * u + 3.0 * u2) * V1 + (6.0 * u - 6.0 * u2) * P2 + (3.0 * u2 - 2.0 * u) * V2;
+  if (ddx) *ddx = (12.0 * u - 6.0) * P1 + (6.0 * u - 4.0) * V1 + (6.0 - 12.0 * u) * P2 + (6.0 * u - 2.0) * V2;
+}
+
+// A point of an element's axis at u (and its derivatives): the Hermite curve when the element has a
+// reference axis vector (cubic), else the straight chord P1 + u (P2 - P1).
+template <class T, class U>
+void axisPoint(const Vec3<T>& P1, const Vec3<T>& V1, const Vec3<T>& P2, const Vec3<T>& V2, bool cubic, const U& u,
+               typename Same<Vec3<T>>::type* x, typename Same<Vec3<T>>::type* dx,
+               typename Same<Vec3<T>>::type* ddx) {
+  if (cubic) return hermite(P1, V1, P2, V2, u, x, dx, ddx);
+  if (x) *x = P1 + u * (P2 - P1);
+  if (dx) *dx = P2 - P1;
+  if (ddx) *ddx = 0.0 * (P2 - P1);
+}
+
+// Line contact at a Gauss point of axis A (fixed parameter xi, a material point) against axis B:
+// P = (x_A1, x_A2, x_B1, x_B2), V = their Hermite tangents R_m d. The point projected on B's curve
+// (f(eta) = x_B'(eta) . (x_B(eta) - p_A) = 0) by Newton steps from etaStart, the solution in double
+// precision: each step makes one more order of the AD derivatives exact (two are needed, three are
+// taken). The normal is along p_B - p_A, the gap |p_B - p_A| - (r_A + r_B), the slip along B from
+// etaPrev. Axis A's own tangential gap is zero (the point is material on A).
+template <class T>
+Gaps<T> lineGaps(const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB, double radiusSum, double xi,
+                 double etaStart, double etaPrev) {
   using std::sqrt;
   Gaps<T> g;
-  const Vec3<T> tA = pA2 - pA1, tB = pB2 - pB1;
-  const Vec3<T> pA = pA1 + xi * tA;
+  Vec3<T> pA, xB, dB, ddB;
+  axisPoint(P[0], V[0], P[1], V[1], cubicA, xi, &pA, nullptr, nullptr);
   g.xi = T(xi);
-  g.eta = dot(tB, pA - pB1) / dot(tB, tB);
-  const Vec3<T> d = pB1 + g.eta * tB - pA;
+  g.eta = T(etaStart);
+  for (int it = 0; it < 3; ++it) {
+    axisPoint(P[2], V[2], P[3], V[3], cubicB, g.eta, &xB, &dB, &ddB);
+    const Vec3<T> d = xB - pA;
+    g.eta -= dot(dB, d) / (dot(ddB, d) + dot(dB, dB));
+  }
+  axisPoint(P[2], V[2], P[3], V[3], cubicB, g.eta, &xB, nullptr, nullptr);
+  const Vec3<T> d = xB - pA;
+  const Vec3<T> tA = P[1] - P[0], tB = P[3] - P[2];
   g.gN = sqrt(dot(d, d)) - radiusSum;
   g.gT1 = T(0.0);
   g.gT2 = (g.eta - etaPrev) * sqrt(dot(tB, tB));
@@ -67,8 +103,9 @@ Gaps<T> lineGaps(const Vec3<T>& pA1, const Vec3<T>& pA2, const Vec3<T>& pB1, con
   return g;
 }
 
-// R and K of every gap from their gradients and Hessians in the 12 end-point coordinates.
-template <class Fn>
+// R and K of every gap from their gradients and Hessians in the coordinates of the four line end
+// points (Vectors = 4) or of the four end points and the four Hermite tangents (Vectors = 8).
+template <int Vectors, class Fn>
 ContactKinematics kinematicsOf(const LinePairInput& in, Fn gapsOf);
 
 }  // namespace
@@ -95,7 +132,7 @@ ClosestPoints closestPoints(const LinePairInput& in) {
 }
 
 ContactKinematics contactKinematics(const LinePairInput& in, double sigma, double xiPrev, double etaPrev) {
-  return kinematicsOf(in, [&](const auto& P) { return gaps(P[0], P[1], P[2], P[3], in.radiusSum, sigma, xiPrev, etaPrev); });
+  return kinematicsOf<4>(in, [&](const auto* P) { return gaps(P[0], P[1], P[2], P[3], in.radiusSum, sigma, xiPrev, etaPrev); });
 }
 
 ClosestPoints lineProjection(const LinePairInput& in, double xi) {
@@ -105,11 +142,22 @@ ClosestPoints lineProjection(const LinePairInput& in, double xi) {
   const Vec3d tA = pA2 - pA1, tB = pB2 - pB1;
   cp.sinAngle = norm(cross(tB, tA)) / (norm(tA) * norm(tB));
   cp.xi = xi;
-  cp.pA = pA1 + xi * tA;
+  const Vec3d vA1 = in.RA1 * in.dA, vA2 = in.RA2 * in.dA, vB1 = in.RB1 * in.dB, vB2 = in.RB2 * in.dB;
+  const bool cubicA = norm(in.dA) > 0.0, cubicB = norm(in.dB) > 0.0;
+  axisPoint(pA1, vA1, pA2, vA2, cubicA, xi, &cp.pA, nullptr, nullptr);
+  // Newton on the orthogonality from the chord's projection (converged to round-off; a few steps).
   cp.eta = dot(tB, cp.pA - pB1) / dot(tB, tB);
-  cp.pB = pB1 + cp.eta * tB;
-  cp.cA = in.xA1 + xi * (in.xA2 - in.xA1);
-  cp.cB = in.xB1 + cp.eta * (in.xB2 - in.xB1);
+  for (int it = 0; it < 50; ++it) {
+    Vec3d x, dx, ddx;
+    axisPoint(pB1, vB1, pB2, vB2, cubicB, cp.eta, &x, &dx, &ddx);
+    const Vec3d d = x - cp.pA;
+    const double step = dot(dx, d) / (dot(ddx, d) + dot(dx, dx));
+    cp.eta -= step;
+    if (std::abs(step) < 1e-15 * (1.0 + std::abs(cp.eta))) break;
+  }
+  axisPoint(pB1, vB1, pB2, vB2, cubicB, cp.eta, &cp.pB, nullptr, nullptr);
+  cp.cA = cp.pA;  // (circular sections: the lines are the axes)
+  cp.cB = cp.pB;
   cp.distance = norm(cp.pB - cp.pA);
   cp.normal = cp.distance > 0.0 ? (1.0 / cp.distance) * (cp.pB - cp.pA) : Vec3d{};
   cp.gap = cp.distance - in.radiusSum;
@@ -117,45 +165,54 @@ ClosestPoints lineProjection(const LinePairInput& in, double xi) {
 }
 
 ContactKinematics lineKinematics(const LinePairInput& in, double xi, double etaPrev) {
-  return kinematicsOf(in, [&](const auto& P) { return lineGaps(P[0], P[1], P[2], P[3], in.radiusSum, xi, etaPrev); });
+  const double etaStart = lineProjection(in, xi).eta;
+  return kinematicsOf<8>(
+      in, [&](const auto* P) {
+        return lineGaps(P, P + 4, norm(in.dA) > 0.0, norm(in.dB) > 0.0, in.radiusSum, xi, etaStart, etaPrev);
+      });
 }
 
 namespace {
-template <class Fn>
+template <int Vectors, class Fn>
 ContactKinematics kinematicsOf(const LinePairInput& in, Fn gapsOf) {
-  // The gaps depend on the 24 dofs only through the four line end points P_m = x_m + R_m o (12
-  // coordinates). Nested forward AD gives the gradient G and Hessian H of each gap in those 12;
-  // the chain rule then gives R and K in the 24 dofs. With the spin variation w (inner) and the
-  // Newton increment delta (outer), P_m = x_m + exp(w) exp(delta) R_m o, so
-  //   dP_m = du_m + w x r_m,   d2P_m / dw_i d delta_j = e_i x (e_j x r_m),   r_m = R_m o,
-  //   R = J^T G,   K_ij = (J^T H J)_ij + sum_m G_m . (e_i x (e_j x r_m)) on node m's spins.
-  constexpr int kPoints = 12;
-  using In = Sacado::Fad::SFad<double, kPoints>;
-  using Out = Sacado::Fad::SFad<In, kPoints>;
+  // The gaps depend on the 24 dofs only through vectors attached to the four nodes m: the line end
+  // points P_m = x_m + R_m o and (Vectors = 8) the Hermite tangents V_m = R_m d. Nested forward AD
+  // gives the gradient G and Hessian H of each gap in their coordinates; the chain rule then gives
+  // R and K in the 24 dofs. With the spin variation w (inner) and the Newton increment delta
+  // (outer), a rotated vector r_m = R_m c becomes exp(w) exp(delta) r_m, so
+  //   dP_m = du_m + w x r_m,   dV_m = w x V_m,   d2(r) / dw_i d delta_j = e_i x (e_j x r),
+  //   R = J^T G,   K_ij = (J^T H J)_ij + sum_k G_k . (e_i x (e_j x r_k)) on vector k's node's spins.
+  constexpr int kCoords = 3 * Vectors;
+  using In = Sacado::Fad::SFad<double, kCoords>;
+  using Out = Sacado::Fad::SFad<In, kCoords>;
   const Vec3d* x[4] = {&in.xA1, &in.xA2, &in.xB1, &in.xB2};
   const Mat3d* Rm[4] = {&in.RA1, &in.RA2, &in.RB1, &in.RB2};
   const Vec3d* o[4] = {&in.oA, &in.oA, &in.oB, &in.oB};
-  Vec3d r[4];
-  Vec3<Out> P[4];
-  for (int m = 0; m < 4; ++m) {
-    r[m] = (*Rm[m]) * (*o[m]);
-    const Vec3d p = *x[m] + r[m];
-    for (int a = 0; a < 3; ++a) P[m][a] = Out(kPoints, 3 * m + a, In(kPoints, 3 * m + a, p[a]));
+  const Vec3d* dv[4] = {&in.dA, &in.dA, &in.dB, &in.dB};
+  Vec3d r[Vectors];  // the rotated part of each vector
+  Vec3<Out> P[Vectors];
+  for (int k = 0; k < Vectors; ++k) {
+    const int m = k % 4;
+    r[k] = (*Rm[m]) * (k < 4 ? *o[m] : *dv[m]);
+    const Vec3d p = k < 4 ? *x[m] + r[k] : r[k];
+    for (int a = 0; a < 3; ++a) P[k][a] = Out(kCoords, 3 * k + a, In(kCoords, 3 * k + a, p[a]));
   }
-  const Gaps<Out> g = gapsOf(P);
+  const Gaps<Out> g = gapsOf(static_cast<const Vec3<Out>*>(P));
 
-  // J: 12 x 24, dP_(m,a) / d dof; nonzero only in node m's 6 columns: [I, -skew(r_m)].
-  double J[kPoints][kPairDofs] = {};
-  for (int m = 0; m < 4; ++m)
+  // J: coordinates x 24; vector k moves with node m = k % 4: [I (points only), -skew(r_k)].
+  double J[kCoords][kPairDofs] = {};
+  for (int k = 0; k < Vectors; ++k) {
+    const int m = k % 4;
     for (int a = 0; a < 3; ++a) {
-      J[3 * m + a][6 * m + a] = 1.0;
+      if (k < 4) J[3 * k + a][6 * m + a] = 1.0;
       for (int b = 0; b < 3; ++b) {
         Vec3d e{};
         e[b] = 1.0;
-        J[3 * m + a][6 * m + 3 + b] = cross(e, r[m])[a];
+        J[3 * k + a][6 * m + 3 + b] = cross(e, r[k])[a];
       }
     }
-
+  }
+  constexpr int kPoints = kCoords;
   ContactKinematics out;
   out.xi = g.xi.val().val();
   out.eta = g.eta.val().val();
@@ -192,15 +249,16 @@ ContactKinematics kinematicsOf(const LinePairInput& in, Fn gapsOf) {
         d.K[kPairDofs * i + j] = sum;
       }
     }
-    // Second derivatives of the end points: the spins of the same node.
-    for (int m = 0; m < 4; ++m) {
-      const Vec3d Gm{{G[3 * m], G[3 * m + 1], G[3 * m + 2]}};
+    // Second derivatives of the rotated vectors: the spins of the same node.
+    for (int k = 0; k < Vectors; ++k) {
+      const int m = k % 4;
+      const Vec3d Gk{{G[3 * k], G[3 * k + 1], G[3 * k + 2]}};
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) {
           Vec3d ei{}, ej{};
           ei[i] = 1.0;
           ej[j] = 1.0;
-          d.K[kPairDofs * (6 * m + 3 + i) + 6 * m + 3 + j] += dot(Gm, cross(ei, cross(ej, r[m])));
+          d.K[kPairDofs * (6 * m + 3 + i) + 6 * m + 3 + j] += dot(Gk, cross(ei, cross(ej, r[k])));
         }
     }
   }

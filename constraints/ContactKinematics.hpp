@@ -35,6 +35,11 @@ struct LinePairInput {
   Mat3d RA1{}, RA2{}, RB1{}, RB2{};  // current nodal rotations
   Vec3d oA{}, oB{};                  // reference offsets of the two lines from their axes
   double radiusSum = 0.0;            // r_A + r_B for circular sections
+  // Line contact only: the elements' reference axis vectors X_2 - X_1 (length L0). The axis of an
+  // element is then the cubic Hermite curve through the two nodes with the nodal tangents
+  // R_m (X_2 - X_1) (it is the straight chord while the nodes have not turned, and follows the beam's
+  // bending between the nodes); a zero vector gives the straight chord x_1 + u (x_2 - x_1).
+  Vec3d dA{}, dB{};
 };
 
 struct ClosestPoints {
@@ -66,13 +71,14 @@ struct ContactKinematics {
   Vector24 cosineR{};
 };
 
-// Line contact (circular sections, nearly parallel axes) at the Gauss point xi of line A: its
-// projection on line B, in double precision (sinAngle, xi, eta, pA, pB, cA, cB, distance, normal along
-// p_B - p_A, gap = distance - (r_A + r_B); sigma unused).
+// Line contact (circular sections, nearly parallel axes) at the Gauss point xi of axis A: its
+// projection on axis B (the point of B's Hermite axis where t_B(eta) . (p_B - p_A) = 0, by Newton's
+// method from the chord's projection), in double precision (sinAngle of the chords, xi, eta, pA, pB,
+// cA = pA, cB = pB, distance, normal along p_B - p_A, gap = distance - (r_A + r_B); sigma unused).
 ClosestPoints lineProjection(const LinePairInput& in, double xi);
 // The gaps of that Gauss point with their derivatives: g_N = |p_B - p_A| - (r_A + r_B) with eta from
 // the projection (its dependence included), g_T1 = 0 (the point is material on A), g_T2 = (eta -
-// etaPrev) |p_B2 - p_B1| (slip along B).
+// etaPrev) |x_B2 - x_B1| (slip along B); the cosine is the chords'.
 ContactKinematics lineKinematics(const LinePairInput& in, double xi, double etaPrev);
 
 // All gaps and their derivatives at the current state; `sigma` from closestPoints (or the history),

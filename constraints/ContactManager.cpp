@@ -15,6 +15,15 @@
 
 namespace bc::constraints {
 
+namespace {
+// A point (or line node) whose blend weight (share of its full weight) is at most this is not
+// judged after Newton and keeps no multipliers (its rows would carry nothing).
+constexpr double kCarries = 1e-3;
+// A line point of a nodal multiplier field penetrating by more than this fraction of the thinner
+// radius is reported: the field does not resolve the contact zone (warnings()).
+constexpr double kUnresolved = 1e-3;
+}  // namespace
+
 using core::GlobalDof;
 using elements::BeamElement;
 using elements::CrossSection;
@@ -164,6 +173,8 @@ LinePairInput ContactManager::lineInput(int eA, int lA, int eB, int lB, const co
   in.oA = la.cy * column(a.data.T0, 1) + la.cz * column(a.data.T0, 2);
   in.oB = lb.cy * column(b.data.T0, 1) + lb.cz * column(b.data.T0, 2);
   in.radiusSum = la.radius + lb.radius;
+  in.dA = a.data.L0 * column(a.data.T0, 0);
+  in.dB = b.data.L0 * column(b.data.T0, 0);
   return in;
 }
 
@@ -407,16 +418,21 @@ bool ContactManager::prepareIteration(core::State& state) {
   }
   changed = changed || next.size() != points_.size();
   points_ = std::move(next);
-  if (nodalLines_) {
-    // A line node whose Gauss points carry (almost) nothing now, because they left the other beam or
-    // the pair turned into point contact, has no rows to determine its multipliers: it gives them up.
-    const auto gaps = nodeGaps(state);
-    for (auto& [key, p] : points_) {
-      if (!p.node() || enforcer_->multipliers(*p.state) == 0) continue;
+  // Multipliers whose rows carry (almost) nothing now have nothing to determine them: a line node
+  // whose Gauss points left the other beam or whose pair turned into point contact, a point contact
+  // whose pair turned into line contact (blend weight below kCarries). They are given up (the state
+  // starts afresh), and such points are not judged (acceptSolution), so they are not taken up again.
+  const auto gaps = nodalLines_ ? nodeGaps(state) : std::map<Key, NodeGap>{};
+  for (auto& [key, p] : points_) {
+    if (p.line() || enforcer_->multipliers(*p.state) == 0) continue;
+    bool idle = false;
+    if (p.node()) {
       const auto g = gaps.find(key);
-      if (g == gaps.end() || !(g->second.weight > 1e-3 * g->second.full))
-        p.state = PointStateHolder(enforcer_->newPointState());
+      idle = g == gaps.end() || !(g->second.weight > kCarries * g->second.full);
+    } else if (blends(p.pair)) {
+      idle = !(blendWeight(p, std::cos(axisAngle(p.elementA, p.elementB, state)), nullptr, nullptr) > kCarries);
     }
+    if (idle) p.state = PointStateHolder(enforcer_->newPointState());
   }
   return layoutMultipliers(state) || changed;
 }
@@ -736,7 +752,7 @@ bool ContactManager::acceptSolution(core::State& state) {
   worstViolation_ = 0.0;
   bool all = true;
   std::vector<ContactKinematics> ks;
-  // A point whose blend weight is zero carries nothing: the strategy does not judge it.
+  // A point whose blend weight is at most kCarries carries (almost) nothing: the strategy does not judge it.
   // With a nodal line field the line nodes are judged, on their weighted gaps, not the Gauss points.
   std::vector<bool> carries;
   const auto gaps = nodalLines_ ? nodeGaps(state) : std::map<Key, NodeGap>{};
@@ -747,11 +763,11 @@ bool ContactManager::acceptSolution(core::State& state) {
     if (p.node()) {
       ks.emplace_back();
       const auto g = gaps.find(key);
-      carries.push_back(g != gaps.end() && g->second.weight > 0.0);
+      carries.push_back(g != gaps.end() && g->second.weight > kCarries * g->second.full);
       if (carries.back()) ks.back().normal.value = g->second.weighted;
     } else {
       ks.push_back(kinematics(p, state));
-      carries.push_back(!(nodalLines_ && p.line()) && blendWeight(p, ks.back().cosine, nullptr, nullptr) > 0.0);
+      carries.push_back(!(nodalLines_ && p.line()) && blendWeight(p, ks.back().cosine, nullptr, nullptr) > kCarries);
     }
     if (carries.back()) all = enforcer_->acceptNormal(view(p, ks.back()), *p.state) && all;
   }
@@ -807,6 +823,19 @@ void ContactManager::commitStep(const core::State& state) {
       for (double& t : p.result.lambdaT) t *= w;
       if (w == 0.0) p.result.active = false;
       if (p.line() && p.result.active && pairs_[p.pair].friction > 0.0) frictionlessLines_.insert(p.pair);
+      if (nodalLines_ && p.line() && p.result.active) {
+        // The field enforces gaps weighted over beam A's elements: between its nodes the beams may
+        // penetrate. Beyond kUnresolved of the thinner radius the contact zone is not resolved.
+        const auto& pair = pairs_[p.pair];
+        const double radius = std::min(lines_[pair.beamA][0].radius, lines_[pair.beamB][0].radius);
+        if (-k.normal.value > kUnresolved * radius) {
+          auto& worst = unresolvedLines_[p.pair];
+          if (-k.normal.value > worst.first) {
+            const ClosestPoints at = pointGeometry(p, state);
+            worst = {-k.normal.value, 0.5 * (at.pA + at.pB)};
+          }
+        }
+      }
     }
     p.kinematics = k;
     const ClosestPoints cp = pointGeometry(p, state);
@@ -890,8 +919,8 @@ void ContactManager::loadCommitted(core::CheckpointIn& in, const core::State& co
   points_ = committed_;
   marked_ = committed_;
   reference_ = committed;
-  // (The frictionless-line warning is not in the checkpoint: it is renewed from the restored points
-  // and the steps that follow.)
+  // (The line-contact warnings are not in the checkpoint: they are renewed from the steps that
+  // follow, and the frictionless one also from the restored points.)
   for (const auto& [key, p] : committed_)
     if (p.line() && pairs_[p.pair].friction > 0.0) frictionlessLines_.insert(p.pair);
   passes_ = 0;
@@ -985,6 +1014,18 @@ void ContactManager::appendVtk(const core::State&, core::VtkMesh& mesh) const {
 
 std::vector<std::string> ContactManager::warnings() const {
   std::vector<std::string> w;
+  for (const auto& [pair, worst] : unresolvedLines_) {
+    std::ostringstream s;
+    s << "contact pair \"" << pairs_[pair].name << "\": " << enforcer_->type()
+      << " enforces line contact on gaps weighted over the elements of beam \""
+      << beams_->beams()[pairs_[pair].beamA].name << "\", and between its nodes the beams penetrated by up to "
+      << worst.first << " near (" << worst.second[0] << ", " << worst.second[1] << ", " << worst.second[2]
+      << "), more than " << kUnresolved
+      << " of the thinner radius: the contact zone there is short against the elements (beams crossing at a "
+         "small angle, or a beam end on the other beam), so the contact force is not resolved; refine beam \""
+      << beams_->beams()[pairs_[pair].beamA].name << "\" or use Penalty or Augmented Lagrange";
+    w.push_back(s.str());
+  }
   for (int pair : frictionlessLines_) {
     std::ostringstream s;
     s << "contact pair \"" << pairs_[pair].name << "\" has friction coefficient " << pairs_[pair].friction

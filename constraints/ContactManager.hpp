@@ -214,6 +214,7 @@ class ContactManager : public core::Contribution {
   bool evaluateNodal(const Point& p, const ContactKinematics& k, const core::State& s, std::vector<double>& f,
                      std::vector<double>* K, PointResult* result) const;
   std::set<int> frictionlessLines_;       // pairs with friction whose line points carried force
+  std::map<int, std::pair<double, Vec3d>> unresolvedLines_;  // nodal line fields: pair -> deepest penetration, where
   // All-angle contact: whether the pair blends point and line contact (both beams circular and the
   // strategy enforces lines); the angle of two elements' axes in `s`; whether an element pair has
   // line points / point contacts (by its angle at the last converged state, with margins beyond the

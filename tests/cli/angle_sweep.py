@@ -5,8 +5,8 @@ about the common centre (50, 0) in the XY plane, its axis 1.1 above A's (gap 0.1
 clamped ends moved down by 0.12 (closure 0.02). Every inner node holds uy: two rods lying parallel
 and pressed together are laterally unstable (a rod on a rod rolls off), which is not the point here.
 
-Checks, for Penalty (eps_N 1e4, Regularization Gap 1e-3) and Augmented Lagrange (Gap Tolerance 1e-6,
-Maximum Iterations 50):
+Checks, for Penalty (eps_N 1e4, Regularization Gap 1e-3), Augmented Lagrange (Gap Tolerance 1e-6,
+Maximum Iterations 50) and Lagrange multipliers (a mortar field on line A's nodes in line contact):
   - every angle completes (90 .. 0 degrees);
   - at 90 and 30 degrees (point contact at the centres) the small-displacement closed form: the
     centre compliances of the clamped beams c = L^3 / (192 E I) in series (1 %); Penalty adds the
@@ -14,7 +14,11 @@ Maximum Iterations 50):
     N c = closure;
   - continuity through the blend of point and line contact: from 16 down to 4 degrees each angle's
     normal force within 1 % of the previous one.
-Lagrange multipliers (no line contact yet) complete at 90 degrees and stop at 0 naming the cause.
+Lagrange multipliers enforce line contact on gaps weighted over beam A's elements (length 5 here): at
+5 to 1 degrees the contact zone around the crossing is shorter than that, the beams penetrate between
+the field's nodes, and the force falls short (by 78 % at 5 degrees; with elements of 1 and 0.5 by 3 %
+and 0.8 %). Each such run must carry a warning in status.txt (marked * in the table) exactly when a line
+point penetrates by more than 1e-3 of the radius; those angles are not held to continuity.
 Below 2 degrees B's clamped ends come over A and the force rises steeply (geometry, not a jump).
 Usage: angle_sweep.py BEAMCONTACT WORKDIR
 """
@@ -79,7 +83,10 @@ def run(exe, work, alpha, strategy):
         rows = list(csv.DictReader(f))
     last = [x for x in rows if x["step"] == rows[-1]["step"] and x["active"] == "1"]
     lines = sum(1 for x in last if int(x["line_A"]) < 0)
-    return (sum(float(x["normal_force"]) for x in last), len(last) - lines, lines), ""
+    with open(os.path.join(out, "status.txt")) as f:
+        warned = any(line.startswith("warning:") and "not resolved" in line for line in f)
+    deepest = max([-float(x["gap"]) for x in last if int(x["line_A"]) < 0] + [0.0])
+    return (sum(float(x["normal_force"]) for x in last), len(last) - lines, lines, warned, deepest), ""
 
 
 def main():
@@ -92,7 +99,7 @@ def main():
     for _ in range(200):
         mid = 0.5 * (lo + hi)
         lo, hi = (mid, hi) if mid * c + math.sqrt(2 * G0 * mid / EPS) < closure else (lo, mid)
-    exact = {"Penalty": 0.5 * (lo + hi), "Augmented Lagrange": closure / c}
+    exact = {"Penalty": 0.5 * (lo + hi), "Augmented Lagrange": closure / c, "Lagrange Multiplier": closure / c}
     failures = 0
     print("angle   " + "".join(f"{s:>34s}" for s in exact))
     table = {s: {} for s in exact}
@@ -105,8 +112,16 @@ def main():
                 print(f"{strategy} at {alpha} degrees: {error[-300:]}")
                 failures += 1
                 continue
-            table[strategy][alpha] = result[0]
-            line += f"{result[0]:16.9f} ({result[1]} points, {result[2]:2d} line)"
+            # Lagrange multipliers on lines: a contact zone shorter than beam A's elements is not
+            # resolved (penetration between the field's nodes); the run must say so, and such angles
+            # are left out of the continuity check.
+            if strategy == "Lagrange Multiplier" and result[3] != (result[4] > 1e-3 * R):
+                print(f"{strategy} at {alpha} degrees: penetration {result[4]:.2e} of line points, warning "
+                      f"{'given' if result[3] else 'missing'}")
+                failures += 1
+            if not result[3]:
+                table[strategy][alpha] = result[0]
+            line += f"{result[0]:16.9f} ({result[1]} points, {result[2]:2d} line){'*' if result[3] else ' '}"
         print(line)
     for strategy, values in table.items():
         for alpha in (90, 30):
@@ -121,12 +136,6 @@ def main():
         print(f"{strategy}: largest change between neighbouring angles from 16 to 4 degrees "
               f"{worst[0]:.2e} ({worst[1]} -> {worst[2]})")
         failures += not (worst[0] < 0.01)
-    result, _ = run(exe, work, 90, "Lagrange Multiplier")
-    print(f"Lagrange Multiplier at 90 degrees: N = {result[0] if result else 'FAILED'}")
-    failures += result is None or not abs(result[0] - exact["Augmented Lagrange"]) < 0.01 * exact["Augmented Lagrange"]
-    result, error = run(exe, work, 0, "Lagrange Multiplier")
-    print(f"Lagrange Multiplier at 0 degrees: {'completed (wrong)' if result else error[-200:]}")
-    failures += result is not None or "not Lagrange Multiplier" not in error
     if failures:
         sys.exit(f"{failures} check(s) failed")
     print("ok")

@@ -127,3 +127,4 @@ TEST(RankAgreement, Example1LagrangeMultiplier) { compareDeck("example1.xml", "L
 // Line contact (two parallel rods, input/parallel_rods.xml).
 TEST(RankAgreement, LineContactPenalty) { compareDeck("parallel_rods.xml", "Penalty", 1e-10); }
 TEST(RankAgreement, LineContactAugmentedLagrange) { compareDeck("parallel_rods.xml", "Augmented Lagrange", 1e-10); }
+TEST(RankAgreement, LineContactLagrangeMultiplier) { compareDeck("parallel_rods.xml", "Lagrange Multiplier", 1e-10); }

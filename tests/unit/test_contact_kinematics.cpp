@@ -137,6 +137,38 @@ TEST(LineKinematics, ParallelBeamsGapAndProjection) {
   EXPECT_NEAR(k.tangent1.value, 0.0, 0.0);
 }
 
+// The cubic axis: B's nodes turned about Y by -phi and +phi (tangents R e1 L0), so its axis is
+// z = 2.5 + L0 sin(phi) (u - u^2), x = L0 [3u^2 - 2u^3 + cos(phi) (u - 3u^2 + 2u^3)]: at u = 1/2 it passes
+// (5, 0, 2.5 + 2.5 sin phi) with a horizontal tangent, so A's point (5, 0, 0) (xi = 1/2 on the straight
+// element below) projects there and the gap is 0.5 + 2.5 sin phi.
+TEST(LineKinematics, CubicAxisFollowsTheNodalRotations) {
+  for (const double phi : {0.1, -0.2}) {
+    LinePairInput in;
+    in.xA1 = {{0, 0, 0}}; in.xA2 = {{10, 0, 0}};
+    in.xB1 = {{0, 0, 2.5}}; in.xB2 = {{10, 0, 2.5}};
+    in.RA1 = in.RA2 = identity3<double>();
+    in.RB1 = expSO3(Vec3d{{0, -phi, 0}});
+    in.RB2 = expSO3(Vec3d{{0, phi, 0}});
+    in.dA = in.dB = Vec3d{{10, 0, 0}};
+    in.radiusSum = 2.0;
+    const auto cp = lineProjection(in, 0.5);
+    EXPECT_NEAR(cp.eta, 0.5, 1e-12);
+    EXPECT_NEAR(cp.gap, 0.5 + 2.5 * std::sin(phi), 1e-12);
+    EXPECT_NEAR(cp.pB[0], 5.0, 1e-12);
+    EXPECT_NEAR(lineKinematics(in, 0.5, 0.5).normal.value, 0.5 + 2.5 * std::sin(phi), 1e-12);
+    // A point off the middle: the projection where B's tangent is normal to p_B - p_A (checked
+    // against the curve sampled finely).
+    const auto off = lineProjection(in, 0.2);
+    double best = 1e300;
+    for (int i = 0; i <= 200000; ++i) {
+      const double u = i / 200000.0, x = 10 * (3 * u * u - 2 * u * u * u + std::cos(phi) * (u - 3 * u * u + 2 * u * u * u));
+      const double z = 2.5 + 10 * std::sin(phi) * (u - u * u);
+      best = std::min(best, std::hypot(x - 2.0, z));
+    }
+    EXPECT_NEAR(off.distance, best, 1e-9);
+  }
+}
+
 TEST(LineKinematics, VariationsMatchCentralDifferences) {
   std::mt19937 g(23);
   double worstR = 0.0, worstK = 0.0;
@@ -146,6 +178,11 @@ TEST(LineKinematics, VariationsMatchCentralDifferences) {
     in.xB1 = {{-2, 0.3, 2.5}}; in.xB2 = {{8, -0.2, 2.6}};  // nearly parallel, not exactly
     in.oA = trial % 2 ? Vec3d{{0, 0.4, 0.2}} : Vec3d{};      // off-axis lines too (general offsets)
     in.oB = trial % 2 ? Vec3d{{0, -0.3, 0.1}} : Vec3d{};
+    // Cubic (Hermite) axes through the nodal rotations in most trials, straight chords in some.
+    if (trial % 3 != 0) {
+      in.dA = Vec3d{{10, 0, 0}};
+      in.dB = Vec3d{{10, -0.5, 0.1}};
+    }
     const Mat3d Q = expSO3(randomVec(g, 1.0));
     for (Vec3d* x : {&in.xA1, &in.xA2, &in.xB1, &in.xB2}) *x = Q * (*x + randomVec(g, 0.3));
     for (Mat3d* R : {&in.RA1, &in.RA2, &in.RB1, &in.RB2}) *R = Q * expSO3(randomVec(g, 0.3));
