@@ -977,7 +977,8 @@ void ContactManager::restoreStep() {
 std::string ContactManager::tableHeader() const {
   return "pair,line_A,line_B,beam_A_coordinate,beam_B_coordinate,x,y,z,gap,normal_force,tangential_force_1,"
          "tangential_force_2,state_1,state_2,active,normal_x,normal_y,normal_z,normal_force_x,normal_force_y,"
-         "normal_force_z,tangential_force_x,tangential_force_y,tangential_force_z,tangential_force";
+         "normal_force_z,tangential_force_x,tangential_force_y,tangential_force_z,tangential_force,element_A,element_B,"
+         "line_traction";
 }
 
 std::vector<std::string> ContactManager::tableRows() const {
@@ -994,17 +995,30 @@ std::vector<std::string> ContactManager::tableRows() const {
     for (const Vec3d* v : {&p.normal, &p.normalForce, &p.tangentialForce})
       for (int a = 0; a < 3; ++a) s << "," << (*v)[a];
     s << "," << norm(p.tangentialForce);
+    // The segment (the elements, within their beams, the point lies on) and, for a line point, its
+    // normal force per unit length of line A (0 for point contacts).
+    const auto& elems = beams_->elements();
+    s << "," << elems[p.elementA].index << "," << elems[p.elementB].index << ","
+      << (p.line() ? -p.result.lambdaN / lineWeight(p) : 0.0);
     rows.push_back(s.str());
   }
   return rows;
 }
 
 void ContactManager::appendVtk(const core::State&, core::VtkMesh& mesh) const {
-  mesh.pointVectors["contact force"];  // in every step's file, also without contact
+  // In every step's file, also without contact.
+  mesh.pointVectors["contact force"];
+  mesh.pointScalars["line traction"];
+  mesh.pointScalars["segment element A"];
+  mesh.pointScalars["segment element B"];
+  const auto& elems = beams_->elements();
   for (const auto& [key, p] : committed_) {
     if (!p.result.active || p.node()) continue;
     const int point = mesh.addPoint(p.position, Vec3d{});
     mesh.setPointVector("contact force", point, p.normalForce + p.tangentialForce);
+    mesh.setPointScalar("line traction", point, p.line() ? -p.result.lambdaN / lineWeight(p) : 0.0);
+    mesh.setPointScalar("segment element A", point, elems[p.elementA].index);
+    mesh.setPointScalar("segment element B", point, elems[p.elementB].index);
     mesh.cellTypes.push_back(1);  // VTK_VERTEX
     mesh.cells.push_back({point});
     mesh.cellBeam.push_back(-1);

@@ -32,6 +32,7 @@ struct VtkMesh {
   std::vector<Vec3d> points;
   std::vector<Vec3d> pointDisplacement;
   std::map<std::string, std::vector<Vec3d>> pointVectors;
+  std::map<std::string, std::vector<double>> pointScalars;
   std::vector<int> cellTypes;
   std::vector<std::vector<int>> cells;
   std::vector<int> cellBeam;     // index of the beam a cell belongs to (-1: none)
@@ -45,6 +46,11 @@ struct VtkMesh {
   void setPointVector(const std::string& name, int point, const Vec3d& v) {
     auto& a = pointVectors[name];
     if (a.size() < points.size()) a.resize(points.size(), Vec3d{});
+    a[point] = v;
+  }
+  void setPointScalar(const std::string& name, int point, double v) {
+    auto& a = pointScalars[name];
+    if (a.size() < points.size()) a.resize(points.size(), 0.0);
     a[point] = v;
   }
 };

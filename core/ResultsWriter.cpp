@@ -283,6 +283,12 @@ void ResultsWriter::writeVtk(int step, double T, const State& state) {
     for (const auto& u : values) f << u[0] << " " << u[1] << " " << u[2] << "\n";
     f << "</DataArray>\n";
   }
+  for (auto& [arrayName, values] : mesh.pointScalars) {
+    values.resize(mesh.points.size(), 0.0);
+    f << "<DataArray type=\"Float64\" Name=\"" << arrayName << "\" format=\"ascii\">\n";
+    for (double v : values) f << v << "\n";
+    f << "</DataArray>\n";
+  }
   f << "</PointData>\n<CellData>\n<DataArray type=\"Int32\" Name=\"beam\" format=\"ascii\">\n";
   for (int b : mesh.cellBeam) f << b << "\n";
   f << "</DataArray>\n<DataArray type=\"Int32\" Name=\"element\" format=\"ascii\">\n";

@@ -1157,6 +1157,18 @@ TEST(LineContact, RigidPunchGivesThePenaltyTractionPerUnitLength) {
               s.active, s.points, s.total, s.gapMin, s.gapMax);
   EXPECT_EQ(s.active, 60);
   EXPECT_NEAR(s.total, 100.0, 1e-9 * 100.0);
+  // contact_points.csv: each Gauss point's line traction (its last column) is eps_N d = 1 per unit
+  // length, and its segment (element_A, element_B) the matching elements.
+  const auto header = p.contact->tableHeader();
+  ASSERT_EQ(header.substr(header.size() - 33), "element_A,element_B,line_traction");
+  for (const auto& row : p.contact->tableRows()) {
+    std::vector<std::string> cells;
+    std::stringstream in(row);
+    for (std::string cell; std::getline(in, cell, ',');) cells.push_back(cell);
+    ASSERT_GE(cells.size(), 3u);
+    EXPECT_NEAR(std::stod(cells.back()), 1.0, 1e-9) << row;
+    EXPECT_EQ(cells[cells.size() - 3], cells[cells.size() - 2]) << row;
+  }
   EXPECT_NEAR(s.gapMin, -1e-4, 1e-9 * 1e-4);
   EXPECT_NEAR(s.gapMax, -1e-4, 1e-9 * 1e-4);
   double previous = 1e300;
