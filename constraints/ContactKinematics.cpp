@@ -166,10 +166,13 @@ ClosestPoints lineProjection(const LinePairInput& in, double xi) {
 
 ContactKinematics lineKinematics(const LinePairInput& in, double xi, double etaPrev) {
   const double etaStart = lineProjection(in, xi).eta;
-  return kinematicsOf<8>(
+  ContactKinematics k = kinematicsOf<8>(
       in, [&](const auto* P) {
         return lineGaps(P, P + 4, norm(in.dA) > 0.0, norm(in.dB) > 0.0, in.radiusSum, xi, etaStart, etaPrev);
       });
+  k.cosine = 0.0;
+  k.cosineR.fill(0.0);
+  return k;
 }
 
 namespace {
@@ -222,6 +225,8 @@ ContactKinematics kinematicsOf(const LinePairInput& in, Fn gapsOf) {
     for (int k = 0; k < kPoints; ++k) Ri += J[k][i] * g.cosine.val().dx(k);
     out.cosineR[i] = Ri;
   }
+  out.axesCosine = out.cosine;
+  out.axesCosineR = out.cosineR;
   const Out* src[3] = {&g.gN, &g.gT1, &g.gT2};
   GapDerivatives* dst[3] = {&out.normal, &out.tangent1, &out.tangent2};
   for (int q = 0; q < 3; ++q) {

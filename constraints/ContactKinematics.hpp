@@ -69,6 +69,11 @@ struct ContactKinematics {
   // lines at an angle, so the slip vector s = g_T1 a - g_T2 b has |s|^2 = g^T M g, M = [1 -c; -c 1].
   double cosine = 0.0;
   Vector24 cosineR{};
+  // The cosine of the two elements' axes (chords) and its first variation: what all-angle contact
+  // blends by. For a point contact it is `cosine`; for a line Gauss point `cosine` is 0 (its two
+  // tangential gaps, across and along the axes, are orthogonal) and this holds the axes' angle.
+  double axesCosine = 0.0;
+  Vector24 axesCosineR{};
 };
 
 // Line contact (circular sections, nearly parallel axes) at the Gauss point xi of axis A: its
@@ -77,8 +82,9 @@ struct ContactKinematics {
 // cA = pA, cB = pB, distance, normal along p_B - p_A, gap = distance - (r_A + r_B); sigma unused).
 ClosestPoints lineProjection(const LinePairInput& in, double xi);
 // The gaps of that Gauss point with their derivatives: g_N = |p_B - p_A| - (r_A + r_B) with eta from
-// the projection (its dependence included), g_T1 = 0 (the point is material on A), g_T2 = (eta -
-// etaPrev) |x_B2 - x_B1| (slip along B); the cosine is the chords'.
+// the projection (its dependence included), g_T1 = 0 (no slip is measured across the axes), g_T2 =
+// (eta - etaPrev) |x_B2 - x_B1| (slip along B; the point is material on A); cosine 0 (the two
+// tangential directions are orthogonal), axesCosine the chords'.
 ContactKinematics lineKinematics(const LinePairInput& in, double xi, double etaPrev);
 
 // All gaps and their derivatives at the current state; `sigma` from closestPoints (or the history),

@@ -461,9 +461,11 @@ const double* ContactManager::multipliers(const Point& p, const core::State& sta
 }
 
 ContactPoint ContactManager::strategyView(const Point& p, const ContactKinematics& k, const core::State& state) const {
-  // Line contact is frictionless here (the transverse slip of a line is not modelled yet).
-  return ContactPoint{k, p.line() ? 0.0 : pairs_[p.pair].friction, options_.frictionLaw, multipliers(p, state),
-                      blendWeight(p, k.cosine, nullptr, nullptr)};
+  // Line points have friction along the axes (their g_T2); across the axes no slip is measured.
+  // Lagrange multipliers on lines are frictionless (their field carries the normal contact only).
+  return ContactPoint{k, p.line() && nodalLines_ ? 0.0 : pairs_[p.pair].friction, options_.frictionLaw,
+                      multipliers(p, state),
+                      blendWeight(p, k.axesCosine, nullptr, nullptr)};
 }
 
 std::vector<GlobalDof> ContactManager::blockDofs(const Point& p) const {
@@ -569,7 +571,7 @@ bool ContactManager::evaluateNodal(const Point& p, const ContactKinematics& k, c
   }
   const int np = kPairDofs + m, nb = slot;
   std::vector<double> fp(np, 0.0), Kp(K ? std::size_t(np) * np : 0, 0.0);
-  const ContactPoint view{k, 0.0, options_.frictionLaw, lambda.data(), blendWeight(p, k.cosine, nullptr, nullptr)};
+  const ContactPoint view{k, 0.0, options_.frictionLaw, lambda.data(), blendWeight(p, k.axesCosine, nullptr, nullptr)};
   const PointResult r = enforcer_->evaluate(view, *host, fp.data(), K ? Kp.data() : nullptr);
   if (result) *result = r;
   f.assign(nb, 0.0);
@@ -641,7 +643,7 @@ void ContactManager::evaluate(const core::State& state, const OwnsDof& owns, cor
     // Weighted by the blend between point and line contact (w(u), its gradient in the tangent:
     // K <- w K + f (x) grad w) and, for a line point, by the length it stands for.
     Vector24 gradient;
-    double w = blendWeight(p, k.cosine, k.cosineR.data(), &gradient);
+    double w = blendWeight(p, k.axesCosine, k.axesCosineR.data(), &gradient);
     if (p.line()) {
       const double length = lineWeight(p);
       w *= length;
@@ -767,7 +769,7 @@ bool ContactManager::acceptSolution(core::State& state) {
       if (carries.back()) ks.back().normal.value = g->second.weighted;
     } else {
       ks.push_back(kinematics(p, state));
-      carries.push_back(!(nodalLines_ && p.line()) && blendWeight(p, ks.back().cosine, nullptr, nullptr) > kCarries);
+      carries.push_back(!(nodalLines_ && p.line()) && blendWeight(p, ks.back().axesCosine, nullptr, nullptr) > kCarries);
     }
     if (carries.back()) all = enforcer_->acceptNormal(view(p, ks.back()), *p.state) && all;
   }
@@ -818,7 +820,7 @@ void ContactManager::commitStep(const core::State& state) {
       enforcer_->commitPoint(view, *p.state);
     }
     {  // reported as applied: times the blend weight and, for a line point, its length
-      const double w = blendWeight(p, k.cosine, nullptr, nullptr) * (p.line() ? lineWeight(p) : 1.0);
+      const double w = blendWeight(p, k.axesCosine, nullptr, nullptr) * (p.line() ? lineWeight(p) : 1.0);
       p.result.lambdaN *= w;
       for (double& t : p.result.lambdaT) t *= w;
       if (w == 0.0) p.result.active = false;
@@ -1043,7 +1045,11 @@ std::vector<std::string> ContactManager::warnings() const {
   for (int pair : frictionlessLines_) {
     std::ostringstream s;
     s << "contact pair \"" << pairs_[pair].name << "\" has friction coefficient " << pairs_[pair].friction
-      << ", but its beams were in line contact (nearly parallel), which is frictionless: no friction acted there";
+      << ", and its beams were in line contact (nearly parallel): ";
+    if (nodalLines_)
+      s << enforcer_->type() << " enforces line contact without friction: no friction acted there";
+    else
+      s << "friction acted along the axes only; sliding across them (perpendicular to both axes) is frictionless";
     w.push_back(s.str());
   }
   return w;

@@ -1348,6 +1348,56 @@ TEST(LineContact, LagrangeMultiplierFieldCarriesHalfTheLoadOfStackedCantilevers)
   }
 }
 
+// Friction along the axes of a line contact: a rigid punch that slides. Both beams are held at every
+// node, the rod pressed 1e-4 into the ground (eps_N 1e4 per unit length: N = 1 per length, 100 in
+// total) and slid along the axes by delta, pair friction mu = 0.3, eps_T = 1e3 per unit length. Sliding
+// by 0.01 (beyond the elastic slip mu N' / eps_T = 3e-4) the friction force is mu N = 30, with each
+// friction law; sliding by 1e-5 the rod sticks and the force is eps_T delta L = 1. (A prescribed
+// penetration is a penalty's case: Augmented Lagrange cannot close it. Its line friction is the same
+// law at each Gauss point, checked by the tangent test below.)
+TEST(LineContact, FrictionAlongTheAxesReachesMuN) {
+  for (const std::string law : {"Per Line", "Isotropic Coulomb"})
+    for (const std::string type : {"Penalty"})
+      for (const double delta : {0.01, 1e-5}) {
+        auto deck = parallelBeams(type, 10, 10, 0.0, 1e5, 6);
+        input::setAtPath(deck, "Contact/Friction Law", law);
+        input::replaceAtPath(deck, "Contact/Pairs/line/Friction Coefficient", 0.3);
+        input::replaceAtPath(deck, "Load Stepping/Number of Increments", 2);
+        for (int i = 0; i <= 10; ++i) {
+          support(deck, "ground", i, "all");
+          Teuchos::ParameterList& s = deck.sublist("Supports").sublist("slide " + std::to_string(i));
+          s.set("Beam", std::string("rod"));
+          s.set("Node", std::to_string(i));
+          s.set("Fixed", std::string("all"));
+          s.set("Displacement", Teuchos::Array<double>(std::vector<double>{delta, 0.0, -1e-4}));
+        }
+        auto p = input::buildProblem(deck, "line_friction");
+        const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "line_friction");
+        ASSERT_TRUE(r.report.completed) << r.report.failure;
+        double normal = 0.0, friction = 0.0;
+        int slipping = 0, active = 0;
+        for (const auto& [key, q] : p.contact->points()) {
+          if (!q.line() || !q.result.active) continue;
+          ++active;
+          normal += -q.result.lambdaN;
+          friction += q.tangentialForce[0];
+          slipping += q.result.slip[1];
+        }
+        std::printf("%s, %s, slide %g: N = %.9f, friction force %.9f (mu N = %.9f), %d of %d points slipping\n",
+                    type.c_str(), law.c_str(), delta, normal, friction, 0.3 * normal, slipping, active);
+        EXPECT_NEAR(normal, 100.0, 1e-6 * 100.0);
+        if (delta > 1e-3) {
+          EXPECT_EQ(slipping, active);
+          EXPECT_NEAR(std::abs(friction), 0.3 * normal, 1e-9 * normal);
+        } else {
+          EXPECT_EQ(slipping, 0);
+          EXPECT_NEAR(std::abs(friction), 1e3 * delta * 100.0, 1e-6);
+        }
+        // The rod slides in +x: the ground pulls it back, so the force on the rod points in -x.
+        EXPECT_LT(friction, 0.0);
+      }
+}
+
 // The assembled line-contact tangent against central differences of the residual, for Penalty and
 // Augmented Lagrange: non-matching meshes (ground 6 elements, rod 5 shifted by 2, 4 Gauss points, so
 // projections cross the rod's element boundaries), both beams clamped at their ends and touching, the
@@ -1368,6 +1418,8 @@ TEST(LineContact, TangentMatchesCentralDifferences) {
     const bool lm = type == "Lagrange Multiplier" && degrees > 0;
     const int nGround = lm ? 30 : 6, nRod = lm ? 25 : 5;
     auto deck = parallelBeams(type, nGround, nRod, 2.0, 1e5, 4, degrees, 1e-6);
+    // Friction along the axes (Penalty and Augmented Lagrange; Lagrange's line field is frictionless).
+    input::replaceAtPath(deck, "Contact/Pairs/line/Friction Coefficient", 0.3);
     for (int i = 0; i <= nGround; ++i) support(deck, "ground", i, i == 0 || i == nGround ? "all" : "ux uy rx");
     support(deck, "rod", 0, "all");
     support(deck, "rod", nRod, "all");
@@ -1392,19 +1444,28 @@ TEST(LineContact, TangentMatchesCentralDifferences) {
       ASSERT_GT(s.extra.size(), 0u);
       for (std::size_t i = 0; i < s.extra.size(); ++i) s.extra[i] = -0.1 * (1.0 + 0.37 * i) * (i % 4 == 3 ? -1 : 1);
     }
-    int active = 0, points = 0;
+    int active = 0, points = 0, slipping = 0;
     for (const auto& [key, q] : p.contact->points()) {
       if (q.node()) continue;
       const auto* acting = p.contact->actingState(q);
-      const bool on = acting && p.contact->enforcer().contributes(p.contact->kinematics(q, s).normal.value, *acting);
+      const auto k = p.contact->kinematics(q, s);
+      const bool on = acting && p.contact->enforcer().contributes(k.normal.value, *acting);
       active += on;
       points += on && !q.line();
+      if (on && q.line() && type != "Lagrange Multiplier") {
+        std::vector<double> f(constraints::kPairDofs, 0.0);
+        slipping += p.contact->enforcer().evaluate(p.contact->strategyView(q, k, s), *acting, f.data(), nullptr).slip[1];
+      }
     }
     double kmax = 0.0;
     const double err = assembledContactTangentError(p, s, kmax);
     std::printf("%s, %.0f degrees: line contact tangent vs central differences: max error / max |K| = %.2e (%d "
-                "points active, %d of them point contacts)\n",
-                type.c_str(), degrees, err / kmax, active, points);
+                "points active, %d of them point contacts, %d line points slipping)\n",
+                type.c_str(), degrees, err / kmax, active, points, slipping);
+    if (type != "Lagrange Multiplier" && degrees == 0) {
+      EXPECT_GT(slipping, 0);           // friction along the axes, slipping ...
+      EXPECT_LT(slipping, active);      // ... and sticking
+    }
     EXPECT_GT(active - points, degrees > 0 ? 0 : 10);  // line points
     if (degrees > 0) {
       EXPECT_GT(points, 0);  // and, in the blend, a point contact
