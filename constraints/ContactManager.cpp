@@ -418,19 +418,19 @@ bool ContactManager::prepareIteration(core::State& state) {
   }
   changed = changed || next.size() != points_.size();
   points_ = std::move(next);
-  // Multipliers whose rows carry (almost) nothing now have nothing to determine them: a line node
-  // whose Gauss points left the other beam or whose pair turned into point contact, a point contact
-  // whose pair turned into line contact (blend weight below kCarries). They are given up (the state
-  // starts afresh), and such points are not judged (acceptSolution), so they are not taken up again.
+  // Multipliers whose rows carry nothing now have nothing to determine them: a line node whose Gauss
+  // points left the other beam or carry no weight, a point contact whose blend weight is 0. They are
+  // given up here (the state starts afresh); those that carry almost nothing are given up between
+  // passes (acceptSolution), at the state the active set is judged at.
   const auto gaps = nodalLines_ ? nodeGaps(state) : std::map<Key, NodeGap>{};
   for (auto& [key, p] : points_) {
     if (p.line() || enforcer_->multipliers(*p.state) == 0) continue;
     bool idle = false;
     if (p.node()) {
       const auto g = gaps.find(key);
-      idle = g == gaps.end() || !(g->second.weight > kCarries * g->second.full);
+      idle = g == gaps.end() || !(g->second.weight > 0.0);
     } else if (blends(p.pair)) {
-      idle = !(blendWeight(p, std::cos(axisAngle(p.elementA, p.elementB, state)), nullptr, nullptr) > kCarries);
+      idle = !(blendWeight(p, std::cos(axisAngle(p.elementA, p.elementB, state)), nullptr, nullptr) > 0.0);
     }
     if (idle) p.state = PointStateHolder(enforcer_->newPointState());
   }
@@ -771,7 +771,13 @@ bool ContactManager::acceptSolution(core::State& state) {
       ks.push_back(kinematics(p, state));
       carries.push_back(!(nodalLines_ && p.line()) && blendWeight(p, ks.back().axesCosine, nullptr, nullptr) > kCarries);
     }
-    if (carries.back()) all = enforcer_->acceptNormal(view(p, ks.back()), *p.state) && all;
+    if (carries.back()) {
+      all = enforcer_->acceptNormal(view(p, ks.back()), *p.state) && all;
+    } else if (!p.line() && enforcer_->multipliers(*p.state) > 0) {
+      // Multipliers of a point or line node that carries (almost) nothing: given up.
+      p.state = PointStateHolder(enforcer_->newPointState());
+      all = false;
+    }
   }
   if (all) {
     std::size_t i = 0;
