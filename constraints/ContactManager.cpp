@@ -862,6 +862,7 @@ void ContactManager::commitStep(const core::State& state) {
     p.xiPrev = beamCoordinate(p.elementA, k.xi);
     p.etaPrev = beamCoordinate(p.elementB, k.eta);
   }
+  checkLineResolution(state);
   committed_ = points_;
   reference_ = state;
   lastPasses_ = passes_;
@@ -1034,8 +1035,49 @@ void ContactManager::appendVtk(const core::State&, core::VtkMesh& mesh) const {
   }
 }
 
+void ContactManager::checkLineResolution(const core::State& state) {
+  // The Gauss points of line contact see the gap only where they are. Where the contact zone of an
+  // element pair is shorter than their spacing (axes crossing at a small angle) the beams can overlap
+  // between them, unseen. Per element pair with line points that carry weight: the gap sampled along
+  // A's axis (kSamples points, projected on B's axis) against the deepest Gauss point's.
+  constexpr int kSamples = 64;
+  std::map<std::tuple<int, int, int>, double> deepest;  // (pair, element A, element B) -> lowest Gauss gap
+  for (const auto& [key, p] : points_) {
+    if (!p.line()) continue;
+    if (!(blendWeight(p, std::cos(axisAngle(p.elementA, p.elementB, state)), nullptr, nullptr) > kCarries)) continue;
+    const auto k = std::make_tuple(p.pair, p.elementA, p.elementB);
+    const double gap = pointGeometry(p, state).gap;
+    const auto it = deepest.find(k);
+    deepest[k] = it == deepest.end() ? gap : std::min(it->second, gap);
+  }
+  for (const auto& [k, gauss] : deepest) {
+    const auto [pi, ea, eb] = k;
+    const auto& pair = pairs_[pi];
+    const double radius = std::min(lines_[pair.beamA][0].radius, lines_[pair.beamB][0].radius);
+    const LinePairInput in = lineInput(ea, 0, eb, 0, state);
+    for (int i = 0; i <= kSamples; ++i) {
+      const ClosestPoints cp = lineProjection(in, double(i) / kSamples);
+      if (!withinElement(eb, cp.eta)) continue;
+      const double unseen = std::min(gauss, 0.0) - cp.gap;
+      if (!(unseen > kUnresolved * radius)) continue;
+      auto& worst = unseenBetween_[pi];
+      if (unseen > worst.first) worst = {unseen, 0.5 * (cp.pA + cp.pB)};
+    }
+  }
+}
+
 std::vector<std::string> ContactManager::warnings() const {
   std::vector<std::string> w;
+  for (const auto& [pair, worst] : unseenBetween_) {
+    std::ostringstream s;
+    s << "contact pair \"" << pairs_[pair].name << "\": between the Gauss points of line contact the beams "
+      << "overlapped by up to " << worst.first << " more than at any Gauss point, near (" << worst.second[0] << ", "
+      << worst.second[1] << ", " << worst.second[2] << ") (more than " << kUnresolved
+      << " of the thinner radius): the contact zone there is shorter than the Gauss points' spacing (axes "
+         "crossing at a small angle), so part of the contact was not seen; raise Contact/Line Gauss Points or "
+         "refine beam \"" << beams_->beams()[pairs_[pair].beamA].name << "\"";
+    w.push_back(s.str());
+  }
   for (const auto& [pair, worst] : unresolvedLines_) {
     std::ostringstream s;
     s << "contact pair \"" << pairs_[pair].name << "\": " << enforcer_->type()

@@ -215,6 +215,9 @@ class ContactManager : public core::Contribution {
                      std::vector<double>* K, PointResult* result) const;
   std::set<int> frictionlessLines_;       // pairs with friction whose line points carried force
   std::map<int, std::pair<double, Vec3d>> unresolvedLines_;  // nodal line fields: pair -> deepest penetration, where
+  std::map<int, std::pair<double, Vec3d>> unseenBetween_;    // pair -> deepest overlap between Gauss points, where
+  // After a step: records overlaps of line contact between the Gauss points (warnings()).
+  void checkLineResolution(const core::State& state);
   // All-angle contact: whether the pair blends point and line contact (both beams circular and the
   // strategy enforces lines); the angle of two elements' axes in `s`; whether an element pair has
   // line points / point contacts (by its angle at the last converged state, with margins beyond the
