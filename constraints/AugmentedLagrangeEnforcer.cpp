@@ -18,6 +18,11 @@ const core::ParameterSpec& AugmentedLagrangeEnforcer::spec() {
     p.add("Gap Tolerance", 1e-6, "stop augmenting when |g_N| and sticking |g_T| are below this [length]",
           core::positive(), "> 0");
     p.add("Maximum Augmentations", 50, "Newton solves allowed per increment (passes)", core::atLeast(1), ">= 1");
+    p.add("Regularization Gap", 0.0,
+          "width g0 of a C1 onset of the normal force centred on the augmented law's kink (0: the kinked law); "
+          "lets flat faces or parallel rods that touch along their length at once converge, and the "
+          "augmentations still close the gap where the force exceeds eps_N g0 / 2 [length]",
+          core::nonNegative(), ">= 0");
     return p;
   }();
   return s;
@@ -27,26 +32,32 @@ AugmentedLagrangeEnforcer::AugmentedLagrangeEnforcer(const Teuchos::ParameterLis
     : normalPenalty_(v.get<double>("Normal Penalty Parameter")),
       tangentialPenalty_(v.get<double>("Tangential Penalty Parameter")),
       tolerance_(v.get<double>("Gap Tolerance")),
-      maxPasses_(v.get<int>("Maximum Augmentations")) {}
+      maxPasses_(v.get<int>("Maximum Augmentations")),
+      regularization_(v.get<double>("Regularization Gap")) {}
 
 bool AugmentedLagrangeEnforcer::contributes(double gapN, const PointState& s) const {
-  return stateOf<State>(s).lambdaN + normalPenalty_ * gapN < 0.0;
+  return stateOf<State>(s).lambdaN + normalPenalty_ * (gapN - 0.5 * regularization_) < 0.0;
 }
 
 PointResult AugmentedLagrangeEnforcer::evaluate(const ContactPoint& p, const PointState& s, double* f,
                                                 double* K) const {
   const State& h = stateOf<State>(s);
   const FrictionRegularization friction{{h.lambdaT[0], h.lambdaT[1]}, tangentialPenalty_};
-  return regularizedEvaluate(p, linearNormalLaw(h.lambdaN, normalPenalty_), friction, f, K);
+  return regularizedEvaluate(p, smoothedAugmentedLaw(h.lambdaN, normalPenalty_, regularization_), friction, f, K);
 }
 
 bool AugmentedLagrangeEnforcer::acceptPoint(const ContactPoint& p, PointState& s, double& worstViolation) const {
   State& h = stateOf<State>(s);
   const ContactKinematics& k = p.kinematics;
   const FrictionRegularization friction{{h.lambdaT[0], h.lambdaT[1]}, tangentialPenalty_};
-  const PointResult r = regularizedForces(p, linearNormalLaw(h.lambdaN, normalPenalty_), friction);
+  const PointResult r = regularizedForces(p, smoothedAugmentedLaw(h.lambdaN, normalPenalty_, regularization_), friction);
   double violation = 0.0;
-  if (r.active) {
+  // With a Regularization Gap, a point whose force is within the smooth onset (below eps_N g0 / 2)
+  // is left regularized: its gap lies within g0 / 2 of zero by construction.
+  const bool onset = regularization_ > 0.0 && r.active && -r.lambdaN < 0.5 * normalPenalty_ * regularization_;
+  if (onset) {
+    violation = std::max(0.0, std::min(-k.normal.value, std::abs(k.normal.value) - 0.5 * regularization_));
+  } else if (r.active) {
     violation = std::abs(k.normal.value);
     const GapDerivatives* gt[2] = {&k.tangent1, &k.tangent2};
     for (int i = 0; i < 2; ++i)

@@ -35,7 +35,9 @@ class AugmentedLagrangeEnforcer : public ConstraintEnforcer {
   std::string type() const override { return name(); }
   std::unique_ptr<PointState> newPointState() const override { return std::make_unique<State>(); }
   bool contributes(double gapN, const PointState& s) const override;
-  double activationGap(const PointState& s) const override { return -stateOf<State>(s).lambdaN / normalPenalty_; }
+  double activationGap(const PointState& s) const override {
+    return 0.5 * regularization_ - stateOf<State>(s).lambdaN / normalPenalty_;
+  }
   PointResult evaluate(const ContactPoint& p, const PointState& s, double* f, double* K) const override;
   bool acceptPoint(const ContactPoint& p, PointState& s, double& worstViolation) const override;
   int maximumPasses() const override { return maxPasses_; }
@@ -45,6 +47,7 @@ class AugmentedLagrangeEnforcer : public ConstraintEnforcer {
 
  private:
   double normalPenalty_, tangentialPenalty_, tolerance_;
+  double regularization_;  // "Regularization Gap" g0 (smoothedAugmentedLaw)
   int maxPasses_;
 };
 

@@ -103,8 +103,36 @@ Gaps<T> lineGaps(const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB, d
   return g;
 }
 
+// Face contact (rectangular sections): A's edge point against the centre line of B's face, the gap
+// along the face normal. N = (N_B1, N_B2) the nodal face normals (rotated reference normal).
+template <class T>
+Gaps<T> faceGaps(const Vec3<T>* P, const Vec3<T>* V, const Vec3<T>* N, bool cubicA, bool cubicB, double xi,
+                 double etaStart, double etaPrev) {
+  using std::sqrt;
+  Gaps<T> g;
+  Vec3<T> pA, xB, dB, ddB;
+  axisPoint(P[0], V[0], P[1], V[1], cubicA, xi, &pA, nullptr, nullptr);
+  g.xi = T(xi);
+  g.eta = T(etaStart);
+  for (int it = 0; it < 3; ++it) {
+    axisPoint(P[2], V[2], P[3], V[3], cubicB, g.eta, &xB, &dB, &ddB);
+    const Vec3<T> d = xB - pA;
+    g.eta -= dot(dB, d) / (dot(ddB, d) + dot(dB, dB));
+  }
+  axisPoint(P[2], V[2], P[3], V[3], cubicB, g.eta, &xB, nullptr, nullptr);
+  const Vec3<T> m = (1.0 - g.eta) * N[0] + g.eta * N[1];
+  const T nm = sqrt(dot(m, m));
+  const Vec3<T> tA = P[1] - P[0], tB = P[3] - P[2];
+  g.gN = dot(pA - xB, m) / nm;
+  g.gT1 = T(0.0);
+  g.gT2 = (g.eta - etaPrev) * sqrt(dot(tB, tB));
+  g.cosine = dot(tA, tB) / (sqrt(dot(tA, tA)) * sqrt(dot(tB, tB)));
+  return g;
+}
+
 // R and K of every gap from their gradients and Hessians in the coordinates of the four line end
-// points (Vectors = 4) or of the four end points and the four Hermite tangents (Vectors = 8).
+// points (Vectors = 4), of the four end points and the four Hermite tangents (Vectors = 8), or also
+// of B's two nodal face normals (Vectors = 10).
 template <int Vectors, class Fn>
 ContactKinematics kinematicsOf(const LinePairInput& in, Fn gapsOf);
 
@@ -155,10 +183,23 @@ ClosestPoints lineProjection(const LinePairInput& in, double xi) {
     cp.eta -= step;
     if (std::abs(step) < 1e-15 * (1.0 + std::abs(cp.eta))) break;
   }
-  axisPoint(pB1, vB1, pB2, vB2, cubicB, cp.eta, &cp.pB, nullptr, nullptr);
+  Vec3d dxB;
+  axisPoint(pB1, vB1, pB2, vB2, cubicB, cp.eta, &cp.pB, &dxB, nullptr);
+  cp.distance = norm(cp.pB - cp.pA);
+  if (in.face) {
+    // B's face: the normal interpolated between its nodes; the gap along it, outside positive.
+    Vec3d m = (1.0 - cp.eta) * (in.RB1 * in.nB) + cp.eta * (in.RB2 * in.nB);
+    m = (1.0 / norm(m)) * m;
+    cp.normal = -1.0 * m;  // from A towards B
+    cp.gap = dot(cp.pA - cp.pB, m);
+    const Vec3d across = cross(dxB, m);
+    cp.lateral = dot(cp.pA - cp.pB, (1.0 / norm(across)) * across);
+    cp.cA = cp.pA;
+    cp.cB = cp.pB;
+    return cp;
+  }
   cp.cA = cp.pA;  // (circular sections: the lines are the axes)
   cp.cB = cp.pB;
-  cp.distance = norm(cp.pB - cp.pA);
   cp.normal = cp.distance > 0.0 ? (1.0 / cp.distance) * (cp.pB - cp.pA) : Vec3d{};
   cp.gap = cp.distance - in.radiusSum;
   return cp;
@@ -166,6 +207,14 @@ ClosestPoints lineProjection(const LinePairInput& in, double xi) {
 
 ContactKinematics lineKinematics(const LinePairInput& in, double xi, double etaPrev) {
   const double etaStart = lineProjection(in, xi).eta;
+  if (in.face) {
+    ContactKinematics k = kinematicsOf<10>(in, [&](const auto* P) {
+      return faceGaps(P, P + 4, P + 8, norm(in.dA) > 0.0, norm(in.dB) > 0.0, xi, etaStart, etaPrev);
+    });
+    k.cosine = 0.0;
+    k.cosineR.fill(0.0);
+    return k;
+  }
   ContactKinematics k = kinematicsOf<8>(
       in, [&](const auto* P) {
         return lineGaps(P, P + 4, norm(in.dA) > 0.0, norm(in.dB) > 0.0, in.radiusSum, xi, etaStart, etaPrev);
@@ -194,9 +243,11 @@ ContactKinematics kinematicsOf(const LinePairInput& in, Fn gapsOf) {
   const Vec3d* dv[4] = {&in.dA, &in.dA, &in.dB, &in.dB};
   Vec3d r[Vectors];  // the rotated part of each vector
   Vec3<Out> P[Vectors];
+  // Vector k: 0-3 the points of nodes 0-3, 4-7 their tangents, 8-9 the face normals of nodes 2-3.
+  const auto nodeOf = [](int k) { return k < 8 ? k % 4 : 2 + (k - 8); };
   for (int k = 0; k < Vectors; ++k) {
-    const int m = k % 4;
-    r[k] = (*Rm[m]) * (k < 4 ? *o[m] : *dv[m]);
+    const int m = nodeOf(k);
+    r[k] = (*Rm[m]) * (k < 4 ? *o[m] : (k < 8 ? *dv[m] : in.nB));
     const Vec3d p = k < 4 ? *x[m] + r[k] : r[k];
     for (int a = 0; a < 3; ++a) P[k][a] = Out(kCoords, 3 * k + a, In(kCoords, 3 * k + a, p[a]));
   }
@@ -205,7 +256,7 @@ ContactKinematics kinematicsOf(const LinePairInput& in, Fn gapsOf) {
   // J: coordinates x 24; vector k moves with node m = k % 4: [I (points only), -skew(r_k)].
   double J[kCoords][kPairDofs] = {};
   for (int k = 0; k < Vectors; ++k) {
-    const int m = k % 4;
+    const int m = nodeOf(k);
     for (int a = 0; a < 3; ++a) {
       if (k < 4) J[3 * k + a][6 * m + a] = 1.0;
       for (int b = 0; b < 3; ++b) {
@@ -256,7 +307,7 @@ ContactKinematics kinematicsOf(const LinePairInput& in, Fn gapsOf) {
     }
     // Second derivatives of the rotated vectors: the spins of the same node.
     for (int k = 0; k < Vectors; ++k) {
-      const int m = k % 4;
+      const int m = nodeOf(k);
       const Vec3d Gk{{G[3 * k], G[3 * k + 1], G[3 * k + 2]}};
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) {

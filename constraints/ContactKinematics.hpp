@@ -40,6 +40,12 @@ struct LinePairInput {
   // R_m (X_2 - X_1) (it is the straight chord while the nodes have not turned, and follows the beam's
   // bending between the nodes); a zero vector gives the straight chord x_1 + u (x_2 - x_1).
   Vec3d dA{}, dB{};
+  // Face contact of rectangular sections (line contact of an edge of A on a face of B): B's line is
+  // then the centre line of its face (oB its offset), nB the face's outward unit normal and
+  // halfWidthB its half width, all in the reference configuration. face false: circular sections.
+  bool face = false;
+  Vec3d nB{};
+  double halfWidthB = 0.0;
 };
 
 struct ClosestPoints {
@@ -50,6 +56,7 @@ struct ClosestPoints {
   Vec3d normal{};              // unit normal with sigma applied
   double sigma = 1.0;
   double gap = 0.0;
+  double lateral = 0.0;        // face contact: p_A's offset across B's face from its centre line
 };
 
 // Closest points in double precision (for the search and for choosing sigma). Lines closer to
@@ -86,6 +93,11 @@ ClosestPoints lineProjection(const LinePairInput& in, double xi);
 // (eta - etaPrev) |x_B2 - x_B1| (slip along B; the point is material on A); cosine 0 (the two
 // tangential directions are orthogonal), axesCosine the chords'.
 ContactKinematics lineKinematics(const LinePairInput& in, double xi, double etaPrev);
+// With in.face (rectangular sections, an edge of A on a face of B): the point of A's edge projected on
+// the centre line of B's face (the same orthogonality), the gap along the face's normal n (the nodal
+// normals R_m nB interpolated linearly and normalized), g_N = (p_A - x_B) . n, positive outside the
+// face; lateral = (p_A - x_B) . (t_B x n) / |t_B x n|. lineProjection and lineKinematics dispatch on
+// in.face.
 
 // All gaps and their derivatives at the current state; `sigma` from closestPoints (or the history),
 // `xiPrev`, `etaPrev` the previous converged contact point (for the tangential gaps).

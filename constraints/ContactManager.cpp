@@ -95,9 +95,59 @@ double ContactManager::beamCoordinate(int element, double xi) const {
 }
 
 bool ContactManager::blends(int pair) const {
-  const auto& beams = beams_->beams();
-  return lineContact_ && beams[pairs_[pair].beamA].section.shape == CrossSection::Shape::Circle &&
-         beams[pairs_[pair].beamB].section.shape == CrossSection::Shape::Circle;
+  // Both circular, or both rectangular (a mixed pair is refused at construction).
+  return lineContact_;
+}
+
+bool ContactManager::rectangles(int pair) const {
+  return beams_->beams()[pairs_[pair].beamA].section.shape == CrossSection::Shape::Rectangle;
+}
+
+std::pair<std::array<int, 2>, int> ContactManager::facing(int eA, int eB, const core::State& s) const {
+  const BeamElement &a = beams_->elements()[eA], &b = beams_->elements()[eB];
+  const Vec3d mA = 0.5 * (s.position[a.node1] + s.position[a.node2]);
+  const Vec3d mB = 0.5 * (s.position[b.node1] + s.position[b.node2]);
+  const Vec3d tA = s.position[a.node2] - s.position[a.node1];
+  Vec3d d = mB - mA;
+  d = d - (dot(d, tA) / dot(tA, tA)) * tA;
+  // Face f of a section: outward normal +e2, +e3, -e2, -e3 for f = 0..3 (current: R_1 T0).
+  const auto best = [&](const BeamElement& e, const Vec3d& towards) {
+    int face = 0;
+    double most = -1e300;
+    for (int f = 0; f < 4; ++f) {
+      const Vec3d n = (f < 2 ? 1.0 : -1.0) * (s.rotation[e.node1] * column(e.data.T0, 1 + f % 2));
+      if (dot(n, towards) > most) {
+        most = dot(n, towards);
+        face = f;
+      }
+    }
+    return face;
+  };
+  const int faceA = best(a, d), faceB = best(b, -1.0 * d);
+  // A's edges on its face (lines 0..3 at (+y,+z), (-y,+z), (-y,-z), (+y,-z)).
+  static const std::array<int, 2> edgesOf[4] = {{0, 3}, {0, 1}, {1, 2}, {2, 3}};
+  return {edgesOf[faceA], faceB};
+}
+
+LinePairInput ContactManager::faceInput(int eA, int edgeA, int eB, int faceB, const core::State& s) const {
+  LinePairInput in = lineInput(eA, edgeA, eB, 0, s);
+  const BeamElement& b = beams_->elements()[eB];
+  const auto& sec = beams_->beams()[b.beam].section;
+  const Vec3d axis = column(b.data.T0, 1 + faceB % 2);  // e2 or e3
+  const double sign = faceB < 2 ? 1.0 : -1.0;
+  const double half = 0.5 * (faceB % 2 == 0 ? sec.width : sec.height);   // along the face normal
+  const double across = 0.5 * (faceB % 2 == 0 ? sec.height : sec.width);  // the face's half width
+  in.oB = (sign * half) * axis;
+  in.nB = sign * axis;
+  in.halfWidthB = across;
+  in.face = true;
+  in.radiusSum = 0.0;
+  return in;
+}
+
+LinePairInput ContactManager::lineContactInput(const Point& p, const core::State& s) const {
+  if (rectangles(p.pair)) return faceInput(p.elementA, p.edge(), p.elementB, p.face(), s);
+  return lineInput(p.elementA, 0, p.elementB, 0, s);
 }
 
 double ContactManager::axisAngle(int elementA, int elementB, const core::State& s) const {
@@ -302,11 +352,23 @@ std::map<Key, ContactManager::Candidate> ContactManager::detect(const core::Stat
     if (inLineContact(pi, ea, eb)) {
       // Each Gauss point of the element of beam A, on the element of beam B its projection falls
       // in (a known point keeps its element while within kStay beyond it, as point contact does).
-      const LinePairInput in = lineInput(ea, 0, eb, 0, s);
+      // Rectangular sections: on each of A's two edges facing B, against B's face facing A, where
+      // the edge lies across that face.
+      std::vector<std::pair<int, int>> lines = {{0, 0}};  // (edge of A, face of B)
+      if (rectangles(pi)) {
+        const auto [edges, face] = facing(ea, eb, reference_);
+        lines = {{edges[0], face}, {edges[1], face}};
+      }
+      for (const auto& [edge, face] : lines) {
+      const LinePairInput in = rectangles(pi) ? faceInput(ea, edge, eb, face, s) : lineInput(ea, 0, eb, 0, s);
       for (int q = 0; q < (int)gaussXi_.size(); ++q) {
         const ClosestPoints cp = lineProjection(in, gaussXi_[q]);
         if (!withinElement(eb, cp.eta)) continue;
-        const Key key{pi, -1 - q, ea};
+        const Key key{pi, -1 - (q + Point::kGaussSlots * (edge + 4 * face)), ea};
+        // Across B's face: a new point within 1e-3 of its width beyond the face's edge, a known one
+        // while within 5 % (equal widths put A's edges exactly on B's face edges, where a sharp
+        // bound would drop and take up points from one iterate to the next).
+        if (in.face && std::abs(cp.lateral) > in.halfWidthB * (points_.count(key) ? 1.05 : 1.001)) continue;
         constexpr double kStay = 0.05;
         double out = std::abs(cp.eta - 0.5);
         const auto known = points_.find(key);
@@ -316,6 +378,7 @@ std::map<Key, ContactManager::Candidate> ContactManager::detect(const core::Stat
           found[key] = Candidate{ea, eb, cp};
           outside[key] = out;
         }
+      }
       }
     }
     if (!inPointContact(pi, ea, eb)) return;
@@ -401,15 +464,15 @@ bool ContactManager::prepareIteration(core::State& state) {
     for (const auto& [key, p] : next)
       if (p.line())
         for (int n : {fieldNode(p.elementA, 0), fieldNode(p.elementA, 1)})
-          if (!next.count(Key{p.pair, Point::kLineNode, n})) {
-            const Key nk{p.pair, Point::kLineNode, n};
+          if (!next.count(Key{p.pair, Point::kLineNode - p.edge(), n})) {
+            const Key nk{p.pair, Point::kLineNode - p.edge(), n};
             const auto it = points_.find(nk);
             Point q;
             if (it != points_.end()) {
               q = it->second;
             } else {
               changed = true;
-              q.pair = p.pair; q.lineA = Point::kLineNode; q.lineB = n;
+              q.pair = p.pair; q.lineA = Point::kLineNode - p.edge(); q.lineB = n;
               q.elementA = q.elementB = p.elementA;
               q.state = PointStateHolder(enforcer_->newPointState());
             }
@@ -504,7 +567,7 @@ std::vector<ContactManager::FieldShare> ContactManager::fieldShares(const Point&
     FieldShare f;
     f.node = node;
     f.N = N;
-    const auto it = points_.find(Key{p.pair, Point::kLineNode, node});
+    const auto it = points_.find(Key{p.pair, Point::kLineNode - p.edge(), node});
     if (it != points_.end()) f.record = &it->second;
     shares.push_back(f);
   }
@@ -519,7 +582,7 @@ std::map<Key, ContactManager::NodeGap> ContactManager::nodeGaps(const core::Stat
     const double w = length * blendWeight(p, std::cos(axisAngle(p.elementA, p.elementB, s)), nullptr, nullptr);
     const double gap = w > 0.0 ? pointGeometry(p, s).gap : 0.0;
     for (const FieldShare& f : fieldShares(p)) {
-      NodeGap& g = gaps[Key{p.pair, Point::kLineNode, f.node}];
+      NodeGap& g = gaps[Key{p.pair, Point::kLineNode - p.edge(), f.node}];
       g.weighted += w * f.N * gap;
       g.weight += w * f.N;
       g.full += length * f.N;
@@ -602,7 +665,7 @@ std::array<GlobalDof, kPairDofs> ContactManager::pointDofs(const Point& p) const
 
 ContactKinematics ContactManager::kinematics(const Point& p, const core::State& state) const {
   if (p.line())
-    return lineKinematics(lineInput(p.elementA, 0, p.elementB, 0, state), gaussXi_[p.gauss()],
+    return lineKinematics(lineContactInput(p, state), gaussXi_[p.gauss()],
                           p.etaPrev - beams_->elements()[p.elementB].index);
   const LinePairInput in = lineInput(p.elementA, p.lineA, p.elementB, p.lineB, state);
   const double xiPrev = p.xiPrev - beams_->elements()[p.elementA].index;
@@ -691,7 +754,7 @@ void ContactManager::checkNoUnseenContact(const core::State& state, bool atStart
     if (parallel) {
       s << "lying nearly parallel (sine of their angle " << sine
         << " below Contact/Parallel Line Tolerance): point contact cannot model this contact, and line contact "
-           "is available only between circular sections";
+           "is available only between two circular or two rectangular sections";
       if (!lineContact_)
         s << " with a strategy that enforces lines and Contact/Line Contact Angle > 0 (" << enforcer_->type()
           << " here does not)";
@@ -833,9 +896,9 @@ void ContactManager::commitStep(const core::State& state) {
       if (p.line() && p.result.active && pairs_[p.pair].friction > 0.0) frictionlessLines_.insert(p.pair);
       if (nodalLines_ && p.line() && p.result.active) {
         // The field enforces gaps weighted over beam A's elements: between its nodes the beams may
-        // penetrate. Beyond kUnresolved of the thinner radius the contact zone is not resolved.
+        // penetrate. Beyond kUnresolved of the thinner section's inscribed radius the contact zone is not resolved.
         const auto& pair = pairs_[p.pair];
-        const double radius = std::min(lines_[pair.beamA][0].radius, lines_[pair.beamB][0].radius);
+        const double radius = std::min(inscribed_[pair.beamA], inscribed_[pair.beamB]);
         if (-k.normal.value > kUnresolved * radius) {
           auto& worst = unresolvedLines_[p.pair];
           if (-k.normal.value > worst.first) {
@@ -937,7 +1000,7 @@ void ContactManager::loadCommitted(core::CheckpointIn& in, const core::State& co
 
 ClosestPoints ContactManager::pointGeometry(const Point& p, const core::State& s) const {
   if (p.line()) {
-    ClosestPoints cp = lineProjection(lineInput(p.elementA, 0, p.elementB, 0, s), gaussXi_[p.gauss()]);
+    ClosestPoints cp = lineProjection(lineContactInput(p, s), gaussXi_[p.gauss()]);
     cp.sinAngle = 1.0;  // a line point is defined at any angle
     return cp;
   }
@@ -1052,8 +1115,9 @@ void ContactManager::checkLineResolution(const core::State& state) {
   }
   for (const auto& [k, gauss] : deepest) {
     const auto [pi, ea, eb] = k;
+    if (rectangles(pi)) continue;  // (the faces' edges: not sampled yet)
     const auto& pair = pairs_[pi];
-    const double radius = std::min(lines_[pair.beamA][0].radius, lines_[pair.beamB][0].radius);
+    const double radius = std::min(inscribed_[pair.beamA], inscribed_[pair.beamB]);
     const LinePairInput in = lineInput(ea, 0, eb, 0, state);
     for (int i = 0; i <= kSamples; ++i) {
       const ClosestPoints cp = lineProjection(in, double(i) / kSamples);
@@ -1073,7 +1137,7 @@ std::vector<std::string> ContactManager::warnings() const {
     s << "contact pair \"" << pairs_[pair].name << "\": between the Gauss points of line contact the beams "
       << "overlapped by up to " << worst.first << " more than at any Gauss point, near (" << worst.second[0] << ", "
       << worst.second[1] << ", " << worst.second[2] << ") (more than " << kUnresolved
-      << " of the thinner radius): the contact zone there is shorter than the Gauss points' spacing (axes "
+      << " of the thinner section's inscribed radius): the contact zone there is shorter than the Gauss points' spacing (axes "
          "crossing at a small angle), so part of the contact was not seen; raise Contact/Line Gauss Points or "
          "refine beam \"" << beams_->beams()[pairs_[pair].beamA].name << "\"";
     w.push_back(s.str());
@@ -1085,7 +1149,7 @@ std::vector<std::string> ContactManager::warnings() const {
       << beams_->beams()[pairs_[pair].beamA].name << "\", and between its nodes the beams penetrated by up to "
       << worst.first << " near (" << worst.second[0] << ", " << worst.second[1] << ", " << worst.second[2]
       << "), more than " << kUnresolved
-      << " of the thinner radius: the contact zone there is short against the elements (beams crossing at a "
+      << " of the thinner section's inscribed radius: the contact zone there is short against the elements (beams crossing at a "
          "small angle, or a beam end on the other beam), so the contact force is not resolved; refine beam \""
       << beams_->beams()[pairs_[pair].beamA].name << "\" or use Penalty or Augmented Lagrange";
     w.push_back(s.str());

@@ -110,11 +110,17 @@ class ContactManager : public core::Contribution {
     // lineA = -1 - its Gauss index and lineB = its element of beam A (so the key is unique). A line
     // node (the node of a strategy's multiplier field on line A, ConstraintEnforcer::LineField::Nodal)
     // has lineA = kLineNode and lineB = its node; its elements are one element of beam A at that node.
+    // Between rectangular sections a Gauss point lies on one of A's edges against one of B's faces:
+    // lineA = -1 - (gauss + kGaussSlots (edge + 4 face)); a line node then belongs to one edge of A
+    // (lineA = kLineNode - edge).
     static constexpr int kLineNode = -1000000;
+    static constexpr int kGaussSlots = 64;
     int pair = 0, lineA = 0, lineB = 0;
-    bool node() const { return lineA == kLineNode; }
-    bool line() const { return lineA < 0 && lineA != kLineNode; }
-    int gauss() const { return -1 - lineA; }
+    bool node() const { return lineA <= kLineNode && lineA > kLineNode - 4; }
+    bool line() const { return lineA < 0 && !node(); }
+    int gauss() const { return (-1 - lineA) % kGaussSlots; }
+    int edge() const { return node() ? kLineNode - lineA : ((-1 - lineA) / kGaussSlots) % 4; }
+    int face() const { return (-1 - lineA) / (4 * kGaussSlots); }
     int elementA = 0, elementB = 0;  // indices into the beam set's element list
     double sigma = 1.0;
     double xiPrev = 0.0, etaPrev = 0.0;  // previous converged point, as beam coordinates (element + xi)
@@ -162,6 +168,14 @@ class ContactManager : public core::Contribution {
   bool nearElement(int element, double xi) const;
   double referenceSigma(int eA, int lA, int eB, int lB, const ClosestPoints& current) const;
   LinePairInput axisInput(int eA, int eB, const core::State& s) const;
+  // Line contact's input of a line point: the axes (circular sections) or an edge of A on a face of B
+  // (rectangular sections; faces 0..3 = +y, +z, -y, -z of the section).
+  LinePairInput lineContactInput(const Point& p, const core::State& s) const;
+  LinePairInput faceInput(int eA, int edgeA, int eB, int faceB, const core::State& s) const;
+  // Rectangular sections in line contact: the two edges of A on its face towards B and B's face
+  // towards A, from the elements' places and turns in `s`.
+  std::pair<std::array<int, 2>, int> facing(int eA, int eB, const core::State& s) const;
+  bool rectangles(int pair) const;
   // Closest points of a point's two lines in `s`, with the point's normal orientation and gap.
   ClosestPoints pointGeometry(const Point& p, const core::State& s) const;
   double beamCoordinate(int element, double xi) const;

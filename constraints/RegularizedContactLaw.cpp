@@ -19,6 +19,16 @@ NormalLaw smoothedPenaltyLaw(double epsN, double g0) {
   };
 }
 
+NormalLaw smoothedAugmentedLaw(double lambdaHatN, double epsN, double g0) {
+  if (!(g0 > 0.0)) return linearNormalLaw(lambdaHatN, epsN);
+  return [lambdaHatN, epsN, g0](const LawScalar& g) -> LawScalar {
+    const LawScalar x = g + lambdaHatN / epsN;
+    if (!(x.val() < 0.5 * g0)) return LawScalar(0.0);
+    if (x.val() > -0.5 * g0) return -0.5 * epsN * (x - 0.5 * g0) * (x - 0.5 * g0) / g0;
+    return epsN * x;
+  };
+}
+
 namespace {
 
 // The multipliers as functions of s = (g_N, g_T1, g_T2, c); active = lambda_N < 0.

@@ -32,6 +32,11 @@ NormalLaw linearNormalLaw(double lambdaHatN, double epsN);
 // first contact makes Newton cycle where many points touch at once (a line, a dense grid); the
 // smooth onset removes it.
 NormalLaw smoothedPenaltyLaw(double epsN, double g0);
+// The augmented law lambda_hat_N + eps_N g_N with a C1 onset of width g0 centred on its kink: with
+// x = g_N + lambda_hat_N / eps_N, eps_N x for x <= -g0 / 2, -eps_N (x - g0 / 2)^2 / (2 g0) up to
+// x = g0 / 2, 0 beyond. Its linear branch is the unsmoothed law's, so the augmentations still close
+// the gap (they converge to g_N = 0 wherever the force exceeds eps_N g0 / 2); g0 = 0: linear.
+NormalLaw smoothedAugmentedLaw(double lambdaHatN, double epsN, double g0);
 
 // The friction part: estimates lambda_hat_T (the forces carried from the last converged step or
 // augmentation) and the stick stiffness eps_T.

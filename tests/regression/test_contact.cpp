@@ -1122,6 +1122,7 @@ struct LineSums {
 LineSums lineSums(const input::Problem& p) {
   LineSums s;
   for (const auto& [key, q] : p.contact->points()) {
+    if (q.node()) continue;  // (a line node of a multiplier field)
     EXPECT_TRUE(q.line()) << "a point contact between parallel circular beams";
     ++s.points;
     if (!q.result.active) continue;
@@ -1423,6 +1424,73 @@ TEST(LineContact, OverlapBetweenGaussPointsIsReported) {
     });
     std::printf("%d Gauss points: %s\n", gauss, warned ? "overlap between them reported" : "no warning");
     EXPECT_EQ(warned, gauss == 2);
+  }
+}
+
+namespace {
+// parallelBeams with rectangular sections (width 2 along y, height 1 along z).
+Teuchos::ParameterList parallelRectangles(const std::string& type, int ground, int rod, double E, int gauss,
+                                          double lift) {
+  auto deck = parallelBeams(type, ground, rod, 0.0, E, gauss, 0.0, lift);
+  for (const char* beam : {"ground", "rod"}) {
+    Teuchos::ParameterList& sec = deck.sublist("Beams").sublist(beam).sublist("Section");
+    sec.remove("Radius");
+    sec.set("Shape", std::string("Rectangle"));
+    sec.set("Width", 2.0);
+    sec.set("Height", 1.0);
+  }
+  return deck;
+}
+}  // namespace
+
+// Rectangular sections lying face to face are in line contact on the two edges of A's upper face
+// against B's lower face. The ground (20 elements) pinned at its ends, the rod (16 elements) on it,
+// pushed down by 0.01 at its middle node (held there, the rest of it free: a double cantilever that
+// bends onto the ground from 0.002 above it), both held against sideways motion; their twist is held
+// by the ground's end supports, the rod's middle one and the contact of the two edges. Every
+// strategy: the contact forces sum to the rod's support reaction (equilibrium, 1e-6) and the two
+// edges carry equal shares (the section is symmetric, 1e-6).
+TEST(LineContact, RectanglesFaceToFaceCarryTheLoadOnBothEdges) {
+  for (const std::string type : {"Penalty", "Lagrange Multiplier", "Augmented Lagrange"}) {
+    auto deck = parallelRectangles(type, 20, 16, 1e5, 6, 0.002);
+    // (The faces come down on each other along a length at once: the penalty laws' C1 onset.)
+    if (type != "Lagrange Multiplier") input::setAtPath(deck, "Contact/Enforcement/" + type + "/Regularization Gap", 1e-4);
+    if (type == "Augmented Lagrange") input::setAtPath(deck, "Contact/Enforcement/Augmented Lagrange/Gap Tolerance", 1e-9);
+    input::replaceAtPath(deck, "Load Stepping/Number of Increments", 2);
+    support(deck, "ground", 0, "ux uy uz rx");
+    support(deck, "ground", 20, "uy uz rx");
+    for (int i = 1; i < 20; ++i) support(deck, "ground", i, "uy rz");
+    for (int i = 0; i <= 16; ++i) support(deck, "rod", i, i == 8 ? "all" : "uy rz", i == 8 ? -0.01 : 0.0);
+    auto p = input::buildProblem(deck, "rectangles");
+    const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "rectangles");
+    ASSERT_TRUE(r.report.completed) << type << ": " << r.report.failure;
+    double edge[4] = {0, 0, 0, 0}, total = 0.0;
+    int active = 0;
+    for (const auto& [key, q] : p.contact->points()) {
+      if (!q.result.active || q.node()) continue;
+      ASSERT_TRUE(q.line()) << "a point contact between parallel rectangles";
+      ++active;
+      edge[q.edge()] += -q.result.lambdaN;
+      total += -q.result.lambdaN;
+    }
+    // The force the rod's middle support exerts on it (z; reactions.csv, last step): the rod is
+    // held by it and the contact alone, so the contact forces on the rod sum to minus it.
+    double rz = 0.0;
+    {
+      std::ifstream csv(test::scratchDirectory("rectangles_np1") + "/reactions.csv");
+      std::string header, line, last;
+      std::getline(csv, header);
+      while (std::getline(csv, line)) last = line;
+      std::stringstream hs(header), ls(last);
+      for (std::string h, v; std::getline(hs, h, ',') && std::getline(ls, v, ',');)
+        if (h == "rod 8_Fz") rz = -std::stod(v);
+    }
+    std::printf("%s: %d line points active, edges %.9f + %.9f = %.9f, rod's reaction %.9f\n", type.c_str(), active,
+                edge[0], edge[1], total, rz);
+    EXPECT_GT(active, 8);
+    EXPECT_NEAR(total, rz, 1e-6 * std::abs(rz));
+    EXPECT_NEAR(edge[0], edge[1], 1e-6 * total);
+    EXPECT_EQ(edge[2] + edge[3], 0.0);  // only the upper face's edges (0, 1) of the ground
   }
 }
 

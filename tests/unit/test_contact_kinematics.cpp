@@ -198,3 +198,48 @@ TEST(LineKinematics, VariationsMatchCentralDifferences) {
   EXPECT_LT(worstR, 1e-6);
   EXPECT_LT(worstK, 1e-6);
 }
+
+// Face contact of rectangular sections: an edge of A (axis at z = 0.5, edge offset (0, 0.3, 0.5), so
+// at y = 0.3, z = 1) under the lower face of B (axis at z = 1.6, face offset (0, 0, -0.5), outward
+// normal -Z, half width 0.5): gap 0.1 along the normal, lateral offset 0.3; lifting B by dz opens the
+// gap by dz. Then R and K against central differences at general states.
+TEST(LineKinematics, FaceContactOfRectangles) {
+  LinePairInput in;
+  in.xA1 = {{0, 0, 0.5}}; in.xA2 = {{10, 0, 0.5}};
+  in.xB1 = {{-2, 0, 1.6}}; in.xB2 = {{8, 0, 1.6}};
+  in.RA1 = in.RA2 = in.RB1 = in.RB2 = identity3<double>();
+  in.oA = Vec3d{{0, 0.3, 0.5}};
+  in.oB = Vec3d{{0, 0, -0.5}};
+  in.dA = in.dB = Vec3d{{10, 0, 0}};
+  in.face = true;
+  in.nB = Vec3d{{0, 0, -1}};
+  in.halfWidthB = 0.5;
+  const auto cp = lineProjection(in, 0.3);
+  EXPECT_NEAR(cp.eta, 0.5, 1e-14);
+  EXPECT_NEAR(cp.gap, 0.1, 1e-14);
+  EXPECT_NEAR(cp.lateral, 0.3, 1e-14);
+  const auto k = lineKinematics(in, 0.3, 0.45);
+  EXPECT_NEAR(k.normal.value, 0.1, 1e-14);
+  EXPECT_NEAR(k.normal.R[12 + 2], 0.5, 1e-14);
+  EXPECT_NEAR(k.normal.R[18 + 2], 0.5, 1e-14);
+  // A's point moves with its nodes by the cubic shape functions H1(0.3) = 0.784, H3(0.3) = 0.216.
+  EXPECT_NEAR(k.normal.R[2], -0.784, 1e-14);
+  EXPECT_NEAR(k.normal.R[6 + 2], -0.216, 1e-14);
+  std::mt19937 g(31);
+  double worstR = 0.0, worstK = 0.0;
+  for (int trial = 0; trial < 10; ++trial) {
+    LinePairInput t = in;
+    const Mat3d Q = expSO3(randomVec(g, 1.0));
+    for (Vec3d* x : {&t.xA1, &t.xA2, &t.xB1, &t.xB2}) *x = Q * (*x + randomVec(g, 0.3));
+    for (Mat3d* R : {&t.RA1, &t.RA2, &t.RB1, &t.RB2}) *R = Q * expSO3(randomVec(g, 0.3));
+    const double xi = 0.1 + 0.08 * trial;
+    const auto [errR, errK] = centralDifferenceErrors(
+        t, [&](const LinePairInput& s) { return lineKinematics(s, xi, 0.4); },
+        {&ContactKinematics::normal, &ContactKinematics::tangent2});
+    worstR = std::max(worstR, errR);
+    worstK = std::max(worstK, errK);
+  }
+  std::printf("face contact, max relative error: R %.2e, K %.2e\n", worstR, worstK);
+  EXPECT_LT(worstR, 1e-6);
+  EXPECT_LT(worstK, 1e-6);
+}
