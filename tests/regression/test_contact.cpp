@@ -1428,10 +1428,8 @@ TEST(LineContact, OverlapBetweenGaussPointsIsReported) {
 }
 
 namespace {
-// parallelBeams with rectangular sections (width 2 along y, height 1 along z).
-Teuchos::ParameterList parallelRectangles(const std::string& type, int ground, int rod, double E, int gauss,
-                                          double lift) {
-  auto deck = parallelBeams(type, ground, rod, 0.0, E, gauss, 0.0, lift);
+// A parallelBeams deck with rectangular sections (width 2 along y, height 1 along z).
+Teuchos::ParameterList toRectangles(Teuchos::ParameterList deck) {
   for (const char* beam : {"ground", "rod"}) {
     Teuchos::ParameterList& sec = deck.sublist("Beams").sublist(beam).sublist("Section");
     sec.remove("Radius");
@@ -1440,6 +1438,10 @@ Teuchos::ParameterList parallelRectangles(const std::string& type, int ground, i
     sec.set("Height", 1.0);
   }
   return deck;
+}
+Teuchos::ParameterList parallelRectangles(const std::string& type, int ground, int rod, double E, int gauss,
+                                          double lift) {
+  return toRectangles(parallelBeams(type, ground, rod, 0.0, E, gauss, 0.0, lift));
 }
 }  // namespace
 
@@ -1501,12 +1503,18 @@ TEST(LineContact, RectanglesFaceToFaceCarryTheLoadOnBothEdges) {
 TEST(LineContact, TangentMatchesCentralDifferences) {
   // Parallel, and turned by 10 degrees (inside the blend of point and line contact, whose weight
   // depends on the angle: its gradient enters the tangent).
-  for (const auto& [type, degrees] : {std::make_pair(std::string("Penalty"), 0.0),
-                                      std::make_pair(std::string("Augmented Lagrange"), 0.0),
-                                      std::make_pair(std::string("Lagrange Multiplier"), 0.0),
-                                      std::make_pair(std::string("Penalty"), 10.0),
-                                      std::make_pair(std::string("Augmented Lagrange"), 10.0),
-                                      std::make_pair(std::string("Lagrange Multiplier"), 10.0)}) {
+  // Rectangular sections too (face to face: A's upper edges on B's lower face).
+  struct Case {
+    std::string type;
+    double degrees;
+    bool rectangles;
+  };
+  for (const Case& c : std::vector<Case>{{"Penalty", 0.0, false}, {"Augmented Lagrange", 0.0, false},
+                                         {"Lagrange Multiplier", 0.0, false}, {"Penalty", 10.0, false},
+                                         {"Augmented Lagrange", 10.0, false}, {"Lagrange Multiplier", 10.0, false},
+                                         {"Penalty", 0.0, true}, {"Lagrange Multiplier", 0.0, true}}) {
+    const std::string& type = c.type;
+    const double degrees = c.degrees;
     // (Lifted by 1e-6: touching at exactly zero gap, the crossing's point carries a round-off force
     // in an unloaded step, which Newton's relative tolerance cannot accept.)
     // (Lagrange multipliers act on line nodes' weighted gaps: at 10 degrees shorter elements and a
@@ -1514,6 +1522,7 @@ TEST(LineContact, TangentMatchesCentralDifferences) {
     const bool lm = type == "Lagrange Multiplier" && degrees > 0;
     const int nGround = lm ? 30 : 6, nRod = lm ? 25 : 5;
     auto deck = parallelBeams(type, nGround, nRod, 2.0, 1e5, 4, degrees, 1e-6);
+    if (c.rectangles) deck = toRectangles(deck);
     // Friction along the axes (Penalty and Augmented Lagrange; Lagrange's line field is frictionless).
     input::replaceAtPath(deck, "Contact/Pairs/line/Friction Coefficient", 0.3);
     for (int i = 0; i <= nGround; ++i) support(deck, "ground", i, i == 0 || i == nGround ? "all" : "ux uy rx");
@@ -1555,9 +1564,9 @@ TEST(LineContact, TangentMatchesCentralDifferences) {
     }
     double kmax = 0.0;
     const double err = assembledContactTangentError(p, s, kmax);
-    std::printf("%s, %.0f degrees: line contact tangent vs central differences: max error / max |K| = %.2e (%d "
+    std::printf("%s, %s, %.0f degrees: line contact tangent vs central differences: max error / max |K| = %.2e (%d "
                 "points active, %d of them point contacts, %d line points slipping)\n",
-                type.c_str(), degrees, err / kmax, active, points, slipping);
+                type.c_str(), c.rectangles ? "rectangles" : "circles", degrees, err / kmax, active, points, slipping);
     if (type != "Lagrange Multiplier" && degrees == 0) {
       EXPECT_GT(slipping, 0);           // friction along the axes, slipping ...
       EXPECT_LT(slipping, active);      // ... and sticking
