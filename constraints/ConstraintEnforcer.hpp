@@ -76,6 +76,10 @@ struct ContactPoint {
   // manager scales the point's residual and tangent by it; in (0, 1], 1 elsewhere. A strategy that
   // judges constraint violations may weigh them by it.
   double weight = 1.0;
+  // Whether a slip is measured along each tangential gap. A Gauss point of line contact measures the
+  // slip along the axes (g_T2) but none across them (g_T1 = 0, no variation): a strategy treats that
+  // direction as frictionless (its multiplier row lambda_T1 = 0).
+  bool measured[2] = {true, true};
 };
 
 // The forces of a point: for output, the progress line and the stopping tests.

@@ -81,7 +81,7 @@ void axisPoint(const Vec3<T>& P1, const Vec3<T>& V1, const Vec3<T>& P2, const Ve
 // etaPrev. Axis A's own tangential gap is zero (the point is material on A).
 template <class T>
 Gaps<T> lineGaps(const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB, double radiusSum, double xi,
-                 double etaStart, double etaPrev) {
+                 double etaStart, double etaPrev, double side) {
   using std::sqrt;
   Gaps<T> g;
   Vec3<T> pA, xB, dB, ddB;
@@ -96,7 +96,7 @@ Gaps<T> lineGaps(const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB, d
   axisPoint(P[2], V[2], P[3], V[3], cubicB, g.eta, &xB, nullptr, nullptr);
   const Vec3<T> d = xB - pA;
   const Vec3<T> tA = P[1] - P[0], tB = P[3] - P[2];
-  g.gN = sqrt(dot(d, d)) - radiusSum;
+  g.gN = side * sqrt(dot(d, d)) - radiusSum;
   g.gT1 = T(0.0);
   g.gT2 = (g.eta - etaPrev) * sqrt(dot(tB, tB));
   g.cosine = dot(tA, tB) / (sqrt(dot(tA, tA)) * sqrt(dot(tB, tB)));
@@ -205,7 +205,7 @@ ClosestPoints lineProjection(const LinePairInput& in, double xi) {
   return cp;
 }
 
-ContactKinematics lineKinematics(const LinePairInput& in, double xi, double etaPrev) {
+ContactKinematics lineKinematics(const LinePairInput& in, double xi, double etaPrev, double side) {
   const double etaStart = lineProjection(in, xi).eta;
   if (in.face) {
     ContactKinematics k = kinematicsOf<10>(in, [&](const auto* P) {
@@ -217,7 +217,7 @@ ContactKinematics lineKinematics(const LinePairInput& in, double xi, double etaP
   }
   ContactKinematics k = kinematicsOf<8>(
       in, [&](const auto* P) {
-        return lineGaps(P, P + 4, norm(in.dA) > 0.0, norm(in.dB) > 0.0, in.radiusSum, xi, etaStart, etaPrev);
+        return lineGaps(P, P + 4, norm(in.dA) > 0.0, norm(in.dB) > 0.0, in.radiusSum, xi, etaStart, etaPrev, side);
       });
   k.cosine = 0.0;
   k.cosineR.fill(0.0);

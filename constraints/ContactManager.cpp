@@ -456,6 +456,9 @@ bool ContactManager::prepareIteration(core::State& state) {
     }
     p.elementA = c.elementA;
     p.elementB = c.elementB;
+    // A new line point's side: its normal at the last converged state (where the beams had not
+    // passed through each other), so a point found after they did has a deeply negative gap.
+    if (p.line() && dot(p.normal, p.normal) == 0.0) p.normal = pointGeometry(p, reference_).normal;
     next[key] = p;
   }
   if (nodalLines_) {
@@ -525,10 +528,10 @@ const double* ContactManager::multipliers(const Point& p, const core::State& sta
 
 ContactPoint ContactManager::strategyView(const Point& p, const ContactKinematics& k, const core::State& state) const {
   // Line points have friction along the axes (their g_T2); across the axes no slip is measured.
-  // Lagrange multipliers on lines are frictionless (their field carries the normal contact only).
-  return ContactPoint{k, p.line() && nodalLines_ ? 0.0 : pairs_[p.pair].friction, options_.frictionLaw,
-                      multipliers(p, state),
-                      blendWeight(p, k.axesCosine, nullptr, nullptr)};
+  ContactPoint view{k, pairs_[p.pair].friction, options_.frictionLaw, multipliers(p, state),
+                    blendWeight(p, k.axesCosine, nullptr, nullptr)};
+  if (p.line()) view.measured[0] = false;
+  return view;
 }
 
 std::vector<GlobalDof> ContactManager::blockDofs(const Point& p) const {
@@ -580,21 +583,33 @@ std::map<Key, ContactManager::NodeGap> ContactManager::nodeGaps(const core::Stat
     if (!p.line()) continue;
     const double length = lineWeight(p);
     const double w = length * blendWeight(p, std::cos(axisAngle(p.elementA, p.elementB, s)), nullptr, nullptr);
-    const double gap = w > 0.0 ? pointGeometry(p, s).gap : 0.0;
+    const ClosestPoints cp = w > 0.0 ? pointGeometry(p, s) : ClosestPoints{};
+    const double gap = cp.gap;
+    // The slip along B since the last converged step, as lineKinematics measures it.
+    const BeamElement& eB = beams_->elements()[p.elementB];
+    const double slip = w > 0.0 ? (cp.eta - (p.etaPrev - eB.index)) *
+                                      norm(s.position[eB.node2] - s.position[eB.node1])
+                                : 0.0;
     for (const FieldShare& f : fieldShares(p)) {
       NodeGap& g = gaps[Key{p.pair, Point::kLineNode - p.edge(), f.node}];
       g.weighted += w * f.N * gap;
+      g.weightedSlip += w * f.N * slip;
       g.weight += w * f.N;
       g.full += length * f.N;
     }
   }
   for (auto& [key, g] : gaps)
-    if (g.weight > 0.0) g.weighted /= g.weight;
+    if (g.weight > 0.0) {
+      g.weighted /= g.weight;
+      g.weightedSlip /= g.weight;
+    }
   return gaps;
 }
 
 ContactPoint ContactManager::nodeView(const Point& node, const ContactKinematics& k, const core::State& s) const {
-  return ContactPoint{k, 0.0, options_.frictionLaw, multipliers(node, s), 1.0};
+  ContactPoint view{k, pairs_[node.pair].friction, options_.frictionLaw, multipliers(node, s), 1.0};
+  view.measured[0] = false;  // as its Gauss points: slip along the axes only
+  return view;
 }
 
 const PointState* ContactManager::actingState(const Point& p) const {
@@ -634,7 +649,9 @@ bool ContactManager::evaluateNodal(const Point& p, const ContactKinematics& k, c
   }
   const int np = kPairDofs + m, nb = slot;
   std::vector<double> fp(np, 0.0), Kp(K ? std::size_t(np) * np : 0, 0.0);
-  const ContactPoint view{k, 0.0, options_.frictionLaw, lambda.data(), blendWeight(p, k.axesCosine, nullptr, nullptr)};
+  ContactPoint view{k, pairs_[p.pair].friction, options_.frictionLaw, lambda.data(),
+                    blendWeight(p, k.axesCosine, nullptr, nullptr)};
+  view.measured[0] = false;
   const PointResult r = enforcer_->evaluate(view, *host, fp.data(), K ? Kp.data() : nullptr);
   if (result) *result = r;
   f.assign(nb, 0.0);
@@ -666,7 +683,7 @@ std::array<GlobalDof, kPairDofs> ContactManager::pointDofs(const Point& p) const
 ContactKinematics ContactManager::kinematics(const Point& p, const core::State& state) const {
   if (p.line())
     return lineKinematics(lineContactInput(p, state), gaussXi_[p.gauss()],
-                          p.etaPrev - beams_->elements()[p.elementB].index);
+                          p.etaPrev - beams_->elements()[p.elementB].index, lineSide(p, state));
   const LinePairInput in = lineInput(p.elementA, p.lineA, p.elementB, p.lineB, state);
   const double xiPrev = p.xiPrev - beams_->elements()[p.elementA].index;
   const double etaPrev = p.etaPrev - beams_->elements()[p.elementB].index;
@@ -829,7 +846,10 @@ bool ContactManager::acceptSolution(core::State& state) {
       ks.emplace_back();
       const auto g = gaps.find(key);
       carries.push_back(g != gaps.end() && g->second.weight > kCarries * g->second.full);
-      if (carries.back()) ks.back().normal.value = g->second.weighted;
+      if (carries.back()) {
+        ks.back().normal.value = g->second.weighted;
+        ks.back().tangent2.value = g->second.weightedSlip;
+      }
     } else {
       ks.push_back(kinematics(p, state));
       carries.push_back(!(nodalLines_ && p.line()) && blendWeight(p, ks.back().axesCosine, nullptr, nullptr) > kCarries);
@@ -870,7 +890,10 @@ void ContactManager::commitStep(const core::State& state) {
     if (p.node()) {  // a line node: its multipliers (reported through its Gauss points)
       ContactKinematics k;
       const auto g = gaps.find(key);
-      if (g != gaps.end()) k.normal.value = g->second.weighted;
+      if (g != gaps.end()) {
+        k.normal.value = g->second.weighted;
+        k.tangent2.value = g->second.weightedSlip;
+      }
       const ContactPoint view = nodeView(p, k, state);
       p.result = enforcer_->reportedForces(view, *p.state);
       enforcer_->commitPoint(view, *p.state);
@@ -998,10 +1021,22 @@ void ContactManager::loadCommitted(core::CheckpointIn& in, const core::State& co
   passes_ = 0;
 }
 
+double ContactManager::lineSide(const Point& p, const core::State& s) const {
+  // Circular sections: +1 unless the axes passed through each other since the point's last
+  // committed normal (rectangles' face gaps carry their sign).
+  if (rectangles(p.pair) || dot(p.normal, p.normal) == 0.0) return 1.0;
+  const ClosestPoints cp = lineProjection(lineContactInput(p, s), gaussXi_[p.gauss()]);
+  return dot(cp.pB - cp.pA, p.normal) < 0.0 ? -1.0 : 1.0;
+}
+
 ClosestPoints ContactManager::pointGeometry(const Point& p, const core::State& s) const {
   if (p.line()) {
     ClosestPoints cp = lineProjection(lineContactInput(p, s), gaussXi_[p.gauss()]);
     cp.sinAngle = 1.0;  // a line point is defined at any angle
+    if (!rectangles(p.pair) && dot(p.normal, p.normal) > 0.0 && dot(cp.pB - cp.pA, p.normal) < 0.0) {
+      cp.gap = -cp.distance - (cp.distance + cp.gap);  // -|p_B - p_A| - (r_A + r_B)
+      cp.normal = -1.0 * cp.normal;
+    }
     return cp;
   }
   const LinePairInput in = lineInput(p.elementA, p.lineA, p.elementB, p.lineB, s);
@@ -1158,10 +1193,7 @@ std::vector<std::string> ContactManager::warnings() const {
     std::ostringstream s;
     s << "contact pair \"" << pairs_[pair].name << "\" has friction coefficient " << pairs_[pair].friction
       << ", and its beams were in line contact (nearly parallel): ";
-    if (nodalLines_)
-      s << enforcer_->type() << " enforces line contact without friction: no friction acted there";
-    else
-      s << "friction acted along the axes only; sliding across them (perpendicular to both axes) is frictionless";
+    s << "friction acted along the axes only; sliding across them (perpendicular to both axes) is frictionless";
     w.push_back(s.str());
   }
   return w;

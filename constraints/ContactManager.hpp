@@ -176,6 +176,8 @@ class ContactManager : public core::Contribution {
   // towards A, from the elements' places and turns in `s`.
   std::pair<std::array<int, 2>, int> facing(int eA, int eB, const core::State& s) const;
   bool rectangles(int pair) const;
+  // The orientation of a circular line point's gap (lineKinematics' side) in `s`.
+  double lineSide(const Point& p, const core::State& s) const;
   // Closest points of a point's two lines in `s`, with the point's normal orientation and gap.
   ClosestPoints pointGeometry(const Point& p, const core::State& s) const;
   double beamCoordinate(int element, double xi) const;
@@ -220,6 +222,7 @@ class ContactManager : public core::Contribution {
   // weights times lengths times the line points' blend weights) at `s`.
   struct NodeGap {
     double weighted = 0.0, weight = 0.0, full = 0.0;  // full: the weight without the blend
+    double weightedSlip = 0.0;                          // int N_a g_T2 ds / int N_a ds
   };
   std::map<std::tuple<int, int, int>, NodeGap> nodeGaps(const core::State& s) const;
   // The view a strategy gets of a line node (its weighted gap, its multipliers).

@@ -48,7 +48,9 @@ bool LagrangeMultiplierEnforcer::isotropicFrictionRows(const ContactPoint& p, do
   const F g[2] = {F(6, 3, k.tangent1.value), F(6, 4, k.tangent2.value)};
   F Mg[2], P[2];
   cone::metric(c, g, Mg);
-  const F v[2] = {lT[0] + complementarity_ * Mg[0], lT[1] + complementarity_ * Mg[1]};
+  // (A direction without a measured slip is frictionless: v = 0 there gives the row lambda_T = 0.)
+  const F v[2] = {p.measured[0] ? F(lT[0] + complementarity_ * Mg[0]) : F(0.0),
+                  p.measured[1] ? F(lT[1] + complementarity_ * Mg[1]) : F(0.0)};
   const F radius = lN.val() < 0.0 ? F(-mu * lN) : F(0.0);
   const bool slip = cone::project(c, radius, v, P);
   const Vector24* Rs[3] = {&k.tangent1.R, &k.tangent2.R, &k.cosineR};
@@ -106,7 +108,7 @@ PointResult LagrangeMultiplierEnforcer::evaluate(const ContactPoint& p, const Po
   }
   for (int t = 0; t < 2; ++t) {
     const int row = iN + 1 + t;
-    if (mu <= 0.0) {
+    if (mu <= 0.0 || !p.measured[t]) {
       f[row] += lambda[1 + t];
       if (K) K[n * row + row] += 1.0;
     } else if (!h.slip[t]) {
@@ -138,7 +140,7 @@ bool LagrangeMultiplierEnforcer::acceptNormal(const ContactPoint& p, PointState&
     h.active = true;
     const double gT[2] = {k.tangent1.value, k.tangent2.value};
     for (int t = 0; t < 2; ++t) {
-      h.slip[t] = mu > 0.0 && p.law == FrictionLaw::PerLine;
+      h.slip[t] = mu > 0.0 && p.law == FrictionLaw::PerLine && p.measured[t];
       h.slipSign[t] = gT[t] >= 0.0 ? 1.0 : -1.0;
     }
     return false;
@@ -146,7 +148,7 @@ bool LagrangeMultiplierEnforcer::acceptNormal(const ContactPoint& p, PointState&
   // Tension: release, but a point held by sticking friction first gets to slip (with lambda_N > 0
   // its Coulomb cone is empty, so the friction stage switches it); it is released only if it is
   // still in tension while slipping.
-  const bool held = p.law == FrictionLaw::PerLine && (h.slip[0] == false || h.slip[1] == false);
+  const bool held = p.law == FrictionLaw::PerLine && ((p.measured[0] && !h.slip[0]) || (p.measured[1] && !h.slip[1]));
   if (lambda && lambda[0] > 0.0 && !(held && mu > 0.0)) {
     h.active = false;
     return false;
@@ -170,6 +172,7 @@ bool LagrangeMultiplierEnforcer::acceptPoint(const ContactPoint& p, PointState& 
   const GapDerivatives* gt[2] = {&k.tangent1, &k.tangent2};
   bool changed = false;
   for (int t = 0; t < 2; ++t) {
+    if (!p.measured[t]) continue;
     const double lT = lambda[1 + t];
     if (!h.slip[t]) {
       if (std::abs(lT) > -mu * lN * (1.0 + 1e-10)) {

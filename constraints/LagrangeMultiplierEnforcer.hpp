@@ -5,7 +5,7 @@
 //   normal:              g_N = 0
 //   stick (line i):      g_Ti = 0                     (no slip since the last converged step)
 //   slip  (line i):      s_i lambda_Ti + mu lambda_N = 0   (|lambda_Ti| = mu |lambda_N|, s_i fixed)
-//   frictionless:        lambda_Ti = 0
+//   frictionless:        lambda_Ti = 0      (also along a direction without a measured slip)
 // and the displacement rows get lambda_N R_N + sum_i lambda_Ti R_Ti with tangent
 // lambda_N K_N + sum_i lambda_Ti K_Ti and the R vectors as the coupling columns. (The paper writes the
 // slip force as mu lambda_N R_T with its own signs and indices, some misprinted; this form gives

@@ -1399,6 +1399,52 @@ TEST(LineContact, FrictionAlongTheAxesReachesMuN) {
       }
 }
 
+// Friction along the axes with every strategy: a rod lying on a held ground, loaded by q = 0.01 per
+// length, its clamped ends slid along the axes by 0.05 (far beyond the elastic slip mu q / eps_T =
+// 3e-6 of a penalty), pair friction 0.3: every line point slides, and the friction force on the rod
+// is mu times its normal force (1e-8), with each friction law; Lagrange multipliers through the
+// field's friction rows. (The rod starts touching, so Penalty's first Newton step, without contact
+// stiffness, drops it 0.5 through the ground. Before the line gap kept its side, the points then saw
+// the rod beyond the ground's axis as a positive gap growing again, and the run ended "complete"
+// with N = 1956 instead of 0.93.)
+TEST(LineContact, FrictionAlongTheAxesWithEveryStrategy) {
+  for (const std::string law : {"Per Line", "Isotropic Coulomb"})
+    for (const std::string type : {"Penalty", "Augmented Lagrange", "Lagrange Multiplier"}) {
+      auto deck = parallelBeams(type, 10, 10, 0.0, 1e5, 6);
+      input::setAtPath(deck, "Contact/Friction Law", law);
+      input::replaceAtPath(deck, "Contact/Pairs/line/Friction Coefficient", 0.3);
+      input::replaceAtPath(deck, "Load Stepping/Number of Increments", 2);
+      if (type != "Lagrange Multiplier")
+        input::setAtPath(deck, "Contact/Enforcement/" + type + "/Regularization Gap", 1e-6);
+      for (int i = 0; i <= 10; ++i) support(deck, "ground", i, "all");
+      for (int i = 0; i <= 10; ++i) {
+        Teuchos::ParameterList& s = deck.sublist("Supports").sublist("rod " + std::to_string(i));
+        s.set("Beam", std::string("rod"));
+        s.set("Node", std::to_string(i));
+        s.set("Fixed", std::string(i == 0 || i == 10 ? "all" : "uy"));
+        s.set("Displacement", Teuchos::Array<double>(std::vector<double>{i == 0 || i == 10 ? 0.05 : 0.0, 0.0, 0.0}));
+      }
+      uniformLoad(deck, "rod", 10, 0.01);
+      auto p = input::buildProblem(deck, "line_friction_all");
+      const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "line_friction_all");
+      ASSERT_TRUE(r.report.completed) << type << ", " << law << ": " << r.report.failure;
+      double normal = 0.0, friction = 0.0;
+      int slipping = 0, active = 0;
+      for (const auto& [key, q] : p.contact->points()) {
+        if (!q.line() || !q.result.active) continue;
+        ++active;
+        normal += -q.result.lambdaN;
+        friction += q.tangentialForce[0];
+        slipping += q.result.slip[1];
+      }
+      std::printf("%s, %s: N = %.9f, friction force %.9f (mu N = %.9f), %d of %d points slipping\n", type.c_str(),
+                  law.c_str(), normal, friction, 0.3 * normal, slipping, active);
+      EXPECT_GT(active, 30);
+      EXPECT_EQ(slipping, active);
+      EXPECT_NEAR(-friction, 0.3 * normal, 1e-8 * normal);
+    }
+}
+
 // Line contact sees the gap at its Gauss points only. Two clamped beams crossing at 8 degrees, line
 // contact forced (Line Contact Angle 9, Point Contact Angle 10), pressed together by a closure of
 // 0.02: with 2 Gauss points per element the contact zone around the crossing falls between them
