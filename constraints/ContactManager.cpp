@@ -19,8 +19,9 @@ namespace {
 // A point (or line node) whose blend weight (share of its full weight) is at most this is not
 // judged after Newton and keeps no multipliers (its rows would carry nothing).
 constexpr double kCarries = 1e-3;
-// A line point of a nodal multiplier field penetrating by more than this fraction of the thinner
-// radius is reported: the field does not resolve the contact zone (warnings()).
+// A line point penetrating by more than this fraction of the thinner section's inscribed radius (a
+// nodal multiplier field's point, or the gap between Gauss points beyond the deepest one's) is
+// reported: the contact zone is not resolved (warnings()).
 constexpr double kUnresolved = 1e-3;
 }  // namespace
 
@@ -360,25 +361,25 @@ std::map<Key, ContactManager::Candidate> ContactManager::detect(const core::Stat
         lines = {{edges[0], face}, {edges[1], face}};
       }
       for (const auto& [edge, face] : lines) {
-      const LinePairInput in = rectangles(pi) ? faceInput(ea, edge, eb, face, s) : lineInput(ea, 0, eb, 0, s);
-      for (int q = 0; q < (int)gaussXi_.size(); ++q) {
-        const ClosestPoints cp = lineProjection(in, gaussXi_[q]);
-        if (!withinElement(eb, cp.eta)) continue;
-        const Key key{pi, -1 - (q + Point::kGaussSlots * (edge + 4 * face)), ea};
-        // Across B's face: a new point within 1e-3 of its width beyond the face's edge, a known one
-        // while within 5 % (equal widths put A's edges exactly on B's face edges, where a sharp
-        // bound would drop and take up points from one iterate to the next).
-        if (in.face && std::abs(cp.lateral) > in.halfWidthB * (points_.count(key) ? 1.05 : 1.001)) continue;
-        constexpr double kStay = 0.05;
-        double out = std::abs(cp.eta - 0.5);
-        const auto known = points_.find(key);
-        if (known != points_.end() && known->second.elementB == eb && out <= 0.5 + kStay) out = -1.0;
-        auto f = outside.find(key);
-        if (f == outside.end() || out < f->second) {
-          found[key] = Candidate{ea, eb, cp};
-          outside[key] = out;
+        const LinePairInput in = rectangles(pi) ? faceInput(ea, edge, eb, face, s) : lineInput(ea, 0, eb, 0, s);
+        for (int q = 0; q < (int)gaussXi_.size(); ++q) {
+          const ClosestPoints cp = lineProjection(in, gaussXi_[q]);
+          if (!withinElement(eb, cp.eta)) continue;
+          const Key key{pi, -1 - (q + Point::kGaussSlots * (edge + 4 * face)), ea};
+          // Across B's face: a new point within 1e-3 of its width beyond the face's edge, a known one
+          // while within 5 % (equal widths put A's edges exactly on B's face edges, where a sharp
+          // bound would drop and take up points from one iterate to the next).
+          if (in.face && std::abs(cp.lateral) > in.halfWidthB * (points_.count(key) ? 1.05 : 1.001)) continue;
+          constexpr double kStay = 0.05;
+          double out = std::abs(cp.eta - 0.5);
+          const auto known = points_.find(key);
+          if (known != points_.end() && known->second.elementB == eb && out <= 0.5 + kStay) out = -1.0;
+          auto f = outside.find(key);
+          if (f == outside.end() || out < f->second) {
+            found[key] = Candidate{ea, eb, cp};
+            outside[key] = out;
+          }
         }
-      }
       }
     }
     if (!inPointContact(pi, ea, eb)) return;
@@ -463,7 +464,6 @@ bool ContactManager::prepareIteration(core::State& state) {
   }
   if (nodalLines_) {
     // The line nodes of the Gauss points (kept with their state, or new).
-    std::vector<Key> nodes;
     for (const auto& [key, p] : next)
       if (p.line())
         for (int n : {fieldNode(p.elementA, 0), fieldNode(p.elementA, 1)})
@@ -649,9 +649,8 @@ bool ContactManager::evaluateNodal(const Point& p, const ContactKinematics& k, c
   }
   const int np = kPairDofs + m, nb = slot;
   std::vector<double> fp(np, 0.0), Kp(K ? std::size_t(np) * np : 0, 0.0);
-  ContactPoint view{k, pairs_[p.pair].friction, options_.frictionLaw, lambda.data(),
-                    blendWeight(p, k.axesCosine, nullptr, nullptr)};
-  view.measured[0] = false;
+  ContactPoint view = strategyView(p, k, s);
+  view.lambda = lambda.data();
   const PointResult r = enforcer_->evaluate(view, *host, fp.data(), K ? Kp.data() : nullptr);
   if (result) *result = r;
   f.assign(nb, 0.0);
@@ -1034,7 +1033,8 @@ ClosestPoints ContactManager::pointGeometry(const Point& p, const core::State& s
     ClosestPoints cp = lineProjection(lineContactInput(p, s), gaussXi_[p.gauss()]);
     cp.sinAngle = 1.0;  // a line point is defined at any angle
     if (!rectangles(p.pair) && dot(p.normal, p.normal) > 0.0 && dot(cp.pB - cp.pA, p.normal) < 0.0) {
-      cp.gap = -cp.distance - (cp.distance + cp.gap);  // -|p_B - p_A| - (r_A + r_B)
+      const double radiusSum = cp.distance - cp.gap;
+      cp.gap = -cp.distance - radiusSum;
       cp.normal = -1.0 * cp.normal;
     }
     return cp;

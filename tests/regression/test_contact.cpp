@@ -1170,6 +1170,20 @@ TEST(LineContact, RigidPunchGivesThePenaltyTractionPerUnitLength) {
     EXPECT_NEAR(std::stod(cells.back()), 1.0, 1e-9) << row;
     EXPECT_EQ(cells[cells.size() - 3], cells[cells.size() - 2]) << row;
   }
+  // A line point keeps its side: the rod moved on down by 1.2 has its axis 0.2 below the ground's,
+  // and every point's gap is -(0.2 + 1e-4) - (r_A + r_B) = -1.2001 (not +0.2001 - 1 = -0.7999), in
+  // the kinematics (whose side comes from the double-precision geometry).
+  {
+    core::State moved = r.finalState;
+    for (int n : p.beams->beams()[1].nodes) moved.applyNodeIncrement(n, std::array<double, 6>{0, 0, -1.2, 0, 0, 0}.data());
+    for (const auto& [key, q] : p.contact->points()) {
+      if (!q.line()) continue;
+      const auto k = p.contact->kinematics(q, moved);
+      EXPECT_NEAR(k.normal.value, -1.2001, 1e-9);
+      // Raising the rod opens it: d g / d u_z of B's two nodes sum to +1 (the shape functions' sum).
+      EXPECT_NEAR(k.normal.R[12 + 2] + k.normal.R[18 + 2], 1.0, 1e-9);
+    }
+  }
   EXPECT_NEAR(s.gapMin, -1e-4, 1e-9 * 1e-4);
   EXPECT_NEAR(s.gapMax, -1e-4, 1e-9 * 1e-4);
   double previous = 1e300;
