@@ -23,6 +23,9 @@ constexpr double kCarries = 1e-3;
 // nodal multiplier field's point, or the gap between Gauss points beyond the deepest one's) is
 // reported: the contact zone is not resolved (warnings()).
 constexpr double kUnresolved = 1e-3;
+// An active point penetrating by more than this fraction of the thinner section's inscribed radius
+// is reported: at that depth the sections overlap visibly, and a penalty law is far from contact.
+constexpr double kDeep = 0.05;
 }  // namespace
 
 using core::GlobalDof;
@@ -932,6 +935,14 @@ void ContactManager::commitStep(const core::State& state) {
     }
     p.kinematics = k;
     const ClosestPoints cp = pointGeometry(p, state);
+    if (p.result.active) {
+      const auto& pair = pairs_[p.pair];
+      const double depth = -cp.gap, inscribed = std::min(inscribed_[pair.beamA], inscribed_[pair.beamB]);
+      if (depth > kDeep * inscribed) {
+        auto& worst = deepPoints_[p.pair];
+        if (depth > worst.first) worst = {depth, 0.5 * (cp.pA + cp.pB)};
+      }
+    }
     p.position = 0.5 * (cp.pA + cp.pB);
     p.normal = cp.normal;
     // The force on beam B is what the multipliers apply through the residual lambda_q R_q on B's
@@ -1167,6 +1178,17 @@ void ContactManager::checkLineResolution(const core::State& state) {
 
 std::vector<std::string> ContactManager::warnings() const {
   std::vector<std::string> w;
+  for (const auto& [pair, worst] : deepPoints_) {
+    const auto& pr = pairs_[pair];
+    const double inscribed = std::min(inscribed_[pr.beamA], inscribed_[pr.beamB]);
+    std::ostringstream s;
+    s << "contact pair \"" << pr.name << "\": the beams penetrated each other by up to " << worst.first << " ("
+      << 100.0 * worst.first / inscribed << " % of the thinner section's inscribed radius) near (" << worst.second[0]
+      << ", " << worst.second[1] << ", " << worst.second[2] << "), more than " << 100.0 * kDeep
+      << " %: the sections overlap visibly there, so the forces are those of a soft contact law, not of contact; "
+         "raise the Normal Penalty Parameter (or use Augmented Lagrange or Lagrange Multiplier)";
+    w.push_back(s.str());
+  }
   for (const auto& [pair, worst] : unseenBetween_) {
     std::ostringstream s;
     s << "contact pair \"" << pairs_[pair].name << "\": between the Gauss points of line contact the beams "

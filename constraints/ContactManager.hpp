@@ -233,6 +233,7 @@ class ContactManager : public core::Contribution {
   std::set<int> frictionlessLines_;       // pairs with friction whose line points carried force
   std::map<int, std::pair<double, Vec3d>> unresolvedLines_;  // nodal line fields: pair -> deepest penetration, where
   std::map<int, std::pair<double, Vec3d>> unseenBetween_;    // pair -> deepest overlap between Gauss points, where
+  std::map<int, std::pair<double, Vec3d>> deepPoints_;       // pair -> deepest active point beyond kDeep, where
   // After a step: records overlaps of line contact between the Gauss points (warnings()).
   void checkLineResolution(const core::State& state);
   // All-angle contact: whether the pair blends point and line contact (both beams circular and the

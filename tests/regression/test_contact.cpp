@@ -732,6 +732,11 @@ TEST(PassThrough, DeepPenaltyPenetrationIsLegal) {
   EXPECT_EQ(c.active, 1);
   EXPECT_GT(c.maxPenetration, 1.0);
   EXPECT_NEAR(c.normal, eps * c.maxPenetration, 1e-9 * c.normal);
+  // A legal state of the penalty law, but not contact: the run says so (more than 5 % of the
+  // thinner section's inscribed radius).
+  ASSERT_EQ(r.report.warnings.size(), 1u);
+  EXPECT_NE(r.report.warnings[0].find("penetrated each other by up to"), std::string::npos) << r.report.warnings[0];
+  EXPECT_NE(r.report.warnings[0].find("raise the Normal Penalty Parameter"), std::string::npos);
 }
 
 TEST(PassThrough, UnheldCrossingFailsTheIncrementAndIsNeverAResult) {
