@@ -230,9 +230,9 @@ ParameterList network(const Options& o) {
 // core wire (--core 1, radius core-radius) or none (--core 0). The helix radius puts each wire
 // --gap clear of its neighbours and of the core (below). Every wire is clamped at both ends; the
 // ends at the top are pulled along the axis by --stretch at T = 1, so the helices tighten onto the
-// core or onto each other. Neighbouring helices of one lay are parallel: line contact (Penalty with
-// --regularization as its Regularization Gap, or Augmented Lagrange); a helix on the straight core
-// crosses it at the lay angle.
+// core or onto each other. Neighbouring helices, and a helix on the core, touch along a line: the
+// deck puts them in line contact (the contact angles at the end; Penalty with --regularization as
+// its Regularization Gap).
 ParameterList strand(const Options& o) {
   const int wires = o.whole("wires", 2, 36), core = o.whole("core", 0, 1), per = o.whole("elements", 4, 10000);
   const double r = o["radius"], rc = o["core-radius"] > 0 ? o["core-radius"] : 1.05 * r, lay = o["lay-length"];
@@ -299,6 +299,19 @@ ParameterList strand(const Options& o) {
   }
   contactAndStepping(deck, o);
   deck.sublist("Contact").sublist("Enforcement").sublist("Penalty").set("Regularization Gap", o["regularization"]);
+  // Neighbouring helices keep the same distance all along (a screw motion maps each onto the next),
+  // so they touch along a line, although their tangents at the closest points differ by
+  // beta = 2 asin(sin(alpha) sin(pi / wires)) (alpha the lay angle; a helix and the core: alpha).
+  // The all-angle blend must see these pairs as line contact: Line Contact Angle above the larger
+  // angle by half of it plus a degree, Point Contact Angle 5 degrees above that. (In point contact,
+  // which the default angles gave at 18 degrees, Lagrange multipliers and Augmented Lagrange stopped
+  // at T = 0.37 and 0.26, and Penalty's forces jumped between steps.)
+  const double alpha = std::atan(2 * pi * R / lay);
+  const double beta = 2 * std::asin(std::sin(alpha) * std::sin(pi / wires));
+  const double widest = std::max(beta, core ? alpha : 0.0) * 180.0 / pi;
+  const double lineAngle = std::min(1.5 * widest + 1.0, 50.0);
+  deck.sublist("Contact").set("Line Contact Angle", lineAngle);
+  deck.sublist("Contact").set("Point Contact Angle", lineAngle + 5.0);
   return deck;
 }
 

@@ -1,17 +1,18 @@
 #!/usr/bin/python3
 """A generator's deck (beamcontact generate KIND: grid and weave 3 x 3, network of 20 fibres, strand of
-3 wires stretched by 0.4) run with each strategy (the strand: Penalty only), and with Penalty on 2
-ranks. Checks:
+3 wires stretched by 0.4) run with each strategy (the strand: Penalty and Lagrange multipliers), and
+with Penalty on 2 ranks. Checks:
   - every run completes, with contact;
   - equilibrium at T = 1 of every beam: the forces its contact points apply on it (on a pair's beam B
     the normal and tangential vectors of contact_points.csv, on beam A their opposite) balance its
     support reactions, component by component (1e-6 of the largest reaction: the beams carry
     nothing else);
-  - the contact pattern is the same for every strategy (the same points active);
+  - the contact pattern is the same for every strategy (the same points active; not for the strand);
   - Lagrange and augmented Lagrange (Gap Tolerance 1e-9) agree (total normal force, 1e-4);
   - 2 ranks give the 1-rank contact rows (1e-8 of the largest value).
 The strand's three pairs of wires are in line contact along the lay (10 line points or more over
-half the length or more). The network is run frictionless here (Coulomb friction is path dependent, and the strategies may cut
+half the length or more), with each of its strategies, and Lagrange and Penalty agree on the total
+normal force (2 %). The network is run frictionless here (Coulomb friction is path dependent, and the strategies may cut
 different increments). With friction 0.2 and Penalty, full-step Newton cycles in some increments
 (slip directions flipping between iterates, ||r|| alternating between two values): with "Line
 Search" = "None" those increments are cut; the default line search ("When Stalled") must solve them
@@ -39,9 +40,10 @@ GENERATOR_OPTIONS = {"grid": ["--n", "3", "--m", "3"], "weave": ["--n", "3", "--
                      "strand": ["--wires", "3", "--stretch", "0.4"], "network": ["--fibres", "20", "--penalty", "1e5", "--friction", "0"]}
 
 
-# The strand's wires are in line contact, which Lagrange multipliers do not enforce yet and on which
-# augmented Lagrange's augmentations do not converge yet (it stops at T = 0.24): Penalty only.
-STRATEGIES = {"strand": ["Penalty"]}
+# The strand's wires are in line contact. Penalty and Lagrange multipliers; augmented Lagrange's
+# augmentations converge slowly on it (per Gauss point: with its default Gap Tolerance 1e-6 it stops at
+# T = 0.0125, with 1e-4 it completes in 1673 Newton iterations, 108 s), so it is left out here.
+STRATEGIES = {"strand": ["Penalty", "Lagrange Multiplier"]}
 
 
 def run(exe, deck, out, mpi=None):
@@ -144,12 +146,19 @@ def main():
             print(f"Penalty on 2 ranks: total N {total2:.6f}, max difference of the contact rows / scale {diff / scale:.1e}")
             failures += not (len(contact) == len(contact2) and diff <= 1e-8 * scale)
     if kind == "strand":
-        failures += check_strand_lines(results["Penalty"][2])
+        for strategy in STRATEGIES["strand"]:
+            failures += check_strand_lines(results[strategy][2])
+        # The exact field and the penalty (eps_N 1e4 per unit length, wires 1% of their radius into
+        # each other) carry the same pair forces within 2 % (measured 0.9 %); their active points differ
+        # (the field's tractions interpolate between nodes), so the patterns are not compared.
+        nl, np_ = results["Lagrange Multiplier"][1], results["Penalty"][1]
+        print(f"strand: total normal force Lagrange {nl:.3f}, Penalty {np_:.3f}, difference {abs(nl - np_) / nl:.1e}")
+        failures += not (abs(nl - np_) <= 0.02 * nl)
     patterns = {s: r[0] for s, r in results.items()}
-    if len(set(map(tuple, patterns.values()))) != 1:
+    if kind != "strand" and len(set(map(tuple, patterns.values()))) != 1:
         print("contact patterns differ:", patterns)
         failures += 1
-    if "Lagrange Multiplier" in results:
+    if "Lagrange Multiplier" in results and "Augmented Lagrange" in results:
         nl, na = results["Lagrange Multiplier"][1], results["Augmented Lagrange"][1]
         print(f"Lagrange vs augmented Lagrange: {abs(nl - na) / nl:.1e}")
         failures += not (abs(nl - na) <= 1e-4 * nl)
