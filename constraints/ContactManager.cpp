@@ -103,6 +103,17 @@ bool ContactManager::blends(int pair) const {
   return lineContact_;
 }
 
+std::pair<double, double> ContactManager::blendAngles(int pair) const {
+  // Circular sections: the deck's angles. Rectangular ones: their edges' point contact holds down to
+  // small angles (crossings at 0.1 .. 12 degrees complete), while the face contact's edges, which see
+  // only B's face, miss B's edges on A's face at a crossing (crossings at 4 .. 12 degrees failed at
+  // first contact with the deck's angles): line contact only where the edges are parallel within
+  // Parallel Line Tolerance, and the blend up to twice that angle.
+  if (!rectangles(pair)) return {options_.lineAngle, options_.pointAngle};
+  const double parallel = std::asin(std::min(1.0, options_.minimumSinAngle));
+  return {parallel, 2.0 * parallel};
+}
+
 bool ContactManager::rectangles(int pair) const {
   return beams_->beams()[pairs_[pair].beamA].section.shape == CrossSection::Shape::Rectangle;
 }
@@ -164,12 +175,13 @@ bool ContactManager::inLineContact(int pair, int elementA, int elementB) const {
   // Line points exist up to a margin beyond the point-contact angle (their weight is 0 there), so a
   // pair whose angle closes within an increment finds them.
   if (!blends(pair)) return false;
-  return axisAngle(elementA, elementB, reference_) < options_.pointAngle + 0.5 * (options_.pointAngle - options_.lineAngle);
+  const auto [lo, hi] = blendAngles(pair);
+  return axisAngle(elementA, elementB, reference_) < hi + 0.5 * (hi - lo);
 }
 
 bool ContactManager::inPointContact(int pair, int elementA, int elementB) const {
   if (!blends(pair)) return true;
-  return axisAngle(elementA, elementB, reference_) > 0.5 * options_.lineAngle;
+  return axisAngle(elementA, elementB, reference_) > 0.5 * blendAngles(pair).first;
 }
 
 double ContactManager::blendWeight(const Point& p, double cosine, const double* cosineR, Vector24* gradient) const {
@@ -177,7 +189,8 @@ double ContactManager::blendWeight(const Point& p, double cosine, const double* 
   // 0 below alpha_l, 1 above alpha_p: C1 in alpha. A point contact carries zeta, a line point 1 - zeta.
   if (gradient) gradient->fill(0.0);
   if (!blends(p.pair)) return 1.0;
-  const double lo = options_.lineAngle, hi = options_.pointAngle, c = std::min(1.0, std::abs(cosine));
+  const auto [lo, hi] = blendAngles(p.pair);
+  const double c = std::min(1.0, std::abs(cosine));
   const double alpha = std::acos(c);
   double zeta = 1.0, dzeta = 0.0;  // zeta and d zeta / d alpha
   if (alpha <= lo) {
@@ -1147,27 +1160,30 @@ void ContactManager::appendVtk(const core::State&, core::VtkMesh& mesh) const {
 void ContactManager::checkLineResolution(const core::State& state) {
   // The Gauss points of line contact see the gap only where they are. Where the contact zone of an
   // element pair is shorter than their spacing (axes crossing at a small angle) the beams can overlap
-  // between them, unseen. Per element pair with line points that carry weight: the gap sampled along
-  // A's axis (kSamples points, projected on B's axis) against the deepest Gauss point's.
+  // between them, unseen. Per element pair (and, for rectangles, edge of A) with line points that
+  // carry weight: the gap sampled along A's line (kSamples points, projected on B's) against the
+  // deepest Gauss point's.
   constexpr int kSamples = 64;
-  std::map<std::tuple<int, int, int>, double> deepest;  // (pair, element A, element B) -> lowest Gauss gap
+  // (pair, element A, element B, edge of A, face of B; 0, 0 for circles) -> lowest Gauss gap
+  std::map<std::tuple<int, int, int, int, int>, double> deepest;
   for (const auto& [key, p] : points_) {
     if (!p.line()) continue;
     if (!(blendWeight(p, std::cos(axisAngle(p.elementA, p.elementB, state)), nullptr, nullptr) > kCarries)) continue;
-    const auto k = std::make_tuple(p.pair, p.elementA, p.elementB);
+    const auto k = std::make_tuple(p.pair, p.elementA, p.elementB, p.edge(), p.face());
     const double gap = pointGeometry(p, state).gap;
     const auto it = deepest.find(k);
     deepest[k] = it == deepest.end() ? gap : std::min(it->second, gap);
   }
   for (const auto& [k, gauss] : deepest) {
-    const auto [pi, ea, eb] = k;
-    if (rectangles(pi)) continue;  // (the faces' edges: not sampled yet)
+    const auto [pi, ea, eb, edge, face] = k;
     const auto& pair = pairs_[pi];
     const double radius = std::min(inscribed_[pair.beamA], inscribed_[pair.beamB]);
-    const LinePairInput in = lineInput(ea, 0, eb, 0, state);
+    // Rectangles: along A's edge against B's face, where the edge lies across it.
+    const LinePairInput in = rectangles(pi) ? faceInput(ea, edge, eb, face, state) : lineInput(ea, 0, eb, 0, state);
     for (int i = 0; i <= kSamples; ++i) {
       const ClosestPoints cp = lineProjection(in, double(i) / kSamples);
       if (!withinElement(eb, cp.eta)) continue;
+      if (in.face && std::abs(cp.lateral) > in.halfWidthB) continue;
       const double unseen = std::min(gauss, 0.0) - cp.gap;
       if (!(unseen > kUnresolved * radius)) continue;
       auto& worst = unseenBetween_[pi];

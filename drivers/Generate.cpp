@@ -309,7 +309,7 @@ ParameterList strand(const Options& o) {
   const double alpha = std::atan(2 * pi * R / lay);
   const double beta = 2 * std::asin(std::sin(alpha) * std::sin(pi / wires));
   const double widest = std::max(beta, core ? alpha : 0.0) * 180.0 / pi;
-  const double lineAngle = std::min(1.5 * widest + 1.0, 50.0);
+  const double lineAngle = std::min(1.5 * widest + 1.0, 40.0);  // (the deck allows up to 45)
   deck.sublist("Contact").set("Line Contact Angle", lineAngle);
   deck.sublist("Contact").set("Point Contact Angle", lineAngle + 5.0);
   return deck;

@@ -217,12 +217,14 @@ const ParameterSpec& contactSpec() {
                   "the largest section dimension",
                   core::nonNegative(), ">= 0");
     p.add("Parallel Line Tolerance", 1e-3,
-          "contact lines whose angle has a sine below this are skipped (point contact is undefined there)",
+          "contact lines whose angle has a sine below this are skipped (point contact is undefined there); "
+          "rectangular sections are in line contact (face to face) below it and blend up to twice its angle",
           core::inRange(0.0, 1.0), "in (0, 1]");
     p.add("Line Contact Angle", 5.0,
           "two circular beams' elements whose axes are closer to parallel than this are in line contact (a "
-          "traction along the line, frictionless); between this and Point Contact Angle line and point contact "
-          "are blended smoothly; 0: no line contact [degrees]",
+          "traction along the line, with friction along the axes); between this and Point Contact Angle line and "
+          "point contact are blended smoothly; 0: no line contact (rectangular sections: line contact only below "
+          "Parallel Line Tolerance) [degrees]",
           core::closedRange(0.0, 45.0), "0 to 45");
     p.add("Point Contact Angle", 15.0,
           "above this angle two circular beams' elements are in point contact only [degrees]",
