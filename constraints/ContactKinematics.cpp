@@ -73,18 +73,13 @@ void axisPoint(const Vec3<T>& P1, const Vec3<T>& V1, const Vec3<T>& P2, const Ve
   if (ddx) *ddx = 0.0 * (P2 - P1);
 }
 
-// Line contact at a Gauss point of axis A (fixed parameter xi, a material point) against axis B:
-// P = (x_A1, x_A2, x_B1, x_B2), V = their Hermite tangents R_m d. The point projected on B's curve
-// (f(eta) = x_B'(eta) . (x_B(eta) - p_A) = 0) by Newton steps from etaStart, the solution in double
-// precision: each step makes one more order of the AD derivatives exact (two are needed, three are
-// taken). The normal is along p_B - p_A, the gap |p_B - p_A| - (r_A + r_B), the slip along B from
-// etaPrev. Axis A's own tangential gap is zero (the point is material on A).
+// A's point at xi and its projection x_B(eta) on B's line (f(eta) = x_B'(eta) . (x_B(eta) - p_A) = 0),
+// by Newton steps from etaStart, the solution in double precision: each step makes one more order of
+// the AD derivatives exact (two are needed, three are taken). Sets g.xi, g.eta.
 template <class T>
-Gaps<T> lineGaps(const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB, double radiusSum, double xi,
-                 double etaStart, double etaPrev, double side) {
-  using std::sqrt;
-  Gaps<T> g;
-  Vec3<T> pA, xB, dB, ddB;
+void projectOnB(const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB, double xi, double etaStart, Gaps<T>& g,
+                Vec3<T>& pA, Vec3<T>& xB) {
+  Vec3<T> dB, ddB;
   axisPoint(P[0], V[0], P[1], V[1], cubicA, xi, &pA, nullptr, nullptr);
   g.xi = T(xi);
   g.eta = T(etaStart);
@@ -94,6 +89,19 @@ Gaps<T> lineGaps(const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB, d
     g.eta -= dot(dB, d) / (dot(ddB, d) + dot(dB, dB));
   }
   axisPoint(P[2], V[2], P[3], V[3], cubicB, g.eta, &xB, nullptr, nullptr);
+}
+
+// Line contact at a Gauss point of axis A (fixed parameter xi, a material point) against axis B:
+// P = (x_A1, x_A2, x_B1, x_B2), V = their Hermite tangents R_m d; the point projected on B's curve
+// (projectOnB). The normal is along p_B - p_A, the gap |p_B - p_A| - (r_A + r_B), the slip along B from
+// etaPrev. Axis A's own tangential gap is zero (the point is material on A).
+template <class T>
+Gaps<T> lineGaps(const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB, double radiusSum, double xi,
+                 double etaStart, double etaPrev, double side) {
+  using std::sqrt;
+  Gaps<T> g;
+  Vec3<T> pA, xB;
+  projectOnB(P, V, cubicA, cubicB, xi, etaStart, g, pA, xB);
   const Vec3<T> d = xB - pA;
   const Vec3<T> tA = P[1] - P[0], tB = P[3] - P[2];
   g.gN = side * sqrt(dot(d, d)) - radiusSum;
@@ -110,16 +118,8 @@ Gaps<T> faceGaps(const Vec3<T>* P, const Vec3<T>* V, const Vec3<T>* N, bool cubi
                  double etaStart, double etaPrev) {
   using std::sqrt;
   Gaps<T> g;
-  Vec3<T> pA, xB, dB, ddB;
-  axisPoint(P[0], V[0], P[1], V[1], cubicA, xi, &pA, nullptr, nullptr);
-  g.xi = T(xi);
-  g.eta = T(etaStart);
-  for (int it = 0; it < 3; ++it) {
-    axisPoint(P[2], V[2], P[3], V[3], cubicB, g.eta, &xB, &dB, &ddB);
-    const Vec3<T> d = xB - pA;
-    g.eta -= dot(dB, d) / (dot(ddB, d) + dot(dB, dB));
-  }
-  axisPoint(P[2], V[2], P[3], V[3], cubicB, g.eta, &xB, nullptr, nullptr);
+  Vec3<T> pA, xB;
+  projectOnB(P, V, cubicA, cubicB, xi, etaStart, g, pA, xB);
   const Vec3<T> m = (1.0 - g.eta) * N[0] + g.eta * N[1];
   const T nm = sqrt(dot(m, m));
   const Vec3<T> tA = P[1] - P[0], tB = P[3] - P[2];
@@ -205,8 +205,14 @@ ClosestPoints lineProjection(const LinePairInput& in, double xi) {
   return cp;
 }
 
-ContactKinematics lineKinematics(const LinePairInput& in, double xi, double etaPrev, double side) {
-  const double etaStart = lineProjection(in, xi).eta;
+double lineSide(const LinePairInput& in, const ClosestPoints& projection, const Vec3d& keptNormal) {
+  if (in.face || dot(keptNormal, keptNormal) == 0.0) return 1.0;
+  return dot(projection.pB - projection.pA, keptNormal) < 0.0 ? -1.0 : 1.0;
+}
+
+ContactKinematics lineKinematics(const LinePairInput& in, double xi, double etaPrev, const Vec3d& keptNormal) {
+  const ClosestPoints projection = lineProjection(in, xi);
+  const double etaStart = projection.eta, side = lineSide(in, projection, keptNormal);
   if (in.face) {
     ContactKinematics k = kinematicsOf<10>(in, [&](const auto* P) {
       return faceGaps(P, P + 4, P + 8, norm(in.dA) > 0.0, norm(in.dB) > 0.0, xi, etaStart, etaPrev);

@@ -92,10 +92,14 @@ ClosestPoints lineProjection(const LinePairInput& in, double xi);
 // the projection (its dependence included), g_T1 = 0 (no slip is measured across the axes), g_T2 =
 // (eta - etaPrev) |x_B2 - x_B1| (slip along B; the point is material on A); cosine 0 (the two
 // tangential directions are orthogonal), axesCosine the chords'.
-// `side` (+1 or -1) orients the circular sections' gap: g_N = side |p_B - p_A| - (r_A + r_B). A Gauss
-// point whose axes have passed through each other since the last converged step (p_B - p_A against
-// the normal it had then) has side -1, so its gap is deeply negative instead of positive again.
-ContactKinematics lineKinematics(const LinePairInput& in, double xi, double etaPrev, double side = 1.0);
+// `keptNormal` (zero: none) orients the circular sections' gap: g_N = side |p_B - p_A| - (r_A + r_B),
+// side = lineSide(projection, keptNormal). A Gauss point whose axes have passed through each other
+// since the last converged step (p_B - p_A against the normal it had then) has side -1, so its gap is
+// deeply negative instead of positive again.
+ContactKinematics lineKinematics(const LinePairInput& in, double xi, double etaPrev, const Vec3d& keptNormal = {});
+// -1 where the projection's p_B - p_A points against keptNormal (a nonzero normal of circular
+// sections' line contact), else +1 (face contact's gap carries its own sign).
+double lineSide(const LinePairInput& in, const ClosestPoints& projection, const Vec3d& keptNormal);
 // With in.face (rectangular sections, an edge of A on a face of B): the point of A's edge projected on
 // the centre line of B's face (the same orthogonality), the gap along the face's normal n (the nodal
 // normals R_m nB interpolated linearly and normalized), g_N = (p_A - x_B) . n, positive outside the

@@ -698,7 +698,7 @@ std::array<GlobalDof, kPairDofs> ContactManager::pointDofs(const Point& p) const
 ContactKinematics ContactManager::kinematics(const Point& p, const core::State& state) const {
   if (p.line())
     return lineKinematics(lineContactInput(p, state), gaussXi_[p.gauss()],
-                          p.etaPrev - beams_->elements()[p.elementB].index, lineSide(p, state));
+                          p.etaPrev - beams_->elements()[p.elementB].index, p.normal);
   const LinePairInput in = lineInput(p.elementA, p.lineA, p.elementB, p.lineB, state);
   const double xiPrev = p.xiPrev - beams_->elements()[p.elementA].index;
   const double etaPrev = p.etaPrev - beams_->elements()[p.elementB].index;
@@ -1044,19 +1044,12 @@ void ContactManager::loadCommitted(core::CheckpointIn& in, const core::State& co
   passes_ = 0;
 }
 
-double ContactManager::lineSide(const Point& p, const core::State& s) const {
-  // Circular sections: +1 unless the axes passed through each other since the point's last
-  // committed normal (rectangles' face gaps carry their sign).
-  if (rectangles(p.pair) || dot(p.normal, p.normal) == 0.0) return 1.0;
-  const ClosestPoints cp = lineProjection(lineContactInput(p, s), gaussXi_[p.gauss()]);
-  return dot(cp.pB - cp.pA, p.normal) < 0.0 ? -1.0 : 1.0;
-}
-
 ClosestPoints ContactManager::pointGeometry(const Point& p, const core::State& s) const {
   if (p.line()) {
-    ClosestPoints cp = lineProjection(lineContactInput(p, s), gaussXi_[p.gauss()]);
+    const LinePairInput in = lineContactInput(p, s);
+    ClosestPoints cp = lineProjection(in, gaussXi_[p.gauss()]);
     cp.sinAngle = 1.0;  // a line point is defined at any angle
-    if (!rectangles(p.pair) && dot(p.normal, p.normal) > 0.0 && dot(cp.pB - cp.pA, p.normal) < 0.0) {
+    if (lineSide(in, cp, p.normal) < 0.0) {  // it keeps its side (lineKinematics)
       const double radiusSum = cp.distance - cp.gap;
       cp.gap = -cp.distance - radiusSum;
       cp.normal = -1.0 * cp.normal;

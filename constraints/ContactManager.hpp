@@ -178,8 +178,6 @@ class ContactManager : public core::Contribution {
   bool rectangles(int pair) const;
   // The angles (radians) below which a pair is in line contact and above which in point contact.
   std::pair<double, double> blendAngles(int pair) const;
-  // The orientation of a circular line point's gap (lineKinematics' side) in `s`.
-  double lineSide(const Point& p, const core::State& s) const;
   // Closest points of a point's two lines in `s`, with the point's normal orientation and gap.
   ClosestPoints pointGeometry(const Point& p, const core::State& s) const;
   double beamCoordinate(int element, double xi) const;

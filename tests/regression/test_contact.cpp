@@ -884,6 +884,18 @@ TEST(FrictionCone, IsotropicCoulombHoldsTheForceVectorOnTheCone) {
   }
 }
 
+// The last step's row of a run's reactions.csv (the forces the supports exert on the beams), by column.
+std::map<std::string, double> lastReactions(const std::string& directory) {
+  std::ifstream csv(directory + "/reactions.csv");
+  std::string header, line, last;
+  std::getline(csv, header);
+  while (std::getline(csv, line)) last = line;
+  std::map<std::string, double> row;
+  std::stringstream hs(header), ls(last);
+  for (std::string h, v; std::getline(hs, h, ',') && std::getline(ls, v, ',');) row[h] = std::stod(v);
+  return row;
+}
+
 TEST(Output, AppliedContactForceBalancesTheSupportReactionsOfBeamB) {
   // Beam 2 carries no load but the contact force and its two supports, so the contact force on it
   // equals minus the sum of its support reactions (reactions.csv: the forces the supports exert on
@@ -895,22 +907,11 @@ TEST(Output, AppliedContactForceBalancesTheSupportReactionsOfBeamB) {
     ASSERT_TRUE(r.report.completed) << r.report.failure;
     const auto& pt = p.contact->points().begin()->second;
     const elements::Vec3d F = pt.normalForce + pt.tangentialForce;
-    std::ifstream csv(test::scratchDirectory("balance_np1") + "/reactions.csv");
-    std::string header, line, last;
-    std::getline(csv, header);
-    while (std::getline(csv, line)) last = line;
-    std::vector<std::string> names, values;
-    for (std::stringstream hs(header), ls(last); ;) {
-      std::string h, v;
-      if (!std::getline(hs, h, ',') || !std::getline(ls, v, ',')) break;
-      names.push_back(h);
-      values.push_back(v);
-    }
+    const auto reactions = lastReactions(test::scratchDirectory("balance_np1"));
     elements::Vec3d supports{};
-    for (std::size_t i = 0; i < names.size(); ++i)
-      for (int a = 0; a < 3; ++a)
-        if (names[i] == std::string("beam 2 start_F") + "xyz"[a] || names[i] == std::string("beam 2 end_F") + "xyz"[a])
-          supports[a] += std::stod(values[i]);
+    for (int a = 0; a < 3; ++a)
+      supports[a] = reactions.at(std::string("beam 2 start_F") + "xyz"[a]) +
+                    reactions.at(std::string("beam 2 end_F") + "xyz"[a]);
     std::printf("%s: contact force on beam 2 (%.9f, %.9f, %.9f), its support reactions (%.9f, %.9f, %.9f)\n",
                 type.c_str(), F[0], F[1], F[2], supports[0], supports[1], supports[2]);
     EXPECT_GT(norm(pt.tangentialForce), 0.1 * norm(pt.normalForce));
@@ -1465,6 +1466,18 @@ TEST(LineContact, FrictionAlongTheAxesWithEveryStrategy) {
 }
 
 namespace {
+// The crossing of the angle sweep on parallelBeams (ground 20 elements, rod 12, lifted 0.1): both
+// clamped at their ends, the rod's ends pressed down by 0.12 (closure 0.02) in 10 increments, every
+// inner node held sideways (two beams at a small angle pressed together otherwise roll apart).
+void pressCrossing(Teuchos::ParameterList& deck) {
+  input::replaceAtPath(deck, "Load Stepping/Number of Increments", 10);
+  support(deck, "ground", 0, "all");
+  support(deck, "ground", 20, "all");
+  support(deck, "rod", 0, "all", -0.12);
+  support(deck, "rod", 12, "all", -0.12);
+  for (int i = 1; i < 20; ++i) support(deck, "ground", i, "uy");
+  for (int i = 1; i < 12; ++i) support(deck, "rod", i, "uy");
+}
 // A parallelBeams deck with rectangular sections (width 2 along y, height 1 along z).
 Teuchos::ParameterList toRectangles(Teuchos::ParameterList deck) {
   for (const char* beam : {"ground", "rod"}) {
@@ -1492,13 +1505,7 @@ TEST(LineContact, OverlapBetweenGaussPointsIsReported) {
     input::setAtPath(deck, "Contact/Line Contact Angle", 9.0);
     input::setAtPath(deck, "Contact/Point Contact Angle", 10.0);
     input::setAtPath(deck, "Contact/Enforcement/Penalty/Regularization Gap", 1e-3);
-    input::replaceAtPath(deck, "Load Stepping/Number of Increments", 10);
-    support(deck, "ground", 0, "all");
-    support(deck, "ground", 20, "all");
-    support(deck, "rod", 0, "all", -0.12);
-    support(deck, "rod", 12, "all", -0.12);
-    for (int i = 1; i < 20; ++i) support(deck, "ground", i, "uy");
-    for (int i = 1; i < 12; ++i) support(deck, "rod", i, "uy");
+    pressCrossing(deck);
     auto p = input::buildProblem(deck, "between_gauss");
     const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "between_gauss");
     ASSERT_TRUE(r.report.completed) << r.report.failure;
@@ -1519,13 +1526,7 @@ TEST(LineContact, OverlapBetweenGaussPointsIsReported) {
 TEST(LineContact, RectanglesCrossingAtSmallAnglesComplete) {
   for (const double degrees : {12.0, 8.0, 4.0, 1.0}) {
     auto deck = toRectangles(parallelBeams("Penalty", 20, 12, 0.0, 1e5, 6, degrees, 0.1));
-    input::replaceAtPath(deck, "Load Stepping/Number of Increments", 10);
-    support(deck, "ground", 0, "all");
-    support(deck, "ground", 20, "all");
-    support(deck, "rod", 0, "all", -0.12);
-    support(deck, "rod", 12, "all", -0.12);
-    for (int i = 1; i < 20; ++i) support(deck, "ground", i, "uy");
-    for (int i = 1; i < 12; ++i) support(deck, "rod", i, "uy");
+    pressCrossing(deck);
     auto p = input::buildProblem(deck, "rectangles_crossing");
     const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "rectangles_crossing");
     ASSERT_TRUE(r.report.completed) << degrees << " degrees: " << r.report.failure;
@@ -1577,16 +1578,7 @@ TEST(LineContact, RectanglesFaceToFaceCarryTheLoadOnBothEdges) {
     }
     // The force the rod's middle support exerts on it (z; reactions.csv, last step): the rod is
     // held by it and the contact alone, so the contact forces on the rod sum to minus it.
-    double rz = 0.0;
-    {
-      std::ifstream csv(test::scratchDirectory("rectangles_np1") + "/reactions.csv");
-      std::string header, line, last;
-      std::getline(csv, header);
-      while (std::getline(csv, line)) last = line;
-      std::stringstream hs(header), ls(last);
-      for (std::string h, v; std::getline(hs, h, ',') && std::getline(ls, v, ',');)
-        if (h == "rod 8_Fz") rz = -std::stod(v);
-    }
+    const double rz = -lastReactions(test::scratchDirectory("rectangles_np1")).at("rod 8_Fz");
     std::printf("%s: %d line points active, edges %.9f + %.9f = %.9f, rod's reaction %.9f\n", type.c_str(), active,
                 edge[0], edge[1], total, rz);
     EXPECT_GT(active, 8);
