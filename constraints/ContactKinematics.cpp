@@ -24,6 +24,7 @@ template <class T>
 struct Gaps {
   T gN, gT1, gT2, xi, eta;
   T cosine;  // t_A . t_B / (|t_A| |t_B|): the metric of the tangential gaps (isotropic friction)
+  T length;  // line contact on a segment: its length as a fraction of A's element (else 1)
 };
 
 // The three gaps as functions of the four line end points alone.
@@ -43,6 +44,7 @@ Gaps<T> gaps(const Vec3<T>& pA1, const Vec3<T>& pA2, const Vec3<T>& pB1, const V
   g.gT1 = (g.xi - xiPrev) * sqrt(dot(tA, tA));
   g.gT2 = (g.eta - etaPrev) * sqrt(dot(tB, tB));
   g.cosine = dot(tA, tB) / (sqrt(dot(tA, tA)) * sqrt(dot(tB, tB)));
+  g.length = T(1.0);
   return g;
 }
 
@@ -77,11 +79,11 @@ void axisPoint(const Vec3<T>& P1, const Vec3<T>& V1, const Vec3<T>& P2, const Ve
 // by Newton steps from etaStart, the solution in double precision: each step makes one more order of
 // the AD derivatives exact (two are needed, three are taken). Sets g.xi, g.eta.
 template <class T>
-void projectOnB(const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB, double xi, double etaStart, Gaps<T>& g,
+void projectOnB(const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB, const T& xi, double etaStart, Gaps<T>& g,
                 Vec3<T>& pA, Vec3<T>& xB) {
   Vec3<T> dB, ddB;
   axisPoint(P[0], V[0], P[1], V[1], cubicA, xi, &pA, nullptr, nullptr);
-  g.xi = T(xi);
+  g.xi = xi;
   g.eta = T(etaStart);
   for (int it = 0; it < 3; ++it) {
     axisPoint(P[2], V[2], P[3], V[3], cubicB, g.eta, &xB, &dB, &ddB);
@@ -96,8 +98,8 @@ void projectOnB(const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB, do
 // (projectOnB). The normal is along p_B - p_A, the gap |p_B - p_A| - (r_A + r_B), the slip along B from
 // etaPrev. Axis A's own tangential gap is zero (the point is material on A).
 template <class T>
-Gaps<T> lineGaps(const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB, double radiusSum, double xi,
-                 double etaStart, double etaPrev, double side) {
+Gaps<T> lineGaps(const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB, double radiusSum, const T& xi,
+                 double etaStart, const T& etaPrev, double side) {
   using std::sqrt;
   Gaps<T> g;
   Vec3<T> pA, xB;
@@ -108,14 +110,15 @@ Gaps<T> lineGaps(const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB, d
   g.gT1 = T(0.0);
   g.gT2 = (g.eta - etaPrev) * sqrt(dot(tB, tB));
   g.cosine = dot(tA, tB) / (sqrt(dot(tA, tA)) * sqrt(dot(tB, tB)));
+  g.length = T(1.0);
   return g;
 }
 
 // Face contact (rectangular sections): A's edge point against the centre line of B's face, the gap
 // along the face normal. N = (N_B1, N_B2) the nodal face normals (rotated reference normal).
 template <class T>
-Gaps<T> faceGaps(const Vec3<T>* P, const Vec3<T>* V, const Vec3<T>* N, bool cubicA, bool cubicB, double xi,
-                 double etaStart, double etaPrev) {
+Gaps<T> faceGaps(const Vec3<T>* P, const Vec3<T>* V, const Vec3<T>* N, bool cubicA, bool cubicB, const T& xi,
+                 double etaStart, const T& etaPrev) {
   using std::sqrt;
   Gaps<T> g;
   Vec3<T> pA, xB;
@@ -127,6 +130,7 @@ Gaps<T> faceGaps(const Vec3<T>* P, const Vec3<T>* V, const Vec3<T>* N, bool cubi
   g.gT1 = T(0.0);
   g.gT2 = (g.eta - etaPrev) * sqrt(dot(tB, tB));
   g.cosine = dot(tA, tB) / (sqrt(dot(tA, tA)) * sqrt(dot(tB, tB)));
+  g.length = T(1.0);
   return g;
 }
 
@@ -134,7 +138,36 @@ Gaps<T> faceGaps(const Vec3<T>* P, const Vec3<T>* V, const Vec3<T>* N, bool cubi
 // points (Vectors = 4), of the four end points and the four Hermite tangents (Vectors = 8), or also
 // of B's two nodal face normals (Vectors = 10).
 template <int Vectors, class Fn>
-ContactKinematics kinematicsOf(const LinePairInput& in, Fn gapsOf);
+ContactKinematics kinematicsOf(const LinePairInput& in, const Vec3d* extraRef, const int* extraNode, Fn gapsOf);
+
+// Where A's axis (the Hermite curve P[0], V[0], P[1], V[1]) meets the plane through `node` normal
+// to `tau`: the root of h(xi) = tau . (node - x_A(xi)) by Newton steps from `start` (a double
+// solution: as in projectOnB, three steps make the AD derivatives exact).
+template <class T>
+T planeRoot(const Vec3<T>* P, const Vec3<T>* V, bool cubicA, const Vec3<T>& node, const Vec3<T>& tau, double start,
+            int steps) {
+  T xi = T(start);
+  for (int it = 0; it < steps; ++it) {
+    Vec3<T> x, dx;
+    axisPoint(P[0], V[0], P[1], V[1], cubicA, xi, &x, &dx, nullptr);
+    xi += dot(tau, node - x) / dot(tau, dx);
+  }
+  return xi;
+}
+
+// The segment's bounds as functions of the dofs (the choice of bound from the double solution),
+// and the Gauss point xi = lo + s (hi - lo) on it; S the planes' normals at B's two nodes.
+template <class T>
+void segmentPoint(const Vec3<T>* P, const Vec3<T>* V, const Vec3<T>* S, bool cubicA, const LineSegment& seg, double s,
+                  T& xi, T& length) {
+  const auto bound = [&](int kind, double value) {
+    if (kind < 0) return T(value);
+    return planeRoot(P, V, cubicA, P[2 + kind], S[kind], value, 3);
+  };
+  const T lo = bound(seg.loKind, seg.lo), hi = bound(seg.hiKind, seg.hi);
+  length = hi - lo;
+  xi = lo + s * length;
+}
 
 }  // namespace
 
@@ -160,7 +193,7 @@ ClosestPoints closestPoints(const LinePairInput& in) {
 }
 
 ContactKinematics contactKinematics(const LinePairInput& in, double sigma, double xiPrev, double etaPrev) {
-  return kinematicsOf<4>(in, [&](const auto* P) { return gaps(P[0], P[1], P[2], P[3], in.radiusSum, sigma, xiPrev, etaPrev); });
+  return kinematicsOf<4>(in, nullptr, nullptr, [&](const auto* P) { return gaps(P[0], P[1], P[2], P[3], in.radiusSum, sigma, xiPrev, etaPrev); });
 }
 
 ClosestPoints lineProjection(const LinePairInput& in, double xi) {
@@ -183,9 +216,12 @@ ClosestPoints lineProjection(const LinePairInput& in, double xi) {
     cp.eta -= step;
     if (std::abs(step) < 1e-15 * (1.0 + std::abs(cp.eta))) break;
   }
-  Vec3d dxB;
-  axisPoint(pB1, vB1, pB2, vB2, cubicB, cp.eta, &cp.pB, &dxB, nullptr);
+  Vec3d dxB, ddxB, dxA;
+  axisPoint(pB1, vB1, pB2, vB2, cubicB, cp.eta, &cp.pB, &dxB, &ddxB);
+  axisPoint(pA1, vA1, pA2, vA2, cubicA, xi, nullptr, &dxA, nullptr);
   cp.distance = norm(cp.pB - cp.pA);
+  // d/dxi of x_B'(eta) . (x_B(eta) - p_A(xi)) = 0
+  cp.etaRate = dot(dxB, dxA) / (dot(ddxB, cp.pB - cp.pA) + dot(dxB, dxB));
   if (in.face) {
     // B's face: the normal interpolated between its nodes; the gap along it, outside positive.
     Vec3d m = (1.0 - cp.eta) * (in.RB1 * in.nB) + cp.eta * (in.RB2 * in.nB);
@@ -210,29 +246,102 @@ double lineSide(const LinePairInput& in, const ClosestPoints& projection, const 
   return dot(projection.pB - projection.pA, keptNormal) < 0.0 ? -1.0 : 1.0;
 }
 
-ContactKinematics lineKinematics(const LinePairInput& in, double xi, double etaPrev, const Vec3d& keptNormal) {
-  const ClosestPoints projection = lineProjection(in, xi);
-  const double etaStart = projection.eta, side = lineSide(in, projection, keptNormal);
-  if (in.face) {
-    ContactKinematics k = kinematicsOf<10>(in, [&](const auto* P) {
-      return faceGaps(P, P + 4, P + 8, norm(in.dA) > 0.0, norm(in.dB) > 0.0, xi, etaStart, etaPrev);
-    });
-    k.cosine = 0.0;
-    k.cosineR.fill(0.0);
-    return k;
-  }
-  ContactKinematics k = kinematicsOf<8>(
-      in, [&](const auto* P) {
-        return lineGaps(P, P + 4, norm(in.dA) > 0.0, norm(in.dB) > 0.0, in.radiusSum, xi, etaStart, etaPrev, side);
-      });
+namespace {
+// Line contact's kinematics: the Gauss point xi(P) (a fixed parameter, or a point of a segment whose
+// bounds move with the dofs) and etaPrev(xi) from the history, through gapsOf(P, V, N, xi, etaPrev).
+template <class PointOf>
+ContactKinematics lineKinematicsOf(const LinePairInput& in, bool segmented, double xi, double side, double etaStart,
+                                   PointOf pointOf) {
+  const bool cubicA = norm(in.dA) > 0.0, cubicB = norm(in.dB) > 0.0;
+  const Vec3d faceRefs[4] = {in.nB, in.nB, in.sB1, in.sB2}, circleRefs[2] = {in.sB1, in.sB2};
+  const int faceNodes[4] = {2, 3, 2, 3};
+  ContactKinematics k;
+  const auto face = [&](const auto* P, const auto* S) {
+    auto [x, etaPrev, length] = pointOf(P, P + 4, S);
+    auto g = faceGaps(P, P + 4, P + 8, cubicA, cubicB, x, etaStart, etaPrev);
+    g.length = length;
+    return g;
+  };
+  const auto circle = [&](const auto* P, const auto* S) {
+    auto [x, etaPrev, length] = pointOf(P, P + 4, S);
+    auto g = lineGaps(P, P + 4, cubicA, cubicB, in.radiusSum, x, etaStart, etaPrev, side);
+    g.length = length;
+    return g;
+  };
+  if (in.face && segmented)
+    k = kinematicsOf<12>(in, faceRefs, faceNodes, [&](const auto* P) { return face(P, P + 10); });
+  else if (in.face)
+    k = kinematicsOf<10>(in, faceRefs, faceNodes, [&](const auto* P) { return face(P, P); });
+  else if (segmented)
+    k = kinematicsOf<10>(in, circleRefs, faceNodes, [&](const auto* P) { return circle(P, P + 8); });
+  else
+    k = kinematicsOf<8>(in, nullptr, nullptr, [&](const auto* P) { return circle(P, P); });
+  (void)xi;
   k.cosine = 0.0;
   k.cosineR.fill(0.0);
   return k;
 }
+}  // namespace
+
+ContactKinematics lineKinematics(const LinePairInput& in, double xi, double etaPrev, const Vec3d& keptNormal) {
+  const ClosestPoints projection = lineProjection(in, xi);
+  return lineKinematicsOf(in, false, xi, lineSide(in, projection, keptNormal), projection.eta,
+                          [&](const auto* P, const auto*, const auto*) {
+                            using T = std::decay_t<decltype(P[0][0])>;
+                            return std::make_tuple(T(xi), T(etaPrev), T(1.0));
+                          });
+}
+
+LineSegment lineSegment(const LinePairInput& in) {
+  LineSegment seg;
+  const Vec3d pA1 = in.xA1 + in.RA1 * in.oA, pA2 = in.xA2 + in.RA2 * in.oA;
+  const Vec3d P[2] = {pA1, pA2}, V[2] = {in.RA1 * in.dA, in.RA2 * in.dA};
+  const bool cubicA = norm(in.dA) > 0.0;
+  const Vec3d node[2] = {in.xB1 + in.RB1 * in.oB, in.xB2 + in.RB2 * in.oB};
+  const Vec3d tau[2] = {in.RB1 * in.sB1, in.RB2 * in.sB2};
+  double root[2];
+  for (int j = 0; j < 2; ++j) {
+    // Newton from the chord's root; the plane must cross A's axis at a clear angle.
+    const double along = dot(tau[j], pA2 - pA1);
+    if (!(std::abs(along) > 1e-3 * norm(tau[j]) * norm(pA2 - pA1))) return seg;
+    double xi = dot(tau[j], node[j] - pA1) / along;
+    for (int it = 0; it < 50; ++it) {
+      const double step = planeRoot(P, V, cubicA, node[j], tau[j], xi, 1) - xi;
+      xi += step;
+      if (std::abs(step) < 1e-15 * (1.0 + std::abs(xi))) break;
+    }
+    if (!std::isfinite(xi)) return seg;
+    root[j] = xi;
+  }
+  const int first = root[0] <= root[1] ? 0 : 1;  // the plane A meets first
+  seg.lo = root[first];
+  seg.loKind = first;
+  seg.hi = root[1 - first];
+  seg.hiKind = 1 - first;
+  if (seg.lo <= 0.0) seg.lo = 0.0, seg.loKind = -1;
+  if (seg.hi >= 1.0) seg.hi = 1.0, seg.hiKind = -1;
+  if (!(seg.hi > seg.lo)) seg = LineSegment{};
+  return seg;
+}
+
+ContactKinematics segmentKinematics(const LinePairInput& in, const LineSegment& seg, double s, const LineHistory& h,
+                                    const Vec3d& keptNormal) {
+  const bool cubicA = norm(in.dA) > 0.0;
+  const double xi = seg.lo + s * (seg.hi - seg.lo);
+  const ClosestPoints projection = lineProjection(in, xi);
+  return lineKinematicsOf(in, true, xi, lineSide(in, projection, keptNormal), projection.eta,
+                          [&](const auto* P, const auto* V, const auto* S) {
+                            using T = std::decay_t<decltype(P[0][0])>;
+                            T x, length;
+                            segmentPoint(P, V, S, cubicA, seg, s, x, length);
+                            const T etaPrev = h.etaPrev + h.etaRate * (x - h.xiPrev);
+                            return std::make_tuple(x, etaPrev, length);
+                          });
+}
 
 namespace {
 template <int Vectors, class Fn>
-ContactKinematics kinematicsOf(const LinePairInput& in, Fn gapsOf) {
+ContactKinematics kinematicsOf(const LinePairInput& in, const Vec3d* extraRef, const int* extraNode, Fn gapsOf) {
   // The gaps depend on the 24 dofs only through vectors attached to the four nodes m: the line end
   // points P_m = x_m + R_m o and (Vectors = 8) the Hermite tangents V_m = R_m d. Nested forward AD
   // gives the gradient G and Hessian H of each gap in their coordinates; the chain rule then gives
@@ -249,11 +358,12 @@ ContactKinematics kinematicsOf(const LinePairInput& in, Fn gapsOf) {
   const Vec3d* dv[4] = {&in.dA, &in.dA, &in.dB, &in.dB};
   Vec3d r[Vectors];  // the rotated part of each vector
   Vec3<Out> P[Vectors];
-  // Vector k: 0-3 the points of nodes 0-3, 4-7 their tangents, 8-9 the face normals of nodes 2-3.
-  const auto nodeOf = [](int k) { return k < 8 ? k % 4 : 2 + (k - 8); };
+  // Vector k: 0-3 the points of nodes 0-3, 4-7 their tangents, from 8 on the extra vectors R_m c
+  // (face normals, segment planes) of the nodes extraNode with references extraRef.
+  const auto nodeOf = [&](int k) { return k < 8 ? k % 4 : extraNode[k - 8]; };
   for (int k = 0; k < Vectors; ++k) {
     const int m = nodeOf(k);
-    r[k] = (*Rm[m]) * (k < 4 ? *o[m] : (k < 8 ? *dv[m] : in.nB));
+    r[k] = (*Rm[m]) * (k < 4 ? *o[m] : (k < 8 ? *dv[m] : extraRef[k - 8]));
     const Vec3d p = k < 4 ? *x[m] + r[k] : r[k];
     for (int a = 0; a < 3; ++a) P[k][a] = Out(kCoords, 3 * k + a, In(kCoords, 3 * k + a, p[a]));
   }
@@ -284,6 +394,16 @@ ContactKinematics kinematicsOf(const LinePairInput& in, Fn gapsOf) {
   }
   out.axesCosine = out.cosine;
   out.axesCosineR = out.cosineR;
+  out.segment = g.length.val().val();
+  for (int i = 0; i < kPairDofs; ++i) {
+    double xiR = 0.0, lengthR = 0.0;
+    for (int k = 0; k < kPoints; ++k) {
+      xiR += J[k][i] * g.xi.val().dx(k);
+      lengthR += J[k][i] * g.length.val().dx(k);
+    }
+    out.xiR[i] = xiR;
+    out.segmentR[i] = lengthR;
+  }
   const Out* src[3] = {&g.gN, &g.gT1, &g.gT2};
   GapDerivatives* dst[3] = {&out.normal, &out.tangent1, &out.tangent2};
   for (int q = 0; q < 3; ++q) {

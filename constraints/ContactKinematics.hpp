@@ -46,6 +46,29 @@ struct LinePairInput {
   bool face = false;
   Vec3d nB{};
   double halfWidthB = 0.0;
+  // Segments of line contact: the normals, in the reference configuration, of the planes through
+  // B's two nodes that bound the part of A's line projecting onto B's element (at a node between
+  // two elements the mean of their unit axis vectors, so neighbouring segments share the plane and
+  // tile A's line; at a beam end the end element's). They turn with the nodes: tau_m = R_m sB_m.
+  Vec3d sB1{}, sB2{};
+};
+
+// The part [lo, hi] of A's element (parameters in [0, 1]) whose points lie between the planes of B's
+// element (LinePairInput::sB1, sB2): bounded by A's element ends (kind -1) or by the plane of B's
+// node 1 or 2 (kind 0, 1). Empty (hi = lo = 0) where A's element does not reach B's.
+struct LineSegment {
+  double lo = 0.0, hi = 0.0;
+  int loKind = -1, hiKind = -1;
+  double length() const { return hi - lo; }
+};
+LineSegment lineSegment(const LinePairInput& in);
+
+// A line point's history: its parameters on A's and B's elements at the last converged state and
+// d eta / d xi there, so that a material point of A that has moved along its segment (the segment's
+// bounds move with the dofs) is measured from its own projection then: etaPrev(xi) = etaPrev +
+// etaRate (xi - xiPrev).
+struct LineHistory {
+  double xiPrev = 0.0, etaPrev = 0.0, etaRate = 0.0;
 };
 
 struct ClosestPoints {
@@ -57,6 +80,7 @@ struct ClosestPoints {
   double sigma = 1.0;
   double gap = 0.0;
   double lateral = 0.0;        // face contact: p_A's offset across B's face from its centre line
+  double etaRate = 0.0;        // line contact: d eta / d xi of the projection
 };
 
 // Closest points in double precision (for the search and for choosing sigma). Lines closer to
@@ -81,6 +105,11 @@ struct ContactKinematics {
   // tangential gaps, across and along the axes, are orthogonal) and this holds the axes' angle.
   double axesCosine = 0.0;
   Vector24 axesCosineR{};
+  // Line contact on a segment: the Gauss point's parameter xi on A's element and the segment's
+  // length (a fraction of A's element) move with the dofs; their first variations.
+  Vector24 xiR{};
+  double segment = 1.0;
+  Vector24 segmentR{};
 };
 
 // Line contact (circular sections, nearly parallel axes) at the Gauss point xi of axis A: its
@@ -97,6 +126,12 @@ ClosestPoints lineProjection(const LinePairInput& in, double xi);
 // since the last converged step (p_B - p_A against the normal it had then) has side -1, so its gap is
 // deeply negative instead of positive again.
 ContactKinematics lineKinematics(const LinePairInput& in, double xi, double etaPrev, const Vec3d& keptNormal = {});
+// The same at the Gauss point s (in [0, 1]) of a segment: xi = lo + s (hi - lo) with the bounds as
+// functions of the dofs (planeRoot), the slip along B from the history's etaPrev(xi); the segment's
+// length and xi with their first variations in ContactKinematics (their second variations are not
+// needed: the length weights the point's residual, K <- w K + f (x) grad w).
+ContactKinematics segmentKinematics(const LinePairInput& in, const LineSegment& segment, double s,
+                                    const LineHistory& history, const Vec3d& keptNormal = {});
 // -1 where the projection's p_B - p_A points against keptNormal (a nonzero normal of circular
 // sections' line contact), else +1 (face contact's gap carries its own sign).
 double lineSide(const LinePairInput& in, const ClosestPoints& projection, const Vec3d& keptNormal);

@@ -243,3 +243,97 @@ TEST(LineKinematics, FaceContactOfRectangles) {
   EXPECT_LT(worstR, 1e-6);
   EXPECT_LT(worstK, 1e-6);
 }
+
+// Segments of line contact. A's axis runs along X from 0 to 10; B, parallel at height 2.5, from x0 to
+// x0 + 10 with its node planes normal to X: A's points between the planes are x in [x0, x0 + 10], so
+// the segment is [max(0, x0 / 10), min(1, x0 / 10 + 1)] of A's element, bounded by a plane where it
+// lies inside. Then R and K of the gaps, and the first variations of the Gauss point's xi and of the
+// segment's length, against central differences at general states (both bounds planes, one, none;
+// circles and faces; cubic axes and chords), the plane normals turning with B's nodes.
+TEST(LineKinematics, SegmentBoundsAndTheirVariations) {
+  LinePairInput in;
+  in.xA1 = {{0, 0, 0}}; in.xA2 = {{10, 0, 0}};
+  in.RA1 = in.RA2 = in.RB1 = in.RB2 = identity3<double>();
+  in.dA = in.dB = Vec3d{{10, 0, 0}};
+  in.sB1 = in.sB2 = Vec3d{{1, 0, 0}};
+  in.radiusSum = 2.0;
+  for (double x0 : {-2.0, 3.0, -12.0, 11.0}) {
+    in.xB1 = {{x0, 0, 2.5}}; in.xB2 = {{x0 + 10, 0, 2.5}};
+    const LineSegment seg = lineSegment(in);
+    const double lo = std::max(0.0, x0 / 10), hi = std::min(1.0, x0 / 10 + 1);
+    if (hi <= lo) {
+      EXPECT_EQ(seg.length(), 0.0) << x0;
+      continue;
+    }
+    EXPECT_NEAR(seg.lo, lo, 1e-14) << x0;
+    EXPECT_NEAR(seg.hi, hi, 1e-14) << x0;
+    EXPECT_EQ(seg.loKind, x0 > 0 ? 0 : -1);
+    EXPECT_EQ(seg.hiKind, x0 < 0 ? 1 : -1);
+    // At the segment's midpoint: gap 0.5, xi and the length as above; moving B's node 2 along X by dx
+    // moves the upper plane (x0 < 0) and so the length by dx / 10 and the midpoint by dx / 20.
+    const auto k = segmentKinematics(in, seg, 0.5, LineHistory{});
+    EXPECT_NEAR(k.normal.value, 0.5, 1e-13);
+    EXPECT_NEAR(k.xi, 0.5 * (lo + hi), 1e-14);
+    EXPECT_NEAR(k.segment, hi - lo, 1e-14);
+    EXPECT_NEAR(k.segmentR[18], x0 < 0 ? 0.1 : 0.0, 1e-14);
+    EXPECT_NEAR(k.xiR[18], x0 < 0 ? 0.05 : 0.0, 1e-14);
+  }
+  std::mt19937 g(37);
+  double worstR = 0.0, worstK = 0.0, worstXi = 0.0, worstLength = 0.0;
+  int planes = 0;
+  for (int trial = 0; trial < 12; ++trial) {
+    LinePairInput t;
+    t.xA1 = {{0, 0, 0}}; t.xA2 = {{10, 0, 0}};
+    const double x0 = trial % 3 == 0 ? 2.0 : (trial % 3 == 1 ? -3.0 : 1.0), lB = trial % 3 == 2 ? 6.0 : 10.0;
+    t.xB1 = {{x0, 0.3, 2.5}}; t.xB2 = {{x0 + lB, -0.2, 2.6}};
+    if (trial % 4 != 3) {
+      t.dA = Vec3d{{10, 0, 0}};
+      t.dB = Vec3d{{lB, -0.5, 0.1}};
+    }
+    t.sB1 = Vec3d{{1, 0.05, 0}};
+    t.sB2 = Vec3d{{1, -0.05, 0.02}};
+    if (trial % 2) {  // an edge of A against a face of B
+      t.oA = Vec3d{{0, 0.3, 0.5}};
+      t.oB = Vec3d{{0, 0, -0.5}};
+      t.face = true;
+      t.nB = Vec3d{{0, 0, -1}};
+      t.halfWidthB = 0.5;
+    } else {
+      t.radiusSum = 2.0;
+    }
+    const Mat3d Q = expSO3(randomVec(g, 1.0));
+    for (Vec3d* x : {&t.xA1, &t.xA2, &t.xB1, &t.xB2}) *x = Q * (*x + randomVec(g, 0.3));
+    for (Mat3d* R : {&t.RA1, &t.RA2, &t.RB1, &t.RB2}) *R = Q * expSO3(randomVec(g, 0.3));
+    const LineHistory history{0.4, 0.3, 0.9};
+    const double s = 0.15 + 0.06 * trial;
+    const auto kernel = [&](const LinePairInput& state) {
+      return segmentKinematics(state, lineSegment(state), s, history);
+    };
+    const LineSegment seg = lineSegment(t);
+    planes += (seg.loKind >= 0) + (seg.hiKind >= 0);
+    ASSERT_GT(seg.length(), 0.1);
+    const auto [errR, errK] =
+        centralDifferenceErrors(t, kernel, {&ContactKinematics::normal, &ContactKinematics::tangent2});
+    worstR = std::max(worstR, errR);
+    worstK = std::max(worstK, errK);
+    const auto k = kernel(t);
+    const double h = 1e-6;
+    double xiMax = 0.0, lengthMax = 0.0, xiErr = 0.0, lengthErr = 0.0;
+    for (int j = 0; j < kPairDofs; ++j) {
+      const auto kp = kernel(perturbedState(t, j, h)), km = kernel(perturbedState(t, j, -h));
+      xiMax = std::max(xiMax, std::abs(k.xiR[j]));
+      lengthMax = std::max(lengthMax, std::abs(k.segmentR[j]));
+      xiErr = std::max(xiErr, std::abs((kp.xi - km.xi) / (2 * h) - k.xiR[j]));
+      lengthErr = std::max(lengthErr, std::abs((kp.segment - km.segment) / (2 * h) - k.segmentR[j]));
+    }
+    worstXi = std::max(worstXi, xiErr / xiMax);
+    if (lengthMax > 0.0) worstLength = std::max(worstLength, lengthErr / lengthMax);
+  }
+  std::printf("segments (%d plane bounds), max relative error: R %.2e, K %.2e, xi %.2e, length %.2e\n", planes,
+              worstR, worstK, worstXi, worstLength);
+  EXPECT_GE(planes, 12);
+  EXPECT_LT(worstR, 1e-6);
+  EXPECT_LT(worstK, 1e-6);
+  EXPECT_LT(worstXi, 1e-6);
+  EXPECT_LT(worstLength, 1e-6);
+}
