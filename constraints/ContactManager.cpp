@@ -85,6 +85,24 @@ ContactManager::ContactManager(std::shared_ptr<const elements::BeamSet> beams, s
     }
     lines_.push_back(lines);
   }
+  // Segment planes: at a node between two elements of a beam the mean of their unit axes, at an end
+  // the end element's axis.
+  const auto& elems = beams_->elements();
+  if (elems.size() >= std::size_t(-(Point::kLineNode + 4)) / Point::kSegmentSlots)
+    throw core::InputError("contact: " + std::to_string(elems.size()) +
+                           " elements are more than line contact's point keys can number");
+  std::map<std::pair<int, int>, int> byIndex;  // (beam, index) -> element
+  for (std::size_t e = 0; e < elems.size(); ++e) byIndex[{elems[e].beam, elems[e].index}] = static_cast<int>(e);
+  segmentPlanes_.resize(elems.size());
+  for (std::size_t e = 0; e < elems.size(); ++e) {
+    const Vec3d t = column(elems[e].data.T0, 0);
+    for (int side = 0; side < 2; ++side) {
+      const auto next = byIndex.find({elems[e].beam, elems[e].index + (side == 0 ? -1 : 1)});
+      Vec3d m = t;
+      if (next != byIndex.end()) m = m + column(elems[next->second].data.T0, 0);
+      segmentPlanes_[e][side] = (1.0 / norm(m)) * m;
+    }
+  }
   for (const auto& p : pairs_) {
     const bool rA = beams_->beams()[p.beamA].section.shape == CrossSection::Shape::Rectangle;
     const bool rB = beams_->beams()[p.beamB].section.shape == CrossSection::Shape::Rectangle;
@@ -161,8 +179,14 @@ LinePairInput ContactManager::faceInput(int eA, int edgeA, int eB, int faceB, co
 }
 
 LinePairInput ContactManager::lineContactInput(const Point& p, const core::State& s) const {
-  if (rectangles(p.pair)) return faceInput(p.elementA, p.edge(), p.elementB, p.face(), s);
-  return lineInput(p.elementA, 0, p.elementB, 0, s);
+  if (rectangles(p.pair)) return withPlanes(faceInput(p.elementA, p.edge(), p.elementB, p.face(), s), p.elementB);
+  return withPlanes(lineInput(p.elementA, 0, p.elementB, 0, s), p.elementB);
+}
+
+LinePairInput ContactManager::withPlanes(LinePairInput in, int elementB) const {
+  in.sB1 = segmentPlanes_[elementB][0];
+  in.sB2 = segmentPlanes_[elementB][1];
+  return in;
 }
 
 double ContactManager::axisAngle(int elementA, int elementB, const core::State& s) const {
@@ -209,8 +233,8 @@ double ContactManager::blendWeight(const Point& p, double cosine, const double* 
   return p.line() ? 1.0 - zeta : zeta;
 }
 
-double ContactManager::lineWeight(const Point& p) const {
-  return gaussWeight_[p.gauss()] * beams_->elements()[p.elementA].data.L0;
+double ContactManager::lineWeight(const Point& p, double segment) const {
+  return gaussWeight_[p.gauss()] * beams_->elements()[p.elementA].data.L0 * segment;
 }
 
 bool ContactManager::withinElement(int element, double xi) const {
@@ -367,8 +391,9 @@ std::map<Key, ContactManager::Candidate> ContactManager::detect(const core::Stat
   forEachElementPair(s, [&](int pi, int ea, int eb) {
     const auto& pair = pairs_[pi];
     if (inLineContact(pi, ea, eb)) {
-      // Each Gauss point of the element of beam A, on the element of beam B its projection falls
-      // in (a known point keeps its element while within kStay beyond it, as point contact does).
+      // The Gauss points of the segment of A's element that lies between the planes of B's element's
+      // nodes (segments of neighbouring elements of B share their plane, so they tile A's line and
+      // no Gauss point straddles a node of B or lies beyond B's end).
       // Rectangular sections: on each of A's two edges facing B, against B's face facing A, where
       // the edge lies across that face.
       std::vector<std::pair<int, int>> lines = {{0, 0}};  // (edge of A, face of B)
@@ -377,24 +402,26 @@ std::map<Key, ContactManager::Candidate> ContactManager::detect(const core::Stat
         lines = {{edges[0], face}, {edges[1], face}};
       }
       for (const auto& [edge, face] : lines) {
-        const LinePairInput in = rectangles(pi) ? faceInput(ea, edge, eb, face, s) : lineInput(ea, 0, eb, 0, s);
+        const LinePairInput in =
+            withPlanes(rectangles(pi) ? faceInput(ea, edge, eb, face, s) : lineInput(ea, 0, eb, 0, s), eb);
+        // (A sliver of a segment, where A's element ends at B's node within round-off, carries nothing.)
+        constexpr double kSliver = 1e-9;
+        const LineSegment seg = lineSegment(in);
+        if (!(seg.length() > kSliver)) continue;
+        // The planes partition A's line where its points project onto B about along B's axis (nearly
+        // parallel lines close together). Where the segment's points project far beyond B's element
+        // instead (lines further apart than their elements are long, at an angle: neighbouring wires
+        // of a strand, element pairs several elements apart), the pair is not in line contact.
+        const double mid = lineProjection(in, seg.lo + 0.5 * seg.length()).eta;
+        if (!(mid > -0.5 && mid < 1.5)) continue;
         for (int q = 0; q < (int)gaussXi_.size(); ++q) {
-          const ClosestPoints cp = lineProjection(in, gaussXi_[q]);
-          if (!withinElement(eb, cp.eta)) continue;
-          const Key key{pi, -1 - (q + Point::kGaussSlots * (edge + 4 * face)), ea};
+          const ClosestPoints cp = lineProjection(in, seg.lo + seg.length() * gaussXi_[q]);
+          const Key key{pi, -1 - (q + Point::kGaussSlots * (edge + 4 * face) + Point::kSegmentSlots * eb), ea};
           // Across B's face: a new point within 1e-3 of its width beyond the face's edge, a known one
           // while within 5 % (equal widths put A's edges exactly on B's face edges, where a sharp
           // bound would drop and take up points from one iterate to the next).
           if (in.face && std::abs(cp.lateral) > in.halfWidthB * (points_.count(key) ? 1.05 : 1.001)) continue;
-          constexpr double kStay = 0.05;
-          double out = std::abs(cp.eta - 0.5);
-          const auto known = points_.find(key);
-          if (known != points_.end() && known->second.elementB == eb && out <= 0.5 + kStay) out = -1.0;
-          auto f = outside.find(key);
-          if (f == outside.end() || out < f->second) {
-            found[key] = Candidate{ea, eb, cp};
-            outside[key] = out;
-          }
+          found[key] = Candidate{ea, eb, cp};
         }
       }
     }
@@ -457,6 +484,10 @@ bool ContactManager::prepareIteration(core::State& state) {
   const auto cands = detect(state);
   std::map<Key, Point> next;
   bool changed = false;
+  // Line points of the last converged state by (pair, element of A, edge, face): the donors of the
+  // history of new line points.
+  std::map<std::tuple<int, int, int, int>, std::vector<const Point*>> donors;
+  bool donorsFound = false;
   for (const auto& [key, c] : cands) {
     auto it = points_.find(key);
     Point p;
@@ -470,9 +501,33 @@ bool ContactManager::prepareIteration(core::State& state) {
       p.sigma = c.cp.sigma;
       p.xiPrev = beamCoordinate(c.elementA, c.cp.xi);
       p.etaPrev = beamCoordinate(c.elementB, c.cp.eta);
+      p.etaRate = c.cp.etaRate;
+      if (p.line()) {
+        // A new Gauss point of a segment (its segment appeared, or moved so that the point left its
+        // neighbour's): its material point of A had its history at the nearest line point of the
+        // same element and line of A at the last converged state. It takes that point's strategy
+        // state and normal, and its projection then, extrapolated along B by the donor's d eta / d xi.
+        if (!donorsFound) {
+          for (const auto& [k, d] : committed_)
+            if (d.line()) donors[{d.pair, d.lineB, d.edge(), d.face()}].push_back(&d);
+          donorsFound = true;
+        }
+        const auto list = donors.find({p.pair, p.lineB, p.edge(), p.face()});
+        const Point* donor = nullptr;
+        if (list != donors.end())
+          for (const Point* d : list->second)
+            if (!donor || std::abs(d->xiPrev - p.xiPrev) < std::abs(donor->xiPrev - p.xiPrev)) donor = d;
+        if (donor) {
+          p.state = donor->state;
+          p.normal = donor->normal;
+          p.etaRate = donor->etaRate;
+          p.etaPrev = donor->etaPrev + donor->etaRate * (p.xiPrev - donor->xiPrev);
+        }
+      }
     }
     p.elementA = c.elementA;
     p.elementB = c.elementB;
+    p.xi = c.cp.xi;
     // A new line point's side: its normal at the last converged state (where the beams had not
     // passed through each other), so a point found after they did has a deeply negative gap.
     if (p.line() && dot(p.normal, p.normal) == 0.0) p.normal = pointGeometry(p, reference_).normal;
@@ -555,7 +610,7 @@ std::vector<GlobalDof> ContactManager::blockDofs(const Point& p) const {
   std::vector<GlobalDof> dofs(d.begin(), d.end());
   for (int j = 0; j < p.extraCount; ++j) dofs.push_back(GlobalDof(core::kDofsPerNode) * numNodes_ + p.extraOffset + j);
   if (nodalLines_ && p.line())
-    for (const FieldShare& n : fieldShares(p))
+    for (const FieldShare& n : fieldShares(p, p.xi))
       if (n.record)
         for (int j = 0; j < n.record->extraCount; ++j)
           dofs.push_back(GlobalDof(core::kDofsPerNode) * numNodes_ + n.record->extraOffset + j);
@@ -573,19 +628,20 @@ int ContactManager::fieldNode(int element, int side) const {
   return nodes[i];
 }
 
-std::vector<ContactManager::FieldShare> ContactManager::fieldShares(const Point& p) const {
-  const double xi = gaussXi_[p.gauss()];
+std::vector<ContactManager::FieldShare> ContactManager::fieldShares(const Point& p, double xi) const {
   std::vector<FieldShare> shares;
   for (int side = 0; side < 2; ++side) {
     const int node = fieldNode(p.elementA, side);
-    const double N = side == 0 ? 1.0 - xi : xi;
+    const double N = side == 0 ? 1.0 - xi : xi, slope = side == 0 ? -1.0 : 1.0;
     if (!shares.empty() && shares.back().node == node) {
       shares.back().N += N;
+      shares.back().slope += slope;
       continue;
     }
     FieldShare f;
     f.node = node;
     f.N = N;
+    f.slope = slope;
     const auto it = points_.find(Key{p.pair, Point::kLineNode - p.edge(), node});
     if (it != points_.end()) f.record = &it->second;
     shares.push_back(f);
@@ -597,16 +653,16 @@ std::map<Key, ContactManager::NodeGap> ContactManager::nodeGaps(const core::Stat
   std::map<Key, NodeGap> gaps;
   for (const auto& [key, p] : points_) {
     if (!p.line()) continue;
-    const double length = lineWeight(p);
+    double segment = 0.0;
+    const ClosestPoints cp = pointGeometry(p, s, &segment);
+    const double length = lineWeight(p, segment);
     const double w = length * blendWeight(p, std::cos(axisAngle(p.elementA, p.elementB, s)), nullptr, nullptr);
-    const ClosestPoints cp = w > 0.0 ? pointGeometry(p, s) : ClosestPoints{};
-    const double gap = cp.gap;
-    // The slip along B since the last converged step, as lineKinematics measures it.
-    const BeamElement& eB = beams_->elements()[p.elementB];
-    const double slip = w > 0.0 ? (cp.eta - (p.etaPrev - eB.index)) *
-                                      norm(s.position[eB.node2] - s.position[eB.node1])
-                                : 0.0;
-    for (const FieldShare& f : fieldShares(p)) {
+    const double gap = w > 0.0 ? cp.gap : 0.0;
+    // The slip along B since the last converged step, as segmentKinematics measures it.
+    const BeamElement &eA = beams_->elements()[p.elementA], &eB = beams_->elements()[p.elementB];
+    const double etaPrev = p.etaPrev - eB.index + p.etaRate * (cp.xi - (p.xiPrev - eA.index));
+    const double slip = w > 0.0 ? (cp.eta - etaPrev) * norm(s.position[eB.node2] - s.position[eB.node1]) : 0.0;
+    for (const FieldShare& f : fieldShares(p, cp.xi)) {
       NodeGap& g = gaps[Key{p.pair, Point::kLineNode - p.edge(), f.node}];
       g.weighted += w * f.N * gap;
       g.weightedSlip += w * f.N * slip;
@@ -633,7 +689,7 @@ const PointState* ContactManager::actingState(const Point& p) const {
   // The field node with the largest share among those that have multipliers.
   const Point* host = nullptr;
   double best = -1.0;
-  for (const FieldShare& f : fieldShares(p))
+  for (const FieldShare& f : fieldShares(p, p.xi))
     if (f.record && f.record->extraCount > 0 && f.N > best) {
       host = f.record;
       best = f.N;
@@ -644,23 +700,28 @@ const PointState* ContactManager::actingState(const Point& p) const {
 bool ContactManager::evaluateNodal(const Point& p, const ContactKinematics& k, const core::State& s,
                                    std::vector<double>& f, std::vector<double>* K, PointResult* result) const {
   // lambda = N_a Lambda_a + N_b Lambda_b; the point's multiplier rows and columns are mapped on the
-  // nodes' with the same N (block = E^T point E with E the interpolation).
+  // nodes' with the same N (block = E^T point E with E the interpolation). The Gauss point xi moves
+  // with its segment, so N does too: the tangent also holds the rows E'^T f xi' and the columns
+  // (d f / d lambda) (N' Lambda) xi'.
   const PointState* host = actingState(p);
   if (!host || !enforcer_->contributes(k.normal.value, *host)) return false;
   const int m = enforcer_->multipliers(*host);
-  std::vector<double> lambda(m, 0.0);
+  std::vector<double> lambda(m, 0.0), lambdaSlope(m, 0.0);  // lambda and d lambda / d xi
   std::vector<std::vector<std::pair<int, double>>> to(kPairDofs + m);  // point dof -> (block dof, factor)
+  std::vector<std::pair<int, double>> slopes;                          // (block row of a node's q = 0, dN / dxi)
   for (int i = 0; i < kPairDofs; ++i) to[i].push_back({i, 1.0});
   int slot = kPairDofs;
-  for (const FieldShare& n : fieldShares(p)) {
+  for (const FieldShare& n : fieldShares(p, k.xi)) {
     if (!n.record || n.record->extraCount == 0) continue;
     if (n.record->extraCount != m)
       throw std::logic_error(enforcer_->type() + ": the two line nodes of a Gauss point own different numbers of multipliers");
     const double* values = &s.extra[n.record->extraOffset];
     for (int q = 0; q < m; ++q) {
       lambda[q] += n.N * values[q];
+      lambdaSlope[q] += n.slope * values[q];
       to[kPairDofs + q].push_back({slot + q, n.N});
     }
+    slopes.push_back({slot, n.slope});
     slot += m;
   }
   const int np = kPairDofs + m, nb = slot;
@@ -673,6 +734,13 @@ bool ContactManager::evaluateNodal(const Point& p, const ContactKinematics& k, c
   for (int i = 0; i < np; ++i)
     for (const auto& [bi, ci] : to[i]) f[bi] += ci * fp[i];
   if (K) {
+    // d lambda / d u = lambdaSlope xi': into the point's displacement columns.
+    for (int i = 0; i < np; ++i) {
+      double dfdxi = 0.0;
+      for (int q = 0; q < m; ++q) dfdxi += Kp[std::size_t(np) * i + kPairDofs + q] * lambdaSlope[q];
+      if (dfdxi != 0.0)
+        for (int j = 0; j < kPairDofs; ++j) Kp[std::size_t(np) * i + j] += dfdxi * k.xiR[j];
+    }
     K->assign(std::size_t(nb) * nb, 0.0);
     for (int i = 0; i < np; ++i)
       for (int j = 0; j < np; ++j) {
@@ -681,6 +749,11 @@ bool ContactManager::evaluateNodal(const Point& p, const ContactKinematics& k, c
         for (const auto& [bi, ci] : to[i])
           for (const auto& [bj, cj] : to[j]) (*K)[std::size_t(nb) * bi + bj] += ci * cj * v;
       }
+    // The nodes' rows N_a f_lambda: d N_a / d u = slope xi'.
+    for (const auto& [row, slope] : slopes)
+      for (int q = 0; q < m; ++q)
+        for (int j = 0; j < kPairDofs; ++j)
+          (*K)[std::size_t(nb) * (row + q) + j] += slope * fp[kPairDofs + q] * k.xiR[j];
   }
   return true;
 }
@@ -696,9 +769,12 @@ std::array<GlobalDof, kPairDofs> ContactManager::pointDofs(const Point& p) const
 }
 
 ContactKinematics ContactManager::kinematics(const Point& p, const core::State& state) const {
-  if (p.line())
-    return lineKinematics(lineContactInput(p, state), gaussXi_[p.gauss()],
-                          p.etaPrev - beams_->elements()[p.elementB].index, p.normal);
+  if (p.line()) {
+    const LinePairInput in = lineContactInput(p, state);
+    const LineHistory history{p.xiPrev - beams_->elements()[p.elementA].index,
+                              p.etaPrev - beams_->elements()[p.elementB].index, p.etaRate};
+    return segmentKinematics(in, lineSegment(in), gaussXi_[p.gauss()], history, p.normal);
+  }
   const LinePairInput in = lineInput(p.elementA, p.lineA, p.elementB, p.lineB, state);
   const double xiPrev = p.xiPrev - beams_->elements()[p.elementA].index;
   const double etaPrev = p.etaPrev - beams_->elements()[p.elementB].index;
@@ -736,13 +812,14 @@ void ContactManager::evaluate(const core::State& state, const OwnsDof& owns, cor
       enforcer_->evaluate(strategyView(p, k, state), *p.state, f.data(), tangent ? K.data() : nullptr);
     }
     // Weighted by the blend between point and line contact (w(u), its gradient in the tangent:
-    // K <- w K + f (x) grad w) and, for a line point, by the length it stands for.
+    // K <- w K + f (x) grad w) and, for a line point, by the length it stands for (which moves with
+    // its segment's bounds).
     Vector24 gradient;
     double w = blendWeight(p, k.axesCosine, k.axesCosineR.data(), &gradient);
     if (p.line()) {
-      const double length = lineWeight(p);
+      const double length = lineWeight(p, k.segment), perSegment = lineWeight(p, 1.0);
+      for (int i = 0; i < kPairDofs; ++i) gradient[i] = gradient[i] * length + w * perSegment * k.segmentR[i];
       w *= length;
-      for (double& g : gradient) g *= length;
     }
     if (tangent)
       for (int i = 0; i < n; ++i)
@@ -867,7 +944,9 @@ bool ContactManager::acceptSolution(core::State& state) {
       }
     } else {
       ks.push_back(kinematics(p, state));
-      carries.push_back(!(nodalLines_ && p.line()) && blendWeight(p, ks.back().axesCosine, nullptr, nullptr) > kCarries);
+      // (A line point on a sliver of a segment carries almost nothing either.)
+      carries.push_back(!(nodalLines_ && p.line()) && blendWeight(p, ks.back().axesCosine, nullptr, nullptr) > kCarries &&
+                        (!p.line() || ks.back().segment > kCarries));
     }
     if (carries.back()) {
       all = enforcer_->acceptNormal(view(p, ks.back()), *p.state) && all;
@@ -927,7 +1006,8 @@ void ContactManager::commitStep(const core::State& state) {
       enforcer_->commitPoint(view, *p.state);
     }
     {  // reported as applied: times the blend weight and, for a line point, its length
-      const double w = blendWeight(p, k.axesCosine, nullptr, nullptr) * (p.line() ? lineWeight(p) : 1.0);
+      p.length = p.line() ? lineWeight(p, k.segment) : 0.0;
+      const double w = blendWeight(p, k.axesCosine, nullptr, nullptr) * (p.line() ? p.length : 1.0);
       p.result.lambdaN *= w;
       for (double& t : p.result.lambdaT) t *= w;
       if (w == 0.0) p.result.active = false;
@@ -970,6 +1050,7 @@ void ContactManager::commitStep(const core::State& state) {
     p.tangentialForce = force - p.normalForce;
     p.xiPrev = beamCoordinate(p.elementA, k.xi);
     p.etaPrev = beamCoordinate(p.elementB, k.eta);
+    if (p.line()) p.etaRate = cp.etaRate;
   }
   checkLineResolution(state);
   committed_ = points_;
@@ -989,7 +1070,8 @@ void ContactManager::saveCommitted(core::CheckpointOut& out) const {
   } writer(out);
   for (const auto& [key, p] : committed_) {
     out.label("point").integer(p.pair).integer(p.lineA).integer(p.lineB).integer(p.elementA).integer(p.elementB);
-    out.real(p.sigma).real(p.xiPrev).real(p.etaPrev);
+    out.real(p.sigma).real(p.xiPrev).real(p.etaPrev).real(p.etaRate).real(p.length);
+    for (int a = 0; a < 3; ++a) out.real(p.normal[a]);
     (*p.state).fields(writer);
   }
 }
@@ -1025,6 +1107,10 @@ void ContactManager::loadCommitted(core::CheckpointIn& in, const core::State& co
     p.sigma = in.real();
     p.xiPrev = in.real();
     p.etaPrev = in.real();
+    p.etaRate = in.real();
+    p.length = in.real();
+    for (int a = 0; a < 3; ++a) p.normal[a] = in.real();
+    p.xi = p.xiPrev - beams_->elements()[p.elementA].index;
     p.state = PointStateHolder(enforcer_->newPointState());
     (*p.state).fields(reader);
     const auto* block = committed.extra.find(kExtraOwner, extraKey(p));
@@ -1044,10 +1130,12 @@ void ContactManager::loadCommitted(core::CheckpointIn& in, const core::State& co
   passes_ = 0;
 }
 
-ClosestPoints ContactManager::pointGeometry(const Point& p, const core::State& s) const {
+ClosestPoints ContactManager::pointGeometry(const Point& p, const core::State& s, double* segment) const {
   if (p.line()) {
     const LinePairInput in = lineContactInput(p, s);
-    ClosestPoints cp = lineProjection(in, gaussXi_[p.gauss()]);
+    const LineSegment seg = lineSegment(in);
+    if (segment) *segment = seg.length();
+    ClosestPoints cp = lineProjection(in, seg.lo + seg.length() * gaussXi_[p.gauss()]);
     cp.sinAngle = 1.0;  // a line point is defined at any angle
     if (lineSide(in, cp, p.normal) < 0.0) {  // it keeps its side (lineKinematics)
       const double radiusSum = cp.distance - cp.gap;
@@ -1123,7 +1211,7 @@ std::vector<std::string> ContactManager::tableRows() const {
     // normal force per unit length of line A (0 for point contacts).
     const auto& elems = beams_->elements();
     s << "," << elems[p.elementA].index << "," << elems[p.elementB].index << ","
-      << (p.line() ? -p.result.lambdaN / lineWeight(p) : 0.0);
+      << (p.line() && p.length > 0.0 ? -p.result.lambdaN / p.length : 0.0);
     rows.push_back(s.str());
   }
   return rows;
@@ -1140,7 +1228,7 @@ void ContactManager::appendVtk(const core::State&, core::VtkMesh& mesh) const {
     if (!p.result.active || p.node()) continue;
     const int point = mesh.addPoint(p.position, Vec3d{});
     mesh.setPointVector("contact force", point, p.normalForce + p.tangentialForce);
-    mesh.setPointScalar("line traction", point, p.line() ? -p.result.lambdaN / lineWeight(p) : 0.0);
+    mesh.setPointScalar("line traction", point, p.line() && p.length > 0.0 ? -p.result.lambdaN / p.length : 0.0);
     mesh.setPointScalar("segment element A", point, elems[p.elementA].index);
     mesh.setPointScalar("segment element B", point, elems[p.elementB].index);
     mesh.cellTypes.push_back(1);  // VTK_VERTEX
@@ -1172,10 +1260,11 @@ void ContactManager::checkLineResolution(const core::State& state) {
     const auto& pair = pairs_[pi];
     const double radius = std::min(inscribed_[pair.beamA], inscribed_[pair.beamB]);
     // Rectangles: along A's edge against B's face, where the edge lies across it.
-    const LinePairInput in = rectangles(pi) ? faceInput(ea, edge, eb, face, state) : lineInput(ea, 0, eb, 0, state);
-    for (int i = 0; i <= kSamples; ++i) {
-      const ClosestPoints cp = lineProjection(in, double(i) / kSamples);
-      if (!withinElement(eb, cp.eta)) continue;
+    const LinePairInput in =
+        withPlanes(rectangles(pi) ? faceInput(ea, edge, eb, face, state) : lineInput(ea, 0, eb, 0, state), eb);
+    const LineSegment seg = lineSegment(in);
+    for (int i = 0; i <= kSamples && seg.length() > 0.0; ++i) {
+      const ClosestPoints cp = lineProjection(in, seg.lo + seg.length() * i / kSamples);
       if (in.face && std::abs(cp.lateral) > in.halfWidthB) continue;
       const double unseen = std::min(gauss, 0.0) - cp.gap;
       if (!(unseen > kUnresolved * radius)) continue;

@@ -106,24 +106,28 @@ class ContactManager : public core::Contribution {
 
   // For tests: the current points and their results of the last commit.
   struct Point {
-    // A point contact has its two lines (lineA, lineB >= 0). A Gauss point of line contact has
-    // lineA = -1 - its Gauss index and lineB = its element of beam A (so the key is unique). A line
-    // node (the node of a strategy's multiplier field on line A, ConstraintEnforcer::LineField::Nodal)
-    // has lineA = kLineNode and lineB = its node; its elements are one element of beam A at that node.
-    // Between rectangular sections a Gauss point lies on one of A's edges against one of B's faces:
-    // lineA = -1 - (gauss + kGaussSlots (edge + 4 face)); a line node then belongs to one edge of A
-    // (lineA = kLineNode - edge).
-    static constexpr int kLineNode = -1000000;
+    // A point contact has its two lines (lineA, lineB >= 0). A Gauss point of line contact lies on
+    // the segment of its element of beam A (lineB) that projects onto an element of beam B
+    // (elementB): lineA = -1 - (gauss + kGaussSlots (edge + 4 face + 16 elementB)), so the key is
+    // unique; between rectangular sections it lies on one of A's edges against one of B's faces
+    // (circles: edge = face = 0). A line node (the node of a strategy's multiplier field on line A,
+    // ConstraintEnforcer::LineField::Nodal) has lineA = kLineNode - edge and lineB = its node; its
+    // elements are one element of beam A at that node.
+    static constexpr int kLineNode = -2000000000;
     static constexpr int kGaussSlots = 64;
+    static constexpr int kSegmentSlots = 16 * kGaussSlots;  // per element of B
     int pair = 0, lineA = 0, lineB = 0;
     bool node() const { return lineA <= kLineNode && lineA > kLineNode - 4; }
     bool line() const { return lineA < 0 && !node(); }
     int gauss() const { return (-1 - lineA) % kGaussSlots; }
     int edge() const { return node() ? kLineNode - lineA : ((-1 - lineA) / kGaussSlots) % 4; }
-    int face() const { return (-1 - lineA) / (4 * kGaussSlots); }
+    int face() const { return ((-1 - lineA) / (4 * kGaussSlots)) % 4; }
     int elementA = 0, elementB = 0;  // indices into the beam set's element list
     double sigma = 1.0;
     double xiPrev = 0.0, etaPrev = 0.0;  // previous converged point, as beam coordinates (element + xi)
+    // Line points: d eta / d xi at the last converged state (LineHistory), the Gauss point's parameter
+    // on A's element at the last detection, and the length of line A it stood for at the last commit.
+    double etaRate = 0.0, xi = 0.0, length = 0.0;
     PointStateHolder state;  // the strategy's
     int extraOffset = -1, extraCount = 0;  // its multipliers in State::extra (as laid out last)
     // Last committed values, for output.
@@ -178,8 +182,14 @@ class ContactManager : public core::Contribution {
   bool rectangles(int pair) const;
   // The angles (radians) below which a pair is in line contact and above which in point contact.
   std::pair<double, double> blendAngles(int pair) const;
-  // Closest points of a point's two lines in `s`, with the point's normal orientation and gap.
-  ClosestPoints pointGeometry(const Point& p, const core::State& s) const;
+  // Closest points of a point's two lines in `s`, with the point's normal orientation and gap (a line
+  // point: at its Gauss point of its segment, the segment's length in `segment`).
+  ClosestPoints pointGeometry(const Point& p, const core::State& s, double* segment = nullptr) const;
+  // A line point's segment input: `in` with the planes of B's element's nodes.
+  LinePairInput withPlanes(LinePairInput in, int elementB) const;
+  // Per element: the reference normals of the segment planes at its two nodes (the mean unit axis of
+  // the beam's elements meeting there).
+  std::vector<std::array<Vec3d, 2>> segmentPlanes_;
   double beamCoordinate(int element, double xi) const;
   bool withinElement(int element, double xi) const;
   void checkNoPassThrough(const core::State& state) const;
@@ -214,10 +224,10 @@ class ContactManager : public core::Contribution {
   int fieldNode(int element, int side) const;
   struct FieldShare {
     int node = -1;
-    double N = 0.0;
+    double N = 0.0, slope = 0.0;  // N at the point's xi and dN / dxi
     const Point* record = nullptr;
   };
-  std::vector<FieldShare> fieldShares(const Point& p) const;
+  std::vector<FieldShare> fieldShares(const Point& p, double xi) const;
   // Per field node: the weighted gap int N_a g_N ds / int N_a ds and the weight int N_a ds (Gauss
   // weights times lengths times the line points' blend weights) at `s`.
   struct NodeGap {
@@ -247,8 +257,8 @@ class ContactManager : public core::Contribution {
   bool inLineContact(int pair, int elementA, int elementB) const;
   bool inPointContact(int pair, int elementA, int elementB) const;
   double blendWeight(const Point& p, double cosine, const double* cosineR, Vector24* gradient) const;
-  // The length of line A a Gauss point stands for (its weight times the element's reference length).
-  double lineWeight(const Point& p) const;
+  // The length of line A a Gauss point stands for (its weight times its segment's reference length).
+  double lineWeight(const Point& p, double segment) const;
   std::map<std::tuple<int, int, int>, Point> points_, committed_, marked_;
   core::State reference_;  // the last converged state (orientation of new points, swept search)
   int numNodes_ = 0;
