@@ -781,6 +781,28 @@ ContactKinematics ContactManager::kinematics(const Point& p, const core::State& 
   return contactKinematics(in, p.sigma, xiPrev, etaPrev);
 }
 
+ContactKinematics ContactManager::judgedKinematics(const Point& p, const core::State& state) const {
+  if (!p.line()) return kinematics(p, state);
+  double segment = 0.0;
+  const ClosestPoints cp = pointGeometry(p, state, &segment);
+  const PointState* acting = actingState(p);
+  if (acting && enforcer_->contributes(cp.gap, *acting)) return kinematics(p, state);
+  // The values segmentKinematics would give, without their variations.
+  const BeamElement &eA = beams_->elements()[p.elementA], &eB = beams_->elements()[p.elementB];
+  ContactKinematics k;
+  k.xi = cp.xi;
+  k.eta = cp.eta;
+  k.segment = segment;
+  k.normal.value = cp.gap;
+  const double etaPrev = p.etaPrev - eB.index + p.etaRate * (cp.xi - (p.xiPrev - eA.index));
+  k.tangent2.value = (cp.eta - etaPrev) * norm(state.position[eB.node2] - state.position[eB.node1]);
+  const LinePairInput in = lineContactInput(p, state);
+  const Vec3d tA = (in.xA2 + in.RA2 * in.oA) - (in.xA1 + in.RA1 * in.oA);
+  const Vec3d tB = (in.xB2 + in.RB2 * in.oB) - (in.xB1 + in.RB1 * in.oB);
+  k.axesCosine = dot(tA, tB) / (norm(tA) * norm(tB));
+  return k;
+}
+
 void ContactManager::connectivity(const OwnsDof& owns, std::vector<std::vector<GlobalDof>>& blocks) const {
   for (const auto& [key, p] : points_) {
     const auto d = blockDofs(p);
@@ -943,7 +965,7 @@ bool ContactManager::acceptSolution(core::State& state) {
         ks.back().tangent2.value = g->second.weightedSlip;
       }
     } else {
-      ks.push_back(kinematics(p, state));
+      ks.push_back(judgedKinematics(p, state));
       // (A line point on a sliver of a segment carries almost nothing either.)
       carries.push_back(!(nodalLines_ && p.line()) && blendWeight(p, ks.back().axesCosine, nullptr, nullptr) > kCarries &&
                         (!p.line() || ks.back().segment > kCarries));
@@ -995,7 +1017,7 @@ void ContactManager::commitStep(const core::State& state) {
       p.position = state.position[p.lineB];
       continue;
     }
-    const ContactKinematics k = kinematics(p, state);
+    const ContactKinematics k = judgedKinematics(p, state);
     const ContactPoint view = strategyView(p, k, state);
     if (nodalLines_ && p.line()) {
       std::vector<double> f;
