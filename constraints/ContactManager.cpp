@@ -365,6 +365,13 @@ void ContactManager::forEachElementPair(const core::State& s,
   for (const auto& [pi, ea, eb] : found) visit(pi, ea, eb);
 }
 
+std::vector<std::tuple<int, int, int>> ContactManager::candidates(const core::State& s) const {
+  std::vector<std::tuple<int, int, int>> found;
+  forEachElementPair(s, [&](int pi, int ea, int eb) { found.emplace_back(pi, ea, eb); });
+  std::sort(found.begin(), found.end());
+  return found;
+}
+
 bool ContactManager::nearElement(int element, double xi) const {
   // Within one element length of the element and not beyond its beam's ends.
   const BeamElement& e = beams_->elements()[element];

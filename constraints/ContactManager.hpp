@@ -140,6 +140,10 @@ class ContactManager : public core::Contribution {
   };
   const std::map<std::tuple<int, int, int>, Point>& points() const { return points_; }
   const ConstraintEnforcer& enforcer() const { return *enforcer_; }
+  const std::vector<ContactPairSpec>& pairs() const { return pairs_; }
+  // The contact search's candidates at `s` (swept from the last converged state): (pair, element of
+  // beam A, element of beam B), sorted. For tests and benchmarks of the search.
+  std::vector<std::tuple<int, int, int>> candidates(const core::State& s) const;
   int passes() const { return passes_; }
   // The largest constraint violation (|g_N| of active points, |g_T| of sticking lines for the
   // strategies that enforce them exactly) after each pass of the increment solved last.
