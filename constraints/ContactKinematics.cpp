@@ -250,7 +250,7 @@ namespace {
 // Line contact's kinematics: the Gauss point xi(P) (a fixed parameter, or a point of a segment whose
 // bounds move with the dofs) and etaPrev(xi) from the history, through gapsOf(P, V, N, xi, etaPrev).
 template <class PointOf>
-ContactKinematics lineKinematicsOf(const LinePairInput& in, bool segmented, double xi, double side, double etaStart,
+ContactKinematics lineKinematicsOf(const LinePairInput& in, bool segmented, double side, double etaStart,
                                    PointOf pointOf) {
   const bool cubicA = norm(in.dA) > 0.0, cubicB = norm(in.dB) > 0.0;
   const Vec3d faceRefs[4] = {in.nB, in.nB, in.sB1, in.sB2}, circleRefs[2] = {in.sB1, in.sB2};
@@ -276,7 +276,6 @@ ContactKinematics lineKinematicsOf(const LinePairInput& in, bool segmented, doub
     k = kinematicsOf<10>(in, circleRefs, faceNodes, [&](const auto* P) { return circle(P, P + 8); });
   else
     k = kinematicsOf<8>(in, nullptr, nullptr, [&](const auto* P) { return circle(P, P); });
-  (void)xi;
   k.cosine = 0.0;
   k.cosineR.fill(0.0);
   return k;
@@ -285,7 +284,7 @@ ContactKinematics lineKinematicsOf(const LinePairInput& in, bool segmented, doub
 
 ContactKinematics lineKinematics(const LinePairInput& in, double xi, double etaPrev, const Vec3d& keptNormal) {
   const ClosestPoints projection = lineProjection(in, xi);
-  return lineKinematicsOf(in, false, xi, lineSide(in, projection, keptNormal), projection.eta,
+  return lineKinematicsOf(in, false, lineSide(in, projection, keptNormal), projection.eta,
                           [&](const auto* P, const auto*, const auto*) {
                             using T = std::decay_t<decltype(P[0][0])>;
                             return std::make_tuple(T(xi), T(etaPrev), T(1.0));
@@ -329,13 +328,12 @@ ContactKinematics segmentKinematics(const LinePairInput& in, const LineSegment& 
   const bool cubicA = norm(in.dA) > 0.0;
   const double xi = seg.lo + s * (seg.hi - seg.lo);
   const ClosestPoints projection = lineProjection(in, xi);
-  return lineKinematicsOf(in, true, xi, lineSide(in, projection, keptNormal), projection.eta,
+  return lineKinematicsOf(in, true, lineSide(in, projection, keptNormal), projection.eta,
                           [&](const auto* P, const auto* V, const auto* S) {
                             using T = std::decay_t<decltype(P[0][0])>;
                             T x, length;
                             segmentPoint(P, V, S, cubicA, seg, s, x, length);
-                            const T etaPrev = h.etaPrev + h.etaRate * (x - h.xiPrev);
-                            return std::make_tuple(x, etaPrev, length);
+                            return std::make_tuple(x, h.etaPrevAt(x), length);
                           });
 }
 

@@ -69,6 +69,8 @@ LineSegment lineSegment(const LinePairInput& in);
 // etaRate (xi - xiPrev).
 struct LineHistory {
   double xiPrev = 0.0, etaPrev = 0.0, etaRate = 0.0;
+  template <class T>
+  T etaPrevAt(const T& xi) const { return etaPrev + etaRate * (xi - xiPrev); }
 };
 
 struct ClosestPoints {

@@ -179,14 +179,24 @@ LinePairInput ContactManager::faceInput(int eA, int edgeA, int eB, int faceB, co
 }
 
 LinePairInput ContactManager::lineContactInput(const Point& p, const core::State& s) const {
-  if (rectangles(p.pair)) return withPlanes(faceInput(p.elementA, p.edge(), p.elementB, p.face(), s), p.elementB);
-  return withPlanes(lineInput(p.elementA, 0, p.elementB, 0, s), p.elementB);
+  return segmentInput(p.pair, p.elementA, p.elementB, p.edge(), p.face(), s);
 }
 
-LinePairInput ContactManager::withPlanes(LinePairInput in, int elementB) const {
-  in.sB1 = segmentPlanes_[elementB][0];
-  in.sB2 = segmentPlanes_[elementB][1];
+LinePairInput ContactManager::segmentInput(int pair, int eA, int eB, int edge, int face, const core::State& s) const {
+  LinePairInput in = rectangles(pair) ? faceInput(eA, edge, eB, face, s) : lineInput(eA, 0, eB, 0, s);
+  in.sB1 = segmentPlanes_[eB][0];
+  in.sB2 = segmentPlanes_[eB][1];
   return in;
+}
+
+LineHistory ContactManager::lineHistory(const Point& p) const {
+  const auto& elems = beams_->elements();
+  return {p.xiPrev - elems[p.elementA].index, p.etaPrev - elems[p.elementB].index, p.etaRate};
+}
+
+double ContactManager::lineSlip(const Point& p, const ClosestPoints& cp, const core::State& s) const {
+  const BeamElement& eB = beams_->elements()[p.elementB];
+  return (cp.eta - lineHistory(p).etaPrevAt(cp.xi)) * norm(s.position[eB.node2] - s.position[eB.node1]);
 }
 
 double ContactManager::axisAngle(int elementA, int elementB, const core::State& s) const {
@@ -409,8 +419,7 @@ std::map<Key, ContactManager::Candidate> ContactManager::detect(const core::Stat
         lines = {{edges[0], face}, {edges[1], face}};
       }
       for (const auto& [edge, face] : lines) {
-        const LinePairInput in =
-            withPlanes(rectangles(pi) ? faceInput(ea, edge, eb, face, s) : lineInput(ea, 0, eb, 0, s), eb);
+        const LinePairInput in = segmentInput(pi, ea, eb, edge, face, s);
         // (A sliver of a segment, where A's element ends at B's node within round-off, carries nothing.)
         constexpr double kSliver = 1e-9;
         const LineSegment seg = lineSegment(in);
@@ -528,7 +537,7 @@ bool ContactManager::prepareIteration(core::State& state) {
           p.state = donor->state;
           p.normal = donor->normal;
           p.etaRate = donor->etaRate;
-          p.etaPrev = donor->etaPrev + donor->etaRate * (p.xiPrev - donor->xiPrev);
+          p.etaPrev = LineHistory{donor->xiPrev, donor->etaPrev, donor->etaRate}.etaPrevAt(p.xiPrev);
         }
       }
     }
@@ -665,10 +674,7 @@ std::map<Key, ContactManager::NodeGap> ContactManager::nodeGaps(const core::Stat
     const double length = lineWeight(p, segment);
     const double w = length * blendWeight(p, std::cos(axisAngle(p.elementA, p.elementB, s)), nullptr, nullptr);
     const double gap = w > 0.0 ? cp.gap : 0.0;
-    // The slip along B since the last converged step, as segmentKinematics measures it.
-    const BeamElement &eA = beams_->elements()[p.elementA], &eB = beams_->elements()[p.elementB];
-    const double etaPrev = p.etaPrev - eB.index + p.etaRate * (cp.xi - (p.xiPrev - eA.index));
-    const double slip = w > 0.0 ? (cp.eta - etaPrev) * norm(s.position[eB.node2] - s.position[eB.node1]) : 0.0;
+    const double slip = w > 0.0 ? lineSlip(p, cp, s) : 0.0;
     for (const FieldShare& f : fieldShares(p, cp.xi)) {
       NodeGap& g = gaps[Key{p.pair, Point::kLineNode - p.edge(), f.node}];
       g.weighted += w * f.N * gap;
@@ -778,9 +784,7 @@ std::array<GlobalDof, kPairDofs> ContactManager::pointDofs(const Point& p) const
 ContactKinematics ContactManager::kinematics(const Point& p, const core::State& state) const {
   if (p.line()) {
     const LinePairInput in = lineContactInput(p, state);
-    const LineHistory history{p.xiPrev - beams_->elements()[p.elementA].index,
-                              p.etaPrev - beams_->elements()[p.elementB].index, p.etaRate};
-    return segmentKinematics(in, lineSegment(in), gaussXi_[p.gauss()], history, p.normal);
+    return segmentKinematics(in, lineSegment(in), gaussXi_[p.gauss()], lineHistory(p), p.normal);
   }
   const LinePairInput in = lineInput(p.elementA, p.lineA, p.elementB, p.lineB, state);
   const double xiPrev = p.xiPrev - beams_->elements()[p.elementA].index;
@@ -795,14 +799,12 @@ ContactKinematics ContactManager::judgedKinematics(const Point& p, const core::S
   const PointState* acting = actingState(p);
   if (acting && enforcer_->contributes(cp.gap, *acting)) return kinematics(p, state);
   // The values segmentKinematics would give, without their variations.
-  const BeamElement &eA = beams_->elements()[p.elementA], &eB = beams_->elements()[p.elementB];
   ContactKinematics k;
   k.xi = cp.xi;
   k.eta = cp.eta;
   k.segment = segment;
   k.normal.value = cp.gap;
-  const double etaPrev = p.etaPrev - eB.index + p.etaRate * (cp.xi - (p.xiPrev - eA.index));
-  k.tangent2.value = (cp.eta - etaPrev) * norm(state.position[eB.node2] - state.position[eB.node1]);
+  k.tangent2.value = lineSlip(p, cp, state);
   const LinePairInput in = lineContactInput(p, state);
   const Vec3d tA = (in.xA2 + in.RA2 * in.oA) - (in.xA1 + in.RA1 * in.oA);
   const Vec3d tB = (in.xB2 + in.RB2 * in.oB) - (in.xB1 + in.RB1 * in.oB);
@@ -1289,8 +1291,7 @@ void ContactManager::checkLineResolution(const core::State& state) {
     const auto& pair = pairs_[pi];
     const double radius = std::min(inscribed_[pair.beamA], inscribed_[pair.beamB]);
     // Rectangles: along A's edge against B's face, where the edge lies across it.
-    const LinePairInput in =
-        withPlanes(rectangles(pi) ? faceInput(ea, edge, eb, face, state) : lineInput(ea, 0, eb, 0, state), eb);
+    const LinePairInput in = segmentInput(pi, ea, eb, edge, face, state);
     const LineSegment seg = lineSegment(in);
     for (int i = 0; i <= kSamples && seg.length() > 0.0; ++i) {
       const ClosestPoints cp = lineProjection(in, seg.lo + seg.length() * i / kSamples);

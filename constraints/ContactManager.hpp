@@ -193,8 +193,13 @@ class ContactManager : public core::Contribution {
   // Closest points of a point's two lines in `s`, with the point's normal orientation and gap (a line
   // point: at its Gauss point of its segment, the segment's length in `segment`).
   ClosestPoints pointGeometry(const Point& p, const core::State& s, double* segment = nullptr) const;
-  // A line point's segment input: `in` with the planes of B's element's nodes.
-  LinePairInput withPlanes(LinePairInput in, int elementB) const;
+  // Line contact's input of the segment of element eA (its edge `edge`) on element eB (its face
+  // `face`): lineInput or faceInput with the planes of eB's nodes.
+  LinePairInput segmentInput(int pair, int eA, int eB, int edge, int face, const core::State& s) const;
+  // A line point's history (element parameters) and its slip along B at `cp` in `s` since then, as
+  // segmentKinematics measures it.
+  LineHistory lineHistory(const Point& p) const;
+  double lineSlip(const Point& p, const ClosestPoints& cp, const core::State& s) const;
   // Per element: the reference normals of the segment planes at its two nodes (the mean unit axis of
   // the beam's elements meeting there).
   std::vector<std::array<Vec3d, 2>> segmentPlanes_;

@@ -1125,6 +1125,8 @@ void uniformLoad(Teuchos::ParameterList& deck, const std::string& beam, int n, d
 struct LineSums {
   int points = 0, active = 0;
   double total = 0.0, gapMin = 1e300, gapMax = -1e300;
+  double friction = 0.0;  // x components of the active points' tangential forces on beam B
+  int slipping = 0;       // active points slipping along the axes
 };
 LineSums lineSums(const input::Problem& p) {
   LineSums s;
@@ -1137,6 +1139,8 @@ LineSums lineSums(const input::Problem& p) {
     s.total += -q.result.lambdaN;
     s.gapMin = std::min(s.gapMin, q.kinematics.normal.value);
     s.gapMax = std::max(s.gapMax, q.kinematics.normal.value);
+    s.friction += q.tangentialForce[0];
+    s.slipping += q.result.slip[1];
   }
   return s;
 }
@@ -1394,15 +1398,9 @@ TEST(LineContact, FrictionAlongTheAxesReachesMuN) {
         auto p = input::buildProblem(deck, "line_friction");
         const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "line_friction");
         ASSERT_TRUE(r.report.completed) << r.report.failure;
-        double normal = 0.0, friction = 0.0;
-        int slipping = 0, active = 0;
-        for (const auto& [key, q] : p.contact->points()) {
-          if (!q.line() || !q.result.active) continue;
-          ++active;
-          normal += -q.result.lambdaN;
-          friction += q.tangentialForce[0];
-          slipping += q.result.slip[1];
-        }
+        const LineSums sums = lineSums(p);
+        const double normal = sums.total, friction = sums.friction;
+        const int slipping = sums.slipping, active = sums.active;
         std::printf("%s, %s, slide %g: N = %.9f, friction force %.9f (mu N = %.9f), %d of %d points slipping\n",
                     type.c_str(), law.c_str(), delta, normal, friction, 0.3 * normal, slipping, active);
         // The rod slid by delta overlaps the ground on 100 - delta (the segments end at its end).
@@ -1449,15 +1447,9 @@ TEST(LineContact, FrictionAlongTheAxesWithEveryStrategy) {
       auto p = input::buildProblem(deck, "line_friction_all");
       const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "line_friction_all");
       ASSERT_TRUE(r.report.completed) << type << ", " << law << ": " << r.report.failure;
-      double normal = 0.0, friction = 0.0;
-      int slipping = 0, active = 0;
-      for (const auto& [key, q] : p.contact->points()) {
-        if (!q.line() || !q.result.active) continue;
-        ++active;
-        normal += -q.result.lambdaN;
-        friction += q.tangentialForce[0];
-        slipping += q.result.slip[1];
-      }
+      const LineSums sums = lineSums(p);
+      const double normal = sums.total, friction = sums.friction;
+      const int slipping = sums.slipping, active = sums.active;
       std::printf("%s, %s: N = %.9f, friction force %.9f (mu N = %.9f), %d of %d points slipping\n", type.c_str(),
                   law.c_str(), normal, friction, 0.3 * normal, slipping, active);
       EXPECT_GT(active, 30);

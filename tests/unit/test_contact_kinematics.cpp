@@ -30,6 +30,14 @@ Vec3d randomVec(std::mt19937& g, double s) {
   return {{s * u(g), s * u(g), s * u(g)}};
 }
 
+// A general state: the pair turned by a random rotation Q, its nodes moved by up to `moved` and turned
+// by random rotations (up to 0.3 rad about each axis) before.
+void placeGenerally(LinePairInput& in, std::mt19937& g, double moved) {
+  const Mat3d Q = expSO3(randomVec(g, 1.0));
+  for (Vec3d* x : {&in.xA1, &in.xA2, &in.xB1, &in.xB2}) *x = Q * (*x + randomVec(g, moved));
+  for (Mat3d* R : {&in.RA1, &in.RA2, &in.RB1, &in.RB2}) *R = Q * expSO3(randomVec(g, 0.3));
+}
+
 LinePairInput perturbedState(const LinePairInput& in, int dof, double h) {
   LinePairInput p = in;
   Vec3d* x[4] = {&p.xA1, &p.xA2, &p.xB1, &p.xB2};
@@ -94,10 +102,7 @@ TEST(ContactKinematics, VariationsMatchCentralDifferences) {
   double worstR = 0.0, worstK = 0.0;
   for (int trial = 0; trial < 10; ++trial) {
     LinePairInput in = crossing();
-    // A general state: rotated, deformed, with finite rotations of the nodes.
-    const Mat3d Q = expSO3(randomVec(g, 1.0));
-    for (Vec3d* x : {&in.xA1, &in.xA2, &in.xB1, &in.xB2}) *x = Q * (*x + randomVec(g, 0.5));
-    for (Mat3d* R : {&in.RA1, &in.RA2, &in.RB1, &in.RB2}) *R = Q * expSO3(randomVec(g, 0.3));
+    placeGenerally(in, g, 0.5);
     in.radiusSum = trial % 2 ? 0.7 : 0.0;
     const auto cp = closestPoints(in);
     const double xiP = cp.xi - 0.05, etaP = cp.eta + 0.03;
@@ -183,9 +188,7 @@ TEST(LineKinematics, VariationsMatchCentralDifferences) {
       in.dA = Vec3d{{10, 0, 0}};
       in.dB = Vec3d{{10, -0.5, 0.1}};
     }
-    const Mat3d Q = expSO3(randomVec(g, 1.0));
-    for (Vec3d* x : {&in.xA1, &in.xA2, &in.xB1, &in.xB2}) *x = Q * (*x + randomVec(g, 0.3));
-    for (Mat3d* R : {&in.RA1, &in.RA2, &in.RB1, &in.RB2}) *R = Q * expSO3(randomVec(g, 0.3));
+    placeGenerally(in, g, 0.3);
     in.radiusSum = 2.0;
     const double xi = 0.1 + 0.08 * trial, etaP = 0.4;
     const auto [errR, errK] = centralDifferenceErrors(
@@ -229,9 +232,7 @@ TEST(LineKinematics, FaceContactOfRectangles) {
   double worstR = 0.0, worstK = 0.0;
   for (int trial = 0; trial < 10; ++trial) {
     LinePairInput t = in;
-    const Mat3d Q = expSO3(randomVec(g, 1.0));
-    for (Vec3d* x : {&t.xA1, &t.xA2, &t.xB1, &t.xB2}) *x = Q * (*x + randomVec(g, 0.3));
-    for (Mat3d* R : {&t.RA1, &t.RA2, &t.RB1, &t.RB2}) *R = Q * expSO3(randomVec(g, 0.3));
+    placeGenerally(t, g, 0.3);
     const double xi = 0.1 + 0.08 * trial;
     const auto [errR, errK] = centralDifferenceErrors(
         t, [&](const LinePairInput& s) { return lineKinematics(s, xi, 0.4); },
@@ -301,9 +302,7 @@ TEST(LineKinematics, SegmentBoundsAndTheirVariations) {
     } else {
       t.radiusSum = 2.0;
     }
-    const Mat3d Q = expSO3(randomVec(g, 1.0));
-    for (Vec3d* x : {&t.xA1, &t.xA2, &t.xB1, &t.xB2}) *x = Q * (*x + randomVec(g, 0.3));
-    for (Mat3d* R : {&t.RA1, &t.RA2, &t.RB1, &t.RB2}) *R = Q * expSO3(randomVec(g, 0.3));
+    placeGenerally(t, g, 0.3);
     const LineHistory history{0.4, 0.3, 0.9};
     const double s = 0.15 + 0.06 * trial;
     const auto kernel = [&](const LinePairInput& state) {
