@@ -32,8 +32,8 @@ AugmentedLagrangeEnforcer::AugmentedLagrangeEnforcer(const Teuchos::ParameterLis
     : normalPenalty_(v.get<double>("Normal Penalty Parameter")),
       tangentialPenalty_(v.get<double>("Tangential Penalty Parameter")),
       tolerance_(v.get<double>("Gap Tolerance")),
-      maxPasses_(v.get<int>("Maximum Augmentations")),
-      regularization_(v.get<double>("Regularization Gap")) {}
+      regularization_(v.get<double>("Regularization Gap")),
+      maxPasses_(v.get<int>("Maximum Augmentations")) {}
 
 bool AugmentedLagrangeEnforcer::contributes(double gapN, const PointState& s) const {
   return stateOf<State>(s).lambdaN + normalPenalty_ * (gapN - 0.5 * regularization_) < 0.0;
