@@ -33,6 +33,19 @@ SolveReport LinearSolver::solve(const Teuchos::RCP<const Matrix>& A, const Vecto
   const double scale = A->getFrobeniusNorm() * xn + bn;
   report.relativeResidual = bn > 0.0 ? rn / bn : rn;
   report.backwardError = scale > 0.0 ? rn / scale : rn;
+  // ||A|| ||x|| / ||b|| is a lower bound of A's condition number (x = A^-1 b). Beyond what double
+  // precision resolves, x has no correct digit even when its backward error is small: a solve of a
+  // singular matrix returns a huge x whose residual is small against ||A|| ||x||.
+  report.conditionBound = bn > 0.0 ? A->getFrobeniusNorm() * xn / bn : 0.0;
+  if (report.conditionBound > conditionLimit_) {
+    std::ostringstream s;
+    s << name() << " linear solve: the tangent matrix is singular or nearly so (||A||_F ||x|| / ||b|| = "
+      << report.conditionBound << " > Condition Limit " << conditionLimit_
+      << "): a free motion (a beam without enough supports) or dependent constraints (Lagrange multipliers "
+         "at more contact points along a beam than its elements' nodes can move independently; refine the "
+         "beams or use Penalty or Augmented Lagrange)";
+    throw LinearSolveError(s.str());
+  }
   if (!std::isfinite(report.backwardError) || !std::isfinite(xn) || report.backwardError > checkTolerance_) {
     std::ostringstream s;
     s << name() << " linear solve failed its residual check: ||b - A x|| / (||A||_F ||x|| + ||b||) = "
@@ -50,7 +63,7 @@ using SerialMap = Tpetra::Map<LO, GO, Node>;
 // KLU2, with the gather-to-rank-0 scheme on more than one rank.
 class DirectSolver : public LinearSolver {
  public:
-  explicit DirectSolver(double checkTol) : LinearSolver(checkTol) {}
+  DirectSolver(double checkTol, double conditionLimit) : LinearSolver(checkTol, conditionLimit) {}
   std::string name() const override { return "Direct (KLU2)"; }
 
  protected:
@@ -145,7 +158,7 @@ class DirectSolver : public LinearSolver {
 class GmresSolver : public LinearSolver {
  public:
   explicit GmresSolver(const Teuchos::ParameterList& p)
-      : LinearSolver(p.get<double>("Residual Check Tolerance")),
+      : LinearSolver(p.get<double>("Residual Check Tolerance"), p.get<double>("Condition Limit")),
         precType_(p.get<std::string>("Preconditioner")),
         overlap_(p.get<int>("Overlap")),
         fill_(p.get<double>("Fill Level")),
@@ -207,6 +220,10 @@ const ParameterSpec& linearSolverSpec() {
           "largest accepted backward error ||b - A x|| / (||A||_F ||x|| + ||b||) of a solve; above it the solve "
           "is an error",
           positive(), "> 0");
+    s.add("Condition Limit", 1e14,
+          "largest accepted ||A||_F ||x|| / ||b|| of a solve (a lower bound of the matrix's condition number); "
+          "above it the matrix is taken as singular and the solve is an error",
+          positive(), "> 0");
     s.addChoice("Preconditioner", "ILUT", {"ILUT", "RILUK"}, "GMRES only: subdomain incomplete factorization");
     s.add("Fill Level", 2.0, "GMRES only: ILUT level of fill or RILUK level k", nonNegative(), ">= 0");
     s.add("Overlap", 1, "GMRES only: overlap of the additive Schwarz subdomains", atLeast(0), ">= 0");
@@ -220,7 +237,8 @@ const ParameterSpec& linearSolverSpec() {
 
 std::unique_ptr<LinearSolver> makeLinearSolver(const Teuchos::ParameterList& p) {
   const std::string type = p.get<std::string>("Type");
-  if (type == "Direct") return std::make_unique<DirectSolver>(p.get<double>("Residual Check Tolerance"));
+  if (type == "Direct")
+    return std::make_unique<DirectSolver>(p.get<double>("Residual Check Tolerance"), p.get<double>("Condition Limit"));
   return std::make_unique<GmresSolver>(p);
 }
 

@@ -8,7 +8,8 @@
 // system, and its normwise backward error ||b - A x|| / (||A||_F ||x|| + ||b||) above "Residual Check
 // Tolerance" raises LinearSolveError. (The backward error is scale-invariant: a backward-stable solve
 // gives ~1e-16 even when ||b|| is small against the terms of A x that cancel, where ||b - A x|| / ||b||
-// can be 1e-8 for a perfectly good solve.)
+// can be 1e-8 for a perfectly good solve.) A singular matrix can pass that test with a huge x, so
+// ||A||_F ||x|| / ||b||, a lower bound of the condition number, above "Condition Limit" is an error too.
 #pragma once
 #include <memory>
 #include <stdexcept>
@@ -27,7 +28,8 @@ class LinearSolveError : public std::runtime_error {
 struct SolveReport {
   int iterations = 0;          // Krylov iterations (0 for direct)
   double relativeResidual = 0; // ||b - A x|| / ||b|| of the returned solution
-  double backwardError = 0;    // ||b - A x|| / (||A||_F ||x|| + ||b||), the checked quantity
+  double backwardError = 0;    // ||b - A x|| / (||A||_F ||x|| + ||b||), checked
+  double conditionBound = 0;   // ||A||_F ||x|| / ||b||, a lower bound of cond(A), checked
 };
 
 class LinearSolver {
@@ -37,11 +39,12 @@ class LinearSolver {
   SolveReport solve(const Teuchos::RCP<const Matrix>& A, const Vector& b, Vector& x);
 
  protected:
-  explicit LinearSolver(double checkTolerance) : checkTolerance_(checkTolerance) {}
+  LinearSolver(double checkTolerance, double conditionLimit)
+      : checkTolerance_(checkTolerance), conditionLimit_(conditionLimit) {}
   virtual int doSolve(const Teuchos::RCP<const Matrix>& A, const Vector& b, Vector& x) = 0;
 
  private:
-  double checkTolerance_;
+  double checkTolerance_, conditionLimit_;
 };
 
 const ParameterSpec& linearSolverSpec();

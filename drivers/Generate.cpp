@@ -84,9 +84,13 @@ void contactAndStepping(ParameterList& deck, const Options& o) {
 
 // Two layers of crossing circular beams: n along X at z = 0 (pinned ends, twist held), m along Y above
 // them with a gap, their pinned ends pressed down by --press. Crossings are at the mid-points of the
-// spacing grid; with --elements per beam the crossings fall between nodes unless chosen otherwise.
+// spacing grid. --elements 0 (the default) gives a beam max(9, crossings + 1) elements: at least one
+// free node per crossing (a beam with more crossings than free nodes over-constrains its contact
+// points on the element chords: the Lagrange multipliers' matrix is then singular). From 9 crossings
+// on they fall on nodes; with fewer (9 elements), between nodes unless the count divides.
 ParameterList grid(const Options& o) {
-  const int n = o.whole("n", 1, 1000), m = o.whole("m", 1, 1000), ne = o.whole("elements", 1, 100000);
+  const int n = o.whole("n", 1, 1000), m = o.whole("m", 1, 1000), ne = o.whole("elements", 0, 100000);
+  const int neX = ne > 0 ? ne : std::max(9, m + 1), neY = ne > 0 ? ne : std::max(9, n + 1);
   const double s = o["spacing"], r = o["radius"], gap = o["gap"];
   if (!(s > 2 * r) || !(r > 0) || !(gap >= 0)) throw InputError("generate grid: need spacing > 2 radius > 0, gap >= 0");
   ParameterList deck("BeamContact");
@@ -95,13 +99,13 @@ ParameterList grid(const Options& o) {
   const double lx = s * (m + 1), ly = s * (n + 1), z = 2 * r + gap;
   for (int j = 0; j < n; ++j) {
     const std::string name = "x" + std::to_string(j + 1);
-    beam(beams, name, vec(0, s * (j + 1), 0), vec(lx, s * (j + 1), 0), ne, r, o["youngs-modulus"]);
+    beam(beams, name, vec(0, s * (j + 1), 0), vec(lx, s * (j + 1), 0), neX, r, o["youngs-modulus"]);
     support(supports, name + " start", name, "start", "ux uy uz rx", vec(0, 0, 0));
     support(supports, name + " end", name, "end", "uy uz rx", vec(0, 0, 0));
   }
   for (int i = 0; i < m; ++i) {
     const std::string name = "y" + std::to_string(i + 1);
-    beam(beams, name, vec(s * (i + 1), 0, z), vec(s * (i + 1), ly, z), ne, r, o["youngs-modulus"]);
+    beam(beams, name, vec(s * (i + 1), 0, z), vec(s * (i + 1), ly, z), neY, r, o["youngs-modulus"]);
     support(supports, name + " start", name, "start", "ux uy uz ry", vec(0, 0, -o["press"]));
     support(supports, name + " end", name, "end", "ux uz ry", vec(0, 0, -o["press"]));
   }
@@ -335,7 +339,7 @@ int generateDeck(const std::vector<std::string>& args) {
                      {"m", {3, "beams along Y (top layer)"}},
                      {"gap", {0.1, "gap between the layers at the start [length]"}},
                      {"press", {0.5, "downward motion of the top layer's ends at T = 1 [length]"}},
-                     {"elements", {9, "elements per beam"}}});
+                     {"elements", {0, "elements per beam; 0: max(9, crossings along the beam + 1)"}}});
   } else if (kind == "weave") {
     o.values.insert({{"n", {3, "warp yarns (along X)"}},
                      {"m", {3, "weft yarns (along Y)"}},

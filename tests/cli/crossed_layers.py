@@ -1,0 +1,99 @@
+#!/usr/bin/python3
+"""Two crossed layers of n x n beams pressed together (beamcontact generate grid): 4 x 4 with the
+crossings between nodes, 8 x 8 with the crossings on nodes and 8 x 8 between nodes (11 elements per
+beam), each with every strategy on 1 and on 2 ranks. Checks:
+  - every run completes, with contact;
+  - 1 and 2 ranks write the same contact rows (1e-8 of the largest force);
+  - the total contact force equals the load: the z reactions of the pressed (top) layer's supports
+    sum to minus the z components of the contact forces on that layer (1e-6), and every beam's contact
+    forces balance its support reactions component by component (1e-6 of the largest reaction);
+  - Lagrange and augmented Lagrange (Gap Tolerance 1e-9) carry the same total normal force (1e-4).
+And a layer over-constrained for Lagrange multipliers: 8 x 8 with 7 elements per beam puts 8 crossings
+on each beam, whose contact points (on the straight element chords) follow only its 6 free nodes, so
+the normal constraints are linearly dependent and the saddle-point matrix is singular. That run must
+stop with an error that says so (not converge to a wrong state), and Penalty must complete it.
+Usage: crossed_layers.py BEAMCONTACT WORKDIR MPIEXEC...
+"""
+import os
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from check_gold import set_parameter  # noqa: E402
+from generated_decks import run  # noqa: E402
+
+LAYOUTS = [("4x4 between nodes", 4, 9), ("8x8 on nodes", 8, 9), ("8x8 between nodes", 8, 11)]
+STRATEGIES = ["Penalty", "Lagrange Multiplier", "Augmented Lagrange"]
+
+
+def deck_for(exe, work, name, n, elements, strategy):
+    base = os.path.join(work, f"grid{n}_{elements}.xml")
+    if not os.path.exists(base):
+        subprocess.run([exe, "generate", "grid", "--n", str(n), "--m", str(n), "--elements", str(elements),
+                        "--output", base], check=True, capture_output=True)
+    tree = ET.parse(base)
+    set_parameter(tree.getroot(), "Contact/Enforcement/Type", "string", strategy)
+    set_parameter(tree.getroot(), "Output/Write VTK", "bool", "false")
+    set_parameter(tree.getroot(), "Contact/Enforcement/Augmented Lagrange/Gap Tolerance", "double", "1e-9")
+    deck = os.path.join(work, f"grid{n}_{elements}_{strategy.replace(' ', '_')}.xml")
+    tree.write(deck)
+    return deck
+
+
+def check_layout(exe, work, mpi, name, n, elements):
+    failures = 0
+    totals = {}
+    for strategy in STRATEGIES:
+        deck = deck_for(exe, work, name, n, elements, strategy)
+        active, total, balance, contact = run(exe, deck, deck[:-4] + "_np1")
+        active2, total2, _, contact2 = run(exe, deck, deck[:-4] + "_np2", mpi)
+        totals[strategy] = total
+        scale = max(abs(float(v)) for c in contact for k, v in c.items() if k.startswith("normal_force"))
+        diff = max(abs(float(a[k]) - float(b[k])) for a, b in zip(contact, contact2)
+                   for k in a if k.startswith("normal_force") or k.startswith("tangential_force"))
+        reaction_scale = max(abs(v) for f, s in balance.values() for v in s)
+        worst = max(max(abs(a + b) for a, b in zip(f, s)) for f, s in balance.values()) / reaction_scale
+        # The pressed layer (the y beams, on top): its supports' z reactions are the load it carries.
+        load = sum(s[2] for beam, (f, s) in balance.items() if beam.startswith("y"))
+        contact_z = sum(f[2] for beam, (f, s) in balance.items() if beam.startswith("y"))
+        print(f"{name:18s} {strategy:20s} {len(active):3d} active, total N {total:.9f} (2 ranks {total2:.9f}, rows "
+              f"differ by {diff / scale:.1e}); load on the top layer {load:.9f}, contact z on it {contact_z:.9f}; "
+              f"worst beam balance {worst:.1e}")
+        failures += not (len(active) > 0 and len(contact) == len(contact2) and diff <= 1e-8 * scale)
+        failures += not (abs(load + contact_z) <= 1e-6 * abs(load) and worst < 1e-6)
+    nl, na = totals["Lagrange Multiplier"], totals["Augmented Lagrange"]
+    print(f"{name:18s} Lagrange vs augmented Lagrange total N: {abs(nl - na) / nl:.1e}")
+    failures += not (abs(nl - na) <= 1e-4 * nl)
+    return failures
+
+
+def check_over_constrained(exe, work):
+    failures = 0
+    for strategy, should_complete in (("Lagrange Multiplier", False), ("Penalty", True)):
+        deck = deck_for(exe, work, "over-constrained", 8, 7, strategy)
+        out = deck[:-4] + "_out"
+        r = subprocess.run([exe, "run", deck, "--output", out, "--quiet"], capture_output=True, text=True)
+        with open(os.path.join(out, "status.txt")) as f:
+            status = f.read()
+        print(f"8x8 on 7 elements, {strategy}: exit {r.returncode}; {status.strip()[:400]}")
+        if should_complete:
+            failures += not (r.returncode == 0 and status.startswith("complete"))
+        else:
+            failures += not (r.returncode != 0 and status.startswith("incomplete") and "singular" in status
+                             and "Lagrange multipliers" in status)
+    return failures
+
+
+def main():
+    exe, work, mpi = sys.argv[1], sys.argv[2], sys.argv[3:]
+    os.makedirs(work, exist_ok=True)
+    failures = sum(check_layout(exe, work, mpi, *layout) for layout in LAYOUTS)
+    failures += check_over_constrained(exe, work)
+    if failures:
+        sys.exit(f"{failures} check(s) failed")
+    print("ok")
+
+
+if __name__ == "__main__":
+    main()
