@@ -36,7 +36,7 @@ AugmentedLagrangeEnforcer::AugmentedLagrangeEnforcer(const Teuchos::ParameterLis
       maxPasses_(v.get<int>("Maximum Augmentations")) {}
 
 bool AugmentedLagrangeEnforcer::contributes(double gapN, const PointState& s) const {
-  return stateOf<State>(s).lambdaN + normalPenalty_ * (gapN - 0.5 * regularization_) < 0.0;
+  return stateOf<State>(s).lambdaN + normalPenalty_ * (gapN - 0.5 * regularization_) <= 0.0;
 }
 
 PointResult AugmentedLagrangeEnforcer::evaluate(const ContactPoint& p, const PointState& s, double* f,

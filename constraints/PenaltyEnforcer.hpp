@@ -26,7 +26,7 @@ class PenaltyEnforcer : public ConstraintEnforcer {
 
   std::string type() const override { return name(); }
   std::unique_ptr<PointState> newPointState() const override { return std::make_unique<State>(); }
-  bool contributes(double gapN, const PointState&) const override { return gapN < 0.0; }
+  bool contributes(double gapN, const PointState&) const override { return gapN <= 0.0; }
   double activationGap(const PointState&) const override { return 0.0; }
   PointResult evaluate(const ContactPoint& p, const PointState& s, double* f, double* K) const override;
   bool acceptPoint(const ContactPoint& p, PointState& s, double& worstViolation) const override;

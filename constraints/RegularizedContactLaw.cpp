@@ -41,7 +41,10 @@ bool lawForces(const ContactPoint& p, const NormalLaw& normal, const FrictionReg
   lam[0] = normal(gN);
   lam[1] = lam[2] = F(0.0);
   slip[0] = slip[1] = false;
-  if (!(lam[0].val() < 0.0)) return false;
+  // Exactly at the law's onset (a point touching, as two layers laid on each other at the start) the
+  // point takes part with no force and the law's stiffness (the derivative from the closed side):
+  // Newton's first step then sees the contact instead of passing through it.
+  if (lam[0].val() > 0.0 || (lam[0].val() == 0.0 && lam[0].dx(0) == 0.0)) return false;
   if (p.friction > 0.0) {
     F trial[2];
     frictionTrial(p.law, c, g, t.lambdaHat, t.penalty, trial);

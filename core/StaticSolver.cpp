@@ -298,7 +298,14 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
     bool rebuild = graphStale_ || assembler_.ownedMap().is_null() ||
                    static_cast<Tpetra::global_size_t>(trial_.numDofs()) != assembler_.ownedMap()->getGlobalNumElements();
     graphStale_ = false;
-    for (auto& c : model_.contributions) rebuild = c->prepareIteration(trial_) || rebuild;
+    start("Contact Search");
+    try {
+      for (auto& c : model_.contributions) rebuild = c->prepareIteration(trial_) || rebuild;
+    } catch (...) {
+      stop("Contact Search");
+      throw;
+    }
+    stop("Contact Search");
     if (rebuild) {
       start("Graph Rebuild");
       assembler_.rebuild(trial_);
@@ -393,8 +400,11 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
       // The contributions may ask for another solve of the increment (augmentation, active set).
       bool accepted = true;
       try {
+        start("Active Set");
         for (auto& c : model_.contributions) accepted = c->acceptSolution(trial_) && accepted;
+        stop("Active Set");
       } catch (const std::runtime_error& e) {
+        stop("Active Set");
         failure = e.what();
         return false;
       }
@@ -433,7 +443,9 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
     stop("Linear Solve");
     std::vector<double> inc = assembler_.gatherToAll(*x);
     double bound = 1.0;
+    start("Step Bound");
     for (auto& c : model_.contributions) bound = std::min(bound, c->stepBound(trial_, inc));
+    stop("Step Bound");
     double n2 = 0.0;
     for (GlobalDof g = 0; g < ndof; ++g) n2 += inc[g] * inc[g];  // the full Newton step decides convergence
     if (bound < 1.0) {

@@ -83,7 +83,8 @@ void contactAndStepping(ParameterList& deck, const Options& o) {
 }
 
 // Two layers of crossing circular beams: n along X at z = 0 (pinned ends, twist held), m along Y above
-// them with a gap, their pinned ends pressed down by --press. Crossings are at the mid-points of the
+// them with a gap, their pinned ends pressed down by --press, and each of their crossing nodes loaded
+// by --load. Crossings are at the mid-points of the
 // spacing grid. --elements 0 (the default) gives a beam max(9, crossings + 1) elements: at least one
 // free node per crossing (a beam with more crossings than free nodes over-constrains its contact
 // points on the element chords: the Lagrange multipliers' matrix is then singular). From 9 crossings
@@ -103,11 +104,22 @@ ParameterList grid(const Options& o) {
     support(supports, name + " start", name, "start", "ux uy uz rx", vec(0, 0, 0));
     support(supports, name + " end", name, "end", "uy uz rx", vec(0, 0, 0));
   }
+  const double load = o["load"];
+  if (load != 0.0 && neY % (n + 1) != 0)
+    throw InputError("generate grid: --load acts at the top layer's crossings, which need to be nodes: give --elements "
+                     "a multiple of n + 1 = " + std::to_string(n + 1));
   for (int i = 0; i < m; ++i) {
     const std::string name = "y" + std::to_string(i + 1);
     beam(beams, name, vec(s * (i + 1), 0, z), vec(s * (i + 1), ly, z), neY, r, o["youngs-modulus"]);
     support(supports, name + " start", name, "start", "ux uy uz ry", vec(0, 0, -o["press"]));
     support(supports, name + " end", name, "end", "ux uz ry", vec(0, 0, -o["press"]));
+    if (load == 0.0) continue;
+    for (int j = 0; j < n; ++j) {
+      ParameterList& l = deck.sublist("Loads").sublist(name + " crossing " + std::to_string(j + 1));
+      l.set("Beam", name);
+      l.set("Node", std::to_string((j + 1) * (neY / (n + 1))));
+      l.set("Force", vec(0, 0, -load));
+    }
   }
   contactAndStepping(deck, o);
   return deck;
@@ -339,6 +351,8 @@ int generateDeck(const std::vector<std::string>& args) {
                      {"m", {3, "beams along Y (top layer)"}},
                      {"gap", {0.1, "gap between the layers at the start [length]"}},
                      {"press", {0.5, "downward motion of the top layer's ends at T = 1 [length]"}},
+                     {"load", {0.0, "downward force on the top layer at each crossing at T = 1 (the crossings must be "
+                                    "nodes) [force]"}},
                      {"elements", {0, "elements per beam; 0: max(9, crossings along the beam + 1)"}}});
   } else if (kind == "weave") {
     o.values.insert({{"n", {3, "warp yarns (along X)"}},
