@@ -8,7 +8,8 @@ half its load), run with each strategy on 1 and 2 ranks. Per size, strategy and 
     assembly (residual and tangent: beams and contact), linear solve, and the rest of the iteration
     (step bound and active-set passes);
   - Newton iterations, whether the run completed, active contact points at its end;
-  - the peak resident memory of the largest process, and per crossing;
+  - the peak resident memory of the largest process (the growth from the smallest to the largest size
+    over the crossings added is printed as the memory per crossing);
 and, per strategy and rank count, the growth exponent of each stage over the sizes (least-squares
 slope of log time per iteration against log crossings), and the 2-rank speed-up (time per iteration on
 1 rank over that on 2). Each figure is the median of --repeat runs (VTK off). The timings come from the
@@ -91,9 +92,9 @@ def main():
     sizes = [int(s) for s in a.sizes.split(",")]
     strategies = a.strategies.split(",")
     rank_counts = [int(r) for r in a.ranks.split(",")]
-    results = {}
+    results, memory = {}, {}
     print(f"{'n x n':>7} {'cross':>6} {'dofs':>7} {'method':>4} {'ranks':>5} | {'s/iter':>8} {'search':>8} {'assembly':>8} "
-          f"{'solve':>8} {'rest':>8} | {'iters':>5} {'done':>4} {'active':>6} {'MB':>7} {'kB/cross':>8}")
+          f"{'solve':>8} {'rest':>8} | {'iters':>5} {'done':>4} {'active':>6} {'MB':>7}")
     for n in sizes:
         base = os.path.join(a.work, f"grid{n}.xml")
         subprocess.run([a.exe, "generate", "grid", "--n", str(n), "--m", str(n), "--elements", str(n + 1), "--gap", "0",
@@ -115,10 +116,11 @@ def main():
                 peak = statistics.median(r["peak_kb"] for r in runs)
                 r0 = runs[0]
                 results[(n, strategy, ranks)] = med
+                memory[(n, strategy, ranks)] = peak
                 print(f"{n:>3} x {n:<3} {n * n:>6} {dofs:>7} {SHORT.get(strategy, strategy):>4} {ranks:>5} | "
                       f"{med['total']:8.4f} {med['search']:8.4f} {med['assembly']:8.4f} {med['solve']:8.4f} "
                       f"{med['rest']:8.4f} | {r0['iterations']:>5} {'yes' if r0['complete'] else 'no':>4} "
-                      f"{r0['active']:>6} {peak / 1024:7.1f} {peak / (n * n):8.1f}", flush=True)
+                      f"{r0['active']:>6} {peak / 1024:7.1f}", flush=True)
     if len(sizes) > 1:
         print("\ngrowth exponent of the time per Newton iteration against crossings (log-log slope), and the "
               "2-rank speed-up (1-rank time / 2-rank time) at each size")
@@ -128,6 +130,11 @@ def main():
                 for k in ("total", "search", "assembly", "solve"):
                     parts.append(f"{k} {slope([n * n for n in sizes], [results[(n, strategy, ranks)][k] for n in sizes]):.2f}")
                 print(f"  {strategy:20s} {ranks} rank(s): " + ", ".join(parts))
+                if len(sizes) > 1:
+                    lo, hi = sizes[0], sizes[-1]
+                    per = (memory[(hi, strategy, ranks)] - memory[(lo, strategy, ranks)]) / (hi * hi - lo * lo)
+                    print(f"  {strategy:20s} {ranks} rank(s): memory per crossing (peak growth {lo}x{lo} -> {hi}x{hi} "
+                          f"over the crossings added) {per:.1f} kB")
             if 1 in rank_counts and 2 in rank_counts:
                 speed = [results[(n, strategy, 1)]["total"] / results[(n, strategy, 2)]["total"] for n in sizes]
                 print(f"  {strategy:20s} speed-up on 2 ranks: " + ", ".join(f"{n}x{n} {s:.2f}" for n, s in zip(sizes, speed)))

@@ -12,8 +12,10 @@ And a layer over-constrained for Lagrange multipliers: 8 x 8 with 7 elements per
 on each beam, whose contact points (on the straight element chords) follow only its 6 free nodes, so
 the normal constraints are linearly dependent and the saddle-point matrix is singular. That run must
 stop with an error that says so (not converge to a wrong state), and Penalty must complete it.
+And 8 x 8 layers laid on each other with every top crossing loaded (check_laid_and_loaded).
 Usage: crossed_layers.py BEAMCONTACT WORKDIR MPIEXEC...
 """
+import csv
 import os
 import subprocess
 import sys
@@ -85,11 +87,36 @@ def check_over_constrained(exe, work):
     return failures
 
 
+def check_laid_and_loaded(exe, work):
+    """8 x 8 layers laid on each other (gap 0), each top crossing node loaded by 1, frictionless Penalty:
+    every crossing touches at the start, so Newton's first step must see the contacts (a touching
+    point takes part with its stiffness): no increment is cut, all 64 crossings end active, the
+    contact forces on the bottom layer equal its support reactions and the two layers' reactions sum
+    to the load 64."""
+    deck = os.path.join(work, "laid.xml")
+    subprocess.run([exe, "generate", "grid", "--n", "8", "--m", "8", "--elements", "9", "--gap", "0", "--press", "0",
+                    "--load", "1", "--friction", "0", "--output", deck], check=True, capture_output=True)
+    tree = ET.parse(deck)
+    set_parameter(tree.getroot(), "Output/Write VTK", "bool", "false")
+    tree.write(deck)
+    active, total, balance, contact = run(exe, deck, os.path.join(work, "laid"))
+    with open(os.path.join(work, "laid", "steps.csv")) as f:
+        cuts = sum(int(row["cut_level"]) > 0 for row in csv.DictReader(f))
+    bottom = sum(s[2] for beam, (f, s) in balance.items() if beam.startswith("x"))
+    on_bottom = sum(f[2] for beam, (f, s) in balance.items() if beam.startswith("x"))
+    reactions = sum(s[2] for f, s in balance.values())
+    print(f"8x8 laid and loaded: {len(active)} active, {cuts} steps after a cut; contact z on the bottom layer "
+          f"{on_bottom:.9f}, its reactions {bottom:.9f}; all reactions {reactions:.9f} (load 64)")
+    return int(not (len(active) == 64 and cuts == 0 and abs(on_bottom + bottom) <= 1e-6 * abs(bottom)
+                    and abs(reactions - 64.0) <= 1e-6 * 64.0))
+
+
 def main():
     exe, work, mpi = sys.argv[1], sys.argv[2], sys.argv[3:]
     os.makedirs(work, exist_ok=True)
     failures = sum(check_layout(exe, work, mpi, *layout) for layout in LAYOUTS)
     failures += check_over_constrained(exe, work)
+    failures += check_laid_and_loaded(exe, work)
     if failures:
         sys.exit(f"{failures} check(s) failed")
     print("ok")
