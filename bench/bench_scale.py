@@ -1,8 +1,12 @@
 #!/usr/bin/python3
 """Benchmark of scale (not a test): two crossed layers of n x n beams laid on each other, every crossing of
-the top layer loaded (`beamcontact generate grid --n n --m n --elements n+1 --gap 0 --press 0 --load 1`:
-crossings on nodes, friction 0.2, pinned ends), so that all n^2 crossings are in contact (each carries
-half its load), run with each strategy on 1 and 2 ranks. Per size, strategy and rank count it prints
+the top layer loaded (`beamcontact generate grid --n n --m n --elements n+1 --gap 0 --press 0 --load P`:
+crossings on nodes, pinned ends, radius 1, E 1e5, spacing 10, span L = 10 (n + 1)), so that all n^2
+crossings are in contact, run with each strategy on 1 and 2 ranks. P keeps the layers' deflection at
+about a tenth of the radius at every size: P = 0.1 * 384 E I / (5 n L^3), the midspan deflection of a
+beam carrying its n loads smeared over its span. Frictionless by default (--friction): with friction
+0.2 the 16 x 16 layers do not converge from the touching start (slip directions cycling), which is a
+robustness matter, not one of cost per iteration. Per size, strategy and rank count it prints
   - the time per Newton iteration (all of the run's Newton iterations, also those of cut increments),
     split into contact search (the candidate search and the points' update before each iteration),
     assembly (residual and tangent: beams and contact), linear solve, and the rest of the iteration
@@ -15,7 +19,7 @@ slope of log time per iteration against log crossings), and the 2-rank speed-up 
 1 rank over that on 2). Each figure is the median of --repeat runs (VTK off). The timings come from the
 run's timers.txt (Teuchos stacked timers of rank 0).
 Usage: bench_scale.py BEAMCONTACT [--sizes 4,8,16,32] [--strategies ...] [--ranks 1,2] [--repeat 3]
-                      [--increments 5] [--work DIR] [--mpiexec mpirun]
+                      [--increments 5] [--friction 0] [--work DIR] [--mpiexec mpirun]
 """
 import argparse
 import csv
@@ -83,6 +87,7 @@ def main():
     ap.add_argument("--ranks", default="1,2")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--increments", type=int, default=5)
+    ap.add_argument("--friction", type=float, default=0.0)
     ap.add_argument("--work", default="bench_scale")
     ap.add_argument("--mpiexec", default="mpirun")
     a = ap.parse_args()
@@ -97,9 +102,11 @@ def main():
           f"{'solve':>8} {'rest':>8} | {'iters':>5} {'done':>4} {'active':>6} {'MB':>7}")
     for n in sizes:
         base = os.path.join(a.work, f"grid{n}.xml")
+        span = 10.0 * (n + 1)
+        load = 0.1 * 384 * 1e5 * math.pi / 4 / (5 * n * span ** 3)
         subprocess.run([a.exe, "generate", "grid", "--n", str(n), "--m", str(n), "--elements", str(n + 1), "--gap", "0",
-                        "--press", "0", "--load", "1", "--increments", str(a.increments), "--output", base],
-                       check=True, capture_output=True)
+                        "--press", "0", "--load", repr(load), "--friction", str(a.friction), "--increments",
+                        str(a.increments), "--output", base], check=True, capture_output=True)
         text = open(base).read()
         elements = [int(v) for v in re.findall(r'name="Elements" type="int" value="(\d+)"', text)]
         dofs = 6 * sum(e + 1 for e in elements)
