@@ -19,7 +19,7 @@ slope of log time per iteration against log crossings), and the 2-rank speed-up 
 1 rank over that on 2). Each figure is the median of --repeat runs (VTK off). The timings come from the
 run's timers.txt (Teuchos stacked timers of rank 0).
 Usage: bench_scale.py BEAMCONTACT [--sizes 4,8,16,32] [--strategies ...] [--ranks 1,2] [--repeat 3]
-                      [--increments 5] [--friction 0] [--work DIR] [--mpiexec mpirun]
+                      [--increments 5] [--friction 0] [--solver Direct] [--work DIR] [--mpiexec mpirun]
 """
 import argparse
 import csv
@@ -88,6 +88,8 @@ def main():
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--increments", type=int, default=5)
     ap.add_argument("--friction", type=float, default=0.0)
+    ap.add_argument("--solver", default="Direct", choices=["Direct", "MueLu", "ILUT", "RILUK"],
+                    help="Direct (KLU2), or GMRES preconditioned by MueLu multigrid, ILUT or RILUK")
     ap.add_argument("--work", default="bench_scale")
     ap.add_argument("--mpiexec", default="mpirun")
     a = ap.parse_args()
@@ -113,8 +115,14 @@ def main():
         for strategy in strategies:
             deck = os.path.join(a.work, f"grid{n}_{SHORT.get(strategy, strategy)}.xml")
             t = text.replace('name="Type" type="string" value="Penalty"', f'name="Type" type="string" value="{strategy}"', 1)
+            linear = ""
+            if a.solver != "Direct":
+                if a.solver == "MueLu" and strategy == "Lagrange Multiplier":
+                    continue  # multigrid takes matrices without multiplier rows
+                linear = ('<ParameterList name="Linear Solver"><Parameter name="Type" type="string" value="GMRES"/>'
+                          f'<Parameter name="Preconditioner" type="string" value="{a.solver}"/></ParameterList>')
             t = t.replace('<ParameterList name="BeamContact">', '<ParameterList name="BeamContact"><ParameterList '
-                          'name="Output"><Parameter name="Write VTK" type="bool" value="false"/></ParameterList>', 1)
+                          'name="Output"><Parameter name="Write VTK" type="bool" value="false"/></ParameterList>' + linear, 1)
             with open(deck, "w") as f:
                 f.write(t)
             for ranks in rank_counts:
@@ -132,6 +140,8 @@ def main():
         print("\ngrowth exponent of the time per Newton iteration against crossings (log-log slope), and the "
               "2-rank speed-up (1-rank time / 2-rank time) at each size")
         for strategy in strategies:
+            if any((n, strategy, r) not in results for n in sizes for r in rank_counts):
+                continue
             for ranks in rank_counts:
                 parts = []
                 for k in ("total", "search", "assembly", "solve"):

@@ -18,6 +18,6 @@ function(bc_trilinos_package pkg)
     INTERFACE_LINK_LIBRARIES "${${pkg}_LIBRARIES};${${pkg}_TPL_LIBRARIES};MPI::MPI_CXX")
 endfunction()
 
-foreach(pkg Teuchos Sacado Tpetra Belos Amesos2 Ifpack2)
+foreach(pkg Teuchos Sacado Tpetra Belos Amesos2 Ifpack2 MueLu)
   bc_trilinos_package(${pkg})
 endforeach()

@@ -1,5 +1,8 @@
 #include "LinearSolver.hpp"
 
+#include "Multigrid.hpp"
+
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -166,25 +169,36 @@ class GmresSolver : public LinearSolver {
         maxIt_(p.get<int>("Maximum Iterations")),
         restart_(p.get<int>("Restart")) {}
   std::string name() const override { return "GMRES (" + precType_ + ")"; }
+  bool wantsNearNullSpace() const override { return precType_ == "MueLu"; }
 
  protected:
   int doSolve(const Teuchos::RCP<const Matrix>& A, const Vector& b, Vector& x) override {
-    using RowMatrix = Tpetra::RowMatrix<Scalar, LO, GO, Node>;
-    Ifpack2::Factory factory;
-    auto prec = factory.create<RowMatrix>("SCHWARZ", A);
-    Teuchos::ParameterList pp;
-    pp.set("schwarz: overlap level", overlap_);
-    pp.set("inner preconditioner name", precType_);
-    Teuchos::ParameterList& inner = pp.sublist("inner preconditioner parameters");
-    if (precType_ == "ILUT") {
-      inner.set("fact: ilut level-of-fill", fill_);
-      inner.set("fact: drop tolerance", 0.0);
+    Teuchos::RCP<Operator> prec;
+    if (precType_ == "MueLu") {
+      if (nearNull_.is_null() || !nearNull_->getMap()->isSameAs(*A->getRowMap()))
+        throw LinearSolveError("GMRES (MueLu): no near-null space for this matrix");
+      MultigridSettings m;
+      m.sweeps = std::max(1, static_cast<int>(fill_));
+      prec = makeMultigrid(A, nearNull_, m);
     } else {
-      inner.set("fact: iluk level-of-fill", static_cast<int>(fill_));
+      using RowMatrix = Tpetra::RowMatrix<Scalar, LO, GO, Node>;
+      Ifpack2::Factory factory;
+      auto schwarz = factory.create<RowMatrix>("SCHWARZ", A);
+      Teuchos::ParameterList pp;
+      pp.set("schwarz: overlap level", overlap_);
+      pp.set("inner preconditioner name", precType_);
+      Teuchos::ParameterList& inner = pp.sublist("inner preconditioner parameters");
+      if (precType_ == "ILUT") {
+        inner.set("fact: ilut level-of-fill", fill_);
+        inner.set("fact: drop tolerance", 0.0);
+      } else {
+        inner.set("fact: iluk level-of-fill", static_cast<int>(fill_));
+      }
+      schwarz->setParameters(pp);
+      schwarz->initialize();
+      schwarz->compute();
+      prec = schwarz;
     }
-    prec->setParameters(pp);
-    prec->initialize();
-    prec->compute();
 
     x.putScalar(0.0);
     auto problem = Teuchos::rcp(new Belos::LinearProblem<Scalar, MultiVector, Operator>(
@@ -224,8 +238,13 @@ const ParameterSpec& linearSolverSpec() {
           "largest accepted ||A||_F ||x|| / ||b|| of a solve (a lower bound of the matrix's condition number); "
           "above it the matrix is taken as singular and the solve is an error",
           positive(), "> 0");
-    s.addChoice("Preconditioner", "ILUT", {"ILUT", "RILUK"}, "GMRES only: subdomain incomplete factorization");
-    s.add("Fill Level", 2.0, "GMRES only: ILUT level of fill or RILUK level k", nonNegative(), ">= 0");
+    s.addChoice("Preconditioner", "ILUT", {"ILUT", "RILUK", "MueLu"},
+                "GMRES only: ILUT or RILUK: additive Schwarz with incomplete factorizations of the subdomains; "
+                "MueLu: smoothed-aggregation multigrid with the nodes' rigid-body modes as near-null space "
+                "(Penalty and Augmented Lagrange only: no multiplier rows)");
+    s.add("Fill Level", 2.0,
+          "GMRES only: ILUT level of fill, RILUK level k, or MueLu's Gauss-Seidel sweeps per level (at least 1)",
+          nonNegative(), ">= 0");
     s.add("Overlap", 1, "GMRES only: overlap of the additive Schwarz subdomains", atLeast(0), ">= 0");
     s.add("Tolerance", 1e-12, "GMRES only: relative residual at which GMRES stops", positive(), "> 0");
     s.add("Maximum Iterations", 1000, "GMRES only: iteration limit", atLeast(1), ">= 1");

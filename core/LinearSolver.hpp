@@ -3,7 +3,8 @@
 //    on a one-process communicator, because KLU2 on several ranks returned wrong solutions without an
 //    error in this Trilinos build (see docs/toolchain.md).
 //  - "GMRES": Belos GMRES, right-preconditioned by Ifpack2 (additive Schwarz with ILUT or RILUK
-//    subdomain solves).
+//    subdomain solves) or by smoothed-aggregation multigrid (MueLu, with the nodes' rigid-body modes
+//    as near-null space; for matrices without multiplier rows).
 // Every solve is checked: the residual b - A x of the returned x is computed on the distributed
 // system, and its normwise backward error ||b - A x|| / (||A||_F ||x|| + ||b||) above "Residual Check
 // Tolerance" raises LinearSolveError. (The backward error is scale-invariant: a backward-stable solve
@@ -37,11 +38,16 @@ class LinearSolver {
   virtual ~LinearSolver() = default;
   virtual std::string name() const = 0;
   SolveReport solve(const Teuchos::RCP<const Matrix>& A, const Vector& b, Vector& x);
+  // Whether the solver wants the matrix's near-null space (the rigid-body modes of the nodes) with
+  // every solve (the multigrid preconditioner does), and where it is given.
+  virtual bool wantsNearNullSpace() const { return false; }
+  void setNearNullSpace(const Teuchos::RCP<MultiVector>& modes) { nearNull_ = modes; }
 
  protected:
   LinearSolver(double checkTolerance, double conditionLimit)
       : checkTolerance_(checkTolerance), conditionLimit_(conditionLimit) {}
   virtual int doSolve(const Teuchos::RCP<const Matrix>& A, const Vector& b, Vector& x) = 0;
+  Teuchos::RCP<MultiVector> nearNull_;
 
  private:
   double checkTolerance_, conditionLimit_;

@@ -954,6 +954,12 @@ Problem buildProblem(ParameterList deck, const std::string& deckName) {
                 p.model.tracked.push_back({name, locate.nodes(t, path, false).front()});
               });
   if (deck.isSublist("Contact")) buildContact(p, deck.sublist("Contact"), top + "/Contact");
+  if (linear.get<std::string>("Type") == "GMRES" && linear.get<std::string>("Preconditioner") == "MueLu" &&
+      deck.isSublist("Contact") &&
+      deck.sublist("Contact").sublist("Enforcement").get<std::string>("Type") == "Lagrange Multiplier")
+    throw InputError("parameter \"" + top + "/Linear Solver/Preconditioner\" = \"MueLu\" preconditions matrices of "
+                     "nodal dofs only, and \"" + top + "/Contact/Enforcement/Type\" = \"Lagrange Multiplier\" adds "
+                     "multiplier rows: use Penalty or Augmented Lagrange with it, or Linear Solver/Type = Direct");
 
   if (p.model.supports.empty())
     throw InputError("\"" + top + "/Supports\" is empty: the structure would be free to move as a rigid body");
