@@ -10,6 +10,8 @@
 #include <stdexcept>
 #include <unordered_map>
 
+#include <Teuchos_CommHelpers.hpp>
+
 #include "core/Checkpoint.hpp"
 #include "core/Parameters.hpp"
 
@@ -822,6 +824,13 @@ void ContactManager::connectivity(const OwnsDof& owns, std::vector<std::vector<G
 void ContactManager::evaluate(const core::State& state, const OwnsDof& owns, core::AssemblySink& sink,
                               bool tangent) const {
   std::vector<double> f, K;
+  // Compares a slipping point's friction force with the last tangent assembly's (failureHint).
+  const auto watchFriction = [&](const Key& key, const PointResult& r) {
+    if (!tangent || !r.active || !(r.slip[0] || r.slip[1])) return;
+    FrictionWatch& w = frictionWatch_[key];
+    if (w.force[0] * r.lambdaT[0] + w.force[1] * r.lambdaT[1] < 0.0) ++w.reversals;
+    w.force = {r.lambdaT[0], r.lambdaT[1]};
+  };
   for (const auto& [key, p] : points_) {
     if (p.node()) continue;  // a line node's rows come from its Gauss points
     const auto d = blockDofs(p);
@@ -840,7 +849,7 @@ void ContactManager::evaluate(const core::State& state, const OwnsDof& owns, cor
     } else {
       f.assign(n, 0.0);
       K.assign(std::size_t(n) * n, 0.0);
-      enforcer_->evaluate(strategyView(p, k, state), *p.state, f.data(), tangent ? K.data() : nullptr);
+      watchFriction(key, enforcer_->evaluate(strategyView(p, k, state), *p.state, f.data(), tangent ? K.data() : nullptr));
     }
     // Weighted by the blend between point and line contact (w(u), its gradient in the tangent:
     // K <- w K + f (x) grad w) and, for a line point, by the length it stands for (which moves with
@@ -862,6 +871,25 @@ void ContactManager::evaluate(const core::State& state, const OwnsDof& owns, cor
 }
 
 
+
+namespace {
+constexpr int kCyclingReversals = 3;  // reversals of a point's friction force within a Newton solve
+}  // namespace
+
+std::string ContactManager::failureHint(const Teuchos::Comm<int>& comm) const {
+  // Slip directions that flip back and forth at many points: the friction force's jump across zero
+  // slip is steeper than the beams can follow, and Newton cycles between mirror images.
+  int local[2] = {static_cast<int>(frictionWatch_.size()), 0}, global[2] = {0, 0};
+  for (const auto& [key, w] : frictionWatch_) local[1] += w.reversals >= kCyclingReversals;
+  Teuchos::reduceAll(comm, Teuchos::REDUCE_SUM, 2, local, global);
+  if (global[1] < 2 || global[1] < global[0] / 4) return "";
+  std::ostringstream s;
+  s << global[1] << " of " << global[0] << " slipping contact points reversed their friction force "
+    << kCyclingReversals << " times or more in this Newton solve (slip directions cycling): the strategy's "
+    << "tangential stiffness (Tangential Penalty Parameter, or Friction Complementarity Parameter with Lagrange "
+       "multipliers) may be too stiff for these beams; a smaller value helps";
+  return s.str();
+}
 
 void ContactManager::checkNoUnseenContact(const core::State& state, bool atStart) const {
   // Contacts the point model cannot see: two beams whose axes come closer than the sum of their
@@ -1010,6 +1038,7 @@ bool ContactManager::acceptSolution(core::State& state) {
 }
 
 void ContactManager::commitStep(const core::State& state) {
+  frictionWatch_.clear();
   const auto gaps = nodalLines_ ? nodeGaps(state) : std::map<Key, NodeGap>{};
   for (auto& [key, p] : points_) {
     if (p.node()) {  // a line node: its multipliers (reported through its Gauss points)
@@ -1215,6 +1244,7 @@ double ContactManager::stepBound(const core::State& state, const std::vector<dou
 void ContactManager::restoreStep() {
   points_ = committed_;
   passes_ = 0;
+  frictionWatch_.clear();
 }
 
 std::string ContactManager::tableHeader() const {

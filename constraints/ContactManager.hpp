@@ -87,6 +87,7 @@ class ContactManager : public core::Contribution {
   std::string name() const override { return "contact"; }
   void connectivity(const OwnsDof& owns, std::vector<std::vector<core::GlobalDof>>& blocks) const override;
   void evaluate(const core::State& state, const OwnsDof& owns, core::AssemblySink& sink, bool tangent) const override;
+  std::string failureHint(const Teuchos::Comm<int>& comm) const override;
   bool prepareIteration(core::State& state) override;
   bool acceptSolution(core::State& state) override;
   void commitStep(const core::State& state) override;
@@ -273,6 +274,13 @@ class ContactManager : public core::Contribution {
   // The length of line A a Gauss point stands for (its weight times its segment's reference length).
   double lineWeight(const Point& p, double segment) const;
   std::map<std::tuple<int, int, int>, Point> points_, committed_, marked_;
+  // This rank's slipping points in the present Newton solve of the increment: the friction force at
+  // the last tangent assembly and how often it reversed against the one before (failureHint).
+  struct FrictionWatch {
+    std::array<double, 2> force{};
+    int reversals = 0;
+  };
+  mutable std::map<std::tuple<int, int, int>, FrictionWatch> frictionWatch_;
   core::State reference_;  // the last converged state (orientation of new points, swept search)
   int numNodes_ = 0;
   int passes_ = 0;

@@ -14,6 +14,11 @@
 
 #include "State.hpp"
 
+namespace Teuchos {
+template <typename Ordinal>
+class Comm;
+}  // namespace Teuchos
+
 namespace bc::core {
 
 class CheckpointOut;
@@ -86,6 +91,9 @@ class Physics {
   // (e.g. a constraint that is open now and would close at the full step: the step ends just past
   // its first touch, so the next tangent knows its stiffness).
   virtual double stepBound(const State& state, const std::vector<double>& du) const { return 1.0; }
+  // A Newton solve failed to converge: what the contribution saw in its last iterations that may
+  // explain it, as a sentence for the failure message (empty: nothing). Called on every rank.
+  virtual std::string failureHint(const Teuchos::Comm<int>& comm) const { return ""; }
 };
 
 // The load-step life cycle: history committed at a converged step, restored when a step is cut, and

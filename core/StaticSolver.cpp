@@ -97,6 +97,37 @@ StaticSolver::StaticSolver(Teuchos::RCP<const Comm> comm, Model& model, SolverSe
   graphStale_ = true;  // built at the first iteration, from the state being solved
 }
 
+namespace {
+// The six rigid-body modes of the nodes at the state's positions (translations along x, y, z and
+// rotations about axes through the nodes' centroid), on the owned dofs of `map`; zero on any dof
+// beyond the nodal ones.
+Teuchos::RCP<MultiVector> rigidBodyModes(const State& s, const Teuchos::RCP<const Map>& map) {
+  auto modes = Teuchos::rcp(new MultiVector(map, 6));
+  Vec3d centre{};
+  for (const Vec3d& x : s.position) centre = centre + x;
+  if (s.numNodes() > 0) centre = (1.0 / s.numNodes()) * centre;
+  const GlobalDof nodal = GlobalDof(kDofsPerNode) * s.numNodes();
+  for (std::size_t i = 0; i < map->getNodeNumElements(); ++i) {
+    const GlobalDof g = map->getGlobalElement(static_cast<LO>(i));
+    if (g >= nodal) continue;
+    const int node = static_cast<int>(g / kDofsPerNode), c = static_cast<int>(g % kDofsPerNode);
+    const Vec3d r = s.position[node] - centre;
+    if (c < 3) {
+      modes->replaceLocalValue(static_cast<LO>(i), c, 1.0);
+      // Rotation about axis a: e_a x r, component c.
+      for (int a = 0; a < 3; ++a) {
+        Vec3d e{};
+        e[a] = 1.0;
+        modes->replaceLocalValue(static_cast<LO>(i), 3 + a, math::cross(e, r)[c]);
+      }
+    } else {
+      modes->replaceLocalValue(static_cast<LO>(i), c, 1.0);
+    }
+  }
+  return modes;
+}
+}  // namespace
+
 void StaticSolver::start(const std::string& name) {
   if (!timer_.is_null()) timer_->start(name);
 }
@@ -421,6 +452,10 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
       std::ostringstream s;
       s << "no convergence in " << settings_.maxIterations << " Newton iterations (Maximum Iterations), last ||r|| = "
         << rn;
+      for (auto& c : model_.contributions) {
+        const std::string hint = c->failureHint(*comm_);
+        if (!hint.empty()) s << "; " << hint;
+      }
       failure = s.str();
       return false;
     }
@@ -431,6 +466,16 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
     }
     Vector rhs(assembler_.ownedMap());
     rhs.update(-1.0, *assembler_.residual(), 0.0);
+    if (linear_.wantsNearNullSpace()) {
+      if (!trial_.extra.empty()) {
+        failure = linear_.name() + " preconditions matrices of nodal dofs only; this one has " +
+                  std::to_string(trial_.extra.size()) +
+                  " multiplier rows (Lagrange Multiplier): use Penalty or Augmented Lagrange with it, or Linear "
+                  "Solver/Type = Direct";
+        return false;
+      }
+      linear_.setNearNullSpace(rigidBodyModes(trial_, assembler_.ownedMap()));
+    }
     SolveReport lin;
     start("Linear Solve");
     try {

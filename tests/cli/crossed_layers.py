@@ -13,10 +13,12 @@ on each beam, whose contact points (on the straight element chords) follow only 
 the normal constraints are linearly dependent and the saddle-point matrix is singular. That run must
 stop with an error that says so (not converge to a wrong state), and Penalty must complete it.
 And 8 x 8 layers laid on each other with every top crossing loaded (check_laid_and_loaded), also solved
-by GMRES with the multigrid preconditioner on 1 and 2 ranks.
+by GMRES with the multigrid preconditioner on 1 and 2 ranks; and frictional layers whose slip
+directions cycle with a stiff tangential penalty (check_friction_cycling): the failure names the cause.
 Usage: crossed_layers.py BEAMCONTACT WORKDIR MPIEXEC...
 """
 import csv
+import math
 import os
 import subprocess
 import sys
@@ -128,12 +130,44 @@ def check_laid_and_loaded(exe, work, mpi):
     return failures
 
 
+def check_friction_cycling(exe, work):
+    """12 x 12 layers laid on each other and loaded to a deflection of about a tenth of the radius,
+    friction 0.2, Penalty eps_N 1e4 / eps_T 1e3 (one increment, no cuts): the stick zone
+    |g_T| < mu lambda_N / eps_T is far narrower than Newton's tangential motions and the slip
+    directions cycle. The run must stop with a message that says so and names the parameter; with
+    eps_N 1e2 / eps_T 10, as it advises, the same layers converge."""
+    n, failures = 12, 0
+    span = 10.0 * (n + 1)
+    load = 0.1 * 384 * 1e5 * math.pi / 4 / (5 * n * span ** 3)
+    for penalty, should_complete in (("1e4", False), ("1e2", True)):
+        deck = os.path.join(work, f"cycling_{penalty}.xml")
+        subprocess.run([exe, "generate", "grid", "--n", str(n), "--m", str(n), "--elements", str(n + 1), "--gap", "0",
+                        "--press", "0", "--load", repr(load), "--penalty", penalty, "--increments", "1",
+                        "--output", deck], check=True, capture_output=True)
+        tree = ET.parse(deck)
+        set_parameter(tree.getroot(), "Output/Write VTK", "bool", "false")
+        set_parameter(tree.getroot(), "Load Stepping/Maximum Step Cuts", "int", "0")
+        tree.write(deck)
+        out = deck[:-4]
+        r = subprocess.run([exe, "run", deck, "--output", out, "--quiet"], capture_output=True, text=True)
+        with open(os.path.join(out, "status.txt")) as f:
+            status = f.read().strip()
+        print(f"12x12 laid and loaded, friction 0.2, eps_N {penalty}: exit {r.returncode}; {status[-260:]}")
+        if should_complete:
+            failures += not (r.returncode == 0 and status.startswith("complete"))
+        else:
+            failures += not (r.returncode != 0 and "reversed their friction force" in status
+                             and "Tangential Penalty Parameter" in status)
+    return failures
+
+
 def main():
     exe, work, mpi = sys.argv[1], sys.argv[2], sys.argv[3:]
     os.makedirs(work, exist_ok=True)
     failures = sum(check_layout(exe, work, mpi, *layout) for layout in LAYOUTS)
     failures += check_over_constrained(exe, work)
     failures += check_laid_and_loaded(exe, work, mpi)
+    failures += check_friction_cycling(exe, work)
     if failures:
         sys.exit(f"{failures} check(s) failed")
     print("ok")
