@@ -1,12 +1,12 @@
 #include "LinearSolver.hpp"
 
 #include "Multigrid.hpp"
+#include "SerialKlu.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 
-#include <Amesos2.hpp>
 #include <BelosSolverFactory.hpp>
 #include <BelosTpetraAdapter.hpp>
 #include <Ifpack2_Factory.hpp>
@@ -63,7 +63,17 @@ namespace {
 
 using SerialMap = Tpetra::Map<LO, GO, Node>;
 
-// KLU2, with the gather-to-rank-0 scheme on more than one rank.
+// ||b - A x|| / (||A||_F ||x|| + ||b||).
+double backwardError(const Matrix& A, const Vector& b, const Vector& x) {
+  Vector r(b.getMap());
+  A.apply(x, r);
+  r.update(1.0, b, -1.0);
+  const double scale = A.getFrobeniusNorm() * x.norm2() + b.norm2();
+  return scale > 0.0 ? r.norm2() / scale : r.norm2();
+}
+
+// KLU2: on one rank called directly (SerialKlu, refactoring); on more than one rank through Amesos2,
+// gathered to rank 0.
 class DirectSolver : public LinearSolver {
  public:
   DirectSolver(double checkTol, double conditionLimit) : LinearSolver(checkTol, conditionLimit) {}
@@ -73,16 +83,9 @@ class DirectSolver : public LinearSolver {
   int doSolve(const Teuchos::RCP<const Matrix>& A, const Vector& b, Vector& x) override {
     const auto comm = A->getRowMap()->getComm();
     if (comm->getSize() == 1) {
-      // The same matrix object with new values (the assembler keeps it while its graph stands):
-      // keep KLU2's symbolic factorization, redo the numeric one.
-      if (A == lastMatrix_ && !cached_.is_null()) {
-        cached_->setX(Teuchos::rcpFromRef<MultiVector>(x));
-        cached_->setB(Teuchos::rcpFromRef<const MultiVector>(b));
-        cached_->numericFactorization().solve();
-      } else {
-        cached_ = solveKlu2(A, b, x);
-        lastMatrix_ = A;
-      }
+      // The same matrix object with new values (the assembler keeps it while its graph stands).
+      factorAndSolve(*A, A == lastMatrix_, b, x);
+      lastMatrix_ = A;
       return 0;
     }
     const auto owned = A->getRowMap();
@@ -124,7 +127,7 @@ class DirectSolver : public LinearSolver {
           auto dst = bs.getDataNonConst();
           for (GO g = 0; g < n; ++g) dst[rootMap->getLocalElement(g)] = src[rootMap->getLocalElement(g)];
         }
-        solveKlu2(As, bs, xs);
+        factorAndSolve(*As, A == lastMatrix_, bs, xs);
         auto src = xs.getData();
         auto dst = x0.getDataNonConst();
         for (GO g = 0; g < n; ++g) dst[rootMap->getLocalElement(g)] = src[g];
@@ -135,6 +138,7 @@ class DirectSolver : public LinearSolver {
     }
     int anyFailed = 0;
     Teuchos::reduceAll(*comm, Teuchos::REDUCE_MAX, failed, Teuchos::outArg(anyFailed));
+    lastMatrix_ = A;
     if (anyFailed) throw LinearSolveError("KLU2 failed on rank 0: " + what);
     Tpetra::Import<LO, GO, Node> fromRoot(rootMap, owned);
     x.doImport(x0, fromRoot, Tpetra::INSERT);
@@ -143,18 +147,22 @@ class DirectSolver : public LinearSolver {
 
  private:
   Teuchos::RCP<const Matrix> lastMatrix_;
-  Teuchos::RCP<Amesos2::Solver<Matrix, MultiVector>> cached_;
+  SerialKlu klu_;
 
-  // A new KLU2 solver for A: factorizes and solves; returned so that its symbolic factorization
-  // can serve later solves with the same matrix.
-  static Teuchos::RCP<Amesos2::Solver<Matrix, MultiVector>> solveKlu2(const Teuchos::RCP<const Matrix>& A,
-                                                                       const Vector& b, Vector& x) {
-    auto xp = Teuchos::rcpFromRef(x);
-    auto bp = Teuchos::rcpFromRef(b);
-    auto solver = Amesos2::create<Matrix, MultiVector>("KLU2", A, Teuchos::rcp_implicit_cast<MultiVector>(xp),
-                                                       Teuchos::rcp_implicit_cast<const MultiVector>(bp));
-    solver->symbolicFactorization().numericFactorization().solve();
-    return solver;
+  // Factors A (on one process) and solves A x = b. `samePattern`: A has the pattern of the last
+  // factorization, which is refactored with that factorization's pivot order. Pivots chosen for
+  // other values can be poor: a refactored solve whose backward error is not well below the check's
+  // tolerance is redone with a fresh factorization (with pivoting).
+  void factorAndSolve(const Matrix& A, bool samePattern, const Vector& b, Vector& x) {
+    const bool refactor = samePattern && klu_.factored();
+    auto xv = x.getDataNonConst();
+    const auto bv = b.getData();
+    klu_.factor(A, refactor);
+    klu_.solve(bv.getRawPtr(), xv.getRawPtr());
+    if (refactor && !(backwardError(A, b, x) <= 1e-3 * checkTolerance())) {
+      klu_.factor(A, false);
+      klu_.solve(bv.getRawPtr(), xv.getRawPtr());
+    }
   }
 };
 

@@ -48,6 +48,7 @@ class LinearSolver {
       : checkTolerance_(checkTolerance), conditionLimit_(conditionLimit) {}
   virtual int doSolve(const Teuchos::RCP<const Matrix>& A, const Vector& b, Vector& x) = 0;
   Teuchos::RCP<MultiVector> nearNull_;
+  double checkTolerance() const { return checkTolerance_; }
 
  private:
   double checkTolerance_, conditionLimit_;

@@ -1,0 +1,94 @@
+#include "SerialKlu.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+// KLU2's headers define their templates in the namespace they are included in (as Amesos2 does).
+namespace KLU2 {
+#include <klu2_defaults.hpp>
+#include <klu2_analyze.hpp>
+#include <klu2_factor.hpp>
+#include <klu2_tsolve.hpp>
+// klu2.h declares klu_refactor with Entry values, klu2_refactor.hpp defines it with double values:
+// two templates that no call can choose between. The definition is taken under its own name.
+// It also calls klu_scale with NULL for the (template) workspace pointer, which deduces nothing: this
+// overload takes that call.
+inline int klu_scale(int scale, int n, int Ap[], int Ai[], double Ax[], double Rs[], decltype(NULL),
+                     klu_common<double, int>* common) {
+  return klu_scale<double, int>(scale, n, Ap, Ai, Ax, Rs, static_cast<int*>(nullptr), common);
+}
+#undef KLU_refactor
+#define KLU_refactor klu_refactor_definition
+#include <klu2_refactor.hpp>
+#undef KLU_refactor
+#include <klu2_free_symbolic.hpp>
+#include <klu2_free_numeric.hpp>
+}  // namespace KLU2
+
+namespace bc::core {
+
+struct SerialKlu::Data {
+  KLU2::klu_common<double, int> common;
+  KLU2::klu_symbolic<double, int>* symbolic = nullptr;
+  KLU2::klu_numeric<double, int>* numeric = nullptr;
+  // A's rows in compressed form with row-map local column indices. KLU2 reads compressed columns:
+  // it sees A^T, so a solve with A is its transposed solve.
+  std::vector<int> rowStart, columns, rawColumns;  // rawColumns: A's own local column indices
+  int n = 0;
+  mutable std::vector<double> work;
+
+  void release() {
+    if (numeric) ::KLU2::klu_free_numeric<double, int>(&numeric, &common);
+    if (symbolic) ::KLU2::klu_free_symbolic<double, int>(&symbolic, &common);
+    numeric = nullptr;
+    symbolic = nullptr;
+  }
+};
+
+SerialKlu::SerialKlu() : d_(std::make_unique<Data>()) { ::KLU2::klu_defaults<double, int>(&d_->common); }
+
+SerialKlu::~SerialKlu() { d_->release(); }
+
+bool SerialKlu::factored() const { return d_->numeric != nullptr; }
+
+void SerialKlu::factor(const Matrix& A, bool refactor) {
+  const auto local = A.getLocalMatrixHost();
+  const auto& rowMap = *A.getRowMap();
+  const auto& colMap = *A.getColMap();
+  const int n = static_cast<int>(rowMap.getNodeNumElements());
+  double* values = const_cast<double*>(local.values.data());
+  // A refactorization needs the very same compressed rows as the factorization it reuses.
+  const auto& rowPtr = local.graph.row_map;
+  const auto& entries = local.graph.entries;
+  const bool samePattern =
+      refactor && factored() && n == d_->n && d_->rawColumns.size() == entries.extent(0) &&
+      std::equal(d_->rowStart.begin(), d_->rowStart.end(), rowPtr.data()) &&
+      std::equal(d_->rawColumns.begin(), d_->rawColumns.end(), entries.data());
+  if (!samePattern) {
+    d_->release();
+    d_->n = n;
+    d_->rowStart.assign(local.graph.row_map.data(), local.graph.row_map.data() + n + 1);
+    d_->rawColumns.assign(entries.data(), entries.data() + entries.extent(0));
+    d_->columns.resize(local.graph.entries.extent(0));
+    for (std::size_t k = 0; k < d_->columns.size(); ++k)
+      d_->columns[k] = rowMap.getLocalElement(colMap.getGlobalElement(local.graph.entries(k)));
+    d_->symbolic = ::KLU2::klu_analyze<double, int>(n, d_->rowStart.data(), d_->columns.data(), &d_->common);
+    if (!d_->symbolic) throw std::runtime_error("KLU2 analysis failed");
+    d_->numeric = ::KLU2::klu_factor<double, int>(d_->rowStart.data(), d_->columns.data(), values, d_->symbolic,
+                                                  &d_->common);
+    if (!d_->numeric) throw std::runtime_error("KLU2 numeric factorization failed (singular matrix)");
+    return;
+  }
+  // A pivot of the old order that is zero now: factor afresh, with pivoting.
+  if (!::KLU2::klu_refactor_definition<double, int>(d_->rowStart.data(), d_->columns.data(), values, d_->symbolic,
+                                                    d_->numeric, &d_->common))
+    factor(A, false);
+}
+
+void SerialKlu::solve(const double* b, double* x) const {
+  std::copy(b, b + d_->n, x);
+  if (!::KLU2::klu_tsolve<double, int>(d_->symbolic, d_->numeric, d_->n, 1, x, &d_->common))
+    throw std::runtime_error("KLU2 solve failed");
+}
+
+}  // namespace bc::core
