@@ -6,7 +6,9 @@ crossings are in contact, run with each strategy on 1 and 2 ranks. P keeps the l
 about a tenth of the radius at every size: P = 0.1 * 384 E I / (5 n L^3), the midspan deflection of a
 beam carrying its n loads smeared over its span. Frictionless by default (--friction): with friction
 0.2 the 16 x 16 layers do not converge from the touching start (slip directions cycling), which is a
-robustness matter, not one of cost per iteration. Per size, strategy and rank count it prints
+robustness matter, not one of cost per iteration. With --model weave: the plain-weave mat of
+`beamcontact generate weave --n n --m n` (8 elements per spacing, warp ends pulled). Per size, strategy
+and rank count it prints
   - the time per Newton iteration (all of the run's Newton iterations, also those of cut increments),
     split into contact search (the candidate search and the points' update before each iteration),
     assembly (residual and tangent: beams and contact), linear solve, and the rest of the iteration
@@ -19,7 +21,7 @@ slope of log time per iteration against log crossings), and the 2-rank speed-up 
 1 rank over that on 2). Each figure is the median of --repeat runs (VTK off). The timings come from the
 run's timers.txt (Teuchos stacked timers of rank 0).
 Usage: bench_scale.py BEAMCONTACT [--sizes 4,8,16,32] [--strategies ...] [--ranks 1,2] [--repeat 3]
-                      [--increments 5] [--friction 0] [--solver Direct] [--work DIR] [--mpiexec mpirun]
+                      [--model grid] [--increments 5] [--friction MU] [--solver Direct] [--work DIR] [--mpiexec mpirun]
 """
 import argparse
 import csv
@@ -56,6 +58,8 @@ def run_once(exe, deck, out, ranks, mpiexec):
         child = subprocess.Popen(cmd, stdout=log, stderr=subprocess.STDOUT)
         _, status, usage = os.wait4(child.pid, 0)
     returncode = os.waitstatus_to_exitcode(status)
+    with open(os.path.join(os.path.dirname(out), "bench_output.txt")) as log:
+        nodes = re.search(r"(\d+) nodes", log.read())
     peak = usage.ru_maxrss
     t = timers(os.path.join(out, "timers.txt"))
     iterations = t.get("Linear Solve", (0.0, 0))[1]
@@ -68,7 +72,8 @@ def run_once(exe, deck, out, ranks, mpiexec):
     stage = {k: sum(t.get(n, (0.0, 0))[0] for n in names) / max(iterations, 1) for k, names in STAGES.items()}
     stage["total"] = sum(stage.values())
     return {"stage": stage, "iterations": iterations, "converged_iterations": converged, "complete": returncode == 0,
-            "active": active, "peak_kb": peak}
+            "active": active, "peak_kb": peak,
+            "dofs": 6 * int(nodes.group(1)) if nodes else 0}
 
 
 def slope(xs, ys):
@@ -87,12 +92,19 @@ def main():
     ap.add_argument("--ranks", default="1,2")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--increments", type=int, default=5)
-    ap.add_argument("--friction", type=float, default=0.0)
+    ap.add_argument("--model", default="grid", choices=["grid", "weave"],
+                    help="grid: the loaded crossed layers above; weave: generate weave --n n --m n (plain-weave "
+                         "mat, 8 elements per spacing, warp pulled)")
+    ap.add_argument("--friction", type=float, default=None,
+                    help="Coulomb coefficient; default 0 for the grid, 0.2 for the weave (frictionless yarns slide "
+                         "freely along each other)")
     ap.add_argument("--solver", default="Direct", choices=["Direct", "MueLu", "ILUT", "RILUK"],
                     help="Direct (KLU2), or GMRES preconditioned by MueLu multigrid, ILUT or RILUK")
     ap.add_argument("--work", default="bench_scale")
     ap.add_argument("--mpiexec", default="mpirun")
     a = ap.parse_args()
+    if a.friction is None:
+        a.friction = 0.0 if a.model == "grid" else 0.2
     os.makedirs(a.work, exist_ok=True)
     os.environ.setdefault("OMPI_ALLOW_RUN_AS_ROOT", "1")
     os.environ.setdefault("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
@@ -103,17 +115,18 @@ def main():
     print(f"{'n x n':>7} {'cross':>6} {'dofs':>7} {'method':>4} {'ranks':>5} | {'s/iter':>8} {'search':>8} {'assembly':>8} "
           f"{'solve':>8} {'rest':>8} | {'iters':>5} {'done':>4} {'active':>6} {'MB':>7}")
     for n in sizes:
-        base = os.path.join(a.work, f"grid{n}.xml")
-        span = 10.0 * (n + 1)
-        load = 0.1 * 384 * 1e5 * math.pi / 4 / (5 * n * span ** 3)
-        subprocess.run([a.exe, "generate", "grid", "--n", str(n), "--m", str(n), "--elements", str(n + 1), "--gap", "0",
-                        "--press", "0", "--load", repr(load), "--friction", str(a.friction), "--increments",
-                        str(a.increments), "--output", base], check=True, capture_output=True)
+        base = os.path.join(a.work, f"{a.model}{n}.xml")
+        if a.model == "grid":
+            span = 10.0 * (n + 1)
+            load = 0.1 * 384 * 1e5 * math.pi / 4 / (5 * n * span ** 3)
+            options = ["--elements", str(n + 1), "--gap", "0", "--press", "0", "--load", repr(load)]
+        else:
+            options = []
+        subprocess.run([a.exe, "generate", a.model, "--n", str(n), "--m", str(n), "--friction", str(a.friction),
+                        "--increments", str(a.increments), "--output", base] + options, check=True, capture_output=True)
         text = open(base).read()
-        elements = [int(v) for v in re.findall(r'name="Elements" type="int" value="(\d+)"', text)]
-        dofs = 6 * sum(e + 1 for e in elements)
         for strategy in strategies:
-            deck = os.path.join(a.work, f"grid{n}_{SHORT.get(strategy, strategy)}.xml")
+            deck = os.path.join(a.work, f"{a.model}{n}_{SHORT.get(strategy, strategy)}.xml")
             t = text.replace('name="Type" type="string" value="Penalty"', f'name="Type" type="string" value="{strategy}"', 1)
             linear = ""
             if a.solver != "Direct":
@@ -132,7 +145,7 @@ def main():
                 r0 = runs[0]
                 results[(n, strategy, ranks)] = med
                 memory[(n, strategy, ranks)] = peak
-                print(f"{n:>3} x {n:<3} {n * n:>6} {dofs:>7} {SHORT.get(strategy, strategy):>4} {ranks:>5} | "
+                print(f"{n:>3} x {n:<3} {n * n:>6} {r0['dofs']:>7} {SHORT.get(strategy, strategy):>4} {ranks:>5} | "
                       f"{med['total']:8.4f} {med['search']:8.4f} {med['assembly']:8.4f} {med['solve']:8.4f} "
                       f"{med['rest']:8.4f} | {r0['iterations']:>5} {'yes' if r0['complete'] else 'no':>4} "
                       f"{r0['active']:>6} {peak / 1024:7.1f}", flush=True)
