@@ -23,7 +23,7 @@ SolveReport LinearSolver::solve(const Teuchos::RCP<const Matrix>& A, const Vecto
   } catch (const LinearSolveError&) {
     throw;
   } catch (const std::exception& e) {
-    // Amesos2 and Belos report over several lines; the first names the failure.
+    // Belos and MueLu report over several lines; the first names the failure.
     std::string what = e.what();
     what = what.substr(0, what.find('\n'));
     throw LinearSolveError(name() + " failed, the tangent matrix is probably singular (a free motion: a beam "
@@ -72,8 +72,8 @@ double backwardError(const Matrix& A, const Vector& b, const Vector& x) {
   return scale > 0.0 ? r.norm2() / scale : r.norm2();
 }
 
-// KLU2: on one rank called directly (SerialKlu, refactoring); on more than one rank through Amesos2,
-// gathered to rank 0.
+// KLU2, called directly (SerialKlu, refactoring); on more than one rank the matrix is gathered to
+// rank 0 and factored there.
 class DirectSolver : public LinearSolver {
  public:
   DirectSolver(double checkTol, double conditionLimit) : LinearSolver(checkTol, conditionLimit) {}
@@ -237,7 +237,7 @@ const ParameterSpec& linearSolverSpec() {
   static const ParameterSpec spec = [] {
     ParameterSpec s;
     s.addChoice("Type", "Direct", {"Direct", "GMRES"},
-                "Direct: sparse LU (Amesos2 KLU2); GMRES: Belos GMRES with an Ifpack2 preconditioner");
+                "Direct: sparse LU (KLU2); GMRES: Belos GMRES with an Ifpack2 or MueLu preconditioner");
     s.add("Residual Check Tolerance", 1e-10,
           "largest accepted backward error ||b - A x|| / (||A||_F ||x|| + ||b||) of a solve; above it the solve "
           "is an error",
