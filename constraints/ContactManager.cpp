@@ -1051,7 +1051,7 @@ void ContactManager::commitStep(const core::State& state) {
       const ContactPoint view = nodeView(p, k, state);
       p.result = enforcer_->reportedForces(view, *p.state);
       enforcer_->commitPoint(view, *p.state);
-      p.kinematics = k;
+      p.gap = k.normal.value;
       p.position = state.position[p.lineB];
       continue;
     }
@@ -1086,7 +1086,7 @@ void ContactManager::commitStep(const core::State& state) {
         }
       }
     }
-    p.kinematics = k;
+    p.gap = k.normal.value;
     const ClosestPoints cp = pointGeometry(p, state);
     if (p.result.active) {
       const auto& pair = pairs_[p.pair];
@@ -1262,7 +1262,7 @@ std::vector<std::string> ContactManager::tableRows() const {
     s.precision(12);
     const auto state = [&](int i) { return !p.result.active ? "open" : (p.result.slip[i] ? "slip" : "stick"); };
     s << pairs_[p.pair].name << "," << p.lineA << "," << p.lineB << "," << p.xiPrev << "," << p.etaPrev << ","
-      << p.position[0] << "," << p.position[1] << "," << p.position[2] << "," << p.kinematics.normal.value << ","
+      << p.position[0] << "," << p.position[1] << "," << p.position[2] << "," << p.gap << ","
       << -p.result.lambdaN << "," << p.result.lambdaT[0] << "," << p.result.lambdaT[1] << "," << state(0) << ","
       << state(1) << "," << (p.result.active ? 1 : 0);
     for (const Vec3d* v : {&p.normal, &p.normalForce, &p.tangentialForce})

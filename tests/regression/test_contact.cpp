@@ -79,7 +79,7 @@ ContactSums sums(const input::Problem& p) {
     ++c.active;
     c.normal += -pt.result.lambdaN;
     c.tangential1 += pt.result.lambdaT[0];
-    c.maxPenetration = std::max(c.maxPenetration, -pt.kinematics.normal.value);
+    c.maxPenetration = std::max(c.maxPenetration, -pt.gap);
   }
   return c;
 }
@@ -282,9 +282,9 @@ TEST(Pressing, CircularSectionsMatchTheExactClosedForm) {
     lagrangeN = c.normal;
     const double N = (W - 0.5) / (c1 + c2);
     std::printf("circles, Lagrange multiplier: N = %.6f (closed form %.6f), |gap| %.2e\n", c.normal, N,
-                std::abs(p.contact->points().begin()->second.kinematics.normal.value));
+                std::abs(p.contact->points().begin()->second.gap));
     EXPECT_NEAR(c.normal, N, 2e-3 * N);
-    for (const auto& [key, pt] : p.contact->points()) EXPECT_LT(std::abs(pt.kinematics.normal.value), 1e-12);
+    for (const auto& [key, pt] : p.contact->points()) EXPECT_LT(std::abs(pt.gap), 1e-12);
   }
   // Augmented Lagrange: the rigid-contact answer, whatever eps_N, and the Lagrange one.
   for (double e : {1e3, 1e5}) {
@@ -1137,8 +1137,8 @@ LineSums lineSums(const input::Problem& p) {
     if (!q.result.active) continue;
     ++s.active;
     s.total += -q.result.lambdaN;
-    s.gapMin = std::min(s.gapMin, q.kinematics.normal.value);
-    s.gapMax = std::max(s.gapMax, q.kinematics.normal.value);
+    s.gapMin = std::min(s.gapMin, q.gap);
+    s.gapMax = std::max(s.gapMax, q.gap);
     s.friction += q.tangentialForce[0];
     s.slipping += q.result.slip[1];
   }
