@@ -131,7 +131,8 @@ class ContactManager : public core::Contribution {
     double etaRate = 0.0, xi = 0.0, length = 0.0;
     PointStateHolder state;  // the strategy's
     int extraOffset = -1, extraCount = 0;  // its multipliers in State::extra (as laid out last)
-    // Last committed values, for output: the normal gap (a line node: its field-weighted gap), ...
+    // Last committed values, for output: the normal gap (a line node: its field-weighted gap) and
+    // the following.
     double gap = 0.0;
     PointResult result;
     Vec3d position{};

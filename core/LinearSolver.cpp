@@ -16,7 +16,7 @@
 
 namespace bc::core {
 
-SolveReport LinearSolver::solve(const Teuchos::RCP<const Matrix>& A, const Vector& b, Vector& x) {
+SolveReport LinearSolver::attempt(const Teuchos::RCP<const Matrix>& A, const Vector& b, Vector& x) {
   SolveReport report;
   try {
     report.iterations = doSolve(A, b, x);
@@ -32,14 +32,23 @@ SolveReport LinearSolver::solve(const Teuchos::RCP<const Matrix>& A, const Vecto
   Vector r(b.getMap());
   A->apply(x, r);
   r.update(1.0, b, -1.0);
-  const double bn = b.norm2(), rn = r.norm2(), xn = x.norm2();
-  const double scale = A->getFrobeniusNorm() * xn + bn;
+  const double bn = b.norm2(), rn = r.norm2(), an = A->getFrobeniusNorm();
+  report.solutionNorm = x.norm2();
+  const double scale = an * report.solutionNorm + bn;
   report.relativeResidual = bn > 0.0 ? rn / bn : rn;
   report.backwardError = scale > 0.0 ? rn / scale : rn;
+  report.conditionBound = bn > 0.0 ? an * report.solutionNorm / bn : 0.0;
+  return report;
+}
+
+SolveReport LinearSolver::solve(const Teuchos::RCP<const Matrix>& A, const Vector& b, Vector& x) {
+  SolveReport report = attempt(A, b, x);
+  // A solve that took a shortcut (Direct: a refactorization with the last factorization's pivots,
+  // chosen for other values) and is not accurate well below the check is redone without it.
+  if (!(report.backwardError <= 1e-3 * checkTolerance_) && redoWithoutShortcut()) report = attempt(A, b, x);
   // ||A|| ||x|| / ||b|| is a lower bound of A's condition number (x = A^-1 b). Beyond what double
   // precision resolves, x has no correct digit even when its backward error is small: a solve of a
   // singular matrix returns a huge x whose residual is small against ||A|| ||x||.
-  report.conditionBound = bn > 0.0 ? A->getFrobeniusNorm() * xn / bn : 0.0;
   if (report.conditionBound > conditionLimit_) {
     std::ostringstream s;
     s << name() << " linear solve: the tangent matrix is singular or nearly so (||A||_F ||x|| / ||b|| = "
@@ -49,7 +58,8 @@ SolveReport LinearSolver::solve(const Teuchos::RCP<const Matrix>& A, const Vecto
          "beams or use Penalty or Augmented Lagrange)";
     throw LinearSolveError(s.str());
   }
-  if (!std::isfinite(report.backwardError) || !std::isfinite(xn) || report.backwardError > checkTolerance_) {
+  if (!std::isfinite(report.backwardError) || !std::isfinite(report.solutionNorm) ||
+      report.backwardError > checkTolerance_) {
     std::ostringstream s;
     s << name() << " linear solve failed its residual check: ||b - A x|| / (||A||_F ||x|| + ||b||) = "
       << report.backwardError << " > Residual Check Tolerance " << checkTolerance_
@@ -63,15 +73,6 @@ namespace {
 
 using SerialMap = Tpetra::Map<LO, GO, Node>;
 
-// ||b - A x|| / (||A||_F ||x|| + ||b||).
-double backwardError(const Matrix& A, const Vector& b, const Vector& x) {
-  Vector r(b.getMap());
-  A.apply(x, r);
-  r.update(1.0, b, -1.0);
-  const double scale = A.getFrobeniusNorm() * x.norm2() + b.norm2();
-  return scale > 0.0 ? r.norm2() / scale : r.norm2();
-}
-
 // KLU2, called directly (SerialKlu, refactoring); on more than one rank the matrix is gathered to
 // rank 0 and factored there.
 class DirectSolver : public LinearSolver {
@@ -84,7 +85,7 @@ class DirectSolver : public LinearSolver {
     const auto comm = A->getRowMap()->getComm();
     if (comm->getSize() == 1) {
       // The same matrix object with new values (the assembler keeps it while its graph stands).
-      factorAndSolve(*A, A == lastMatrix_, b, x);
+      factorAndSolve(*A, refactoring(A), b, x);
       lastMatrix_ = A;
       return 0;
     }
@@ -98,6 +99,7 @@ class DirectSolver : public LinearSolver {
     const auto A0 = Tpetra::exportAndFillCompleteCrsMatrix<Matrix>(A, toRoot, rootMap, rootMap);
     Vector b0(rootMap), x0(rootMap);
     b0.doExport(b, toRoot, Tpetra::INSERT);
+    const bool refactor = refactoring(A);  // on every rank: redoWithoutShortcut answers alike
     int failed = 0;
     std::string what;
     if (comm->getRank() == 0) {
@@ -127,7 +129,7 @@ class DirectSolver : public LinearSolver {
           auto dst = bs.getDataNonConst();
           for (GO g = 0; g < n; ++g) dst[rootMap->getLocalElement(g)] = src[rootMap->getLocalElement(g)];
         }
-        factorAndSolve(*As, A == lastMatrix_, bs, xs);
+        factorAndSolve(*As, refactor, bs, xs);
         auto src = xs.getData();
         auto dst = x0.getDataNonConst();
         for (GO g = 0; g < n; ++g) dst[rootMap->getLocalElement(g)] = src[g];
@@ -149,20 +151,27 @@ class DirectSolver : public LinearSolver {
   Teuchos::RCP<const Matrix> lastMatrix_;
   SerialKlu klu_;
 
-  // Factors A (on one process) and solves A x = b. `samePattern`: A has the pattern of the last
-  // factorization, which is refactored with that factorization's pivot order. Pivots chosen for
-  // other values can be poor: a refactored solve whose backward error is not well below the check's
-  // tolerance is redone with a fresh factorization (with pivoting).
-  void factorAndSolve(const Matrix& A, bool samePattern, const Vector& b, Vector& x) {
-    const bool refactor = samePattern && klu_.factored();
+  bool refactored_ = false, fresh_ = false;
+
+  // Whether this solve refactors (A is the last solve's matrix object, with new values; on every
+  // rank alike) unless a fresh factorization was asked for.
+  bool refactoring(const Teuchos::RCP<const Matrix>& A) {
+    refactored_ = A == lastMatrix_ && !fresh_;
+    fresh_ = false;
+    return refactored_;
+  }
+  bool redoWithoutShortcut() override {
+    fresh_ = refactored_;
+    return refactored_;
+  }
+
+  // Factors A (on one process) and solves A x = b; `refactor`: with the last factorization's pivot
+  // order (A has its pattern).
+  void factorAndSolve(const Matrix& A, bool refactor, const Vector& b, Vector& x) {
     auto xv = x.getDataNonConst();
     const auto bv = b.getData();
-    klu_.factor(A, refactor);
+    klu_.factor(A, refactor && klu_.factored());
     klu_.solve(bv.getRawPtr(), xv.getRawPtr());
-    if (refactor && !(backwardError(A, b, x) <= 1e-3 * checkTolerance())) {
-      klu_.factor(A, false);
-      klu_.solve(bv.getRawPtr(), xv.getRawPtr());
-    }
   }
 };
 

@@ -32,6 +32,7 @@ struct SolveReport {
   double relativeResidual = 0; // ||b - A x|| / ||b|| of the returned solution
   double backwardError = 0;    // ||b - A x|| / (||A||_F ||x|| + ||b||), checked
   double conditionBound = 0;   // ||A||_F ||x|| / ||b||, a lower bound of cond(A), checked
+  double solutionNorm = 0;     // ||x||
 };
 
 class LinearSolver {
@@ -48,10 +49,14 @@ class LinearSolver {
   LinearSolver(double checkTolerance, double conditionLimit)
       : checkTolerance_(checkTolerance), conditionLimit_(conditionLimit) {}
   virtual int doSolve(const Teuchos::RCP<const Matrix>& A, const Vector& b, Vector& x) = 0;
+  // The last doSolve took a shortcut (Direct: a refactorization with old pivots): the next one is to
+  // do without it; return false when there was none. The same answer on every rank.
+  virtual bool redoWithoutShortcut() { return false; }
   Teuchos::RCP<MultiVector> nearNull_;
-  double checkTolerance() const { return checkTolerance_; }
 
  private:
+  // doSolve and the residual of its x (the report, unchecked).
+  SolveReport attempt(const Teuchos::RCP<const Matrix>& A, const Vector& b, Vector& x);
   double checkTolerance_, conditionLimit_;
 };
 

@@ -35,7 +35,6 @@ struct SerialKlu::Data {
   // it sees A^T, so a solve with A is its transposed solve.
   std::vector<int> rowStart, columns, rawColumns;  // rawColumns: A's own local column indices
   int n = 0;
-  mutable std::vector<double> work;
 
   void release() {
     if (numeric) ::KLU2::klu_free_numeric<double, int>(&numeric, &common);
@@ -67,11 +66,11 @@ void SerialKlu::factor(const Matrix& A, bool refactor) {
   if (!samePattern) {
     d_->release();
     d_->n = n;
-    d_->rowStart.assign(local.graph.row_map.data(), local.graph.row_map.data() + n + 1);
+    d_->rowStart.assign(rowPtr.data(), rowPtr.data() + n + 1);
     d_->rawColumns.assign(entries.data(), entries.data() + entries.extent(0));
-    d_->columns.resize(local.graph.entries.extent(0));
+    d_->columns.resize(entries.extent(0));
     for (std::size_t k = 0; k < d_->columns.size(); ++k)
-      d_->columns[k] = rowMap.getLocalElement(colMap.getGlobalElement(local.graph.entries(k)));
+      d_->columns[k] = rowMap.getLocalElement(colMap.getGlobalElement(entries(k)));
     d_->symbolic = ::KLU2::klu_analyze<double, int>(n, d_->rowStart.data(), d_->columns.data(), &d_->common);
     if (!d_->symbolic) throw std::runtime_error("KLU2 analysis failed");
     d_->numeric = ::KLU2::klu_factor<double, int>(d_->rowStart.data(), d_->columns.data(), values, d_->symbolic,

@@ -111,17 +111,15 @@ Teuchos::RCP<MultiVector> rigidBodyModes(const State& s, const Teuchos::RCP<cons
     const GlobalDof g = map->getGlobalElement(static_cast<LO>(i));
     if (g >= nodal) continue;
     const int node = static_cast<int>(g / kDofsPerNode), c = static_cast<int>(g % kDofsPerNode);
+    // Translation c (c < 3) or rotation c - 3 (its spin): 1 at dof c.
+    modes->replaceLocalValue(static_cast<LO>(i), c, 1.0);
+    if (c >= 3) continue;
+    // A rotation about axis a moves the node by e_a x r.
     const Vec3d r = s.position[node] - centre;
-    if (c < 3) {
-      modes->replaceLocalValue(static_cast<LO>(i), c, 1.0);
-      // Rotation about axis a: e_a x r, component c.
-      for (int a = 0; a < 3; ++a) {
-        Vec3d e{};
-        e[a] = 1.0;
-        modes->replaceLocalValue(static_cast<LO>(i), 3 + a, math::cross(e, r)[c]);
-      }
-    } else {
-      modes->replaceLocalValue(static_cast<LO>(i), c, 1.0);
+    for (int a = 0; a < 3; ++a) {
+      Vec3d e{};
+      e[a] = 1.0;
+      modes->replaceLocalValue(static_cast<LO>(i), 3 + a, math::cross(e, r)[c]);
     }
   }
   return modes;
