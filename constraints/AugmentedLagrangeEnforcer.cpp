@@ -11,10 +11,7 @@ namespace bc::constraints {
 const core::ParameterSpec& AugmentedLagrangeEnforcer::spec() {
   static const core::ParameterSpec s = [] {
     core::ParameterSpec p;
-    p.addRequired("Normal Penalty Parameter", 1e4, "eps_N of the augmented law [force/length]", core::positive(),
-                  "> 0");
-    p.addRequired("Tangential Penalty Parameter", 1e3, "eps_T of the augmented law [force/length]",
-                  core::positive(), "> 0");
+    PenaltyChoice::addTo(p, "stiffness of the augmented law");
     p.add("Gap Tolerance", 1e-6, "stop augmenting when |g_N| and sticking |g_T| are below this [length]",
           core::positive(), "> 0");
     p.add("Maximum Augmentations", 50, "Newton solves allowed per increment (passes)", core::atLeast(1), ">= 1");
@@ -29,32 +26,50 @@ const core::ParameterSpec& AugmentedLagrangeEnforcer::spec() {
 }
 
 AugmentedLagrangeEnforcer::AugmentedLagrangeEnforcer(const Teuchos::ParameterList& v)
-    : normalPenalty_(v.get<double>("Normal Penalty Parameter")),
-      tangentialPenalty_(v.get<double>("Tangential Penalty Parameter")),
+    : choice_(v),
       tolerance_(v.get<double>("Gap Tolerance")),
       regularization_(v.get<double>("Regularization Gap")),
       maxPasses_(v.get<int>("Maximum Augmentations")) {}
 
+std::unique_ptr<PointState> AugmentedLagrangeEnforcer::newPointState() const {
+  auto s = std::make_unique<State>();
+  s->penalties.start(choice_);
+  return s;
+}
+
+void AugmentedLagrangeEnforcer::setCompliance(PointState& s, const double compliance[3]) const {
+  choice_.choose(compliance, stateOf<State>(s).penalties.eps);
+}
+
 bool AugmentedLagrangeEnforcer::contributes(double gapN, const PointState& s) const {
-  return stateOf<State>(s).lambdaN + normalPenalty_ * (gapN - 0.5 * regularization_) <= 0.0;
+  const State& h = stateOf<State>(s);
+  h.penalties.require();
+  return h.lambdaN + h.penalties.eps[0] * (gapN - 0.5 * regularization_) <= 0.0;
 }
 
 PointResult AugmentedLagrangeEnforcer::evaluate(const ContactPoint& p, const PointState& s, double* f,
                                                 double* K) const {
   const State& h = stateOf<State>(s);
-  const FrictionRegularization friction{{h.lambdaT[0], h.lambdaT[1]}, tangentialPenalty_};
-  return regularizedEvaluate(p, smoothedAugmentedLaw(h.lambdaN, normalPenalty_, regularization_), friction, f, K);
+  h.penalties.require();
+  const FrictionRegularization friction{{h.lambdaT[0], h.lambdaT[1]}, h.penalties.eps[1]};
+  PointResult r =
+      regularizedEvaluate(p, smoothedAugmentedLaw(h.lambdaN, h.penalties.eps[0], regularization_), friction, f, K);
+  r.penalty[0] = h.penalties.eps[0];
+  r.penalty[1] = h.penalties.eps[1];
+  return r;
 }
 
 bool AugmentedLagrangeEnforcer::acceptPoint(const ContactPoint& p, PointState& s, double& worstViolation) const {
   State& h = stateOf<State>(s);
   const ContactKinematics& k = p.kinematics;
-  const FrictionRegularization friction{{h.lambdaT[0], h.lambdaT[1]}, tangentialPenalty_};
-  const PointResult r = regularizedForces(p, smoothedAugmentedLaw(h.lambdaN, normalPenalty_, regularization_), friction);
+  h.penalties.require();
+  const double epsN = h.penalties.eps[0];
+  const FrictionRegularization friction{{h.lambdaT[0], h.lambdaT[1]}, h.penalties.eps[1]};
+  const PointResult r = regularizedForces(p, smoothedAugmentedLaw(h.lambdaN, epsN, regularization_), friction);
   double violation = 0.0;
   // With a Regularization Gap, a point whose force is within the smooth onset (below eps_N g0 / 2)
   // is left regularized: its gap lies within g0 / 2 of zero by construction.
-  const bool onset = regularization_ > 0.0 && r.active && -r.lambdaN < 0.5 * normalPenalty_ * regularization_;
+  const bool onset = regularization_ > 0.0 && r.active && -r.lambdaN < 0.5 * epsN * regularization_;
   if (onset) {
     violation = std::max(0.0, std::min(-k.normal.value, std::abs(k.normal.value) - 0.5 * regularization_));
   } else if (r.active) {
@@ -77,6 +92,8 @@ bool AugmentedLagrangeEnforcer::acceptPoint(const ContactPoint& p, PointState& s
 PointResult AugmentedLagrangeEnforcer::reportedForces(const ContactPoint& p, const PointState& s) const {
   const State& h = stateOf<State>(s);
   PointResult r;
+  r.penalty[0] = h.penalties.eps[0];
+  r.penalty[1] = h.penalties.eps[1];
   r.active = h.lambdaN < 0.0;
   if (!r.active) return r;
   r.lambdaN = h.lambdaN;

@@ -5,9 +5,11 @@
 // sticking line |g_T| <= "Gap Tolerance". The converged result therefore does not depend on the
 // penalty parameters beyond that tolerance; they only change how many passes it takes.
 // Parameters (sublist "Augmented Lagrange"): "Normal Penalty Parameter", "Tangential Penalty
-// Parameter" [force/length], "Gap Tolerance" [length], "Maximum Augmentations".
+// Parameter" [force/length] (each a number or "Automatic", PenaltyChoice.hpp), "Gap Tolerance"
+// [length], "Maximum Augmentations".
 #pragma once
 #include "ConstraintEnforcer.hpp"
+#include "PenaltyChoice.hpp"
 #include "core/Parameters.hpp"
 
 namespace bc::constraints {
@@ -21,22 +23,29 @@ class AugmentedLagrangeEnforcer : public ConstraintEnforcer {
   static const core::ParameterSpec& spec();
   explicit AugmentedLagrangeEnforcer(const Teuchos::ParameterList& validated);
 
-  // The multiplier estimates lambda_hat (normal and friction), updated at each augmentation.
+  // The multiplier estimates lambda_hat (normal and friction), updated at each augmentation, and the
+  // point's penalty parameters.
   struct State : PointStateOf<State> {
     double lambdaN = 0.0;
     double lambdaT[2] = {0.0, 0.0};
+    PointPenalties penalties;
     void fields(StateFields& v) override {
       v.real("lambda_N", lambdaN);
       v.real("lambda_T1", lambdaT[0]);
       v.real("lambda_T2", lambdaT[1]);
+      penalties.fields(v);
     }
   };
 
   std::string type() const override { return name(); }
-  std::unique_ptr<PointState> newPointState() const override { return std::make_unique<State>(); }
+  std::unique_ptr<PointState> newPointState() const override;
+  bool wantsCompliance(const PointState& s) const override { return stateOf<State>(s).penalties.waiting(); }
+  void setCompliance(PointState& s, const double compliance[3]) const override;
   bool contributes(double gapN, const PointState& s) const override;
   double activationGap(const PointState& s) const override {
-    return 0.5 * regularization_ - stateOf<State>(s).lambdaN / normalPenalty_;
+    const State& h = stateOf<State>(s);
+    h.penalties.require();
+    return 0.5 * regularization_ - h.lambdaN / h.penalties.eps[0];
   }
   PointResult evaluate(const ContactPoint& p, const PointState& s, double* f, double* K) const override;
   bool acceptPoint(const ContactPoint& p, PointState& s, double& worstViolation) const override;
@@ -46,7 +55,8 @@ class AugmentedLagrangeEnforcer : public ConstraintEnforcer {
   PointResult reportedForces(const ContactPoint& p, const PointState& s) const override;
 
  private:
-  double normalPenalty_, tangentialPenalty_, tolerance_;
+  PenaltyChoice choice_;
+  double tolerance_;
   double regularization_;  // "Regularization Gap" g0 (smoothedAugmentedLaw)
   int maxPasses_;
 };

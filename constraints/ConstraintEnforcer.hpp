@@ -88,6 +88,7 @@ struct PointResult {
   double lambdaN = 0.0;
   double lambdaT[2] = {0.0, 0.0};
   bool slip[2] = {false, false};
+  double penalty[2] = {0.0, 0.0};  // the penalty parameters (eps_N, eps_T) the point used, if any (output)
 };
 
 class ConstraintEnforcer {
@@ -113,6 +114,16 @@ class ConstraintEnforcer {
   // carry an open point past it is shortened so the next tangent sees the point. Infinite for
   // strategies whose active set changes only between Newton solves.
   virtual double activationGap(const PointState& s) const { return -std::numeric_limits<double>::infinity(); }
+
+  // --- parameters chosen from the structure (e.g. automatic penalty parameters) ---------------------
+  // True while the point's state waits for the structure's compliance at the point. The manager then
+  // computes c = (c_N, c_T1, c_T2) [length/force]: v^T K^-1 v for v the first variations R of g_N,
+  // g_T1, g_T2 (a unit force along each gap), K the tangent of the beams without contact at the last
+  // converged state, times the weight the manager puts on the point (a Gauss point of line contact:
+  // the length it stands for); 0 where a gap has no variation. It hands c to setCompliance once,
+  // before the point is evaluated.
+  virtual bool wantsCompliance(const PointState& s) const { return false; }
+  virtual void setCompliance(PointState& s, const double compliance[3]) const {}
 
   // --- when Newton has converged for an increment ---------------------------------------------------
   // First stage, for every point: the normal active set; return false if it changed (the increment

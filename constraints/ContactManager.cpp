@@ -589,7 +589,37 @@ bool ContactManager::prepareIteration(core::State& state) {
     }
     if (idle) p.state = PointStateHolder(enforcer_->newPointState());
   }
+  giveCompliance(state);
   return layoutMultipliers(state) || changed;
+}
+
+void ContactManager::giveCompliance(const core::State& state) {
+  if (!compliance_) return;
+  std::vector<Point*> waiting;
+  std::vector<core::SparseLoad> loads;
+  std::vector<double> weights;
+  for (auto& [key, p] : points_) {
+    if (p.node() || !enforcer_->wantsCompliance(*p.state)) continue;
+    const ContactKinematics k = kinematics(p, state);
+    const auto d = pointDofs(p);
+    for (const GapDerivatives* g : {&k.normal, &k.tangent1, &k.tangent2})
+      loads.push_back({std::vector<GlobalDof>(d.begin(), d.end()), std::vector<double>(g->R.begin(), g->R.end())});
+    // The manager weights a line point's force by the length it stands for (a whole segment's share here).
+    weights.push_back(p.line() ? lineWeight(p, 1.0) : 1.0);
+    waiting.push_back(&p);
+  }
+  if (waiting.empty()) return;
+  std::vector<double> c;
+  try {
+    c = compliance_(reference_, loads);
+  } catch (const std::runtime_error& e) {
+    throw core::InputError(enforcer_->type() + ": automatic penalty parameters need the beams' compliance at the "
+                           "contact points, but " + e.what() + "; give the penalty parameters as numbers");
+  }
+  for (std::size_t i = 0; i < waiting.size(); ++i) {
+    const double ci[3] = {weights[i] * c[3 * i], weights[i] * c[3 * i + 1], weights[i] * c[3 * i + 2]};
+    enforcer_->setCompliance(*waiting[i]->state, ci);
+  }
 }
 
 namespace {
@@ -1251,7 +1281,7 @@ std::string ContactManager::tableHeader() const {
   return "pair,line_A,line_B,beam_A_coordinate,beam_B_coordinate,x,y,z,gap,normal_force,tangential_force_1,"
          "tangential_force_2,state_1,state_2,active,normal_x,normal_y,normal_z,normal_force_x,normal_force_y,"
          "normal_force_z,tangential_force_x,tangential_force_y,tangential_force_z,tangential_force,element_A,element_B,"
-         "line_traction";
+         "line_traction,normal_penalty,tangential_penalty";
 }
 
 std::vector<std::string> ContactManager::tableRows() const {
@@ -1273,6 +1303,8 @@ std::vector<std::string> ContactManager::tableRows() const {
     const auto& elems = beams_->elements();
     s << "," << elems[p.elementA].index << "," << elems[p.elementB].index << ","
       << (p.line() && p.length > 0.0 ? -p.result.lambdaN / p.length : 0.0);
+    // The penalty parameters the strategy used at the point (0: none, or the point carried no force).
+    s << "," << p.result.penalty[0] << "," << p.result.penalty[1];
     rows.push_back(s.str());
   }
   return rows;

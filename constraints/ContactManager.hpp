@@ -95,6 +95,7 @@ class ContactManager : public core::Contribution {
   void saveCommitted(core::CheckpointOut& out) const override;
   void loadCommitted(core::CheckpointIn& in, const core::State& committed) override;
   void markIterate() override { marked_ = points_; }
+  void useCompliance(core::ComplianceFunction compliance) override { compliance_ = std::move(compliance); }
   static constexpr const char* kExtraOwner = "contact";
   double stepBound(const core::State& state, const std::vector<double>& du) const override;
   void returnToIterate() override { points_ = marked_; }
@@ -214,6 +215,11 @@ class ContactManager : public core::Contribution {
   // Asks the state's extra unknowns for the multipliers every point's strategy wants now (values of
   // points that keep theirs are kept); true if the layout changed.
   bool layoutMultipliers(core::State& state);
+  // Hands the points whose strategy state waits for it the structure's compliance there (at the last
+  // converged state, along the gaps' variations at `state`); nothing before the solver gave the
+  // compliance function.
+  void giveCompliance(const core::State& state);
+  core::ComplianceFunction compliance_;
   std::vector<core::GlobalDof> blockDofs(const Point& p) const;
 
   std::shared_ptr<const elements::BeamSet> beams_;

@@ -9,10 +9,7 @@ namespace bc::constraints {
 const core::ParameterSpec& PenaltyEnforcer::spec() {
   static const core::ParameterSpec s = [] {
     core::ParameterSpec p;
-    p.addRequired("Normal Penalty Parameter", 1e4, "eps_N: stiffness of the normal contact spring [force/length]",
-                  core::positive(), "> 0");
-    p.addRequired("Tangential Penalty Parameter", 1e3,
-                  "eps_T: stiffness of the tangential (stick) spring [force/length]", core::positive(), "> 0");
+    PenaltyChoice::addTo(p, "stiffness");
     p.add("Regularization Gap", 0.0,
           "g0: the normal force grows as eps_N g^2 / (2 g0) over the first g0 of penetration, then linearly "
           "(eps_N (|g| - g0 / 2)); a smooth onset for contacts that close many points at once (line contact, "
@@ -24,14 +21,32 @@ const core::ParameterSpec& PenaltyEnforcer::spec() {
 }
 
 PenaltyEnforcer::PenaltyEnforcer(const Teuchos::ParameterList& v)
-    : normalPenalty_(v.get<double>("Normal Penalty Parameter")),
-      tangentialPenalty_(v.get<double>("Tangential Penalty Parameter")),
-      law_(smoothedPenaltyLaw(normalPenalty_, v.get<double>("Regularization Gap"))) {}
+    : choice_(v), regularization_(v.get<double>("Regularization Gap")) {}
+
+std::unique_ptr<PointState> PenaltyEnforcer::newPointState() const {
+  auto s = std::make_unique<State>();
+  s->penalties.start(choice_);
+  return s;
+}
+
+void PenaltyEnforcer::setCompliance(PointState& s, const double compliance[3]) const {
+  choice_.choose(compliance, stateOf<State>(s).penalties.eps);
+}
+
+namespace {
+PointResult withPenalties(PointResult r, const PointPenalties& p) {
+  r.penalty[0] = p.eps[0];
+  r.penalty[1] = p.eps[1];
+  return r;
+}
+}  // namespace
 
 PointResult PenaltyEnforcer::evaluate(const ContactPoint& p, const PointState& s, double* f, double* K) const {
   const State& h = stateOf<State>(s);
-  const FrictionRegularization friction{{h.lambdaT[0], h.lambdaT[1]}, tangentialPenalty_};
-  return regularizedEvaluate(p, law_, friction, f, K);
+  h.penalties.require();
+  const FrictionRegularization friction{{h.lambdaT[0], h.lambdaT[1]}, h.penalties.eps[1]};
+  return withPenalties(
+      regularizedEvaluate(p, smoothedPenaltyLaw(h.penalties.eps[0], regularization_), friction, f, K), h.penalties);
 }
 
 bool PenaltyEnforcer::acceptPoint(const ContactPoint& p, PointState&, double& worstViolation) const {
@@ -41,8 +56,9 @@ bool PenaltyEnforcer::acceptPoint(const ContactPoint& p, PointState&, double& wo
 
 void PenaltyEnforcer::commitPoint(const ContactPoint& p, PointState& s) const {
   State& state = stateOf<State>(s);
-  const FrictionRegularization friction{{state.lambdaT[0], state.lambdaT[1]}, tangentialPenalty_};
-  const PointResult r = regularizedForces(p, law_, friction);
+  state.penalties.require();
+  const FrictionRegularization friction{{state.lambdaT[0], state.lambdaT[1]}, state.penalties.eps[1]};
+  const PointResult r = regularizedForces(p, smoothedPenaltyLaw(state.penalties.eps[0], regularization_), friction);
   for (int i = 0; i < 2; ++i) state.lambdaT[i] = r.lambdaT[i];
 }
 

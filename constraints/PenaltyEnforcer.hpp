@@ -1,9 +1,10 @@
 // Penalty method (seed paper (3.1), (3.7)-(3.8), (4.4), (4.10), (4.12)): normal force eps_N g_N while
 // penetrating, tangential forces eps_T times the elastic slip, return-mapped onto the Coulomb limit
 // (RegularizedContactLaw.hpp). Parameters (sublist "Penalty"): "Normal Penalty Parameter" eps_N,
-// "Tangential Penalty Parameter" eps_T [force/length].
+// "Tangential Penalty Parameter" eps_T [force/length], each a number or "Automatic" (PenaltyChoice.hpp).
 #pragma once
 #include "ConstraintEnforcer.hpp"
+#include "PenaltyChoice.hpp"
 #include "RegularizedContactLaw.hpp"
 #include "core/Parameters.hpp"
 
@@ -18,14 +19,22 @@ class PenaltyEnforcer : public ConstraintEnforcer {
   static const core::ParameterSpec& spec();
   explicit PenaltyEnforcer(const Teuchos::ParameterList& validated);
 
-  // The friction forces of the last converged step: the trial force starts from them.
+  // The friction forces of the last converged step (the trial force starts from them) and the
+  // point's penalty parameters.
   struct State : PointStateOf<State> {
     double lambdaT[2] = {0.0, 0.0};
-    void fields(StateFields& v) override { v.real("lambda_T1", lambdaT[0]); v.real("lambda_T2", lambdaT[1]); }
+    PointPenalties penalties;
+    void fields(StateFields& v) override {
+      v.real("lambda_T1", lambdaT[0]);
+      v.real("lambda_T2", lambdaT[1]);
+      penalties.fields(v);
+    }
   };
 
   std::string type() const override { return name(); }
-  std::unique_ptr<PointState> newPointState() const override { return std::make_unique<State>(); }
+  std::unique_ptr<PointState> newPointState() const override;
+  bool wantsCompliance(const PointState& s) const override { return stateOf<State>(s).penalties.waiting(); }
+  void setCompliance(PointState& s, const double compliance[3]) const override;
   bool contributes(double gapN, const PointState&) const override { return gapN <= 0.0; }
   double activationGap(const PointState&) const override { return 0.0; }
   PointResult evaluate(const ContactPoint& p, const PointState& s, double* f, double* K) const override;
@@ -33,8 +42,8 @@ class PenaltyEnforcer : public ConstraintEnforcer {
   void commitPoint(const ContactPoint& p, PointState& s) const override;
 
  private:
-  double normalPenalty_, tangentialPenalty_;
-  NormalLaw law_;  // linear, or smoothed over "Regularization Gap"
+  PenaltyChoice choice_;
+  double regularization_;  // "Regularization Gap" g0 (smoothedPenaltyLaw)
 };
 
 }  // namespace bc::constraints

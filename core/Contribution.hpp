@@ -60,6 +60,15 @@ struct VtkMesh {
   }
 };
 
+// A load vector given by its entries (global dofs and values).
+struct SparseLoad {
+  std::vector<GlobalDof> dofs;
+  std::vector<double> values;
+};
+// The structure's compliance where a contribution acts (Compliance.hpp): v^T K^-1 v for each load v,
+// K the tangent of the other contributions at `state`. Call on every rank with the same arguments.
+using ComplianceFunction = std::function<std::vector<double>(const State& state, const std::vector<SparseLoad>& loads)>;
+
 // The physics: what the contribution couples and adds to the residual and tangent, and its part in
 // Newton's iteration.
 class Physics {
@@ -94,6 +103,9 @@ class Physics {
   // A Newton solve failed to converge: what the contribution saw in its last iterations that may
   // explain it, as a sentence for the failure message (empty: nothing). Called on every rank.
   virtual std::string failureHint(const Teuchos::Comm<int>& comm) const { return ""; }
+  // The solver hands every contribution the compliance of the structure without it, for parameters
+  // chosen from the structure's stiffness (automatic penalty parameters); kept by those that use it.
+  virtual void useCompliance(ComplianceFunction compliance) {}
 };
 
 // The load-step life cycle: history committed at a converged step, restored when a step is cut, and

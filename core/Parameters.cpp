@@ -24,6 +24,15 @@ ParameterSpec& ParameterSpec::addChoice(const std::string& name, const std::stri
   return add(name, defaultValue, doc, check, "one of " + joinNames(choices));
 }
 
+ParameterSpec& ParameterSpec::allowWord(const std::string& name, const std::string& word) {
+  words_[name] = word;
+  for (Teuchos::ParameterList* list : {&valid_, &reference_}) {
+    Teuchos::ParameterEntry& entry = list->getEntry(name);
+    entry.setDocString(entry.docString() + "; or \"" + word + "\"");
+  }
+  return *this;
+}
+
 ParameterSpec& ParameterSpec::addSublist(const std::string& name, const Teuchos::ParameterList& reference,
                                          const std::string& doc) {
   valid_.sublist(name, false, doc).setParameters(reference);
@@ -58,6 +67,13 @@ void ParameterSpec::apply(Teuchos::ParameterList& user, const std::string& path)
       throw InputError("unknown parameter " + where + "; valid parameters here are " + joinNames(validNames));
     }
     const Teuchos::ParameterEntry& ref = valid_.getEntry(name);
+    const auto word = words_.find(name);
+    if (word != words_.end() && entry.getAny().type() == typeid(std::string)) {
+      if (Teuchos::any_cast<std::string>(entry.getAny()) != word->second)
+        throw InputError("parameter " + where + " is \"" + Teuchos::any_cast<std::string>(entry.getAny()) +
+                         "\"; give a number or \"" + word->second + "\"");
+      continue;
+    }
     if (entry.getAny().type() != ref.getAny().type()) {
       if (ref.getAny().type() == typeid(double) && entry.getAny().type() == typeid(int)) {
         user.set(name, double(Teuchos::any_cast<int>(entry.getAny())));
@@ -69,6 +85,7 @@ void ParameterSpec::apply(Teuchos::ParameterList& user, const std::string& path)
   }
   for (const auto& [name, check] : checks_) {
     if (!user.isParameter(name)) continue;
+    if (words_.count(name) && user.isType<std::string>(name)) continue;
     const std::string msg = check(user.getEntry(name));
     if (!msg.empty()) throw InputError("parameter \"" + path + "/" + name + "\": " + msg);
   }

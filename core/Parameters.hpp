@@ -5,6 +5,7 @@
 // defaults, so the effective list written beside the results is complete. Defaults live only here.
 #pragma once
 #include <functional>
+#include <map>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -53,6 +54,12 @@ class ParameterSpec {
     optional_.insert(name);
     return *this;
   }
+  // Lets `name` (a number) also be given as the string `word` (e.g. "Automatic": a value the
+  // component chooses itself); its range check then does not apply. isWord() tells which was given.
+  ParameterSpec& allowWord(const std::string& name, const std::string& word);
+  static bool isWord(const Teuchos::ParameterList& list, const std::string& name, const std::string& word) {
+    return list.isType<std::string>(name) && list.get<std::string>(name) == word;
+  }
   ParameterSpec& addChoice(const std::string& name, const std::string& defaultValue,
                            const std::vector<std::string>& choices, const std::string& doc);
   // A sublist the user may give (validated by its owner), shown in the reference as `reference`.
@@ -76,6 +83,7 @@ class ParameterSpec {
   Teuchos::ParameterList valid_, reference_;
   std::vector<std::pair<std::string, Check>> checks_;
   std::set<std::string> required_, optional_, sublists_;
+  std::map<std::string, std::string> words_;  // name -> the word it may be instead of a number
   bool namedSublists_ = false;
 };
 

@@ -1,5 +1,7 @@
 #include "StaticSolver.hpp"
 
+#include "Compliance.hpp"
+
 #include <cmath>
 #include <sstream>
 
@@ -95,6 +97,12 @@ StaticSolver::StaticSolver(Teuchos::RCP<const Comm> comm, Model& model, SolverSe
   trial_ = committed_;
   for (const auto& x : model_.initial.reference) modelSize_ = std::max(modelSize_, std::sqrt(dot(x, x)));
   graphStale_ = true;  // built at the first iteration, from the state being solved
+  for (const auto& c : model_.contributions) {
+    const Physics* self = c.get();
+    c->useCompliance([this, self](const State& state, const std::vector<SparseLoad>& loads) {
+      return structureCompliance(model_, *self, state, loads);
+    });
+  }
 }
 
 namespace {

@@ -89,18 +89,27 @@ namespace {
 // Example 1's deck edited by parameter path: the strategy, and Newton solved to round-off, so that
 // the comparison measures the ranks, not where Newton stopped inside its tolerance (friction carries
 // such differences from step to step).
-Teuchos::ParameterList deckWith(const std::string& file, const std::string& type) {
+// `automatic`: the strategy's penalty parameters chosen from the beams' compliance (computed in
+// full on every rank).
+Teuchos::ParameterList deckWith(const std::string& file, const std::string& type, bool automatic) {
   Teuchos::ParameterList d = input::readParameterXmlFile(std::string(BC_SOURCE_DIR) + "/input/" + file);
   input::replaceAtPath(d, "Contact/Enforcement/Type", type);
+  if (automatic) {
+    auto& strategy = input::sublistAtPath(d, "Contact/Enforcement/" + type, false);
+    for (const char* k : {"Normal Penalty Parameter", "Tangential Penalty Parameter"}) {
+      strategy.remove(k);
+      strategy.set(k, std::string("Automatic"));
+    }
+  }
   input::setAtPath(d, "Nonlinear Solver/Residual Tolerance", 1e-12);
   input::setAtPath(d, "Nonlinear Solver/Increment Tolerance", 1e-12);
   return d;
 }
-void compareDeck(const std::string& file, const std::string& type, double tolerance) {
+void compareDeck(const std::string& file, const std::string& type, double tolerance, bool automatic = false) {
   auto world = Tpetra::getDefaultComm();
   auto self = Teuchos::rcp(new Teuchos::MpiComm<int>(MPI_COMM_SELF));
-  auto pw = input::buildProblem(deckWith(file, type), "example1");
-  auto ps = input::buildProblem(deckWith(file, type), "example1");
+  auto pw = input::buildProblem(deckWith(file, type, automatic), "example1");
+  auto ps = input::buildProblem(deckWith(file, type, automatic), "example1");
   const auto rw = test::runQuiet(pw, world, "example1_world");
   const auto rs = test::runQuiet(ps, self, "example1_self" + std::to_string(world->getRank()));
   ASSERT_TRUE(rw.report.completed) << rw.report.failure;
@@ -112,8 +121,9 @@ void compareDeck(const std::string& file, const std::string& type, double tolera
       diff = std::max(diff, std::abs(rw.finalState.displacement(n)[k] - rs.finalState.displacement(n)[k]));
     }
   if (world->getRank() == 0)
-    std::printf("%s, %s, %d ranks vs 1: max |du| / max |u| = %.2e, Newton %d vs %d\n", file.c_str(), type.c_str(),
-                world->getSize(), diff / umax, rw.report.newtonIterations, rs.report.newtonIterations);
+    std::printf("%s, %s%s, %d ranks vs 1: max |du| / max |u| = %.2e, Newton %d vs %d\n", file.c_str(), type.c_str(),
+                automatic ? " (automatic penalty parameters)" : "", world->getSize(), diff / umax,
+                rw.report.newtonIterations, rs.report.newtonIterations);
   EXPECT_LT(diff / umax, tolerance);
 }
 }  // namespace
@@ -125,6 +135,10 @@ TEST(RankAgreement, Example1Penalty) { compareDeck("example1.xml", "Penalty", 1e
 TEST(RankAgreement, Example1AugmentedLagrange) { compareDeck("example1.xml", "Augmented Lagrange", 1e-10); }
 TEST(RankAgreement, Example1LagrangeMultiplier) { compareDeck("example1.xml", "Lagrange Multiplier", 1e-10); }
 // Line contact (two parallel rods, input/parallel_rods.xml).
+TEST(RankAgreement, Example1PenaltyAutomatic) { compareDeck("example1.xml", "Penalty", 1e-10, true); }
+TEST(RankAgreement, LineContactAugmentedLagrangeAutomatic) {
+  compareDeck("parallel_rods.xml", "Augmented Lagrange", 1e-10, true);
+}
 TEST(RankAgreement, LineContactPenalty) { compareDeck("parallel_rods.xml", "Penalty", 1e-10); }
 TEST(RankAgreement, LineContactAugmentedLagrange) { compareDeck("parallel_rods.xml", "Augmented Lagrange", 1e-10); }
 TEST(RankAgreement, LineContactLagrangeMultiplier) { compareDeck("parallel_rods.xml", "Lagrange Multiplier", 1e-10); }

@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "constraints/ContactManager.hpp"
+#include "core/Compliance.hpp"
 #include "elements/CrossSection.hpp"
 #include "elements/PinnedJoints.hpp"
 #include "support/TestSupport.hpp"
@@ -27,6 +28,48 @@ core::State solveTip(const std::string& force, const std::string& moment, const 
 }
 
 }  // namespace
+
+namespace {
+// A contribution that is not in the model: the compliance of everything.
+struct Nothing : core::Contribution {
+  std::string name() const override { return "nothing"; }
+  void connectivity(const OwnsDof&, std::vector<std::vector<core::GlobalDof>>&) const override {}
+  void evaluate(const core::State&, const OwnsDof&, core::AssemblySink&, bool) const override {}
+};
+}  // namespace
+
+TEST(StructureCompliance, CantileverTipMatchesEulerBernoulliAndAFreeBeamIsSingular) {
+  // v^T K^-1 v for unit tip loads (a force along Z, a moment about Z, a force along X): L^3 / (3 E Iy),
+  // L / (E Iz), L / (E A); a force and a moment together: the sum plus twice their coupling L^2 / (2 E Iz).
+  auto p = test::problemFromXml(test::cantileverXml(L, b, h, E, nu, 10, "0,0,0", "0,0,0", 1));
+  const auto cs = elements::CrossSection::rectangle(b, h);
+  const int tip = 10;
+  auto load = [&](std::vector<std::pair<int, double>> entries) {
+    core::SparseLoad v;
+    for (const auto& [k, x] : entries) {
+      v.dofs.push_back(core::GlobalDof(core::kDofsPerNode) * tip + k);
+      v.values.push_back(x);
+    }
+    return v;
+  };
+  const auto c = core::structureCompliance(
+      p.model, Nothing{}, p.model.initial, {load({{2, 1.0}}), load({{5, 1.0}}), load({{0, 1.0}}), load({{1, 1.0}, {5, 1.0}})});
+  const double EIy = E * cs.inertiaY(), EIz = E * cs.inertiaZ();
+  const double expected[4] = {L * L * L / (3 * EIy), L / EIz, L / (E * cs.area()),
+                              L * L * L / (3 * EIz) + L / EIz + L * L / EIz};
+  for (int i = 0; i < 4; ++i) {
+    std::printf("tip load %d: compliance %.9g, closed form %.9g\n", i, c[i], expected[i]);
+    EXPECT_NEAR(c[i], expected[i], 1e-9 * expected[i]) << i;
+  }
+  p.model.supports.clear();
+  try {
+    core::structureCompliance(p.model, Nothing{}, p.model.initial, {load({{2, 1.0}})});
+    ADD_FAILURE() << "a beam without supports has a compliance";
+  } catch (const std::runtime_error& e) {
+    std::printf("%s\n", e.what());
+    EXPECT_NE(std::string(e.what()).find("singular"), std::string::npos) << e.what();
+  }
+}
 
 TEST(LinearCantilever, TipValuesMatchEulerBernoulliClosedForms) {
   const auto cs = elements::CrossSection::rectangle(b, h);

@@ -4,6 +4,8 @@
 
 #include <regex>
 
+#include "constraints/AugmentedLagrangeEnforcer.hpp"
+#include "constraints/PenaltyEnforcer.hpp"
 #include "support/TestSupport.hpp"
 
 using namespace bc;
@@ -112,4 +114,38 @@ TEST(InputValidation, NodeIndexOutOfRange) {
                    R"XML(<Parameter name="Young's Modulus" type="double" value="100"/><Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML",
                    R"XML(<Parameter name="Elements" type="int" value="4"/>)XML", "{10,0,0}", loads),
               R"XML("BeamContact/Loads/push/Node": "7" is not "start", "end", "middle" or an index 0..4)XML");
+}
+
+TEST(InputValidation, PenaltyParametersAreNumbersOrAutomatic) {
+  // Penalty and Augmented Lagrange take "Automatic" in place of a penalty parameter; any other word,
+  // a non-positive number or a target error outside (0, 1) is refused with the parameter's path.
+  for (const core::ParameterSpec* spec :
+       {&constraints::PenaltyEnforcer::spec(), &constraints::AugmentedLagrangeEnforcer::spec()}) {
+    const std::string path = "BeamContact/Contact/Enforcement/S";
+    auto apply = [&](const std::string& key, const Teuchos::ParameterEntry& value) {
+      Teuchos::ParameterList l = spec->example();
+      l.setEntry(key, value);
+      spec->apply(l, path);
+      return l;
+    };
+    auto refused = [&](const std::string& key, const Teuchos::ParameterEntry& value, const std::string& pattern) {
+      try {
+        apply(key, value);
+        ADD_FAILURE() << key << ": no error; expected " << pattern;
+      } catch (const core::InputError& e) {
+        EXPECT_TRUE(std::regex_search(std::string(e.what()), std::regex(pattern))) << e.what();
+      }
+    };
+    for (const char* key : {"Normal Penalty Parameter", "Tangential Penalty Parameter"}) {
+      const auto l = apply(key, Teuchos::ParameterEntry(std::string("Automatic")));
+      EXPECT_TRUE(core::ParameterSpec::isWord(l, key, "Automatic"));
+      EXPECT_DOUBLE_EQ(apply(key, Teuchos::ParameterEntry(5.0)).get<double>(key), 5.0);
+      refused(key, Teuchos::ParameterEntry(std::string("Automatc")),
+              "parameter \"" + path + "/" + key + "\" is \"Automatc\"; give a number or \"Automatic\"");
+      refused(key, Teuchos::ParameterEntry(-1.0), "\"" + path + "/" + key + "\": must be > 0");
+    }
+    for (const char* key : {"Normal Target Error", "Tangential Target Error"})
+      for (double bad : {0.0, 1.0, 2.0})
+        refused(key, Teuchos::ParameterEntry(bad), "\"" + path + "/" + key + "\": must be in \\(0, 1\\)");
+  }
 }

@@ -1,0 +1,23 @@
+// The structure's compliance at given loads: for a load vector v, c = v^T K^-1 v, with K the tangent
+// of the model's contributions other than one (e.g. every contribution but contact) at a state, the
+// supports held. For a unit load along a constraint's gradient it is the constraint's diagonal
+// Delassus entry: how far the structure gives per unit of force there [length/force]. Automatic
+// penalty parameters are chosen from it (docs/contact.md, "Automatic penalty parameters").
+//
+// Every rank assembles and factors K in full on its own (the state is replicated), so the answer is
+// the same everywhere and no communication is needed; meant for the few calls of a run (new contact
+// points), not for every Newton iteration.
+#pragma once
+#include <vector>
+
+#include "Model.hpp"
+
+namespace bc::core {
+
+// v^T K^-1 v for each load of `loads`; K from the contributions of `model` except `without`, at
+// `state`. Throws std::runtime_error when K is singular (a free motion without `without`: a beam held
+// only by contact) or not positive for a load (the structure buckled there).
+std::vector<double> structureCompliance(const Model& model, const Physics& without, const State& state,
+                                        const std::vector<SparseLoad>& loads);
+
+}  // namespace bc::core
