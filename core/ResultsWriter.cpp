@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -75,7 +76,7 @@ ResultsWriter::ResultsWriter(const std::string& directory, const Model& model, T
 }
 
 std::vector<std::string> ResultsWriter::fileNames() const {
-  std::vector<std::string> names = {"status.txt",   "steps.csv",   "tracked_points.csv",       "reactions.csv",
+  std::vector<std::string> names = {"status.txt",   "steps.csv",   "newton.csv", "tracked_points.csv", "reactions.csv",
                                     "summary.csv",  "timers.txt",  "results.pvd",              "checkpoint.txt",
                                     "effective_parameters.xml"};
   for (const auto& c : model_.contributions)
@@ -124,7 +125,7 @@ void ResultsWriter::prepareResume(int step) {
   fs::create_directories(dir / "vtk", ec);
   // Rows of steps after the checkpoint's were computed by the interrupted run past the state this
   // run continues from: they go, and this run writes them again.
-  std::vector<std::string> csvs = {"steps.csv", "tracked_points.csv", "reactions.csv"};
+  std::vector<std::string> csvs = {"steps.csv", "newton.csv", "tracked_points.csv", "reactions.csv"};
   for (const auto& c : model_.contributions)
     if (!c->tableName().empty()) csvs.push_back(c->tableName());
   for (const auto& name : csvs) {
@@ -166,6 +167,7 @@ void ResultsWriter::prepareResume(int step) {
 void ResultsWriter::openTables(bool append) {
   const fs::path dir(dir_);
   steps_.open(dir / "steps.csv", append);
+  newton_.open(dir / "newton.csv", append);
   tracked_.open(dir / "tracked_points.csv", append);
   reactions_.open(dir / "reactions.csv", append);
   for (const auto& c : model_.contributions) {
@@ -179,6 +181,7 @@ void ResultsWriter::openTables(bool append) {
   }
   if (append) return;
   steps_.write("step,T,cut_level,newton_iterations,passes,final_residual,linear_iterations,backtracks,stalls\n");
+  newton_.write("step,T,iteration,residual_norm,increment_norm,linear_iterations,linear_residual\n");
   std::string h = "step,T";
   for (const auto& p : model_.tracked)
     for (const char* c : {"ux", "uy", "uz", "rx", "ry", "rz"}) h += "," + p.name + "_" + c;
@@ -216,6 +219,14 @@ void ResultsWriter::writeStep(const StepReport& step, const State& state, const 
     row << step.step << "," << step.T << "," << step.cutLevel << "," << step.iterations << "," << step.passes << ","
         << step.history.back().residualNorm << "," << linear << "," << step.backtracks << "," << step.stalls << "\n";
     steps_.write(row.str());
+    // Each iterate of the step's Newton solves (all passes): the residual history.
+    row.str("");
+    for (std::size_t k = 0; k < step.history.size(); ++k) {
+      const NewtonIterate& h = step.history[k];
+      row << step.step << "," << step.T << "," << k << "," << h.residualNorm << "," << h.incrementNorm << ","
+          << h.linearIterations << "," << h.linearResidual << "\n";
+    }
+    newton_.write(row.str());
     row.str("");
     row << step.step << "," << step.T;
     for (const auto& p : model_.tracked) {
@@ -252,48 +263,82 @@ void ResultsWriter::writeCheckpoint(const std::string& text) {
   });
 }
 
+namespace {
+// VTK XML with every array in one appended raw block (header_type UInt64: each array is preceded
+// by its size in bytes), so a step is written without formatting numbers as text.
+class VtkArrays {
+ public:
+  // The attributes of a DataArray that lives in the appended block, and its bytes appended.
+  template <class T>
+  std::string add(const std::string& type, const std::string& name, int components, const std::vector<T>& values) {
+    std::ostringstream a;
+    a << "<DataArray type=\"" << type << "\"";
+    if (!name.empty()) a << " Name=\"" << name << "\"";
+    if (components > 1) a << " NumberOfComponents=\"" << components << "\"";
+    a << " format=\"appended\" offset=\"" << data_.size() << "\"/>\n";
+    const std::uint64_t bytes = values.size() * sizeof(T);
+    data_.append(reinterpret_cast<const char*>(&bytes), sizeof bytes);
+    data_.append(reinterpret_cast<const char*>(values.data()), bytes);
+    return a.str();
+  }
+  std::string vectors(const std::string& name, const std::vector<Vec3d>& v) {
+    std::vector<double> flat;
+    flat.reserve(3 * v.size());
+    for (const auto& x : v) flat.insert(flat.end(), {x[0], x[1], x[2]});
+    return add("Float64", name, 3, flat);
+  }
+  // A field-data array (one tuple per value).
+  template <class T>
+  std::string field(const std::string& type, const std::string& name, const std::vector<T>& values) {
+    std::string a = add(type, name, 1, values);
+    return a.insert(a.find(" format="), " NumberOfTuples=\"" + std::to_string(values.size()) + "\"");
+  }
+  const std::string& data() const { return data_; }
+
+ private:
+  std::string data_;
+};
+}  // namespace
+
 void ResultsWriter::writeVtk(int step, double T, const State& state) {
   VtkMesh mesh;
   for (const auto& c : model_.contributions) c->appendVtk(state, mesh);
   char name[64];
   std::snprintf(name, sizeof name, "vtk/step_%05d.vtu", step);
+  const std::size_t n = mesh.points.size();
+  // Points at their reference place, with the displacement as point data: ParaView's Warp By Vector
+  // (scale 1) draws the deformed shape. (Contact points have no reference place: they are drawn where
+  // they are, with zero displacement.)
+  std::vector<Vec3d> reference(n);
+  for (std::size_t i = 0; i < n; ++i) reference[i] = mesh.points[i] - mesh.pointDisplacement[i];
+  VtkArrays a;
   std::ostringstream f;
-  f << std::setprecision(12);
-  f << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-    << "<UnstructuredGrid>\n<Piece NumberOfPoints=\"" << mesh.points.size() << "\" NumberOfCells=\""
-    << mesh.cells.size() << "\">\n<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-  for (const auto& p : mesh.points) f << p[0] << " " << p[1] << " " << p[2] << "\n";
-  f << "</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
+  f << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
+       "header_type=\"UInt64\">\n<UnstructuredGrid>\n<FieldData>\n"
+    << a.field("Float64", "load factor", std::vector<double>{T}) << a.field("Int32", "step", std::vector<std::int32_t>{step}) << "</FieldData>\n<Piece NumberOfPoints=\"" << n
+    << "\" NumberOfCells=\"" << mesh.cells.size() << "\">\n<Points>\n" << a.vectors("", reference) << "</Points>\n<Cells>\n";
+  std::vector<std::int64_t> connectivity, offsets;
+  std::vector<std::uint8_t> types(mesh.cellTypes.begin(), mesh.cellTypes.end());
   for (const auto& c : mesh.cells) {
-    for (int i : c) f << i << " ";
-    f << "\n";
+    connectivity.insert(connectivity.end(), c.begin(), c.end());
+    offsets.push_back(static_cast<std::int64_t>(connectivity.size()));
   }
-  f << "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
-  long long off = 0;
-  for (const auto& c : mesh.cells) f << (off += c.size()) << "\n";
-  f << "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
-  for (int t : mesh.cellTypes) f << t << "\n";
-  f << "</DataArray>\n</Cells>\n<PointData Vectors=\"displacement\">\n"
-    << "<DataArray type=\"Float64\" Name=\"displacement\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-  for (const auto& u : mesh.pointDisplacement) f << u[0] << " " << u[1] << " " << u[2] << "\n";
-  f << "</DataArray>\n";
+  f << a.add("Int64", "connectivity", 1, connectivity) << a.add("Int64", "offsets", 1, offsets)
+    << a.add("UInt8", "types", 1, types) << "</Cells>\n<PointData Vectors=\"displacement\">\n"
+    << a.vectors("displacement", mesh.pointDisplacement);
   for (auto& [arrayName, values] : mesh.pointVectors) {
-    values.resize(mesh.points.size(), Vec3d{});
-    f << "<DataArray type=\"Float64\" Name=\"" << arrayName << "\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-    for (const auto& u : values) f << u[0] << " " << u[1] << " " << u[2] << "\n";
-    f << "</DataArray>\n";
+    values.resize(n, Vec3d{});
+    f << a.vectors(arrayName, values);
   }
   for (auto& [arrayName, values] : mesh.pointScalars) {
-    values.resize(mesh.points.size(), 0.0);
-    f << "<DataArray type=\"Float64\" Name=\"" << arrayName << "\" format=\"ascii\">\n";
-    for (double v : values) f << v << "\n";
-    f << "</DataArray>\n";
+    values.resize(n, 0.0);
+    f << a.add("Float64", arrayName, 1, values);
   }
-  f << "</PointData>\n<CellData>\n<DataArray type=\"Int32\" Name=\"beam\" format=\"ascii\">\n";
-  for (int b : mesh.cellBeam) f << b << "\n";
-  f << "</DataArray>\n<DataArray type=\"Int32\" Name=\"element\" format=\"ascii\">\n";
-  for (int e : mesh.cellElement) f << e << "\n";
-  f << "</DataArray>\n</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+  f << "</PointData>\n<CellData>\n"
+    << a.add("Int32", "beam", 1, std::vector<std::int32_t>(mesh.cellBeam.begin(), mesh.cellBeam.end()))
+    << a.add("Int32", "element", 1, std::vector<std::int32_t>(mesh.cellElement.begin(), mesh.cellElement.end()))
+    << "</CellData>\n</Piece>\n</UnstructuredGrid>\n<AppendedData encoding=\"raw\">\n_" << a.data()
+    << "\n</AppendedData>\n</VTKFile>\n";
   writeFileAtomically(fs::path(dir_) / name, f.str());
   vtkFiles_.emplace_back(T, name);
   writePvd();
@@ -325,6 +370,7 @@ void ResultsWriter::finish(const RunReport& run, const std::string& timerReport)
   collectively(*comm_, [&] {
     if (!root()) return;
     steps_.close();
+    newton_.close();
     tracked_.close();
     reactions_.close();
     for (auto& t : tables_)

@@ -74,7 +74,7 @@ class ResultsWriter {
   Teuchos::RCP<const Comm> comm_;
   int rank_ = 0;
   bool vtk_ = true;
-  OutputFile steps_, tracked_, reactions_;
+  OutputFile steps_, newton_, tracked_, reactions_;
   std::vector<std::unique_ptr<OutputFile>> tables_;  // one per contribution with a table
   std::vector<std::pair<double, std::string>> vtkFiles_;
 };

@@ -40,7 +40,7 @@ namespace {
 // One varied parameter: its column name, its path in the base deck and its values as text
 // (kept as the user wrote them for the table) with the XML type they came with.
 struct Variable {
-  std::string name, path;
+  std::string name, path, unit;
   std::vector<std::string> values;
   enum class Kind { Double, Int, String, Bool } kind = Kind::Double;
 };
@@ -55,11 +55,13 @@ struct Output {
   std::string name;
   std::string trackedPoint, component;  // a tracked point's component, or
   std::string contact;                  // a contact total
+  std::string unit;                     // for the report's axes and tables
 };
 
 struct Plot {
   std::string name, x, y, series, relativeTo;
   bool logX = false;
+  bool error = false;  // |relative error| against the reference on log-log axes, with fitted slopes
 };
 
 struct Case {
@@ -71,6 +73,7 @@ struct Case {
   std::string status = "not run", cause;
   int exitCode = -1;
   bool kept = false;  // complete from an earlier run of the study (same deck)
+  std::vector<double> timings;  // --timing: the solve time of each complete run
 };
 
 const std::vector<std::string> kContactQuantities = {"Normal Force", "Tangential Force 1", "Tangential Force 2",
@@ -117,13 +120,15 @@ Variable readVariable(const ParameterList& v, const std::string& name, const std
   var.name = name;
   for (auto it = v.begin(); it != v.end(); ++it) {
     const std::string& key = v.name(it);
-    if (key != "Path" && key != "Values")
-      throw InputError("parameter \"" + path + "/" + key + "\" is not known; a varied parameter has \"Path\" and \"Values\"");
+    if (key != "Path" && key != "Values" && key != "Unit")
+      throw InputError("parameter \"" + path + "/" + key +
+                       "\" is not known; a varied parameter has \"Path\", \"Values\" and optionally \"Unit\"");
   }
   if (!v.isParameter("Path") || !v.isType<std::string>("Path"))
     throw InputError("missing required parameter \"" + path + "/Path\" (string: a parameter path in the base deck, "
                      "e.g. \"Contact/Enforcement/Type\")");
   var.path = v.get<std::string>("Path");
+  var.unit = stringParameter(v, path, "Unit", false);
   if (!v.isParameter("Values"))
     throw InputError("missing required parameter \"" + path + "/Values\" (Array(double), Array(int) or Array(string))");
   if (v.isType<Array<double>>("Values")) {
@@ -379,6 +384,9 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
   spec.add("Output Directory", "results/" + stem, "the study directory (--output overrides it)");
   spec.add("Parallel Cases", 0, "cases run at once; 0: one per core", core::atLeast(0), ">= 0");
   spec.add("At T", 1.0, "load factor at which the outputs are read", core::inRange(0.0, 1.0), "in (0, 1]");
+  spec.add("Reference Group", std::string(),
+           "a group of one case (e.g. the Lagrange multiplier run) that every case's outputs are compared with: "
+           "cases.csv gets each output's error and relative error against it; empty: none");
   ParameterList anyList;
   spec.addSublist("Cases", anyList, "groups of cases: each a sublist of varied parameters (Path, Values)");
   spec.addSublist("Outputs", anyList, "named outputs: {Tracked Point, Component} or {Contact}");
@@ -411,12 +419,14 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
   std::vector<Output> outputs;
   forEachSublist(study->sublist("Outputs"), root + "/Outputs", "an output",
                  [&](const std::string& name, const std::string& path, const ParameterList& o) {
-                   onlyKeys(o, path, {"Contact", "Tracked Point", "Component"});
+                   onlyKeys(o, path, {"Contact", "Tracked Point", "Component", "Unit"});
                    Output out;
                    out.name = name;
+                   out.unit = stringParameter(o, path, "Unit", false);
                    out.contact = stringParameter(o, path, "Contact", false);
                    out.trackedPoint = stringParameter(o, path, "Tracked Point", false);
                    if (!out.contact.empty()) {
+                     if (!o.isParameter("Unit") && out.contact.find("Force") != std::string::npos) out.unit = "force";
                      if (std::find(kContactQuantities.begin(), kContactQuantities.end(), out.contact) ==
                          kContactQuantities.end())
                        throw InputError("parameter \"" + path + "/Contact\": \"" + out.contact + "\" is not one of " +
@@ -426,6 +436,7 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
                      if (std::find(kComponents.begin(), kComponents.end(), out.component) == kComponents.end())
                        throw InputError("parameter \"" + path + "/Component\" must be one of " +
                                         core::joinNames(kComponents));
+                     if (!o.isParameter("Unit")) out.unit = out.component[0] == 'u' ? "length" : "rad";
                    } else {
                      throw InputError("parameter \"" + path + "\" needs \"Contact\" (" +
                                       core::joinNames(kContactQuantities) + ") or \"Tracked Point\" with \"Component\"");
@@ -441,7 +452,7 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
   };
   forEachSublist(study->sublist("Plots"), root + "/Plots", "a plot",
                  [&](const std::string& name, const std::string& path, const ParameterList& p) {
-                   onlyKeys(p, path, {"X", "Y", "Series", "Relative To Group", "Log X"});
+                   onlyKeys(p, path, {"X", "Y", "Series", "Relative To Group", "Log X", "Error"});
                    Plot plot;
                    plot.name = name;
                    plot.x = stringParameter(p, path, "X", true);
@@ -451,6 +462,14 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
                    if (p.isParameter("Log X")) {
                      if (!p.isType<bool>("Log X")) throw InputError("parameter \"" + path + "/Log X\" must be a bool");
                      plot.logX = p.get<bool>("Log X");
+                   }
+                   if (p.isParameter("Error")) {
+                     if (!p.isType<bool>("Error")) throw InputError("parameter \"" + path + "/Error\" must be a bool");
+                     plot.error = p.get<bool>("Error");
+                     if (plot.error && plot.relativeTo.empty()) plot.relativeTo = study->get<std::string>("Reference Group");
+                     if (plot.error && plot.relativeTo.empty())
+                       throw InputError("parameter \"" + path + "/Error\": an error needs a reference; give \"" + path +
+                                        "/Relative To Group\" or \"" + root + "/Reference Group\"");
                    }
                    if (!isColumn(plot.x))
                      throw InputError("parameter \"" + path + "/X\": \"" + plot.x + "\" is not a varied parameter");
@@ -487,6 +506,19 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
       if (k == idx.size()) break;
     }
   }
+  // The reference: a group of exactly one case.
+  const std::string referenceGroup = study->get<std::string>("Reference Group");
+  const Case* reference = nullptr;
+  if (!referenceGroup.empty()) {
+    const auto n = std::count_if(all.begin(), all.end(), [&](const Case& c) { return c.group == referenceGroup; });
+    if (n != 1)
+      throw InputError("parameter \"" + root + "/Reference Group\": " +
+                       (n == 0 ? "no group \"" + referenceGroup + "\""
+                               : "group \"" + referenceGroup + "\" has " + std::to_string(n) +
+                                     " cases; the reference must be a group of one case"));
+    reference = &*std::find_if(all.begin(), all.end(), [&](const Case& c) { return c.group == referenceGroup; });
+  }
+  const int timing = options.timing;
   // A case whose directory holds the same deck (same parameters, same base deck) and a complete run
   // is kept from an earlier run of the study; any other case directory is cleared and run again.
   // Case directories beyond this study's cases, and the last report, are from an earlier study.
@@ -498,7 +530,8 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
       if (!number || std::stoi(n) < 1 || std::stoi(n) > static_cast<int>(all.size())) fs::remove_all(entry.path(), ec);
     }
     for (const auto& entry : fs::directory_iterator(dir))
-      if (entry.path().extension() == ".png" || entry.path().filename() == "report.md") fs::remove(entry.path(), ec);
+      if (entry.path().extension() == ".png" || entry.path().extension() == ".pdf" || entry.path().filename() == "report.md")
+        fs::remove(entry.path(), ec);
   }
   int kept = 0;
   for (Case& c : all) {
@@ -509,9 +542,11 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
     for (const auto& [var, value] : c.settings)
       setValue(deck, *var, value, "case " + std::to_string(c.index) + " (group \"" + c.group + "\")");
     deck.sublist("Output").set("Directory", c.dir.string());
+    if (timing) deck.sublist("Output").set("Write VTK", false);  // fair timing: the method, not the output
     std::ostringstream xml;
     Teuchos::writeParameterListToXmlOStream(deck, xml);
-    if (readText(c.dir / "deck.xml") == xml.str() && lastLine(c.dir / "status.txt").rfind("complete", 0) == 0) {
+    if (!timing && readText(c.dir / "deck.xml") == xml.str() &&
+        lastLine(c.dir / "status.txt").rfind("complete", 0) == 0) {
       c.status = "complete";
       c.kept = true;
       c.exitCode = 0;
@@ -532,8 +567,14 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
     for (const auto& c : columns) csv << ',' << csvField(c);
     csv << ",status";
     for (const auto& o : outputs) csv << ',' << csvField(o.name);
+    if (reference)
+      for (const auto& o : outputs) csv << ',' << csvField(o.name + " error") << ',' << csvField(o.name + " relative error");
     for (const auto& r : runColumns) csv << ',' << r;
+    if (timing) csv << ",solve_seconds_median,solve_seconds_min,solve_seconds_max,timing_runs";
     csv << ",cause\n";
+    const auto referenceValues = reference && reference->status == "complete"
+                                     ? readOutputs(reference->dir, outputs, atT)
+                                     : std::map<std::string, std::string>{};
     for (const Case& c : all) {
       const auto values = readOutputs(c.dir, outputs, atT);
       const auto summary = readSummary(c.dir);
@@ -547,9 +588,29 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
         const auto it = values.find(o.name);
         csv << ',' << (it == values.end() ? "" : it->second);
       }
+      // Error against the reference: y - y_ref and (y - y_ref) / |y_ref| (empty where either is missing).
+      if (reference)
+        for (const auto& o : outputs) {
+          const auto y = values.find(o.name), r = referenceValues.find(o.name);
+          if (y == values.end() || r == referenceValues.end()) {
+            csv << ",,";
+            continue;
+          }
+          const double e = std::stod(y->second) - std::stod(r->second), ref = std::abs(std::stod(r->second));
+          csv << ',' << text(e) << ',' << (ref > 0.0 ? text(e / ref) : "");
+        }
       for (const auto& r : runColumns) {
         const auto it = summary.find(r);
         csv << ',' << (it == summary.end() ? "" : it->second);
+      }
+      if (timing) {
+        std::vector<double> t = c.timings;
+        std::sort(t.begin(), t.end());
+        const std::size_t n = t.size();
+        if (n == 0) csv << ",,,,0";
+        else
+          csv << ',' << text(n % 2 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2])) << ',' << text(t.front()) << ','
+              << text(t.back()) << ',' << n;
       }
       csv << ',' << csvField(c.cause) << '\n';
     }
@@ -559,9 +620,11 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
   // Run them, several at once.
   int parallel = options.parallel > 0 ? options.parallel : study->get<int>("Parallel Cases");
   if (parallel <= 0) parallel = std::max(1u, std::thread::hardware_concurrency());
+  if (timing) parallel = 1;  // one at a time: no case competes with another for the cores
   const std::string exe = selfExecutable();
   std::printf("study %s: %zu cases from %s, %d at a time, in %s", stem.c_str(), all.size(), base.string().c_str(),
               parallel, dir.string().c_str());
+  if (timing) std::printf(" (timing: each case %d times, VTK off)", timing);
   if (kept) std::printf(" (%d complete from an earlier run, kept)", kept);
   std::printf("\n");
   std::fflush(stdout);
@@ -596,8 +659,18 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
     if (it == running.end()) continue;
     Case& c = *it->second;
     running.erase(it);
-    ++done;
     c.exitCode = exitCode(status);
+    // Timing: a complete run adds its solve time; the case runs again until it has them all.
+    if (timing && c.exitCode == 0) {
+      const auto summary = readSummary(c.dir);
+      const auto seconds = summary.find("solve_seconds");
+      if (seconds != summary.end()) c.timings.push_back(std::stod(seconds->second));
+      if (static_cast<int>(c.timings.size()) < timing && !stopSignal && !core::receivedSignal()) {
+        running[launch(exe, c, plugins)] = &c;
+        continue;
+      }
+    }
+    ++done;
     const std::string runStatus = lastLine(c.dir / "status.txt");
     if (c.exitCode == 0) {
       c.status = "complete";
@@ -628,20 +701,67 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
   }
 
   writeTable();
-  // What the report script needs to know.
+  // What the report script needs to know (with a few facts of the base deck, read without changing it).
   {
+    const ParameterList& b = *baseDeck;
+    const auto baseFact = [&](const std::string& list, const std::string& key) -> std::string {
+      const ParameterList* l = &b;
+      std::stringstream path(list);
+      for (std::string part; std::getline(path, part, '/');) {
+        if (!l->isSublist(part)) return "";
+        l = &l->sublist(part);
+      }
+      if (!l->isParameter(key)) return "";
+      std::ostringstream v;
+      v << l->getEntry(key).getAny();
+      return v.str();
+    };
     std::ofstream j(dir / "study.json");
     j << "{\n  \"title\": " << jsonString(study->get<std::string>("Title")) << ",\n  \"base_deck\": "
-      << jsonString(base.string()) << ",\n  \"at_T\": " << atT << ",\n  \"columns\": [";
+      << jsonString(base.string()) << ",\n  \"at_T\": " << atT << ",\n  \"reference_group\": "
+      << jsonString(referenceGroup) << ",\n  \"timing_runs\": " << timing << ",\n  \"parallel\": " << parallel
+      << ",\n  \"base\": {\"strategy\": " << jsonString(baseFact("Contact/Enforcement", "Type"))
+      << ", \"beams\": " << (b.isSublist("Beams") ? b.sublist("Beams").numParams() : 0)
+      << ", \"increments\": " << jsonString(baseFact("Load Stepping", "Number of Increments")) << "},\n  \"groups\": [";
+    for (std::size_t g = 0; g < groups.size(); ++g) {
+      j << (g ? ",\n" : "\n") << "    {\"name\": " << jsonString(groups[g].name) << ", \"variables\": [";
+      for (std::size_t v = 0; v < groups[g].variables.size(); ++v) {
+        const Variable& var = groups[g].variables[v];
+        j << (v ? ", " : "") << "{\"name\": " << jsonString(var.name) << ", \"path\": " << jsonString(var.path)
+          << ", \"values\": [";
+        for (std::size_t k = 0; k < var.values.size(); ++k) j << (k ? ", " : "") << jsonString(var.values[k]);
+        j << "]}";
+      }
+      j << "]}";
+    }
+    j << "\n  ],\n  \"units\": {";
+    {
+      bool first = true;
+      auto unit = [&](const std::string& name, const std::string& u) {
+        if (u.empty()) return;
+        j << (first ? "" : ", ") << jsonString(name) << ": " << jsonString(u);
+        first = false;
+      };
+      for (const Group& g : groups)
+        for (const Variable& v : g.variables) unit(v.name, v.unit);
+      for (const Output& o : outputs) unit(o.name, o.unit);
+    }
+    j << "},\n  \"columns\": [";
     for (std::size_t i = 0; i < columns.size(); ++i) j << (i ? ", " : "") << jsonString(columns[i]);
     j << "],\n  \"outputs\": [";
     for (std::size_t i = 0; i < outputs.size(); ++i) j << (i ? ", " : "") << jsonString(outputs[i].name);
-    j << "],\n  \"plots\": [";
+    j << "],\n  \"output_sources\": {";
+    for (std::size_t i = 0; i < outputs.size(); ++i)
+      j << (i ? ", " : "") << jsonString(outputs[i].name) << ": {\"tracked_point\": " << jsonString(outputs[i].trackedPoint)
+        << ", \"component\": " << jsonString(outputs[i].component) << ", \"contact\": " << jsonString(outputs[i].contact)
+        << "}";
+    j << "},\n  \"plots\": [";
     for (std::size_t i = 0; i < plots.size(); ++i) {
       const Plot& p = plots[i];
       j << (i ? ",\n" : "\n") << "    {\"name\": " << jsonString(p.name) << ", \"x\": " << jsonString(p.x)
         << ", \"y\": " << jsonString(p.y) << ", \"series\": " << jsonString(p.series)
-        << ", \"relative_to\": " << jsonString(p.relativeTo) << ", \"log_x\": " << (p.logX ? "true" : "false") << "}";
+        << ", \"relative_to\": " << jsonString(p.relativeTo) << ", \"log_x\": " << (p.logX ? "true" : "false")
+        << ", \"error\": " << (p.error ? "true" : "false") << "}";
     }
     j << "\n  ]\n}\n";
   }

@@ -7,7 +7,9 @@
 // by crashing, is recorded with its cause and the others go on. The study directory receives
 //   cases/NNN/          each case's deck.xml, log.txt and its full results directory
 //   cases.csv           one row per case: group, the varied parameters, status and cause, outputs
-//                       at "At T", Newton iterations (total, largest per step), passes, solve time
+//                       at "At T" (with their error against the "Reference Group"), Newton
+//                       iterations (total, largest per step), passes, solve time (with --timing:
+//                       the median and spread of several runs)
 //   report.md, *.png    the table and the plots (drivers/study_report.py, matplotlib)
 // The study deck format is in docs/studies.md.
 #pragma once
@@ -20,6 +22,7 @@ struct StudyOptions {
   std::string output;     // study directory; default results/<study name>
   int parallel = 0;       // cases run at once; 0: the deck's "Parallel Cases", else the core count
   bool report = true;     // write report.md and the plots
+  int timing = 0;         // > 0: fair timing: one case at a time, VTK off, each run this many times
   std::vector<std::string> plugins;  // --plugin libraries, passed on to every case
 };
 

@@ -1,7 +1,7 @@
 // beamcontact: command-line driver. Parses arguments, reads and validates the deck, runs it.
 //   beamcontact run DECK.xml [--output DIR] [--quiet] [--restart DIR]
 //   beamcontact check DECK.xml
-//   beamcontact study STUDY.xml [--output DIR] [--parallel N] [--no-report]
+//   beamcontact study STUDY.xml [--output DIR] [--parallel N] [--timing [N]] [--no-report]
 //   beamcontact render RESULTS_DIR OUT.png [--stages T1,T2,...] [--view ELEV,AZIM] [--title TEXT]
 //   beamcontact --print-valid-parameters
 //   beamcontact --help
@@ -32,7 +32,7 @@ namespace {
 const char* kUsage =
     "usage: beamcontact run DECK.xml [--output DIR] [--quiet] [--restart DIR] [--plugin LIB]...\n"
     "       beamcontact check DECK.xml [--plugin LIB]...\n"
-    "       beamcontact study STUDY.xml [--output DIR] [--parallel N] [--no-report] [--plugin LIB]...\n"
+    "       beamcontact study STUDY.xml [--output DIR] [--parallel N] [--timing [N]] [--no-report] [--plugin LIB]...\n"
     "       beamcontact render RESULTS_DIR OUT.png [--stages T1,T2,...] [--view ELEV,AZIM] [--title TEXT]\n"
     "       beamcontact generate grid|weave [--n N] [--m M] [--spacing S] [--radius R] [--gap G]\n"
     "                [--press P (grid) | --pull P (weave)] [--elements E] [--youngs-modulus Y] [--friction MU]\n"
@@ -53,7 +53,9 @@ const char* kUsage =
     "compressed; strand: helical wires, pulled); docs/input.md lists the options.\n"
     "check reads and validates a deck and checks the model (supports, duplicates) without running it.\n"
     "A study runs every case of a study deck (a base deck and the parameters to vary), N at a time\n"
-    "(default: one per core), and writes cases.csv, report.md and plots (docs/studies.md).\n"
+    "(default: one per core), and writes cases.csv, report.md and plots (docs/studies.md); its timings\n"
+    "are indicative. --timing [N] runs the cases one at a time without VTK output, each N times\n"
+    "(default 5), and reports the median solve time with its spread.\n"
     "render draws a run's beams and contact forces at four stages of loading (default T = 0.25, 0.5,\n"
     "0.75, 1) into a PNG, from the run's VTK files.\n"
     "--restart DIR continues the run whose results are in DIR from its checkpoint.txt (written every\n"
@@ -97,6 +99,17 @@ int studyCommand(const std::vector<std::string>& args, const std::vector<std::st
       if (options.parallel < 1 || options.parallel > 1024) {
         std::fprintf(stderr, "beamcontact: --parallel takes a whole number from 1 to 1024, got \"%s\"\n", args[i].c_str());
         return 1;
+      }
+    } else if (args[i] == "--timing") {
+      // Optional count: the next argument when it is a whole number.
+      options.timing = 5;
+      if (i + 1 < args.size() && !args[i + 1].empty() && args[i + 1].find_first_not_of("0123456789") == std::string::npos) {
+        const std::string& v = args[++i];
+        options.timing = v.size() <= 3 ? std::stoi(v) : 0;
+        if (options.timing < 1 || options.timing > 100) {
+          std::fprintf(stderr, "beamcontact: --timing takes a whole number of runs from 1 to 100, got \"%s\"\n", v.c_str());
+          return 1;
+        }
       }
     } else if (args[i] == "--no-report") {
       options.report = false;

@@ -32,7 +32,8 @@ def read(path):
     reader.SetFileName(str(path))
     reader.Update()
     grid = reader.GetOutput()
-    points = vtk_to_numpy(grid.GetPoints().GetData())
+    # The files hold the reference places and the displacement (Warp By Vector in ParaView).
+    points = vtk_to_numpy(grid.GetPoints().GetData()) + vtk_to_numpy(grid.GetPointData().GetArray("displacement"))
     beam_array = grid.GetCellData().GetArray("beam")
     force_array = grid.GetPointData().GetArray("contact force")
     forces = vtk_to_numpy(force_array) if force_array is not None else np.zeros_like(points)

@@ -1,14 +1,22 @@
 #!/usr/bin/python3
-"""Report of a BeamContact study: report.md and one PNG per plot, from the study directory's
-cases.csv and study.json (both written by `beamcontact study`).
+"""Report of a BeamContact study: report.md with one PNG (150 dpi) and one PDF per figure, from the
+study directory's cases.csv and study.json (both written by `beamcontact study`) and the cases'
+own results (steps.csv, newton.csv, tracked_points.csv).
 
     /usr/bin/python3 drivers/study_report.py STUDY_DIR
 
-A plot draws output Y against varied parameter X, one curve per value of Series. With "Relative To
-Group" Y is the percentage difference against that group's (first complete) case, as in the seed
-paper's Figs. 7-9 and 12-14. Cases that did not complete are drawn as dashed vertical lines at
-their X in their curve's colour, as the paper marks its non-converging penalty parameters; cases
-without X (another strategy) are drawn as horizontal lines.
+The report says what was varied and against which reference, then gives the table of outputs, the
+errors against the study's "Reference Group", the cost per group (Newton iterations, passes, solve
+time with its spread) and the figures:
+- each plot of the study deck: output Y against varied parameter X, one curve per value of Series.
+  With "Relative To Group" Y is the percentage difference against that group's (first complete)
+  case, as in the seed paper's Figs. 7-9 and 12-14; with "Error" it is |relative error| on log-log
+  axes with the least-squares slope of each curve in its legend. Cases that did not complete are
+  dashed vertical lines at their X in their curve's colour (one legend entry says so), as the paper
+  marks its non-converging penalty parameters; complete cases without X (another strategy) are
+  horizontal lines, or a shaded band from the smallest to the largest value where a group has several;
+- load-displacement curves of every tracked-point output, one line per case;
+- Newton iterations per step, and the residual history of each case's last converged step.
 """
 import csv
 import json
@@ -20,6 +28,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
 
 
 def number(text):
@@ -39,8 +48,64 @@ def fmt(text, digits=6):
     return f"{v:.{digits}g}"
 
 
-def plot_one(plot, rows, directory):
-    x, y, series, ref_group = plot["x"], plot["y"], plot["series"], plot["relative_to"]
+def median(values):
+    v = sorted(values)
+    n = len(v)
+    return None if n == 0 else (v[n // 2] if n % 2 else 0.5 * (v[n // 2 - 1] + v[n // 2]))
+
+
+def slope(points):
+    """Least-squares slope of log10(y) against log10(x) (None with fewer than two distinct x)."""
+    pts = [(math.log10(x), math.log10(y)) for x, y in points if x > 0 and y > 0]
+    if len({p[0] for p in pts}) < 2:
+        return None
+    mx = sum(p[0] for p in pts) / len(pts)
+    my = sum(p[1] for p in pts) / len(pts)
+    sxx = sum((p[0] - mx) ** 2 for p in pts)
+    return sum((p[0] - mx) * (p[1] - my) for p in pts) / sxx
+
+
+class Study:
+    def __init__(self, directory):
+        self.dir = directory
+        with open(os.path.join(directory, "study.json")) as f:
+            self.meta = json.load(f)
+        with open(os.path.join(directory, "cases.csv")) as f:
+            self.rows = list(csv.DictReader(f))
+        self.units = self.meta.get("units", {})
+        self.columns = self.meta["columns"]
+
+    def label(self, name):
+        unit = self.units.get(name)
+        return f"{name} [{unit}]" if unit else name
+
+    def case_label(self, r):
+        values = [f"{c}={fmt(r[c])}" for c in self.columns if r.get(c)]
+        return " ".join([r["group"]] + values)
+
+    def case_dir(self, r):
+        return os.path.join(self.dir, "cases", f"{int(r['case']):03d}")
+
+    def save(self, fig, title):
+        stem = "".join(c if c.isalnum() or c in "-_" else "_" for c in title)
+        fig.tight_layout()
+        fig.savefig(os.path.join(self.dir, stem + ".png"), dpi=150)
+        fig.savefig(os.path.join(self.dir, stem + ".pdf"))
+        plt.close(fig)
+        return stem
+
+
+def read_csv(path):
+    try:
+        with open(path) as f:
+            return list(csv.DictReader(f))
+    except OSError:
+        return []
+
+
+def plot_one(study, plot):
+    rows = study.rows
+    x, y, series, ref_group, error = plot["x"], plot["y"], plot["series"], plot["relative_to"], plot.get("error")
     reference = None
     if ref_group:
         for r in rows:
@@ -54,9 +119,12 @@ def plot_one(plot, rows, directory):
         v = number(r[y])
         if v is None:
             return None
-        return 100.0 * (v - reference) / abs(reference) if reference is not None else v
+        if reference is None:
+            return v
+        relative = (v - reference) / abs(reference)
+        return abs(relative) if error else 100.0 * relative
 
-    fig, ax = plt.subplots(figsize=(7, 4.5))
+    fig, ax = plt.subplots(figsize=(7.5, 4.8))
     keys = []
     for r in rows:
         if number(r.get(x)) is None:
@@ -66,84 +134,214 @@ def plot_one(plot, rows, directory):
             keys.append(k)
     keys.sort(key=lambda k: (number(k) is None, number(k) or 0.0, k))
     colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    failed_any = False
     for i, k in enumerate(keys):
         colour = colours[i % len(colours)]
         members = [r for r in rows if number(r.get(x)) is not None and (not series or r.get(series, "") == k)]
         ok = sorted((number(r[x]), value(r)) for r in members if r["status"] == "complete" and value(r) is not None)
+        if error:
+            ok = [p for p in ok if p[1] > 0.0]
         label = f"{series} = {fmt(k)}" if series else y
+        if error and ok:
+            s = slope(ok)
+            if s is not None:
+                label += f" (slope {s:.2f})"
         if ok:
             ax.plot([p[0] for p in ok], [p[1] for p in ok], "o-", color=colour, label=label)
         for r in members:
             if r["status"] != "complete":
                 ax.axvline(number(r[x]), color=colour, linestyle="--", linewidth=1)
+                failed_any = True
+    # Complete cases without X, per group: one case is a horizontal line, several a band from their
+    # smallest to their largest value; each labelled with its group at the left.
+    others = {}
     for r in rows:
-        if number(r.get(x)) is None and r["status"] == "complete" and r["group"] != ref_group and value(r) is not None:
-            ax.axhline(value(r), color="0.3", linestyle=":", linewidth=1.2)
-            ax.annotate(r["group"], (0.01, value(r)), xycoords=("axes fraction", "data"), fontsize=8, color="0.3")
-    if plot["log_x"]:
+        if number(r.get(x)) is None and r["status"] == "complete" and r["group"] != ref_group \
+                and value(r) is not None and not (error and value(r) <= 0.0):
+            others.setdefault(r["group"], []).append(value(r))
+    for n, (group, values) in enumerate(others.items()):
+        lo, hi = min(values), max(values)
+        if len(values) == 1:
+            ax.axhline(lo, color="0.3", linestyle=":", linewidth=1.2)
+            text = group
+        else:
+            ax.axhspan(lo, hi, color="0.5", alpha=0.12)
+            text = f"{group} ({len(values)} cases)"
+        ax.annotate(text, (0.01 + 0.3 * (n % 3), hi), xycoords=("axes fraction", "data"), fontsize=7, color="0.3",
+                    va="bottom")
+    for r in rows:
+        if number(r.get(x)) is None and r["status"] != "complete" and r["group"] != ref_group:
+            failed_any = True  # another strategy that did not complete: in the table's causes
+    if plot["log_x"] or error:
         ax.set_xscale("log")
-    ax.set_xlabel(x)
-    ax.set_ylabel(f"{y}: % difference vs {ref_group}" if ref_group else y)
-    if ref_group:
+    if error:
+        ax.set_yscale("log")
+    ax.set_xlabel(study.label(x))
+    if error:
+        ax.set_ylabel(f"|{y} - {y} of {ref_group}| / |{y} of {ref_group}|")
+    elif ref_group:
+        ax.set_ylabel(f"{y}: % difference vs {ref_group}")
         ax.axhline(0.0, color="k", linewidth=0.6)
+    else:
+        ax.set_ylabel(study.label(y))
     ax.set_title(plot["name"])
-    ax.grid(True, alpha=0.3)
-    if keys:
-        ax.legend(fontsize=8)
-    fig.tight_layout()
-    name = "".join(c if c.isalnum() or c in "-_" else "_" for c in plot["name"]) + ".png"
-    fig.savefig(os.path.join(directory, name), dpi=110)
-    plt.close(fig)
-    return name, None
+    ax.grid(True, alpha=0.3, which="both" if error else "major")
+    handles, labels = ax.get_legend_handles_labels()
+    if failed_any:
+        handles.append(Line2D([], [], color="0.4", linestyle="--", linewidth=1))
+        labels.append("did not complete (at its X)")
+    if handles:
+        ax.legend(handles, labels, fontsize=8)
+    return study.save(fig, plot["name"]), None
 
 
-def median(values):
-    v = sorted(values)
-    n = len(v)
-    return None if n == 0 else (v[n // 2] if n % 2 else 0.5 * (v[n // 2 - 1] + v[n // 2]))
+def curves(study):
+    """Load-displacement curves of the tracked-point outputs, Newton iterations per step and the
+    residual history of each case's last converged step; returns (title, file stem) pairs."""
+    figures = []
+    rows = [r for r in study.rows if os.path.isdir(study.case_dir(r))]
+    if not rows:
+        return figures
+    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    styles = ["-", "--", "-.", ":"]
+
+    def style(i):
+        return {"color": colours[i % len(colours)], "linestyle": styles[(i // len(colours)) % len(styles)]}
+
+    legend = {"fontsize": 6, "loc": "center left", "bbox_to_anchor": (1.01, 0.5)}
+    sources = study.meta.get("output_sources", {})
+    for name, src in sources.items():
+        if not src.get("tracked_point"):
+            continue
+        column = f"{src['tracked_point']}_{src['component']}"
+        fig, ax = plt.subplots(figsize=(9, 4.8))
+        drawn = 0
+        for i, r in enumerate(rows):
+            data = [(number(t["T"]), number(t.get(column))) for t in read_csv(os.path.join(study.case_dir(r), "tracked_points.csv"))]
+            data = [d for d in data if d[0] is not None and d[1] is not None]
+            if data:
+                label = study.case_label(r) + ("" if r["status"] == "complete" else f" ({r['status']})")
+                ax.plot([d[0] for d in data], [d[1] for d in data], label=label, linewidth=1.2, **style(i))
+                drawn += 1
+        if drawn:
+            ax.set_xlabel("load factor T")
+            ax.set_ylabel(study.label(name))
+            ax.set_title(f"{name} against the load factor")
+            ax.grid(True, alpha=0.3)
+            ax.legend(**legend)
+            figures.append((f"{name} against the load factor", study.save(fig, f"curve {name}")))
+        else:
+            plt.close(fig)
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(12, 4.8))
+    for i, r in enumerate(rows):
+        steps = read_csv(os.path.join(study.case_dir(r), "steps.csv"))
+        pts = [(number(s["T"]), number(s["newton_iterations"])) for s in steps]
+        pts = [p for p in pts if p[0] is not None and p[1] is not None]
+        if pts:
+            a1.plot([p[0] for p in pts], [p[1] for p in pts], label=study.case_label(r), linewidth=1.0, **style(i))
+        history = read_csv(os.path.join(study.case_dir(r), "newton.csv"))
+        if history:
+            last = history[-1]["step"]
+            res = [number(h["residual_norm"]) for h in history if h["step"] == last]
+            res = [v for v in res if v is not None and v > 0.0]
+            if res:
+                a2.semilogy(range(len(res)), res, "o", markersize=3, label=study.case_label(r), **style(i))
+    a1.set_xlabel("load factor T")
+    a1.set_ylabel("Newton iterations in the step (all passes)")
+    a1.set_title("Newton iterations per step")
+    a1.grid(True, alpha=0.3)
+    a2.set_xlabel("iteration (all passes)")
+    a2.set_ylabel("||r|| [force]")
+    a2.set_title("Residual history of the last converged step")
+    a2.grid(True, alpha=0.3, which="both")
+    a2.legend(**legend)
+    figures.append(("Newton iterations per step and residual histories", study.save(fig, "newton_per_step")))
+    return figures
 
 
 def main(directory):
-    with open(os.path.join(directory, "study.json")) as f:
-        study = json.load(f)
-    with open(os.path.join(directory, "cases.csv")) as f:
-        rows = list(csv.DictReader(f))
-    columns, outputs = study["columns"], study["outputs"]
+    study = Study(directory)
+    meta, rows, columns, outputs = study.meta, study.rows, study.columns, study.meta["outputs"]
     complete = sum(r["status"] == "complete" for r in rows)
-    lines = [f"# {study['title']}", "",
-             f"Base deck `{study['base_deck']}`; outputs at T = {study['at_T']}; "
-             f"{len(rows)} cases, {complete} complete, {len(rows) - complete} not. "
-             "Newton iterations count the converged steps (all passes); solve time is the wall time of the "
-             "load stepping, without start-up and deck reading.", ""]
-    head = ["case", "group"] + columns + ["status"] + outputs + ["Newton", "max/step", "passes", "solve [s]"]
-    lines.append("| " + " | ".join(head) + " |")
-    lines.append("|" + "---|" * len(head))
+    ref = meta.get("reference_group", "")
+    timing = int(meta.get("timing_runs", 0) or 0)
+    base = meta.get("base", {})
+    lines = [f"# {meta['title']}", ""]
+    facts = [f"base deck `{meta['base_deck']}`"]
+    if base.get("strategy"):
+        facts.append(f"its strategy {base['strategy']}")
+    if base.get("beams"):
+        facts.append(f"{base['beams']} beams")
+    if base.get("increments"):
+        facts.append(f"{base['increments']} increments")
+    lines += ["; ".join(facts).capitalize() + f". Outputs at T = {meta['at_T']}; {len(rows)} cases, {complete} "
+              f"complete, {len(rows) - complete} not" + (f"; reference: group \"{ref}\"" if ref else "") + ".", ""]
+    if timing:
+        lines += [f"Timings: each case ran {timing} times, one case at a time, without VTK output; the solve time "
+                  "is the median of those runs with its range (`study --timing`).", ""]
+    else:
+        lines += [f"Timings are indicative: cases ran {meta.get('parallel', 'several')} at a time with the base "
+                  "deck's output settings. For method timings run `beamcontact study --timing`.", ""]
+    lines += ["## What was varied", ""]
+    for g in meta.get("groups", []):
+        parts = [f"{v['name']} (`{v['path']}`) = {', '.join(v['values'])}" for v in g["variables"]]
+        lines.append(f"- **{g['name']}**: " + ("; ".join(parts) if parts else "the base deck"))
+    lines.append("")
+    head = ["case", "group"] + columns + ["status"] + [study.label(o) for o in outputs] + \
+        ["Newton", "max/step", "passes", "solve [s]"]
+    lines += ["## Results", "", "| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for r in rows:
         cells = [r["case"], r["group"]] + [fmt(r[c]) for c in columns] + [r["status"]]
         cells += [fmt(r[o]) for o in outputs]
-        cells += [r["newton_iterations"], r["max_newton_per_step"], r["passes"], fmt(r["solve_seconds"], 3)]
+        seconds = r.get("solve_seconds_median") if timing else r["solve_seconds"]
+        cells += [r["newton_iterations"], r["max_newton_per_step"], r["passes"], fmt(seconds, 3)]
         lines.append("| " + " | ".join(cells) + " |")
+    if ref:
+        lines += ["", f"## Relative error against \"{ref}\"", "",
+                  f"`(y - y_ref) / |y_ref|` for each output; the absolute errors are in cases.csv (`<output> error`).",
+                  "", "| case | group | " + " | ".join(columns + outputs) + " |",
+                  "|" + "---|" * (2 + len(columns) + len(outputs))]
+        for r in rows:
+            cells = [r["case"], r["group"]] + [fmt(r[c]) for c in columns]
+            cells += [f"{number(r.get(o + ' relative error')):.2e}" if number(r.get(o + " relative error")) is not None
+                      else "" for o in outputs]
+            lines.append("| " + " | ".join(cells) + " |")
     causes = [r for r in rows if r["status"] != "complete"]
     if causes:
         lines += ["", "## Cases that did not complete", ""]
         for r in causes:
             lines.append(f"- case {r['case']} ({r['group']}): {r['status']} at T = {fmt(r['last_T'])}: {r['cause']}")
-    lines += ["", "## Per group (complete cases)", "", "| group | cases | median Newton | median solve [s] |",
-              "|---|---|---|---|"]
+    lines += ["", "## Cost per group (complete cases)", "",
+              "| group | cases | complete | median Newton | median passes | median solve [s] | solve range [s] |",
+              "|---|---|---|---|---|---|---|"]
     for g in dict.fromkeys(r["group"] for r in rows):
-        ok = [r for r in rows if r["group"] == g and r["status"] == "complete"]
-        mn = median([number(r["newton_iterations"]) for r in ok if number(r["newton_iterations"]) is not None])
-        ms = median([number(r["solve_seconds"]) for r in ok if number(r["solve_seconds"]) is not None])
-        lines.append(f"| {g} | {len(ok)} | {fmt(mn) if mn is not None else ''} | "
-                     f"{fmt(ms, 3) if ms is not None else ''} |")
-    if study["plots"]:
+        members = [r for r in rows if r["group"] == g]
+        ok = [r for r in members if r["status"] == "complete"]
+
+        def values(key):
+            return [number(r.get(key)) for r in ok if number(r.get(key)) is not None]
+        mn, mp = median(values("newton_iterations")), median(values("passes"))
+        times = values("solve_seconds_median" if timing else "solve_seconds")
+        lo = min(values("solve_seconds_min")) if timing and values("solve_seconds_min") else (min(times) if times else None)
+        hi = max(values("solve_seconds_max")) if timing and values("solve_seconds_max") else (max(times) if times else None)
+        lines.append(f"| {g} | {len(members)} | {len(ok)} | {fmt(mn) if mn is not None else ''} | "
+                     f"{fmt(mp) if mp is not None else ''} | {fmt(median(times), 3) if times else ''} | "
+                     f"{'' if lo is None else f'{lo:.3g} - {hi:.3g}'} |")
+    if timing:
+        lines += ["", "With --timing the range is over every run of the group's cases; without it, over its cases."]
+    if meta["plots"]:
         lines += ["", "## Plots", ""]
-    for plot in study["plots"]:
-        name, problem = plot_one(plot, rows, directory)
+    for plot in meta["plots"]:
+        name, problem = plot_one(study, plot)
         if name:
-            lines += [f"### {plot['name']}", "", f"![{plot['name']}]({name})", ""]
+            lines += [f"### {plot['name']}", "", f"![{plot['name']}]({name}.png) ([PDF]({name}.pdf))", ""]
         else:
             lines += [f"### {plot['name']}", "", f"Not drawn: {problem}.", ""]
+    figures = curves(study)
+    if figures:
+        lines += ["## Curves", ""]
+        for title, stem in figures:
+            lines += [f"### {title}", "", f"![{title}]({stem}.png) ([PDF]({stem}.pdf))", ""]
     with open(os.path.join(directory, "report.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
     print(f"report: {os.path.join(directory, 'report.md')}")

@@ -4,7 +4,11 @@
 - each complete case's outputs equal its own results at T = 1 (tracked_points.csv, the sum of the
   normal forces of contact_points.csv) and A's deflection within 8 % of the paper's Table 1
   (9.79-9.89);
-- report.md with the table, and the plot as a non-empty PNG;
+- the errors against the reference group (the Lagrange case): each output's error and relative
+  error equal the differences of the cases' own values;
+- report.md with the table, the plots as non-empty PNG and PDF (the error plot on log-log axes
+  with its fitted slope), the load-displacement curves and Newton histories, and each run's
+  newton.csv (the residual history) with the iterations steps.csv counts;
 - run again into the same directory, the three complete cases are kept untouched (their summary.csv
   not rewritten) and the two others run again; a stale case directory (cases/099) is removed."""
 import csv
@@ -41,12 +45,35 @@ for r in rows[:3]:
     assert abs(-float(r["A uz"]) - 9.85) < 0.08 * 9.85, r["A uz"]
     assert int(r["newton_iterations"]) >= 50 and float(r["solve_seconds"]) > 0, r
 
+ref = rows[0]
+for r in rows[:3]:
+    for o in ("A uz", "F_N"):
+        e = float(r[o]) - float(ref[o])
+        assert math.isclose(float(r[o + " error"]), e, rel_tol=1e-9, abs_tol=1e-12), (o, r[o + " error"], e)
+        assert math.isclose(float(r[o + " relative error"]), e / abs(float(ref[o])), rel_tol=1e-9, abs_tol=1e-15)
+assert rows[3]["A uz error"] == "" and rows[3]["A uz relative error"] == "", "an incomplete case has no error"
+for r in rows[:3]:
+    case = out / "cases" / f"{int(r['case']):03d}"
+    steps = list(csv.DictReader(open(case / "steps.csv")))
+    newton = list(csv.DictReader(open(case / "newton.csv")))
+    for s in steps:
+        iterates = [n for n in newton if n["step"] == s["step"]]
+        # One iterate per Newton iteration, and the converged one (the end of a pass is where the next
+        # pass starts, with the updated multipliers or active set).
+        assert len(iterates) == int(s["newton_iterations"]) + 1, (case, s, len(iterates))
+    assert float(newton[-1]["residual_norm"]) < float(newton[0]["residual_norm"]) or len(newton) == 1
+
 report = (out / "report.md").read_text()
 assert "| case | group |" in report and "Cases that did not complete" in report
 png = out / "F_N_vs_eps_N.png"
 data = png.read_bytes()
 assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 5000, len(data)
-assert "![F_N vs eps_N](F_N_vs_eps_N.png)" in report
+assert "![F_N vs eps_N](F_N_vs_eps_N.png) ([PDF](F_N_vs_eps_N.pdf))" in report
+for stem in ("F_N_vs_eps_N", "A_uz_error_vs_eps_N", "curve_A_uz", "newton_per_step"):
+    assert (out / (stem + ".pdf")).read_bytes()[:5] == b"%PDF-", stem
+    assert (out / (stem + ".png")).stat().st_size > 5000, stem
+assert "## Relative error against \"lagrange\"" in report and "## What was varied" in report
+assert "Timings are indicative" in report
 stamps = {c: (out / "cases" / c / "summary.csv").stat().st_mtime_ns for c in ("001", "002", "003")}
 (out / "cases" / "099").mkdir()
 again = subprocess.run([exe, "study", deck, "--output", str(out), "--parallel", "2"], capture_output=True, text=True)

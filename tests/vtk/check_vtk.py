@@ -1,7 +1,8 @@
 """Reads a run's VTK output back with VTK's own XML reader and checks it against the roll-up deck's
 closed form: 20 hexahedra (one per element, rectangular section), displacement zero at T = 0, and at
 T = 1 the tip section back at the clamp (displacement (-100, 0, 0) for every point of the tip face,
-since a full 2 pi turn leaves the section's orientation unchanged)."""
+since a full 2 pi turn leaves the section's orientation unchanged). The files hold the reference
+places (the same in every step) with the displacement, and the load factor as field data."""
 import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -24,18 +25,23 @@ def read(name):
     grid = reader.GetOutput()
     points = vtk_to_numpy(grid.GetPoints().GetData())
     disp = vtk_to_numpy(grid.GetPointData().GetArray("displacement"))
-    return grid, points, disp
+    T = grid.GetFieldData().GetArray("load factor").GetValue(0)
+    return grid, points, disp, T
 
 
-grid0, p0, d0 = read(datasets[0].get("file"))
+grid0, p0, d0, T0 = read(datasets[0].get("file"))
+assert T0 == 0.0
 assert grid0.GetNumberOfCells() == 20, grid0.GetNumberOfCells()
 assert all(grid0.GetCellType(i) == vtk.VTK_HEXAHEDRON for i in range(20))
 assert np.abs(d0).max() == 0.0
 # Reference section: 1 x 1 around the axis y = z = 0.
 assert np.isclose(np.abs(p0[:, 1]).max(), 0.5) and np.isclose(np.abs(p0[:, 2]).max(), 0.5)
 
-grid1, p1, d1 = read(datasets[-1].get("file"))
+grid1, r1, d1, T1 = read(datasets[-1].get("file"))
+assert T1 == 1.0
 assert grid1.GetNumberOfPoints() == grid0.GetNumberOfPoints()
+assert np.abs(r1 - p0).max() < 1e-9, "the points are not the reference places"
+p1 = r1 + d1  # deformed
 tip_face = np.isclose(p0[:, 0], 100.0)
 assert tip_face.sum() == 5  # centre and four corners of the last element's end
 err = np.abs(d1[tip_face] - np.array([-100.0, 0.0, 0.0])).max()
