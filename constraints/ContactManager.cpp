@@ -617,9 +617,14 @@ void ContactManager::giveCompliance(const core::State& state) {
                            "contact points, but " + e.what() + "; give the penalty parameters as numbers");
   }
   for (std::size_t i = 0; i < waiting.size(); ++i) {
-    const double ci[3] = {weights[i] * c[3 * i], weights[i] * c[3 * i + 1], weights[i] * c[3 * i + 2]};
-    enforcer_->setCompliance(*waiting[i]->state, ci);
+    for (int k = 0; k < 3; ++k) waiting[i]->compliance[k] = weights[i] * c[3 * i + k];
+    handCompliance(*waiting[i]);
   }
+}
+
+void ContactManager::handCompliance(Point& p) const {
+  const double c[3] = {p.compliance[0], tangentialRelaxation_ * p.compliance[1], tangentialRelaxation_ * p.compliance[2]};
+  enforcer_->setCompliance(*p.state, c);
 }
 
 namespace {
@@ -918,6 +923,12 @@ std::string ContactManager::failureHint(const Teuchos::Comm<int>& comm) const {
     << kCyclingReversals << " times or more in this Newton solve (slip directions cycling): the strategy's "
     << "tangential stiffness (Tangential Penalty Parameter, or Friction Complementarity Parameter with Lagrange "
        "multipliers) may be too stiff for these beams; a smaller value helps";
+  // Points with parameters chosen from the compliance: restoreStep lowers them for the retry.
+  const bool automatic = std::any_of(points_.begin(), points_.end(), [](const auto& kv) { return kv.second.compliance[0] > 0.0; });
+  if (automatic && relaxations_ < kMaxRelaxations) {
+    cycling_ = true;
+    s << "; the automatic Tangential Penalty Parameters are lowered tenfold for the retry";
+  }
   return s.str();
 }
 
@@ -1151,6 +1162,7 @@ void ContactManager::commitStep(const core::State& state) {
 
 void ContactManager::saveCommitted(core::CheckpointOut& out) const {
   out.label("contact").word(enforcer_->type()).integer(static_cast<long long>(committed_.size())).integer(lastPasses_);
+  out.real(tangentialRelaxation_).integer(relaxations_);
   // The strategy's point state, field by field (name and value).
   struct Writer : StateFields {
     core::CheckpointOut& out;
@@ -1162,6 +1174,7 @@ void ContactManager::saveCommitted(core::CheckpointOut& out) const {
     out.label("point").integer(p.pair).integer(p.lineA).integer(p.lineB).integer(p.elementA).integer(p.elementB);
     out.real(p.sigma).real(p.xiPrev).real(p.etaPrev).real(p.etaRate).real(p.length);
     for (int a = 0; a < 3; ++a) out.real(p.normal[a]);
+    for (int a = 0; a < 3; ++a) out.real(p.compliance[a]);
     (*p.state).fields(writer);
   }
 }
@@ -1171,6 +1184,8 @@ void ContactManager::loadCommitted(core::CheckpointIn& in, const core::State& co
   if (in.word() != core::CheckpointOut::token(enforcer_->type())) in.fail("it was written with another enforcement strategy");
   const long long n = in.integer();
   lastPasses_ = static_cast<int>(in.integer());
+  tangentialRelaxation_ = in.real();
+  relaxations_ = static_cast<int>(in.integer());
   const int elements = static_cast<int>(beams_->elements().size());
   struct Reader : StateFields {
     core::CheckpointIn& in;
@@ -1200,6 +1215,7 @@ void ContactManager::loadCommitted(core::CheckpointIn& in, const core::State& co
     p.etaRate = in.real();
     p.length = in.real();
     for (int a = 0; a < 3; ++a) p.normal[a] = in.real();
+    for (int a = 0; a < 3; ++a) p.compliance[a] = in.real();
     p.xi = p.xiPrev - beams_->elements()[p.elementA].index;
     p.state = PointStateHolder(enforcer_->newPointState());
     (*p.state).fields(reader);
@@ -1272,6 +1288,13 @@ double ContactManager::stepBound(const core::State& state, const std::vector<dou
 }
 
 void ContactManager::restoreStep() {
+  if (cycling_) {
+    tangentialRelaxation_ *= 10.0;
+    ++relaxations_;
+    for (auto& [key, p] : committed_)
+      if (p.compliance[0] > 0.0) handCompliance(p);
+  }
+  cycling_ = false;
   points_ = committed_;
   passes_ = 0;
   frictionWatch_.clear();
@@ -1368,6 +1391,14 @@ void ContactManager::checkLineResolution(const core::State& state) {
 
 std::vector<std::string> ContactManager::warnings() const {
   std::vector<std::string> w;
+  if (relaxations_ > 0) {
+    std::ostringstream s;
+    s << "the automatic Tangential Penalty Parameters were lowered by a factor " << tangentialRelaxation_
+      << " after Newton solves failed with slip directions cycling: a sticking friction force may be off by more "
+         "than the Tangential Target Error (by 1 / (1 + eps_T c_T) of it with the lowered eps_T, contact_points.csv "
+         "gives each point's eps_T)";
+    w.push_back(s.str());
+  }
   for (const auto& [pair, worst] : deepPoints_) {
     const auto& pr = pairs_[pair];
     const double inscribed = std::min(inscribed_[pr.beamA], inscribed_[pr.beamB]);

@@ -136,6 +136,8 @@ class ContactManager : public core::Contribution {
     // the following.
     double gap = 0.0;
     PointResult result;
+    // The beams' compliance at the point (ConstraintEnforcer::setCompliance; 0: not asked for).
+    double compliance[3] = {0.0, 0.0, 0.0};
     Vec3d position{};
     Vec3d normal{};          // unit normal (from beam A to beam B)
     Vec3d normalForce{};     // the force the point applies on beam B: its normal part ...
@@ -220,6 +222,14 @@ class ContactManager : public core::Contribution {
   // compliance function.
   void giveCompliance(const core::State& state);
   core::ComplianceFunction compliance_;
+  // Automatic tangential parameters are lowered tenfold (their compliances handed on times
+  // tangentialRelaxation_) when a Newton solve fails with slip directions cycling (failureHint sets
+  // cycling_, restoreStep relaxes), at most kMaxRelaxations times; the run then warns.
+  static constexpr int kMaxRelaxations = 6;
+  void handCompliance(Point& p) const;
+  double tangentialRelaxation_ = 1.0;
+  int relaxations_ = 0;
+  mutable bool cycling_ = false;
   std::vector<core::GlobalDof> blockDofs(const Point& p) const;
 
   std::shared_ptr<const elements::BeamSet> beams_;
