@@ -1339,11 +1339,24 @@ void ContactManager::appendVtk(const core::State&, core::VtkMesh& mesh) const {
   mesh.pointScalars["line traction"];
   mesh.pointScalars["segment element A"];
   mesh.pointScalars["segment element B"];
+  mesh.pointVectors["contact normal force"];
+  mesh.pointVectors["contact tangential force"];
+  mesh.pointVectors["contact normal"];
+  mesh.pointScalars["contact gap"];
+  mesh.pointScalars["contact pair"];
+  mesh.pointScalars["contact slip lines"];
   const auto& elems = beams_->elements();
   for (const auto& [key, p] : committed_) {
     if (!p.result.active || p.node()) continue;
     const int point = mesh.addPoint(p.position, Vec3d{});
     mesh.setPointVector("contact force", point, p.normalForce + p.tangentialForce);
+    mesh.setPointVector("contact normal force", point, p.normalForce);
+    mesh.setPointVector("contact tangential force", point, p.tangentialForce);
+    mesh.setPointVector("contact normal", point, p.normal);
+    mesh.setPointScalar("contact gap", point, p.gap);
+    mesh.setPointScalar("contact pair", point, p.pair);
+    // 0: both lines stick, 1 or 2: that many slip.
+    mesh.setPointScalar("contact slip lines", point, (p.result.slip[0] ? 1 : 0) + (p.result.slip[1] ? 1 : 0));
     mesh.setPointScalar("line traction", point, p.line() && p.length > 0.0 ? -p.result.lambdaN / p.length : 0.0);
     mesh.setPointScalar("segment element A", point, elems[p.elementA].index);
     mesh.setPointScalar("segment element B", point, elems[p.elementB].index);

@@ -112,7 +112,11 @@ void Assembler::assemble(const State& state, double loadFactor, bool tangent) {
     matrix_->setAllToScalar(0.0);
   }
   TpetraSink sink(tangent ? matrix_.get() : nullptr, *overlapResidual_, constrained_);
-  for (const auto& c : model_.contributions) c->evaluate(state, owns_, sink, tangent);
+  for (const auto& c : model_.contributions) {
+    if (!timer_.is_null()) timer_->start("Evaluate " + c->name());
+    c->evaluate(state, owns_, sink, tangent);
+    if (!timer_.is_null()) timer_->stop("Evaluate " + c->name());
+  }
   if (tangent) {
     const double one = 1.0;
     for (GlobalDof g : constrained_)

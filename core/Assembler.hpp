@@ -7,6 +7,7 @@
 #include <set>
 #include <vector>
 
+#include <Teuchos_StackedTimer.hpp>
 #include <Tpetra_Export.hpp>
 #include <Tpetra_FECrsGraph.hpp>
 #include <Tpetra_FECrsMatrix.hpp>
@@ -28,6 +29,9 @@ class Assembler {
   // for constrained dofs.
   void assemble(const State& state, double loadFactor, bool tangent);
 
+  // With a timer, each contribution's evaluation is timed ("Evaluate <name>", within the caller's
+  // running timer).
+  void setTimer(Teuchos::RCP<Teuchos::StackedTimer> timer) { timer_ = timer; }
   bool ownsDof(GlobalDof g) const;
   const Contribution::OwnsDof& ownsPredicate() const { return owns_; }
   Teuchos::RCP<const Map> ownedMap() const { return ownedMap_; }
@@ -47,6 +51,7 @@ class Assembler {
 
   Teuchos::RCP<const Comm> comm_;
   const Model& model_;
+  Teuchos::RCP<Teuchos::StackedTimer> timer_;
   int nodeBegin_ = 0, nodeEnd_ = 0;  // owned node range
   Contribution::OwnsDof owns_;
   std::set<GlobalDof> constrained_;

@@ -29,6 +29,7 @@ SolveReport LinearSolver::attempt(const Teuchos::RCP<const Matrix>& A, const Vec
     throw LinearSolveError(name() + " failed, the tangent matrix is probably singular (a free motion: a beam "
                            "without enough supports, or a contact constraint that fixes nothing): " + what);
   }
+  Stage stage(*this, "Residual Check");
   Vector r(b.getMap());
   A->apply(x, r);
   r.update(1.0, b, -1.0);
@@ -94,11 +95,13 @@ class DirectSolver : public LinearSolver {
     std::vector<GO> mine;
     if (comm->getRank() == 0)
       for (GO g = 0; g < n; ++g) mine.push_back(g);
+    auto gather = std::make_unique<Stage>(*this, "Gather to Rank 0");
     const auto rootMap = Teuchos::rcp(new Map(n, Teuchos::ArrayView<const GO>(mine), 0, comm));
     Tpetra::Export<LO, GO, Node> toRoot(owned, rootMap);
     const auto A0 = Tpetra::exportAndFillCompleteCrsMatrix<Matrix>(A, toRoot, rootMap, rootMap);
     Vector b0(rootMap), x0(rootMap);
     b0.doExport(b, toRoot, Tpetra::INSERT);
+    gather.reset();
     const bool refactor = refactoring(A);  // on every rank: redoWithoutShortcut answers alike
     int failed = 0;
     std::string what;
@@ -170,7 +173,11 @@ class DirectSolver : public LinearSolver {
   void factorAndSolve(const Matrix& A, bool refactor, const Vector& b, Vector& x) {
     auto xv = x.getDataNonConst();
     const auto bv = b.getData();
-    klu_.factor(A, refactor && klu_.factored());
+    {
+      Stage stage(*this, "Factorization");
+      klu_.factor(A, refactor && klu_.factored());
+    }
+    Stage stage(*this, "Triangular Solves");
     klu_.solve(bv.getRawPtr(), xv.getRawPtr());
   }
 };
@@ -191,6 +198,7 @@ class GmresSolver : public LinearSolver {
  protected:
   int doSolve(const Teuchos::RCP<const Matrix>& A, const Vector& b, Vector& x) override {
     Teuchos::RCP<Operator> prec;
+    auto setup = std::make_unique<Stage>(*this, "Preconditioner Setup");
     if (precType_ == "MueLu") {
       if (nearNull_.is_null() || !nearNull_->getMap()->isSameAs(*A->getRowMap()))
         throw LinearSolveError("GMRES (MueLu): no near-null space for this matrix");
@@ -216,6 +224,7 @@ class GmresSolver : public LinearSolver {
       schwarz->compute();
       prec = schwarz;
     }
+    setup.reset();
 
     x.putScalar(0.0);
     auto problem = Teuchos::rcp(new Belos::LinearProblem<Scalar, MultiVector, Operator>(
@@ -229,6 +238,7 @@ class GmresSolver : public LinearSolver {
     Belos::SolverFactory<Scalar, MultiVector, Operator> belos;
     auto solver = belos.create("GMRES", params);
     solver->setProblem(problem);
+    Stage stage(*this, "Krylov Iterations");
     solver->solve();
     return solver->getNumIters();
   }

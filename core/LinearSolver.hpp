@@ -17,6 +17,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <Teuchos_StackedTimer.hpp>
+
 #include "Parameters.hpp"
 #include "TpetraTypes.hpp"
 
@@ -44,6 +46,8 @@ class LinearSolver {
   // every solve (the multigrid preconditioner does), and where it is given.
   virtual bool wantsNearNullSpace() const { return false; }
   void setNearNullSpace(const Teuchos::RCP<MultiVector>& modes) { nearNull_ = modes; }
+  // With a timer, the stages of a solve are timed within the caller's running timer.
+  void setTimer(Teuchos::RCP<Teuchos::StackedTimer> timer) { timer_ = timer; }
 
  protected:
   LinearSolver(double checkTolerance, double conditionLimit)
@@ -53,6 +57,23 @@ class LinearSolver {
   // do without it; return false when there was none. The same answer on every rank.
   virtual bool redoWithoutShortcut() { return false; }
   Teuchos::RCP<MultiVector> nearNull_;
+  Teuchos::RCP<Teuchos::StackedTimer> timer_;
+  // Times a stage of a solve from construction to the end of its scope (also when it throws).
+  class Stage {
+   public:
+    Stage(const LinearSolver& solver, const char* name) : timer_(solver.timer_), name_(name) {
+      if (!timer_.is_null()) timer_->start(name_);
+    }
+    ~Stage() {
+      if (!timer_.is_null()) timer_->stop(name_);
+    }
+    Stage(const Stage&) = delete;
+    Stage& operator=(const Stage&) = delete;
+
+   private:
+    Teuchos::RCP<Teuchos::StackedTimer> timer_;
+    const char* name_;
+  };
 
  private:
   // doSolve and the residual of its x (the report, unchecked).

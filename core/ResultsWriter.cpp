@@ -358,10 +358,13 @@ void ResultsWriter::writeSummary(const RunSummary& summary) {
     rusage usage{};
     getrusage(RUSAGE_SELF, &usage);
     std::ostringstream f;
-    f << "completed,last_T,steps,newton_iterations,max_newton_per_step,passes,solve_seconds,peak_memory_mb\n"
-      << (summary.run.completed ? 1 : 0) << ',' << summary.run.lastT << ',' << summary.run.steps << ','
+    f << "completed,last_T,steps,newton_iterations,max_newton_per_step,passes,solve_seconds,peak_memory_mb";
+    for (const auto& [column, seconds] : summary.stages) f << ',' << column;
+    f << '\n' << (summary.run.completed ? 1 : 0) << ',' << summary.run.lastT << ',' << summary.run.steps << ','
       << summary.run.newtonIterations << ',' << summary.maxIterationsPerStep << ',' << summary.passes << ','
-      << summary.solveSeconds << ',' << usage.ru_maxrss / 1024.0 << '\n';
+      << summary.solveSeconds << ',' << usage.ru_maxrss / 1024.0;
+    for (const auto& [column, seconds] : summary.stages) f << ',' << seconds;
+    f << '\n';
     writeFileAtomically(fs::path(dir_) / "summary.csv", f.str());
   });
 }

@@ -40,6 +40,7 @@ struct RunSummary {
   int maxIterationsPerStep = 0;
   int passes = 0;
   double solveSeconds = 0.0;
+  std::vector<std::pair<std::string, double>> stages;  // column name, seconds (timers.txt's main stages)
 };
 
 class ResultsWriter {

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include <Teuchos_CommHelpers.hpp>
+#include <Teuchos_TimeMonitor.hpp>
 
 #include "Checkpoint.hpp"
 #include "Faults.hpp"
@@ -41,6 +42,13 @@ std::string readCheckpointText(const std::string& dir, const Comm& comm) {
 RunResult simulate(Model& model, const SolverSettings& settings, const Teuchos::ParameterList& linearSolver,
                    const RunOptions& options, Teuchos::RCP<const Comm> comm) {
   auto timer = Teuchos::rcp(new Teuchos::StackedTimer("BeamContact"));
+  // The Trilinos solvers' own timers (Belos, MueLu: Teuchos::TimeMonitor) land in this run's timer,
+  // nested where they run; the global one is put back when the run ends.
+  struct TimeMonitorTarget {
+    Teuchos::RCP<Teuchos::StackedTimer> previous = Teuchos::TimeMonitor::getStackedTimer();
+    explicit TimeMonitorTarget(const Teuchos::RCP<Teuchos::StackedTimer>& t) { Teuchos::TimeMonitor::setStackedTimer(t); }
+    ~TimeMonitorTarget() { Teuchos::TimeMonitor::setStackedTimer(previous); }
+  } timeMonitorTarget(timer);
   const bool root = comm->getRank() == 0;
   auto linear = makeLinearSolver(linearSolver);
   StaticSolver solver(comm, model, settings, *linear, timer);
@@ -118,6 +126,15 @@ RunResult simulate(Model& model, const SolverSettings& settings, const Teuchos::
       for (const auto& w : c->warnings()) run.warnings.push_back(w);
     summary.run = run;
     summary.solveSeconds = earlierSeconds + (run.interrupted ? 0.0 : seconds);
+    // The main stages for summary.csv (this process's times; a restart counts its own part only).
+    for (const auto& [column, path] : std::vector<std::pair<std::string, std::string>>{
+             {"search_seconds", "Contact Search"},
+             {"assembly_seconds", "Assembly"},
+             {"contact_evaluation_seconds", "Assembly@Evaluate contact"},
+             {"linear_solve_seconds", "Linear Solve"},
+             {"active_set_seconds", "Active Set"},
+             {"output_seconds", "Output"}})
+      summary.stages.emplace_back(column, timer->accumulatedTime(path));
     writer.writeSummary(summary);
     writer.finish(run, report.str());
     if (root && options.progress) std::printf("%s", report.str().c_str());

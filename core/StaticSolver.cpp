@@ -97,6 +97,8 @@ StaticSolver::StaticSolver(Teuchos::RCP<const Comm> comm, Model& model, SolverSe
   trial_ = committed_;
   for (const auto& x : model_.initial.reference) modelSize_ = std::max(modelSize_, std::sqrt(dot(x, x)));
   graphStale_ = true;  // built at the first iteration, from the state being solved
+  assembler_.setTimer(timer_);
+  linear_.setTimer(timer_);
   for (const auto& c : model_.contributions) {
     const Physics* self = c.get();
     c->useCompliance([this, self](const State& state, const std::vector<SparseLoad>& loads) {

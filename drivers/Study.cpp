@@ -62,6 +62,9 @@ struct Plot {
   std::string name, x, y, series, relativeTo;
   bool logX = false;
   bool error = false;  // |relative error| against the reference on log-log axes, with fitted slopes
+  // Published values drawn over the cases: at (x, y), or as horizontal lines without x; one label each.
+  std::vector<double> publishedX, publishedY;
+  std::vector<std::string> publishedLabels;
 };
 
 struct Case {
@@ -452,7 +455,9 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
   };
   forEachSublist(study->sublist("Plots"), root + "/Plots", "a plot",
                  [&](const std::string& name, const std::string& path, const ParameterList& p) {
-                   onlyKeys(p, path, {"X", "Y", "Series", "Relative To Group", "Log X", "Error"});
+                   onlyKeys(p, path,
+                            {"X", "Y", "Series", "Relative To Group", "Log X", "Error", "Published X", "Published Y",
+                             "Published Labels"});
                    Plot plot;
                    plot.name = name;
                    plot.x = stringParameter(p, path, "X", true);
@@ -463,6 +468,27 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
                      if (!p.isType<bool>("Log X")) throw InputError("parameter \"" + path + "/Log X\" must be a bool");
                      plot.logX = p.get<bool>("Log X");
                    }
+                   auto numbers = [&](const std::string& key) {
+                     std::vector<double> v;
+                     if (!p.isParameter(key)) return v;
+                     if (!p.isType<Array<double>>(key))
+                       throw InputError("parameter \"" + path + "/" + key + "\" must be Array(double)");
+                     for (double x : p.get<Array<double>>(key)) v.push_back(x);
+                     return v;
+                   };
+                   plot.publishedX = numbers("Published X");
+                   plot.publishedY = numbers("Published Y");
+                   if (p.isParameter("Published Labels")) {
+                     if (!p.isType<Array<std::string>>("Published Labels"))
+                       throw InputError("parameter \"" + path + "/Published Labels\" must be Array(string)");
+                     for (const auto& l : p.get<Array<std::string>>("Published Labels")) plot.publishedLabels.push_back(l);
+                   }
+                   const std::size_t np = plot.publishedY.size();
+                   if ((!plot.publishedX.empty() && plot.publishedX.size() != np) ||
+                       (!plot.publishedLabels.empty() && plot.publishedLabels.size() != np) ||
+                       (np == 0 && (!plot.publishedX.empty() || !plot.publishedLabels.empty())))
+                     throw InputError("parameter \"" + path + "/Published Y\": give one value per published point, and "
+                                      "as many \"Published X\" (or none: horizontal lines) and \"Published Labels\" (or none)");
                    if (p.isParameter("Error")) {
                      if (!p.isType<bool>("Error")) throw InputError("parameter \"" + path + "/Error\" must be a bool");
                      plot.error = p.get<bool>("Error");
@@ -761,7 +787,13 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
       j << (i ? ",\n" : "\n") << "    {\"name\": " << jsonString(p.name) << ", \"x\": " << jsonString(p.x)
         << ", \"y\": " << jsonString(p.y) << ", \"series\": " << jsonString(p.series)
         << ", \"relative_to\": " << jsonString(p.relativeTo) << ", \"log_x\": " << (p.logX ? "true" : "false")
-        << ", \"error\": " << (p.error ? "true" : "false") << "}";
+        << ", \"error\": " << (p.error ? "true" : "false") << ", \"published_x\": [";
+      for (std::size_t k = 0; k < p.publishedX.size(); ++k) j << (k ? ", " : "") << text(p.publishedX[k]);
+      j << "], \"published_y\": [";
+      for (std::size_t k = 0; k < p.publishedY.size(); ++k) j << (k ? ", " : "") << text(p.publishedY[k]);
+      j << "], \"published_labels\": [";
+      for (std::size_t k = 0; k < p.publishedLabels.size(); ++k) j << (k ? ", " : "") << jsonString(p.publishedLabels[k]);
+      j << "]}";
     }
     j << "\n  ]\n}\n";
   }

@@ -15,6 +15,8 @@ time with its spread) and the figures:
   dashed vertical lines at their X in their curve's colour (one legend entry says so), as the paper
   marks its non-converging penalty parameters; complete cases without X (another strategy) are
   horizontal lines, or a shaded band from the smallest to the largest value where a group has several;
+  the study deck's published values (the paper's) are crosses at (Published X, Published Y) or
+  dash-dot lines without X, on the same scale;
 - load-displacement curves of every tracked-point output, one line per case;
 - Newton iterations per step, and the residual history of each case's last converged step.
 """
@@ -172,6 +174,24 @@ def plot_one(study, plot):
     for r in rows:
         if number(r.get(x)) is None and r["status"] != "complete" and r["group"] != ref_group:
             failed_any = True  # another strategy that did not complete: in the table's causes
+    # Published values, on the same scale as the cases (relative to the reference where the plot is).
+    def scaled(v):
+        if reference is None:
+            return v
+        relative = (v - reference) / abs(reference)
+        return abs(relative) if error else 100.0 * relative
+    published_y = plot.get("published_y", [])
+    published_x = plot.get("published_x", [])
+    published_labels = plot.get("published_labels", []) or ["published"] * len(published_y)
+    for k, py in enumerate(published_y):
+        v = scaled(py)
+        if error and v <= 0.0:
+            continue
+        first = published_labels[k] not in published_labels[:k]
+        if published_x:
+            ax.plot([published_x[k]], [v], "kx", markersize=8, mew=2, label=published_labels[k] if first else None)
+        else:
+            ax.axhline(v, color="crimson", linestyle="-.", linewidth=1.0, label=published_labels[k] if first else None)
     if plot["log_x"] or error:
         ax.set_xscale("log")
     if error:

@@ -74,6 +74,11 @@ for stem in ("F_N_vs_eps_N", "A_uz_error_vs_eps_N", "curve_A_uz", "newton_per_st
     assert (out / (stem + ".png")).stat().st_size > 5000, stem
 assert "## Relative error against \"lagrange\"" in report and "## What was varied" in report
 assert "Timings are indicative" in report
+import json  # noqa: E402
+meta = json.load(open(out / "study.json"))
+error_plot = [p for p in meta["plots"] if p["name"] == "A uz error vs eps_N"][0]
+assert error_plot["published_x"] == [2e4] and error_plot["published_y"] == [-9.79], error_plot
+assert error_plot["relative_to"] == "lagrange" and error_plot["error"], error_plot
 stamps = {c: (out / "cases" / c / "summary.csv").stat().st_mtime_ns for c in ("001", "002", "003")}
 (out / "cases" / "099").mkdir()
 again = subprocess.run([exe, "study", deck, "--output", str(out), "--parallel", "2"], capture_output=True, text=True)
