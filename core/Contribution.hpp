@@ -42,6 +42,7 @@ struct VtkMesh {
   std::vector<std::vector<int>> cells;
   std::vector<int> cellBeam;     // index of the beam a cell belongs to (-1: none)
   std::vector<int> cellElement;  // element index within its beam (-1: none)
+  std::map<std::string, std::vector<double>> cellScalars;  // named cell arrays (zero where not set)
 
   int addPoint(const Vec3d& x, const Vec3d& displacement) {
     points.push_back(x);
@@ -52,6 +53,11 @@ struct VtkMesh {
     auto& a = pointVectors[name];
     if (a.size() < points.size()) a.resize(points.size(), Vec3d{});
     a[point] = v;
+  }
+  void setCellScalar(const std::string& name, int cell, double v) {
+    auto& a = cellScalars[name];
+    if (a.size() < cellTypes.size()) a.resize(cellTypes.size(), 0.0);
+    a[cell] = v;
   }
   void setPointScalar(const std::string& name, int point, double v) {
     auto& a = pointScalars[name];

@@ -336,8 +336,12 @@ void ResultsWriter::writeVtk(int step, double T, const State& state) {
   }
   f << "</PointData>\n<CellData>\n"
     << a.add("Int32", "beam", 1, std::vector<std::int32_t>(mesh.cellBeam.begin(), mesh.cellBeam.end()))
-    << a.add("Int32", "element", 1, std::vector<std::int32_t>(mesh.cellElement.begin(), mesh.cellElement.end()))
-    << "</CellData>\n</Piece>\n</UnstructuredGrid>\n<AppendedData encoding=\"raw\">\n_" << a.data()
+    << a.add("Int32", "element", 1, std::vector<std::int32_t>(mesh.cellElement.begin(), mesh.cellElement.end()));
+  for (auto& [arrayName, values] : mesh.cellScalars) {
+    values.resize(mesh.cells.size(), 0.0);
+    f << a.add("Float64", arrayName, 1, values);
+  }
+  f << "</CellData>\n</Piece>\n</UnstructuredGrid>\n<AppendedData encoding=\"raw\">\n_" << a.data()
     << "\n</AppendedData>\n</VTKFile>\n";
   writeFileAtomically(fs::path(dir_) / name, f.str());
   vtkFiles_.emplace_back(T, name);

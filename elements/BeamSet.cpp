@@ -71,10 +71,31 @@ double BeamSet::energy(const core::State& state, const OwnsDof& owns) const {
 
 void BeamSet::appendVtk(const core::State& state, core::VtkMesh& mesh) const {
   // Each element is drawn as a prism of its real cross-section between its two nodal triads:
-  // a hexahedron for a rectangle, twelve wedges around the axis for a circle.
+  // a hexahedron for a rectangle, twelve wedges around the axis for a circle, and as a line cell on
+  // its centreline. Every point of a nodal section carries the node's triad (its section axes e1
+  // along the beam, e2, e3: "triad e1" .. "triad e3"); every cell of the element its section forces
+  // in the element's co-rotated frame, from the internal forces at its second node (constant along a
+  // linear element): axial force N (tension > 0), shear forces Vy, Vz, torque T, bending moments My,
+  // Mz.
   constexpr int kCircleSides = 12;
   const double twoPi = 2.0 * std::acos(-1.0);
+  const char* forces[6] = {"axial force", "shear force y", "shear force z", "torque", "bending moment y",
+                           "bending moment z"};
+  for (const char* name : forces) mesh.cellScalars[name];
+  for (const char* name : {"triad e1", "triad e2", "triad e3"}) mesh.pointVectors[name];
   for (const BeamElement& e : elements_) {
+    const elements::BeamElementState es{state.position[e.node1], state.position[e.node2], state.rotation[e.node1],
+                                        state.rotation[e.node2]};
+    Vector12 f;
+    internalForce(e.data, es, f);
+    const Mat3d frame = corotatedFrame(e.data, es);
+    const Vec3d f2{f[6], f[7], f[8]}, m2{f[9], f[10], f[11]};
+    double section[6];
+    for (int a = 0; a < 3; ++a) {
+      section[a] = dot(f2, column(frame, a));
+      section[3 + a] = dot(m2, column(frame, a));
+    }
+    const std::size_t firstCell = mesh.cellTypes.size();
     const Beam& beam = beams_[e.beam];
     const CrossSection& cs = beam.section;
     std::vector<std::pair<double, double>> outline;  // section points in local (y, z)
@@ -99,7 +120,14 @@ void BeamSet::appendVtk(const core::State& state, core::VtkMesh& mesh) const {
         const Vec3d ref = X + py * column(Tref, 1) + pz * column(Tref, 2);
         mesh.addPoint(cur, cur - ref);
       }
+      for (int k = 0; k < perEnd; ++k)
+        for (int a = 0; a < 3; ++a)
+          mesh.setPointVector(std::string("triad e") + char('1' + a), base + end * perEnd + k, column(Tcur, a));
     }
+    mesh.cellTypes.push_back(3);  // VTK_LINE: the centreline
+    mesh.cells.push_back({base, base + perEnd});
+    mesh.cellBeam.push_back(e.beam);
+    mesh.cellElement.push_back(e.index);
     if (cs.shape == CrossSection::Shape::Rectangle) {
       mesh.cellTypes.push_back(12);  // VTK_HEXAHEDRON
       mesh.cells.push_back({base + 1, base + 2, base + 3, base + 4, base + perEnd + 1, base + perEnd + 2,
@@ -115,6 +143,8 @@ void BeamSet::appendVtk(const core::State& state, core::VtkMesh& mesh) const {
         mesh.cellElement.push_back(e.index);
       }
     }
+    for (std::size_t c = firstCell; c < mesh.cellTypes.size(); ++c)
+      for (int k = 0; k < 6; ++k) mesh.setCellScalar(forces[k], static_cast<int>(c), section[k]);
   }
 }
 

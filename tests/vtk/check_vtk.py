@@ -2,7 +2,9 @@
 closed form: 20 hexahedra (one per element, rectangular section), displacement zero at T = 0, and at
 T = 1 the tip section back at the clamp (displacement (-100, 0, 0) for every point of the tip face,
 since a full 2 pi turn leaves the section's orientation unchanged). The files hold the reference
-places (the same in every step) with the displacement, and the load factor as field data."""
+places (the same in every step) with the displacement, and the load factor as field data; each
+element also has a centreline line cell, its section forces (pure bending by the tip moment) and its
+nodal triads."""
 import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -31,8 +33,9 @@ def read(name):
 
 grid0, p0, d0, T0 = read(datasets[0].get("file"))
 assert T0 == 0.0
-assert grid0.GetNumberOfCells() == 20, grid0.GetNumberOfCells()
-assert all(grid0.GetCellType(i) == vtk.VTK_HEXAHEDRON for i in range(20))
+types = [grid0.GetCellType(i) for i in range(grid0.GetNumberOfCells())]
+assert len(types) == 40, len(types)  # per element a hexahedron (the section) and a line (the centreline)
+assert types.count(vtk.VTK_HEXAHEDRON) == 20 and types.count(vtk.VTK_LINE) == 20, types
 assert np.abs(d0).max() == 0.0
 # Reference section: 1 x 1 around the axis y = z = 0.
 assert np.isclose(np.abs(p0[:, 1]).max(), 0.5) and np.isclose(np.abs(p0[:, 2]).max(), 0.5)
@@ -53,4 +56,17 @@ mid = np.isclose(p0[:, 0], 50.0)
 centre = p1[mid & np.isclose(np.abs(p0[:, 1]) + np.abs(p0[:, 2]), 0.0)][0]
 corners = p1[mid & ~np.isclose(np.abs(p0[:, 1]) + np.abs(p0[:, 2]), 0.0)]
 assert np.allclose(np.linalg.norm(corners - centre, axis=1), np.sqrt(0.5), atol=1e-9)
+# Section forces: pure bending by the tip moment M = 2 pi E I / L (157.0796) in every element, about
+# the section's y axis; no axial force, shear or torque. Triads: e1 along the beam, turned by pi at
+# mid-span (pointing along -X) and by 2 pi at the tip (back along +X).
+M = 2 * np.pi * 30000.0 * (1.0 / 12.0) / 100.0
+cells = grid1.GetCellData()
+for name, expected in (("bending moment y", -M), ("bending moment z", 0.0), ("axial force", 0.0),
+                       ("shear force y", 0.0), ("shear force z", 0.0), ("torque", 0.0)):
+    values = vtk_to_numpy(cells.GetArray(name))
+    print(f"{name}: {values.min():.9g} .. {values.max():.9g} (closed form {expected:.9g})")
+    assert np.abs(values - expected).max() < 1e-9 * M, name
+e1 = vtk_to_numpy(grid1.GetPointData().GetArray("triad e1"))
+assert np.abs(e1[tip_face] - [1.0, 0.0, 0.0]).max() < 1e-6
+assert np.abs(e1[mid] - [-1.0, 0.0, 0.0]).max() < 1e-6
 print("1 passed, 0 failed")
