@@ -537,6 +537,7 @@ bool ContactManager::prepareIteration(core::State& state) {
             if (!donor || std::abs(d->xiPrev - p.xiPrev) < std::abs(donor->xiPrev - p.xiPrev)) donor = d;
         if (donor) {
           p.state = donor->state;
+          std::copy(donor->compliance, donor->compliance + 3, p.compliance);
           p.normal = donor->normal;
           p.etaRate = donor->etaRate;
           p.etaPrev = LineHistory{donor->xiPrev, donor->etaPrev, donor->etaRate}.etaPrevAt(p.xiPrev);
@@ -623,7 +624,8 @@ void ContactManager::giveCompliance(const core::State& state) {
 }
 
 void ContactManager::handCompliance(Point& p) const {
-  const double c[3] = {p.compliance[0], tangentialRelaxation_ * p.compliance[1], tangentialRelaxation_ * p.compliance[2]};
+  const double c[3] = {p.compliance[0], tangentialRelaxation_ * p.compliance[1],
+                       tangentialRelaxation_ * p.compliance[2]};
   enforcer_->setCompliance(*p.state, c);
 }
 
@@ -924,7 +926,8 @@ std::string ContactManager::failureHint(const Teuchos::Comm<int>& comm) const {
     << "tangential stiffness (Tangential Penalty Parameter, or Friction Complementarity Parameter with Lagrange "
        "multipliers) may be too stiff for these beams; a smaller value helps";
   // Points with parameters chosen from the compliance: restoreStep lowers them for the retry.
-  const bool automatic = std::any_of(points_.begin(), points_.end(), [](const auto& kv) { return kv.second.compliance[0] > 0.0; });
+  const bool automatic =
+      std::any_of(points_.begin(), points_.end(), [](const auto& kv) { return kv.second.compliance[0] > 0.0; });
   if (automatic && relaxations_ < kMaxRelaxations) {
     cycling_ = true;
     s << "; the automatic Tangential Penalty Parameters are lowered tenfold for the retry";

@@ -315,8 +315,10 @@ void ResultsWriter::writeVtk(int step, double T, const State& state) {
   std::ostringstream f;
   f << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
        "header_type=\"UInt64\">\n<UnstructuredGrid>\n<FieldData>\n"
-    << a.field("Float64", "load factor", std::vector<double>{T}) << a.field("Int32", "step", std::vector<std::int32_t>{step}) << "</FieldData>\n<Piece NumberOfPoints=\"" << n
-    << "\" NumberOfCells=\"" << mesh.cells.size() << "\">\n<Points>\n" << a.vectors("", reference) << "</Points>\n<Cells>\n";
+    << a.field("Float64", "load factor", std::vector<double>{T})
+    << a.field("Int32", "step", std::vector<std::int32_t>{step}) << "</FieldData>\n<Piece NumberOfPoints=\"" << n
+    << "\" NumberOfCells=\"" << mesh.cells.size() << "\">\n<Points>\n"
+    << a.vectors("", reference) << "</Points>\n<Cells>\n";
   std::vector<std::int64_t> connectivity, offsets;
   std::vector<std::uint8_t> types(mesh.cellTypes.begin(), mesh.cellTypes.end());
   for (const auto& c : mesh.cells) {

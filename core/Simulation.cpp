@@ -46,7 +46,9 @@ RunResult simulate(Model& model, const SolverSettings& settings, const Teuchos::
   // nested where they run; the global one is put back when the run ends.
   struct TimeMonitorTarget {
     Teuchos::RCP<Teuchos::StackedTimer> previous = Teuchos::TimeMonitor::getStackedTimer();
-    explicit TimeMonitorTarget(const Teuchos::RCP<Teuchos::StackedTimer>& t) { Teuchos::TimeMonitor::setStackedTimer(t); }
+    explicit TimeMonitorTarget(const Teuchos::RCP<Teuchos::StackedTimer>& t) {
+      Teuchos::TimeMonitor::setStackedTimer(t);
+    }
     ~TimeMonitorTarget() { Teuchos::TimeMonitor::setStackedTimer(previous); }
   } timeMonitorTarget(timer);
   const bool root = comm->getRank() == 0;

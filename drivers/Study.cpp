@@ -481,18 +481,21 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
                    if (p.isParameter("Published Labels")) {
                      if (!p.isType<Array<std::string>>("Published Labels"))
                        throw InputError("parameter \"" + path + "/Published Labels\" must be Array(string)");
-                     for (const auto& l : p.get<Array<std::string>>("Published Labels")) plot.publishedLabels.push_back(l);
+                     for (const auto& l : p.get<Array<std::string>>("Published Labels"))
+                       plot.publishedLabels.push_back(l);
                    }
                    const std::size_t np = plot.publishedY.size();
                    if ((!plot.publishedX.empty() && plot.publishedX.size() != np) ||
                        (!plot.publishedLabels.empty() && plot.publishedLabels.size() != np) ||
                        (np == 0 && (!plot.publishedX.empty() || !plot.publishedLabels.empty())))
-                     throw InputError("parameter \"" + path + "/Published Y\": give one value per published point, and "
-                                      "as many \"Published X\" (or none: horizontal lines) and \"Published Labels\" (or none)");
+                     throw InputError("parameter \"" + path +
+                                      "/Published Y\": give one value per published point, and as many \"Published X\" "
+                                      "(or none: horizontal lines) and \"Published Labels\" (or none)");
                    if (p.isParameter("Error")) {
                      if (!p.isType<bool>("Error")) throw InputError("parameter \"" + path + "/Error\" must be a bool");
                      plot.error = p.get<bool>("Error");
-                     if (plot.error && plot.relativeTo.empty()) plot.relativeTo = study->get<std::string>("Reference Group");
+                     if (plot.error && plot.relativeTo.empty())
+                       plot.relativeTo = study->get<std::string>("Reference Group");
                      if (plot.error && plot.relativeTo.empty())
                        throw InputError("parameter \"" + path + "/Error\": an error needs a reference; give \"" + path +
                                         "/Relative To Group\" or \"" + root + "/Reference Group\"");
@@ -556,7 +559,8 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
       if (!number || std::stoi(n) < 1 || std::stoi(n) > static_cast<int>(all.size())) fs::remove_all(entry.path(), ec);
     }
     for (const auto& entry : fs::directory_iterator(dir))
-      if (entry.path().extension() == ".png" || entry.path().extension() == ".pdf" || entry.path().filename() == "report.md")
+      if (entry.path().extension() == ".png" || entry.path().extension() == ".pdf" ||
+          entry.path().filename() == "report.md")
         fs::remove(entry.path(), ec);
   }
   int kept = 0;
@@ -594,7 +598,8 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
     csv << ",status";
     for (const auto& o : outputs) csv << ',' << csvField(o.name);
     if (reference)
-      for (const auto& o : outputs) csv << ',' << csvField(o.name + " error") << ',' << csvField(o.name + " relative error");
+      for (const auto& o : outputs)
+        csv << ',' << csvField(o.name + " error") << ',' << csvField(o.name + " relative error");
     for (const auto& r : runColumns) csv << ',' << r;
     if (timing) csv << ",solve_seconds_median,solve_seconds_min,solve_seconds_max,timing_runs";
     csv << ",cause\n";
@@ -778,9 +783,10 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
     for (std::size_t i = 0; i < outputs.size(); ++i) j << (i ? ", " : "") << jsonString(outputs[i].name);
     j << "],\n  \"output_sources\": {";
     for (std::size_t i = 0; i < outputs.size(); ++i)
-      j << (i ? ", " : "") << jsonString(outputs[i].name) << ": {\"tracked_point\": " << jsonString(outputs[i].trackedPoint)
-        << ", \"component\": " << jsonString(outputs[i].component) << ", \"contact\": " << jsonString(outputs[i].contact)
-        << "}";
+      j << (i ? ", " : "") << jsonString(outputs[i].name)
+        << ": {\"tracked_point\": " << jsonString(outputs[i].trackedPoint)
+        << ", \"component\": " << jsonString(outputs[i].component)
+        << ", \"contact\": " << jsonString(outputs[i].contact) << "}";
     j << "},\n  \"plots\": [";
     for (std::size_t i = 0; i < plots.size(); ++i) {
       const Plot& p = plots[i];
@@ -792,7 +798,8 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
       j << "], \"published_y\": [";
       for (std::size_t k = 0; k < p.publishedY.size(); ++k) j << (k ? ", " : "") << text(p.publishedY[k]);
       j << "], \"published_labels\": [";
-      for (std::size_t k = 0; k < p.publishedLabels.size(); ++k) j << (k ? ", " : "") << jsonString(p.publishedLabels[k]);
+      for (std::size_t k = 0; k < p.publishedLabels.size(); ++k)
+        j << (k ? ", " : "") << jsonString(p.publishedLabels[k]);
       j << "]}";
     }
     j << "\n  ]\n}\n";

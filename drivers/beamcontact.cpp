@@ -103,11 +103,14 @@ int studyCommand(const std::vector<std::string>& args, const std::vector<std::st
     } else if (args[i] == "--timing") {
       // Optional count: the next argument when it is a whole number.
       options.timing = 5;
-      if (i + 1 < args.size() && !args[i + 1].empty() && args[i + 1].find_first_not_of("0123456789") == std::string::npos) {
+      const bool count = i + 1 < args.size() && !args[i + 1].empty() &&
+                         args[i + 1].find_first_not_of("0123456789") == std::string::npos;
+      if (count) {
         const std::string& v = args[++i];
         options.timing = v.size() <= 3 ? std::stoi(v) : 0;
         if (options.timing < 1 || options.timing > 100) {
-          std::fprintf(stderr, "beamcontact: --timing takes a whole number of runs from 1 to 100, got \"%s\"\n", v.c_str());
+          std::fprintf(stderr, "beamcontact: --timing takes a whole number of runs from 1 to 100, got \"%s\"\n",
+                       v.c_str());
           return 1;
         }
       }

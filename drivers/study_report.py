@@ -237,7 +237,8 @@ def curves(study):
         fig, ax = plt.subplots(figsize=(9, 4.8))
         drawn = 0
         for i, r in enumerate(rows):
-            data = [(number(t["T"]), number(t.get(column))) for t in read_csv(os.path.join(study.case_dir(r), "tracked_points.csv"))]
+            rows_t = read_csv(os.path.join(study.case_dir(r), "tracked_points.csv"))
+            data = [(number(t["T"]), number(t.get(column))) for t in rows_t]
             data = [d for d in data if d[0] is not None and d[1] is not None]
             if data:
                 label = study.case_label(r) + ("" if r["status"] == "complete" else f" ({r['status']})")
