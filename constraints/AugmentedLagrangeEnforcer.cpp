@@ -11,7 +11,7 @@ namespace bc::constraints {
 const core::ParameterSpec& AugmentedLagrangeEnforcer::spec() {
   static const core::ParameterSpec s = [] {
     core::ParameterSpec p;
-    PenaltyChoice::addTo(p, "stiffness of the augmented law");
+    PenaltyChoice::addTo(p, "stiffness (augmented law)");
     p.add("Gap Tolerance", 1e-6, "stop augmenting when |g_N| and sticking |g_T| are below this [length]",
           core::positive(), "> 0");
     p.add("Maximum Augmentations", 50, "Newton solves allowed per increment (passes)", core::atLeast(1), ">= 1");

@@ -28,7 +28,8 @@ ParameterSpec& ParameterSpec::allowWord(const std::string& name, const std::stri
   words_[name] = word;
   for (Teuchos::ParameterList* list : {&valid_, &reference_}) {
     Teuchos::ParameterEntry& entry = list->getEntry(name);
-    entry.setDocString(entry.docString() + "; or \"" + word + "\"");
+    if (entry.docString().find("\"" + word + "\"") == std::string::npos)  // unless the doc names it already
+      entry.setDocString(entry.docString() + "; or \"" + word + "\"");
   }
   return *this;
 }
