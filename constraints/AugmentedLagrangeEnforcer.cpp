@@ -52,11 +52,8 @@ PointResult AugmentedLagrangeEnforcer::evaluate(const ContactPoint& p, const Poi
   const State& h = stateOf<State>(s);
   h.penalties.require();
   const FrictionRegularization friction{{h.lambdaT[0], h.lambdaT[1]}, h.penalties.eps[1]};
-  PointResult r =
-      regularizedEvaluate(p, smoothedAugmentedLaw(h.lambdaN, h.penalties.eps[0], regularization_), friction, f, K);
-  r.penalty[0] = h.penalties.eps[0];
-  r.penalty[1] = h.penalties.eps[1];
-  return r;
+  return h.penalties.reported(
+      regularizedEvaluate(p, smoothedAugmentedLaw(h.lambdaN, h.penalties.eps[0], regularization_), friction, f, K));
 }
 
 bool AugmentedLagrangeEnforcer::acceptPoint(const ContactPoint& p, PointState& s, double& worstViolation) const {
@@ -91,9 +88,7 @@ bool AugmentedLagrangeEnforcer::acceptPoint(const ContactPoint& p, PointState& s
 
 PointResult AugmentedLagrangeEnforcer::reportedForces(const ContactPoint& p, const PointState& s) const {
   const State& h = stateOf<State>(s);
-  PointResult r;
-  r.penalty[0] = h.penalties.eps[0];
-  r.penalty[1] = h.penalties.eps[1];
+  PointResult r = h.penalties.reported(PointResult{});
   r.active = h.lambdaN < 0.0;
   if (!r.active) return r;
   r.lambdaN = h.lambdaN;

@@ -63,6 +63,12 @@ struct PointPenalties {
   }
   // Throws when a point is evaluated before its parameters were chosen (no compliance given).
   void require() const;
+  // Puts the point's parameters into its forces for output.
+  PointResult reported(PointResult r) const {
+    r.penalty[0] = eps[0];
+    r.penalty[1] = eps[1];
+    return r;
+  }
 };
 
 }  // namespace bc::constraints

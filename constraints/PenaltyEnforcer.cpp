@@ -33,20 +33,12 @@ void PenaltyEnforcer::setCompliance(PointState& s, const double compliance[3]) c
   choice_.choose(compliance, stateOf<State>(s).penalties.eps);
 }
 
-namespace {
-PointResult withPenalties(PointResult r, const PointPenalties& p) {
-  r.penalty[0] = p.eps[0];
-  r.penalty[1] = p.eps[1];
-  return r;
-}
-}  // namespace
-
 PointResult PenaltyEnforcer::evaluate(const ContactPoint& p, const PointState& s, double* f, double* K) const {
   const State& h = stateOf<State>(s);
   h.penalties.require();
   const FrictionRegularization friction{{h.lambdaT[0], h.lambdaT[1]}, h.penalties.eps[1]};
-  return withPenalties(
-      regularizedEvaluate(p, smoothedPenaltyLaw(h.penalties.eps[0], regularization_), friction, f, K), h.penalties);
+  return h.penalties.reported(
+      regularizedEvaluate(p, smoothedPenaltyLaw(h.penalties.eps[0], regularization_), friction, f, K));
 }
 
 bool PenaltyEnforcer::acceptPoint(const ContactPoint& p, PointState&, double& worstViolation) const {

@@ -30,10 +30,18 @@ SolveReport LinearSolver::attempt(const Teuchos::RCP<const Matrix>& A, const Vec
                            "without enough supports, or a contact constraint that fixes nothing): " + what);
   }
   Stage stage(*this, "Residual Check");
+  const int iterations = report.iterations;
+  report = residualReport(*A, b, x);
+  report.iterations = iterations;
+  return report;
+}
+
+SolveReport residualReport(const Matrix& A, const Vector& b, const Vector& x) {
+  SolveReport report;
   Vector r(b.getMap());
-  A->apply(x, r);
+  A.apply(x, r);
   r.update(1.0, b, -1.0);
-  const double bn = b.norm2(), rn = r.norm2(), an = A->getFrobeniusNorm();
+  const double bn = b.norm2(), rn = r.norm2(), an = A.getFrobeniusNorm();
   report.solutionNorm = x.norm2();
   const double scale = an * report.solutionNorm + bn;
   report.relativeResidual = bn > 0.0 ? rn / bn : rn;

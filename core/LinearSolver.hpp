@@ -37,6 +37,9 @@ struct SolveReport {
   double solutionNorm = 0;     // ||x||
 };
 
+// The residual measures of x as a solution of A x = b (iterations 0): what every solve is checked by.
+SolveReport residualReport(const Matrix& A, const Vector& b, const Vector& x);
+
 class LinearSolver {
  public:
   virtual ~LinearSolver() = default;

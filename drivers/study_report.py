@@ -117,14 +117,16 @@ def plot_one(study, plot):
         if reference is None or reference == 0.0:
             return None, f"no complete case of group \"{ref_group}\" with a non-zero {y}"
 
-    def value(r):
-        v = number(r[y])
-        if v is None:
-            return None
+    def scaled(v):
+        """A value of Y as the plot draws it: itself, its % difference or its |relative error|."""
         if reference is None:
             return v
         relative = (v - reference) / abs(reference)
         return abs(relative) if error else 100.0 * relative
+
+    def value(r):
+        v = number(r[y])
+        return None if v is None else scaled(v)
 
     fig, ax = plt.subplots(figsize=(7.5, 4.8))
     keys = []
@@ -175,11 +177,6 @@ def plot_one(study, plot):
         if number(r.get(x)) is None and r["status"] != "complete" and r["group"] != ref_group:
             failed_any = True  # another strategy that did not complete: in the table's causes
     # Published values, on the same scale as the cases (relative to the reference where the plot is).
-    def scaled(v):
-        if reference is None:
-            return v
-        relative = (v - reference) / abs(reference)
-        return abs(relative) if error else 100.0 * relative
     published_y = plot.get("published_y", [])
     published_x = plot.get("published_x", [])
     published_labels = plot.get("published_labels", []) or ["published"] * len(published_y)
@@ -343,8 +340,9 @@ def main(directory):
             return [number(r.get(key)) for r in ok if number(r.get(key)) is not None]
         mn, mp = median(values("newton_iterations")), median(values("passes"))
         times = values("solve_seconds_median" if timing else "solve_seconds")
-        lo = min(values("solve_seconds_min")) if timing and values("solve_seconds_min") else (min(times) if times else None)
-        hi = max(values("solve_seconds_max")) if timing and values("solve_seconds_max") else (max(times) if times else None)
+        # The range: over every timing run of the group's cases, or over its cases.
+        lows, highs = (values("solve_seconds_min"), values("solve_seconds_max")) if timing else (times, times)
+        lo, hi = (min(lows), max(highs)) if lows and highs else (None, None)
         lines.append(f"| {g} | {len(members)} | {len(ok)} | {fmt(mn) if mn is not None else ''} | "
                      f"{fmt(mp) if mp is not None else ''} | {fmt(median(times), 3) if times else ''} | "
                      f"{'' if lo is None else f'{lo:.3g} - {hi:.3g}'} |")

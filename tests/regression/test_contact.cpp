@@ -557,15 +557,26 @@ Deck crossedCantilevers(const std::string& type, double delta) {
   tip.set("Displacement", vec("0, 0, " + test::num(-delta)));
   return d;
 }
-}  // namespace
 
-TEST(CrossedCantilevers, NormalForceMatchesClosedForm) {
+// The closed form of the crossed cantilevers above: the compliances f11 (beam 1) and f22 (beam 2,
+// tip held) at the contact point, c (the point's deflection per unit tip motion of beam 2), the
+// initial gap g0 and the tip motion delta that closes it and presses by 0.01.
+struct CrossedCantileverForm {
+  double c, f11, f22, g0, delta;
+};
+CrossedCantileverForm crossedCantileverForm() {
   const double pi = std::acos(-1.0), E = 30000.0, g0 = 0.01, L2 = 100.0, a1 = 50.0, a2 = 50.0;
   const double I1 = pi * std::pow(5.0, 4) / 4, I2 = pi * std::pow(2.5, 4) / 4;
   const double c = a2 * a2 * (3 * L2 - a2) / (2 * L2 * L2 * L2);
   const double f11 = std::pow(a1, 3) / (3 * E * I1);
-  const double f22 = std::pow(a2, 3) / (3 * E * I2) - std::pow(a2, 4) * std::pow(3 * L2 - a2, 2) / (12 * E * I2 * std::pow(L2, 3));
-  const double delta = (g0 + 0.01) / c;  // closes the gap and presses by 0.01
+  const double f22 =
+      std::pow(a2, 3) / (3 * E * I2) - std::pow(a2, 4) * std::pow(3 * L2 - a2, 2) / (12 * E * I2 * std::pow(L2, 3));
+  return {c, f11, f22, g0, (g0 + 0.01) / c};
+}
+}  // namespace
+
+TEST(CrossedCantilevers, NormalForceMatchesClosedForm) {
+  const auto [c, f11, f22, g0, delta] = crossedCantileverForm();
   const double N = (c * delta - g0) / (f11 + f22);
   for (const std::string type : {"Lagrange Multiplier", "Augmented Lagrange", "Penalty"}) {
     auto p = input::buildProblem(crossedCantilevers(type, delta), "crossed");
@@ -583,10 +594,13 @@ TEST(CrossedCantilevers, NormalForceMatchesClosedForm) {
 // Automatic penalty parameters (PenaltyChoice.hpp): eps = (1 - e) / (e c), c the beams' compliance
 // at the point, makes the penalty force of one point too small by exactly the factor e (linear).
 namespace {
+// The strategy's penalty parameters made "Automatic" (the deck's numbers removed first) with targets.
 void automaticPenalties(Deck& d, const std::string& type, double normalError, double tangentialError) {
   const std::string list = "Contact/Enforcement/" + type;
-  input::setAtPath(d, list + "/Normal Penalty Parameter", std::string("Automatic"));
-  input::setAtPath(d, list + "/Tangential Penalty Parameter", std::string("Automatic"));
+  for (const char* k : {"Normal Penalty Parameter", "Tangential Penalty Parameter"}) {
+    input::sublistAtPath(d, list, false).remove(k, false);
+    input::setAtPath(d, list + "/" + k, std::string("Automatic"));
+  }
   input::setAtPath(d, list + "/Normal Target Error", normalError);
   input::setAtPath(d, list + "/Tangential Target Error", tangentialError);
 }
@@ -596,19 +610,13 @@ TEST(AutomaticPenalty, CrossedCantileversGetTheClosedFormComplianceAndLoseExactl
   // The crossed cantilevers above: the compliance at the contact point along the normal is
   // f11 + f22 (both beams, Euler-Bernoulli, exact at nodes), so eps_N = (1 - e) / (e (f11 + f22)),
   // and the penalty force is N (1 - e) with N the constrained (Lagrange) force.
-  const double pi = std::acos(-1.0), E = 30000.0, g0 = 0.01, L2 = 100.0, a1 = 50.0, a2 = 50.0;
-  const double I1 = pi * std::pow(5.0, 4) / 4, I2 = pi * std::pow(2.5, 4) / 4;
-  const double c = a2 * a2 * (3 * L2 - a2) / (2 * L2 * L2 * L2);
-  const double f11 = std::pow(a1, 3) / (3 * E * I1);
-  const double f22 = std::pow(a2, 3) / (3 * E * I2) - std::pow(a2, 4) * std::pow(3 * L2 - a2, 2) / (12 * E * I2 * std::pow(L2, 3));
-  const double delta = (g0 + 0.01) / c;
+  const auto form = crossedCantileverForm();
+  const double f11 = form.f11, f22 = form.f22, delta = form.delta;
   auto lagrange = input::buildProblem(crossedCantilevers("Lagrange Multiplier", delta), "crossed");
   ASSERT_TRUE(test::runQuiet(lagrange, Tpetra::getDefaultComm(), "crossed").report.completed);
   const double N = sums(lagrange).normal;
   for (const double e : {1e-2, 1e-3}) {
     Deck deck = crossedCantilevers("Penalty", delta);
-    input::sublistAtPath(deck, "Contact/Enforcement/Penalty", false).remove("Normal Penalty Parameter");
-    input::sublistAtPath(deck, "Contact/Enforcement/Penalty", false).remove("Tangential Penalty Parameter");
     automaticPenalties(deck, "Penalty", e, 1e-2);
     auto p = input::buildProblem(deck, "crossed");
     const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "crossed_automatic");
@@ -636,8 +644,6 @@ TEST(AutomaticPenalty, PaperExamplesStayWithinTheTargetOfLagrange) {
     const auto rl = test::runQuiet(lagrange, Tpetra::getDefaultComm(), "example_lagrange");
     ASSERT_TRUE(rl.report.completed) << rl.report.failure;
     Deck deck = inputDeck(name, "Penalty");
-    for (const char* k : {"Normal Penalty Parameter", "Tangential Penalty Parameter"})
-      input::sublistAtPath(deck, "Contact/Enforcement/Penalty", false).remove(k);
     automaticPenalties(deck, "Penalty", 1e-3, 1e-2);
     auto p = input::buildProblem(deck, "example");
     const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "example_automatic");
@@ -659,8 +665,6 @@ TEST(AutomaticPenalty, AugmentedLagrangeLandsOnLagrange) {
   const auto rl = test::runQuiet(lagrange, Tpetra::getDefaultComm(), "example_lagrange");
   ASSERT_TRUE(rl.report.completed) << rl.report.failure;
   Deck deck = inputDeck("example1.xml", "Augmented Lagrange");
-  for (const char* k : {"Normal Penalty Parameter", "Tangential Penalty Parameter"})
-    input::sublistAtPath(deck, "Contact/Enforcement/Augmented Lagrange", false).remove(k);
   automaticPenalties(deck, "Augmented Lagrange", 1e-3, 1e-2);
   auto p = input::buildProblem(deck, "example");
   const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "example_automatic");
