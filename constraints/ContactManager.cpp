@@ -851,10 +851,19 @@ ContactKinematics ContactManager::judgedKinematics(const Point& p, const core::S
   return k;
 }
 
+bool ContactManager::evaluatesHere(const Point& p, const std::vector<GlobalDof>& dofs, const OwnsDof& owns) {
+  // The rank of element A's first node or of element B's, alternating with the element pair: where
+  // the two beams of a crossing lie on different ranks (layers, yarns), each rank takes about half
+  // of the points. The choice depends only on the pair of elements, so a point keeps its rank (and
+  // its rows in that rank's overlap of the matrix graph) while it lives.
+  const unsigned mix = 2654435761u * static_cast<unsigned>(p.elementA) ^ static_cast<unsigned>(p.elementB);
+  return owns(dofs[(mix >> 7) & 1u ? 12 : 0]);
+}
+
 void ContactManager::connectivity(const OwnsDof& owns, std::vector<std::vector<GlobalDof>>& blocks) const {
   for (const auto& [key, p] : points_) {
     const auto d = blockDofs(p);
-    if (owns(d[0])) blocks.push_back(d);
+    if (evaluatesHere(p, d, owns)) blocks.push_back(d);
   }
 }
 
@@ -871,7 +880,7 @@ void ContactManager::evaluate(const core::State& state, const OwnsDof& owns, cor
   for (const auto& [key, p] : points_) {
     if (p.node()) continue;  // a line node's rows come from its Gauss points
     const auto d = blockDofs(p);
-    if (!owns(d[0])) continue;
+    if (!evaluatesHere(p, d, owns)) continue;
     // The full kinematics (with their derivatives) only where the point acts.
     const PointState* acting = actingState(p);
     if (!acting || !enforcer_->contributes(pointGeometry(p, state).gap, *acting)) continue;

@@ -231,6 +231,8 @@ class ContactManager : public core::Contribution {
   int relaxations_ = 0;
   mutable bool cycling_ = false;
   std::vector<core::GlobalDof> blockDofs(const Point& p) const;
+  // Whether this rank evaluates point p (block dofs `dofs`): connectivity and evaluate agree on it.
+  static bool evaluatesHere(const Point& p, const std::vector<core::GlobalDof>& dofs, const OwnsDof& owns);
 
   std::shared_ptr<const elements::BeamSet> beams_;
   std::vector<ContactPairSpec> pairs_;

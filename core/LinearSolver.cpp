@@ -4,17 +4,37 @@
 #include "SerialKlu.hpp"
 
 #include <algorithm>
+#include <chrono>
+#include <thread>
 #include <cmath>
 #include <sstream>
 
 #include <BelosSolverFactory.hpp>
 #include <BelosTpetraAdapter.hpp>
 #include <Ifpack2_Factory.hpp>
-#include <Teuchos_DefaultSerialComm.hpp>
+#include <Teuchos_DefaultMpiComm.hpp>
 #include <Tpetra_Export.hpp>
 #include <Tpetra_Import.hpp>
 
 namespace bc::core {
+
+namespace {
+
+// A barrier whose waiting ranks sleep between polls instead of spinning.
+void quietBarrier(const Teuchos::Comm<int>& comm) {
+  const auto* mpi = dynamic_cast<const Teuchos::MpiComm<int>*>(&comm);
+  if (!mpi) return;
+  MPI_Request request;
+  MPI_Ibarrier(*mpi->getRawMpiComm(), &request);
+  int done = 0;
+  for (;;) {
+    MPI_Test(&request, &done, MPI_STATUS_IGNORE);
+    if (done) return;
+    std::this_thread::sleep_for(std::chrono::microseconds(100));
+  }
+}
+
+}  // namespace
 
 SolveReport LinearSolver::attempt(const Teuchos::RCP<const Matrix>& A, const Vector& b, Vector& x) {
   SolveReport report;
@@ -80,7 +100,6 @@ SolveReport LinearSolver::solve(const Teuchos::RCP<const Matrix>& A, const Vecto
 
 namespace {
 
-using SerialMap = Tpetra::Map<LO, GO, Node>;
 
 // KLU2, called directly (SerialKlu, refactoring); on more than one rank the matrix is gathered to
 // rank 0 and factored there.
@@ -98,69 +117,66 @@ class DirectSolver : public LinearSolver {
       lastMatrix_ = A;
       return 0;
     }
-    const auto owned = A->getRowMap();
-    const GO n = static_cast<GO>(owned->getGlobalNumElements());
-    std::vector<GO> mine;
-    if (comm->getRank() == 0)
-      for (GO g = 0; g < n; ++g) mine.push_back(g);
-    auto gather = std::make_unique<Stage>(*this, "Gather to Rank 0");
-    const auto rootMap = Teuchos::rcp(new Map(n, Teuchos::ArrayView<const GO>(mine), 0, comm));
-    Tpetra::Export<LO, GO, Node> toRoot(owned, rootMap);
-    const auto A0 = Tpetra::exportAndFillCompleteCrsMatrix<Matrix>(A, toRoot, rootMap, rootMap);
-    Vector b0(rootMap), x0(rootMap);
-    b0.doExport(b, toRoot, Tpetra::INSERT);
-    gather.reset();
     const bool refactor = refactoring(A);  // on every rank: redoWithoutShortcut answers alike
+    {
+      Stage gather(*this, "Gather to Rank 0");
+      if (!refactor || gathered_.is_null()) {
+        // A new matrix (graph): rank 0's map holds every row, in global order, so the gathered
+        // matrix's local rows and vectors are in global order too.
+        const auto owned = A->getRowMap();
+        const GO n = static_cast<GO>(owned->getGlobalNumElements());
+        std::vector<GO> mine;
+        if (comm->getRank() == 0)
+          for (GO g = 0; g < n; ++g) mine.push_back(g);
+        rootMap_ = Teuchos::rcp(new Map(n, Teuchos::ArrayView<const GO>(mine), 0, comm));
+        toRoot_ = Teuchos::rcp(new Tpetra::Export<LO, GO, Node>(owned, rootMap_));
+        fromRoot_ = Teuchos::rcp(new Tpetra::Import<LO, GO, Node>(rootMap_, owned));
+        const auto first = Tpetra::exportAndFillCompleteCrsMatrix<Matrix>(A, *toRoot_, rootMap_, rootMap_);
+        // Later matrices of this graph are summed into the entries of the gathered graph.
+        gathered_ = Teuchos::rcp(new Matrix(first->getCrsGraph()));
+      }
+      gathered_->resumeFill();
+      gathered_->setAllToScalar(0.0);
+      gathered_->doExport(*A, *toRoot_, Tpetra::ADD);
+      gathered_->fillComplete(rootMap_, rootMap_);
+    }
+    Vector b0(rootMap_), x0(rootMap_);
+    b0.doExport(b, *toRoot_, Tpetra::INSERT);
     int failed = 0;
     std::string what;
     if (comm->getRank() == 0) {
       try {
-        // Rebuild the gathered matrix on a one-process communicator (global ids = local ids here).
-        const auto self = Teuchos::rcp(new Teuchos::SerialComm<int>());
-        const auto smap = Teuchos::rcp(new SerialMap(n, 0, self));
-        std::vector<size_t> counts(n);
-        for (LO i = 0; i < static_cast<LO>(n); ++i) counts[i] = A0->getNumEntriesInLocalRow(i);
-        auto As = Teuchos::rcp(new Matrix(smap, Teuchos::ArrayView<const size_t>(counts)));
-        const auto colMap = A0->getColMap();
-        std::vector<GO> cols;
-        for (LO i = 0; i < static_cast<LO>(n); ++i) {
-          Matrix::local_inds_host_view_type inds;
-          Matrix::values_host_view_type vals;
-          A0->getLocalRowView(i, inds, vals);
-          cols.resize(inds.extent(0));
-          for (std::size_t k = 0; k < cols.size(); ++k) cols[k] = colMap->getGlobalElement(inds(k));
-          const GO row = rootMap->getGlobalElement(i);
-          As->insertGlobalValues(row, Teuchos::ArrayView<const GO>(cols),
-                                 Teuchos::ArrayView<const double>(vals.data(), vals.extent(0)));
-        }
-        As->fillComplete();
-        Vector bs(smap), xs(smap);
-        {
-          auto src = b0.getData();
-          auto dst = bs.getDataNonConst();
-          for (GO g = 0; g < n; ++g) dst[rootMap->getLocalElement(g)] = src[rootMap->getLocalElement(g)];
-        }
-        factorAndSolve(*As, refactor, bs, xs);
-        auto src = xs.getData();
-        auto dst = x0.getDataNonConst();
-        for (GO g = 0; g < n; ++g) dst[rootMap->getLocalElement(g)] = src[g];
+        factorAndSolve(*gathered_, refactor, b0, x0);
       } catch (const std::exception& e) {
         failed = 1;
         what = e.what();
       }
     }
+    {
+      // The other ranks wait for rank 0 without spinning on a core that rank 0's factorization
+      // shares (on two cores a busy wait slowed it by 40 %).
+      Stage wait(*this, "Wait for Rank 0");
+      quietBarrier(*comm);
+    }
     int anyFailed = 0;
     Teuchos::reduceAll(*comm, Teuchos::REDUCE_MAX, failed, Teuchos::outArg(anyFailed));
     lastMatrix_ = A;
-    if (anyFailed) throw LinearSolveError("KLU2 failed on rank 0: " + what);
-    Tpetra::Import<LO, GO, Node> fromRoot(rootMap, owned);
-    x.doImport(x0, fromRoot, Tpetra::INSERT);
+    if (anyFailed) {
+      gathered_ = Teuchos::null;
+      throw LinearSolveError("KLU2 failed on rank 0: " + what);
+    }
+    x.doImport(x0, *fromRoot_, Tpetra::INSERT);
     return 0;
   }
 
  private:
   Teuchos::RCP<const Matrix> lastMatrix_;
   SerialKlu klu_;
+  // More than one rank: the system gathered to rank 0, kept while the graph stands.
+  Teuchos::RCP<const Map> rootMap_;
+  Teuchos::RCP<Tpetra::Export<LO, GO, Node>> toRoot_;
+  Teuchos::RCP<Tpetra::Import<LO, GO, Node>> fromRoot_;
+  Teuchos::RCP<Matrix> gathered_;
 
   bool refactored_ = false, fresh_ = false;
 
