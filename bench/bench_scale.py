@@ -21,7 +21,8 @@ slope of log time per iteration against log crossings), and the 2-rank speed-up 
 1 rank over that on 2). Each figure is the median of --repeat runs (VTK off). The timings come from the
 run's timers.txt (Teuchos stacked timers of rank 0).
 Usage: bench_scale.py BEAMCONTACT [--sizes 4,8,16,32] [--strategies ...] [--ranks 1,2] [--repeat 3]
-                      [--model grid] [--increments 5] [--friction MU] [--solver Direct] [--work DIR] [--mpiexec mpirun]
+                      [--model grid] [--increments 5] [--friction MU] [--solver Direct] [--reuse] [--work DIR]
+                      [--mpiexec mpirun]
 """
 import argparse
 import csv
@@ -100,6 +101,9 @@ def main():
                          "freely along each other)")
     ap.add_argument("--solver", default="Direct", choices=["Direct", "MueLu", "ILUT", "RILUK"],
                     help="Direct (KLU2), or GMRES preconditioned by MueLu multigrid, ILUT or RILUK")
+    ap.add_argument("--reuse", action="store_true",
+                    help="Direct with Reuse Factorization: GMRES preconditioned with the last factorization, "
+                         "factoring only when it needs more than Reuse Iteration Limit iterations")
     ap.add_argument("--work", default="bench_scale")
     ap.add_argument("--mpiexec", default="mpirun")
     a = ap.parse_args()
@@ -129,6 +133,9 @@ def main():
             deck = os.path.join(a.work, f"{a.model}{n}_{SHORT.get(strategy, strategy)}.xml")
             t = text.replace('name="Type" type="string" value="Penalty"', f'name="Type" type="string" value="{strategy}"', 1)
             linear = ""
+            if a.reuse and a.solver == "Direct":
+                linear = ('<ParameterList name="Linear Solver"><Parameter name="Reuse Factorization" type="bool" '
+                          'value="true"/></ParameterList>')
             if a.solver != "Direct":
                 if a.solver == "MueLu" and strategy == "Lagrange Multiplier":
                     continue  # multigrid takes matrices without multiplier rows

@@ -102,25 +102,32 @@ namespace {
 
 
 // KLU2, called directly (SerialKlu, refactoring); on more than one rank the matrix is gathered to
-// rank 0 and factored there.
+// rank 0 and factored there. With "Reuse Factorization", GMRES preconditioned with the last
+// factorization solves first, and the matrix is factored only when that takes too many iterations.
 class DirectSolver : public LinearSolver {
  public:
-  DirectSolver(double checkTol, double conditionLimit) : LinearSolver(checkTol, conditionLimit) {}
+  explicit DirectSolver(const Teuchos::ParameterList& p)
+      : LinearSolver(p.get<double>("Residual Check Tolerance"), p.get<double>("Condition Limit")),
+        reuse_(p.get<bool>("Reuse Factorization")),
+        reuseLimit_(p.get<int>("Reuse Iteration Limit")),
+        // The GMRES target leaves the backward error well below the check (LinearSolver::solve
+        // redoes a shortcut's solve that is not).
+        reuseTarget_(0.5e-3 * p.get<double>("Residual Check Tolerance")) {}
   std::string name() const override { return "Direct (KLU2)"; }
 
  protected:
   int doSolve(const Teuchos::RCP<const Matrix>& A, const Vector& b, Vector& x) override {
     const auto comm = A->getRowMap()->getComm();
-    if (comm->getSize() == 1) {
-      // The same matrix object with new values (the assembler keeps it while its graph stands).
-      factorAndSolve(*A, refactoring(A), b, x);
-      lastMatrix_ = A;
-      return 0;
-    }
-    const bool refactor = refactoring(A);  // on every rank: redoWithoutShortcut answers alike
+    // The same matrix object with new values: the assembler keeps it while its graph stands.
+    const bool sameGraph = A == lastMatrix_;
+    const bool shortcuts = !fresh_;  // on every rank alike
+    fresh_ = false;
+    shortcut_ = false;
+    lastMatrix_ = A;
+    if (comm->getSize() == 1) return factorAndSolve(*A, shortcuts, b, x);
     {
       Stage gather(*this, "Gather to Rank 0");
-      if (!refactor || gathered_.is_null()) {
+      if (!sameGraph || gathered_.is_null()) {
         // A new matrix (graph): rank 0's map holds every row, in global order, so the gathered
         // matrix's local rows and vectors are in global order too.
         const auto owned = A->getRowMap();
@@ -142,13 +149,14 @@ class DirectSolver : public LinearSolver {
     }
     Vector b0(rootMap_), x0(rootMap_);
     b0.doExport(b, *toRoot_, Tpetra::INSERT);
-    int failed = 0;
+    int local[3] = {0, 0, 0};  // failed, iterations, shortcut taken
     std::string what;
     if (comm->getRank() == 0) {
       try {
-        factorAndSolve(*gathered_, refactor, b0, x0);
+        local[1] = factorAndSolve(*gathered_, shortcuts, b0, x0);
+        local[2] = shortcut_;
       } catch (const std::exception& e) {
-        failed = 1;
+        local[0] = 1;
         what = e.what();
       }
     }
@@ -158,51 +166,66 @@ class DirectSolver : public LinearSolver {
       Stage wait(*this, "Wait for Rank 0");
       quietBarrier(*comm);
     }
-    int anyFailed = 0;
-    Teuchos::reduceAll(*comm, Teuchos::REDUCE_MAX, failed, Teuchos::outArg(anyFailed));
-    lastMatrix_ = A;
-    if (anyFailed) {
+    int global[3] = {0, 0, 0};
+    Teuchos::reduceAll(*comm, Teuchos::REDUCE_MAX, 3, local, global);
+    shortcut_ = global[2] != 0;
+    if (global[0]) {
       gathered_ = Teuchos::null;
+      lastMatrix_ = Teuchos::null;
       throw LinearSolveError("KLU2 failed on rank 0: " + what);
     }
     x.doImport(x0, *fromRoot_, Tpetra::INSERT);
-    return 0;
+    return global[1];
   }
 
  private:
   Teuchos::RCP<const Matrix> lastMatrix_;
   SerialKlu klu_;
+  bool reuse_;
+  int reuseLimit_;
+  int sinceFactorization_ = 0;  // GMRES iterations with the last factorization
+  double reuseTarget_;
   // More than one rank: the system gathered to rank 0, kept while the graph stands.
   Teuchos::RCP<const Map> rootMap_;
   Teuchos::RCP<Tpetra::Export<LO, GO, Node>> toRoot_;
   Teuchos::RCP<Tpetra::Import<LO, GO, Node>> fromRoot_;
   Teuchos::RCP<Matrix> gathered_;
 
-  bool refactored_ = false, fresh_ = false;
-
-  // Whether this solve refactors (A is the last solve's matrix object, with new values; on every
-  // rank alike) unless a fresh factorization was asked for.
-  bool refactoring(const Teuchos::RCP<const Matrix>& A) {
-    refactored_ = A == lastMatrix_ && !fresh_;
-    fresh_ = false;
-    return refactored_;
-  }
+  // shortcut_: the last solve refactored with old pivots or reused an old factorization; fresh_:
+  // the next one is to do neither.
+  bool shortcut_ = false, fresh_ = false;
   bool redoWithoutShortcut() override {
-    fresh_ = refactored_;
-    return refactored_;
+    fresh_ = shortcut_;
+    return shortcut_;
   }
 
-  // Factors A (on one process) and solves A x = b; `refactor`: with the last factorization's pivot
-  // order (A has its pattern).
-  void factorAndSolve(const Matrix& A, bool refactor, const Vector& b, Vector& x) {
+  // Solves A x = b on one process (A: all rows here); returns the Krylov iterations (0: direct).
+  // With `shortcuts`: GMRES preconditioned with the last factorization when reuse is on, and a
+  // refactorization with the last pivot order when A has that factorization's pattern.
+  int factorAndSolve(const Matrix& A, bool shortcuts, const Vector& b, Vector& x) {
     auto xv = x.getDataNonConst();
     const auto bv = b.getData();
+    // Rent or buy: GMRES iterations with the last factorization, summed over the solves since it,
+    // are spent up to the limit (about what one factorization costs); then the matrix is factored.
+    if (shortcuts && reuse_ && klu_.factored() && sinceFactorization_ < reuseLimit_) {
+      Stage stage(*this, "Krylov Iterations");
+      const int iterations = klu_.solvePreconditioned(A, bv.getRawPtr(), xv.getRawPtr(),
+                                                      reuseLimit_ - sinceFactorization_, reuseTarget_);
+      if (iterations >= 0) {
+        shortcut_ = true;
+        sinceFactorization_ += iterations;
+        return iterations;
+      }
+    }
     {
       Stage stage(*this, "Factorization");
-      klu_.factor(A, refactor && klu_.factored());
+      shortcut_ = shortcuts && klu_.factored();
+      sinceFactorization_ = 0;
+      klu_.factor(A, shortcut_);
     }
     Stage stage(*this, "Triangular Solves");
     klu_.solve(bv.getRawPtr(), xv.getRawPtr());
+    return 0;
   }
 };
 
@@ -297,6 +320,16 @@ const ParameterSpec& linearSolverSpec() {
           "GMRES only: ILUT level of fill, RILUK level k, or MueLu's Gauss-Seidel sweeps per level (at least 1)",
           nonNegative(), ">= 0");
     s.add("Overlap", 1, "GMRES only: overlap of the additive Schwarz subdomains", atLeast(0), ">= 0");
+    s.add("Reuse Factorization", false,
+          "Direct only: solve by GMRES preconditioned with the last LU factorization (of an earlier Newton "
+          "matrix of the same size), and factor the matrix again only when the GMRES iterations since the "
+          "last factorization reach Reuse Iteration Limit; the solution is held to the same residual check",
+          {}, "");
+    s.add("Reuse Iteration Limit", 25,
+          "Direct with Reuse Factorization: GMRES iterations, summed over the solves since the last "
+          "factorization, after which the matrix is factored again (about the cost of one factorization "
+          "in GMRES iterations)",
+          atLeast(1), ">= 1");
     s.add("Tolerance", 1e-12, "GMRES only: relative residual at which GMRES stops", positive(), "> 0");
     s.add("Maximum Iterations", 1000, "GMRES only: iteration limit", atLeast(1), ">= 1");
     s.add("Restart", 200, "GMRES only: Krylov vectors kept before a restart", atLeast(1), ">= 1");
@@ -307,8 +340,7 @@ const ParameterSpec& linearSolverSpec() {
 
 std::unique_ptr<LinearSolver> makeLinearSolver(const Teuchos::ParameterList& p) {
   const std::string type = p.get<std::string>("Type");
-  if (type == "Direct")
-    return std::make_unique<DirectSolver>(p.get<double>("Residual Check Tolerance"), p.get<double>("Condition Limit"));
+  if (type == "Direct") return std::make_unique<DirectSolver>(p);
   return std::make_unique<GmresSolver>(p);
 }
 

@@ -1,7 +1,8 @@
 // KLU2 called directly on a one-process matrix, so that Newton's later matrices of the same pattern
 // are refactored with the pivot order of the last full factorization (klu_refactor: no pivot search,
 // no new allocation) instead of factored afresh as Amesos2 does. Its own translation unit: KLU2's
-// templates are instantiated here.
+// templates are instantiated here. Its GMRES reuses a factorization as the preconditioner of later
+// matrices (LinearSolver's "Reuse Factorization").
 #pragma once
 #include <memory>
 #include <vector>
@@ -23,6 +24,12 @@ class SerialKlu {
   // Solves A x = b with the last factorization (x and b: the row map's local order).
   void solve(const double* b, double* x) const;
   bool factored() const;
+  int size() const;
+  // Solves A x = b by GMRES (no restart) right-preconditioned with the last factorization, which may
+  // be of an earlier matrix of A's size (A: one process). Stops when ||b - A x|| falls to
+  // `backwardError` (||A||_F ||x|| + ||b||), with ||x|| estimated by ||LU^-1 b||. Returns the
+  // iterations taken, or -1 when `maxIterations` did not get there (x is then undefined).
+  int solvePreconditioned(const Matrix& A, const double* b, double* x, int maxIterations, double backwardError) const;
 
  private:
   struct Data;

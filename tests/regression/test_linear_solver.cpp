@@ -1,6 +1,9 @@
 // The linear solvers on small Tpetra systems whose solutions are known (x = A^-1 b by construction):
 //  - Direct refactors a matrix of the same pattern with the last factorization's pivot order; new
 //    values, also values that make an old pivot zero, still give x to round-off, on 1 and 2 ranks;
+//  - with Reuse Factorization, GMRES preconditioned with the last factorization solves later matrices
+//    of the same size (same or new pattern) to the direct solve's accuracy, and the matrix is
+//    factored again once the iterations since the last factorization reach the limit;
 //  - a singular matrix is an error (LinearSolveError), not a huge x that passes a backward-error test;
 //  - GMRES with the MueLu preconditioner (rigid-body modes as near-null space) solves a system of
 //    6-dof nodes to its tolerance.
@@ -26,7 +29,8 @@ Teuchos::ParameterList solverList(const std::string& type, const std::string& pr
   return p;
 }
 
-// A tridiagonal n x n matrix over all ranks: diag d(i), off-diagonals o(i) (row i to i+1 and back).
+// A tridiagonal n x n matrix over all ranks: diag d(i), off-diagonals o(i) (row i to i+1 and back;
+// a zero o(i) is left out of the pattern).
 Teuchos::RCP<Matrix> tridiagonal(GO n, const std::function<double(GO)>& d, const std::function<double(GO)>& o) {
   const auto comm = Tpetra::getDefaultComm();
   const auto map = Teuchos::rcp(new Map(n, 0, comm));
@@ -35,9 +39,9 @@ Teuchos::RCP<Matrix> tridiagonal(GO n, const std::function<double(GO)>& d, const
     const GO i = map->getGlobalElement(static_cast<LO>(l));
     std::vector<GO> cols;
     std::vector<double> vals;
-    if (i > 0) cols.push_back(i - 1), vals.push_back(o(i - 1));
+    if (i > 0 && o(i - 1) != 0.0) cols.push_back(i - 1), vals.push_back(o(i - 1));
     cols.push_back(i), vals.push_back(d(i));
-    if (i + 1 < n) cols.push_back(i + 1), vals.push_back(o(i));
+    if (i + 1 < n && o(i) != 0.0) cols.push_back(i + 1), vals.push_back(o(i));
     A->insertGlobalValues(i, Teuchos::ArrayView<const GO>(cols), Teuchos::ArrayView<const double>(vals));
   }
   A->fillComplete();
@@ -92,6 +96,61 @@ TEST(LinearSolver, DirectRefactorsNewValuesOfTheSamePattern) {
   EXPECT_LT(e0, 1e-12);
   EXPECT_LT(e1, 1e-12);
   EXPECT_LT(e2, 1e-12);
+}
+
+// b = A x for the x of solveError; returns the solve's report and the solution's largest error.
+std::pair<SolveReport, double> reportAndError(LinearSolver& s, const Teuchos::RCP<Matrix>& A) {
+  const auto map = A->getRowMap();
+  Vector xTrue(map), b(map), x(map);
+  const double n = static_cast<double>(map->getGlobalNumElements());
+  for (std::size_t l = 0; l < map->getNodeNumElements(); ++l)
+    xTrue.replaceLocalValue(static_cast<LO>(l), 1.0 + map->getGlobalElement(static_cast<LO>(l)) / n);
+  A->apply(xTrue, b);
+  const SolveReport report = s.solve(A, b, x);
+  x.update(-1.0, xTrue, 1.0);
+  return {report, x.normInf()};
+}
+
+TEST(LinearSolver, DirectReuseSolvesLaterMatricesWithTheLastFactorization) {
+  Teuchos::ParameterList p = solverList("Direct");
+  p.set("Reuse Factorization", true);
+  p.set("Reuse Iteration Limit", 20);  // GMRES iterations summed over the solves since a factorization
+  auto solver = makeLinearSolver(p);
+  const GO n = 300;
+  auto A = tridiagonal(n, [](GO i) { return 4.0 + 0.01 * i; }, [](GO) { return -1.0; });
+  const auto [r0, e0] = reportAndError(*solver, A);  // nothing to reuse: factored
+  // The same values: the factorization is the exact inverse, GMRES stops after one iteration.
+  const auto [r1, e1] = reportAndError(*solver, A);
+  // Values within 2 % of the factored ones: GMRES with the old factorization, no new one.
+  setValues(*A, [](GO i) { return (4.0 + 0.01 * i) * (1.0 + 0.02 * std::sin(0.3 * i)); },
+            [](GO i) { return -1.0 + 0.01 * std::cos(0.2 * i); });
+  const auto [r2, e2] = reportAndError(*solver, A);
+  // Another matrix object of the same size with another pattern (a new graph, as when contact points
+  // come or go): two couplings fewer than the factored matrix.
+  auto B = tridiagonal(n, [](GO i) { return 4.0 + 0.01 * i; }, [](GO i) { return i % 150 == 75 ? 0.0 : -1.0; });
+  const auto [r3, e3] = reportAndError(*solver, B);
+  // Values far from the factored ones (the diagonal halved and doubled in alternation, off-diagonals
+  // flipped): more iterations than the limit leaves (20 less those spent above), so B is factored.
+  setValues(*B, [](GO i) { return i % 2 ? 8.0 : 2.5; }, [](GO i) { return i % 3 ? 1.2 : -0.7; });
+  const auto [r4, e4] = reportAndError(*solver, B);
+  // The same values again: B's own factorization, one iteration (the count starts afresh).
+  const auto [r5, e5] = reportAndError(*solver, B);
+  std::printf("  Direct with reuse: GMRES iterations %d (factored), %d (same values), %d (values within 2 %%), "
+              "%d (new pattern), %d (far values: factored), %d (their values again); errors %.1e %.1e %.1e %.1e "
+              "%.1e %.1e\n",
+              r0.iterations, r1.iterations, r2.iterations, r3.iterations, r4.iterations, r5.iterations, e0, e1, e2,
+              e3, e4, e5);
+  EXPECT_EQ(r0.iterations, 0);
+  EXPECT_EQ(r1.iterations, 1);
+  EXPECT_GE(r2.iterations, 2);
+  EXPECT_LE(r2.iterations, 12);
+  EXPECT_GE(r3.iterations, 2);
+  EXPECT_LE(r3.iterations, 12);
+  EXPECT_EQ(r4.iterations, 0);
+  EXPECT_EQ(r5.iterations, 1);
+  for (double e : {e0, e1, e2, e3, e4, e5}) EXPECT_LT(e, 1e-11);
+  // Each solve meets the check the direct solve meets, with the margin that keeps it from a redo.
+  for (const SolveReport& r : {r0, r1, r2, r3, r4, r5}) EXPECT_LT(r.backwardError, 1e-13);
 }
 
 TEST(LinearSolver, ASingularMatrixIsAnError) {
