@@ -24,6 +24,7 @@ inline int klu_scale(int scale, int n, int Ap[], int Ai[], double Ax[], double R
 #undef KLU_refactor
 #include <klu2_free_symbolic.hpp>
 #include <klu2_free_numeric.hpp>
+#include <klu2_diagnostics.hpp>
 }  // namespace KLU2
 
 namespace bc::core {
@@ -36,6 +37,7 @@ struct SerialKlu::Data {
   // it sees A^T, so a solve with A is its transposed solve.
   std::vector<int> rowStart, columns, rawColumns;  // rawColumns: A's own local column indices
   int n = 0;
+  double iterationsWorth = 0.0;  // see factor()
 
   void release() {
     if (numeric) ::KLU2::klu_free_numeric<double, int>(&numeric, &common);
@@ -77,6 +79,13 @@ void SerialKlu::factor(const Matrix& A, bool refactor) {
     d_->numeric = ::KLU2::klu_factor<double, int>(d_->rowStart.data(), d_->columns.data(), values, d_->symbolic,
                                                   &d_->common);
     if (!d_->numeric) throw std::runtime_error("KLU2 numeric factorization failed (singular matrix)");
+    // The cost of a factorization against that of one GMRES iteration with it (two triangular
+    // solves with L and U and the off-diagonal blocks, a product with A, and the orthogonalization
+    // against about 10 basis vectors, twice): the iterations one factorization is worth.
+    ::KLU2::klu_flops<double, int>(d_->symbolic, d_->numeric, &d_->common);
+    const double solve = 2.0 * (double(d_->numeric->lnz) + d_->numeric->unz + d_->numeric->nzoff);
+    const double iteration = 2.0 * solve + 2.0 * double(entries.extent(0)) + 40.0 * n;
+    d_->iterationsWorth = d_->common.flops / iteration;
     return;
   }
   // A pivot of the old order that is zero now: factor afresh, with pivoting.
@@ -86,6 +95,8 @@ void SerialKlu::factor(const Matrix& A, bool refactor) {
 }
 
 int SerialKlu::size() const { return d_->n; }
+
+double SerialKlu::iterationsWorth() const { return d_->iterationsWorth; }
 
 int SerialKlu::solvePreconditioned(const Matrix& A, const double* b, double* x, int maxIterations,
                                    double backwardError) const {

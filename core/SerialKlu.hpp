@@ -25,6 +25,9 @@ class SerialKlu {
   void solve(const double* b, double* x) const;
   bool factored() const;
   int size() const;
+  // The GMRES iterations of solvePreconditioned that cost as many floating-point operations as the
+  // last full factorization (KLU2's flop count).
+  double iterationsWorth() const;
   // Solves A x = b by GMRES (no restart) right-preconditioned with the last factorization, which may
   // be of an earlier matrix of A's size (A: one process). Stops when ||b - A x|| falls to
   // `backwardError` (||A||_F ||x|| + ||b||), with ||x|| estimated by ||LU^-1 b||. Returns the
