@@ -5,9 +5,9 @@
 
 #include <algorithm>
 #include <chrono>
-#include <thread>
 #include <cmath>
 #include <sstream>
+#include <thread>
 
 #include <BelosSolverFactory.hpp>
 #include <BelosTpetraAdapter.hpp>
@@ -99,7 +99,6 @@ SolveReport LinearSolver::solve(const Teuchos::RCP<const Matrix>& A, const Vecto
 }
 
 namespace {
-
 
 // KLU2, called directly (SerialKlu, refactoring); on more than one rank the matrix is gathered to
 // rank 0 and factored there. With "Reuse Factorization", GMRES preconditioned with the last
