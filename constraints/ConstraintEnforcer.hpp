@@ -126,6 +126,8 @@ class ConstraintEnforcer {
   virtual void setCompliance(PointState& s, const double compliance[3]) const {}
 
   // --- when Newton has converged for an increment ---------------------------------------------------
+  // Here (acceptNormal, acceptPoint, reportedForces, commitPoint) a point's kinematics carry the gaps'
+  // values and first variations R; their second variations K are not computed (zero).
   // First stage, for every point: the normal active set; return false if it changed (the increment
   // is solved again). Only when no point changed there does the second stage run.
   virtual bool acceptNormal(const ContactPoint& p, PointState& s) const { return true; }

@@ -138,7 +138,8 @@ Gaps<T> faceGaps(const Vec3<T>* P, const Vec3<T>* V, const Vec3<T>* N, bool cubi
 // points (Vectors = 4), of the four end points and the four Hermite tangents (Vectors = 8), or also
 // of B's two nodal face normals (Vectors = 10).
 template <int Vectors, class Fn>
-ContactKinematics kinematicsOf(const LinePairInput& in, const Vec3d* extraRef, const int* extraNode, Fn gapsOf);
+ContactKinematics kinematicsOf(const LinePairInput& in, const Vec3d* extraRef, const int* extraNode, Fn gapsOf,
+                               Variations order);
 
 // Where A's axis (the Hermite curve P[0], V[0], P[1], V[1]) meets the plane through `node` normal
 // to `tau`: the root of h(xi) = tau . (node - x_A(xi)) by Newton steps from `start` (a double
@@ -192,8 +193,11 @@ ClosestPoints closestPoints(const LinePairInput& in) {
   return cp;
 }
 
-ContactKinematics contactKinematics(const LinePairInput& in, double sigma, double xiPrev, double etaPrev) {
-  return kinematicsOf<4>(in, nullptr, nullptr, [&](const auto* P) { return gaps(P[0], P[1], P[2], P[3], in.radiusSum, sigma, xiPrev, etaPrev); });
+ContactKinematics contactKinematics(const LinePairInput& in, double sigma, double xiPrev, double etaPrev,
+                                    Variations order) {
+  return kinematicsOf<4>(
+      in, nullptr, nullptr,
+      [&](const auto* P) { return gaps(P[0], P[1], P[2], P[3], in.radiusSum, sigma, xiPrev, etaPrev); }, order);
 }
 
 ClosestPoints lineProjection(const LinePairInput& in, double xi) {
@@ -251,7 +255,7 @@ namespace {
 // bounds move with the dofs) and etaPrev(xi) from the history, through gapsOf(P, V, N, xi, etaPrev).
 template <class PointOf>
 ContactKinematics lineKinematicsOf(const LinePairInput& in, bool segmented, double side, double etaStart,
-                                   PointOf pointOf) {
+                                   Variations order, PointOf pointOf) {
   const bool cubicA = norm(in.dA) > 0.0, cubicB = norm(in.dB) > 0.0;
   const Vec3d faceRefs[4] = {in.nB, in.nB, in.sB1, in.sB2}, circleRefs[2] = {in.sB1, in.sB2};
   const int faceNodes[4] = {2, 3, 2, 3};
@@ -269,22 +273,23 @@ ContactKinematics lineKinematicsOf(const LinePairInput& in, bool segmented, doub
     return g;
   };
   if (in.face && segmented)
-    k = kinematicsOf<12>(in, faceRefs, faceNodes, [&](const auto* P) { return face(P, P + 10); });
+    k = kinematicsOf<12>(in, faceRefs, faceNodes, [&](const auto* P) { return face(P, P + 10); }, order);
   else if (in.face)
-    k = kinematicsOf<10>(in, faceRefs, faceNodes, [&](const auto* P) { return face(P, P); });
+    k = kinematicsOf<10>(in, faceRefs, faceNodes, [&](const auto* P) { return face(P, P); }, order);
   else if (segmented)
-    k = kinematicsOf<10>(in, circleRefs, faceNodes, [&](const auto* P) { return circle(P, P + 8); });
+    k = kinematicsOf<10>(in, circleRefs, faceNodes, [&](const auto* P) { return circle(P, P + 8); }, order);
   else
-    k = kinematicsOf<8>(in, nullptr, nullptr, [&](const auto* P) { return circle(P, P); });
+    k = kinematicsOf<8>(in, nullptr, nullptr, [&](const auto* P) { return circle(P, P); }, order);
   k.cosine = 0.0;
   k.cosineR.fill(0.0);
   return k;
 }
 }  // namespace
 
-ContactKinematics lineKinematics(const LinePairInput& in, double xi, double etaPrev, const Vec3d& keptNormal) {
+ContactKinematics lineKinematics(const LinePairInput& in, double xi, double etaPrev, const Vec3d& keptNormal,
+                                 Variations order) {
   const ClosestPoints projection = lineProjection(in, xi);
-  return lineKinematicsOf(in, false, lineSide(in, projection, keptNormal), projection.eta,
+  return lineKinematicsOf(in, false, lineSide(in, projection, keptNormal), projection.eta, order,
                           [&](const auto* P, const auto*, const auto*) {
                             using T = std::decay_t<decltype(P[0][0])>;
                             return std::make_tuple(T(xi), T(etaPrev), T(1.0));
@@ -324,11 +329,11 @@ LineSegment lineSegment(const LinePairInput& in) {
 }
 
 ContactKinematics segmentKinematics(const LinePairInput& in, const LineSegment& seg, double s, const LineHistory& h,
-                                    const Vec3d& keptNormal) {
+                                    const Vec3d& keptNormal, Variations order) {
   const bool cubicA = norm(in.dA) > 0.0;
   const double xi = seg.lo + s * (seg.hi - seg.lo);
   const ClosestPoints projection = lineProjection(in, xi);
-  return lineKinematicsOf(in, true, lineSide(in, projection, keptNormal), projection.eta,
+  return lineKinematicsOf(in, true, lineSide(in, projection, keptNormal), projection.eta, order,
                           [&](const auto* P, const auto* V, const auto* S) {
                             using T = std::decay_t<decltype(P[0][0])>;
                             T x, length;
@@ -338,8 +343,8 @@ ContactKinematics segmentKinematics(const LinePairInput& in, const LineSegment& 
 }
 
 namespace {
-template <int Vectors, class Fn>
-ContactKinematics kinematicsOf(const LinePairInput& in, const Vec3d* extraRef, const int* extraNode, Fn gapsOf) {
+template <int Vectors, bool Second, class Fn>
+ContactKinematics kinematicsOfOrder(const LinePairInput& in, const Vec3d* extraRef, const int* extraNode, Fn gapsOf) {
   // The gaps depend on the 24 dofs only through vectors attached to the four nodes m: the line end
   // points P_m = x_m + R_m o and (Vectors = 8) the Hermite tangents V_m = R_m d. Nested forward AD
   // gives the gradient G and Hessian H of each gap in their coordinates; the chain rule then gives
@@ -349,7 +354,15 @@ ContactKinematics kinematicsOf(const LinePairInput& in, const Vec3d* extraRef, c
   //   R = J^T G,   K_ij = (J^T H J)_ij + sum_k G_k . (e_i x (e_j x r_k)) on vector k's node's spins.
   constexpr int kCoords = 3 * Vectors;
   using In = Sacado::Fad::SFad<double, kCoords>;
-  using Out = Sacado::Fad::SFad<In, kCoords>;
+  // With first variations only (Second false), one AD level: K stays zero.
+  using Out = std::conditional_t<Second, Sacado::Fad::SFad<In, kCoords>, In>;
+  // The value and first derivative of an AD result on either level.
+  const auto value = [](const Out& v) {
+    if constexpr (Second) return v.val().val(); else return v.val();
+  };
+  const auto first = [](const Out& v, int k) {
+    if constexpr (Second) return v.val().dx(k); else return v.dx(k);
+  };
   const Vec3d* x[4] = {&in.xA1, &in.xA2, &in.xB1, &in.xB2};
   const Mat3d* Rm[4] = {&in.RA1, &in.RA2, &in.RB1, &in.RB2};
   const Vec3d* o[4] = {&in.oA, &in.oA, &in.oB, &in.oB};
@@ -363,7 +376,10 @@ ContactKinematics kinematicsOf(const LinePairInput& in, const Vec3d* extraRef, c
     const int m = nodeOf(k);
     r[k] = (*Rm[m]) * (k < 4 ? *o[m] : (k < 8 ? *dv[m] : extraRef[k - 8]));
     const Vec3d p = k < 4 ? *x[m] + r[k] : r[k];
-    for (int a = 0; a < 3; ++a) P[k][a] = Out(kCoords, 3 * k + a, In(kCoords, 3 * k + a, p[a]));
+    for (int a = 0; a < 3; ++a) {
+      if constexpr (Second) P[k][a] = Out(kCoords, 3 * k + a, In(kCoords, 3 * k + a, p[a]));
+      else P[k][a] = Out(kCoords, 3 * k + a, p[a]);
+    }
   }
   const Gaps<Out> g = gapsOf(static_cast<const Vec3<Out>*>(P));
 
@@ -382,22 +398,22 @@ ContactKinematics kinematicsOf(const LinePairInput& in, const Vec3d* extraRef, c
   }
   constexpr int kPoints = kCoords;
   ContactKinematics out;
-  out.xi = g.xi.val().val();
-  out.eta = g.eta.val().val();
-  out.cosine = g.cosine.val().val();
+  out.xi = value(g.xi);
+  out.eta = value(g.eta);
+  out.cosine = value(g.cosine);
   for (int i = 0; i < kPairDofs; ++i) {
     double Ri = 0.0;
-    for (int k = 0; k < kPoints; ++k) Ri += J[k][i] * g.cosine.val().dx(k);
+    for (int k = 0; k < kPoints; ++k) Ri += J[k][i] * first(g.cosine, k);
     out.cosineR[i] = Ri;
   }
   out.axesCosine = out.cosine;
   out.axesCosineR = out.cosineR;
-  out.segment = g.length.val().val();
+  out.segment = value(g.length);
   for (int i = 0; i < kPairDofs; ++i) {
     double xiR = 0.0, lengthR = 0.0;
     for (int k = 0; k < kPoints; ++k) {
-      xiR += J[k][i] * g.xi.val().dx(k);
-      lengthR += J[k][i] * g.length.val().dx(k);
+      xiR += J[k][i] * first(g.xi, k);
+      lengthR += J[k][i] * first(g.length, k);
     }
     out.xiR[i] = xiR;
     out.segmentR[i] = lengthR;
@@ -406,43 +422,53 @@ ContactKinematics kinematicsOf(const LinePairInput& in, const Vec3d* extraRef, c
   GapDerivatives* dst[3] = {&out.normal, &out.tangent1, &out.tangent2};
   for (int q = 0; q < 3; ++q) {
     const Out& v = *src[q];
-    double G[kPoints], H[kPoints][kPoints], HJ[kPoints][kPairDofs];
-    for (int k = 0; k < kPoints; ++k) {
-      G[k] = v.val().dx(k);
-      for (int l = 0; l < kPoints; ++l) H[k][l] = v.dx(l).dx(k);
-    }
-    for (int k = 0; k < kPoints; ++k)
-      for (int j = 0; j < kPairDofs; ++j) {
-        double sum = 0.0;
-        for (int l = 0; l < kPoints; ++l) sum += H[k][l] * J[l][j];
-        HJ[k][j] = sum;
-      }
     GapDerivatives& d = *dst[q];
-    d.value = v.val().val();
+    d.value = value(v);
+    double G[kPoints];
+    for (int k = 0; k < kPoints; ++k) G[k] = first(v, k);
     for (int i = 0; i < kPairDofs; ++i) {
       double Ri = 0.0;
       for (int k = 0; k < kPoints; ++k) Ri += J[k][i] * G[k];
       d.R[i] = Ri;
-      for (int j = 0; j < kPairDofs; ++j) {
-        double sum = 0.0;
-        for (int k = 0; k < kPoints; ++k) sum += J[k][i] * HJ[k][j];
-        d.K[kPairDofs * i + j] = sum;
-      }
     }
-    // Second derivatives of the rotated vectors: the spins of the same node.
-    for (int k = 0; k < Vectors; ++k) {
-      const int m = nodeOf(k);
-      const Vec3d Gk{{G[3 * k], G[3 * k + 1], G[3 * k + 2]}};
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) {
-          Vec3d ei{}, ej{};
-          ei[i] = 1.0;
-          ej[j] = 1.0;
-          d.K[kPairDofs * (6 * m + 3 + i) + 6 * m + 3 + j] += dot(Gk, cross(ei, cross(ej, r[k])));
+    if constexpr (Second) {
+      double H[kPoints][kPoints], HJ[kPoints][kPairDofs];
+      for (int k = 0; k < kPoints; ++k)
+        for (int l = 0; l < kPoints; ++l) H[k][l] = v.dx(l).dx(k);
+      for (int k = 0; k < kPoints; ++k)
+        for (int j = 0; j < kPairDofs; ++j) {
+          double sum = 0.0;
+          for (int l = 0; l < kPoints; ++l) sum += H[k][l] * J[l][j];
+          HJ[k][j] = sum;
         }
+      for (int i = 0; i < kPairDofs; ++i)
+        for (int j = 0; j < kPairDofs; ++j) {
+          double sum = 0.0;
+          for (int k = 0; k < kPoints; ++k) sum += J[k][i] * HJ[k][j];
+          d.K[kPairDofs * i + j] = sum;
+        }
+      // Second derivatives of the rotated vectors: the spins of the same node.
+      for (int k = 0; k < Vectors; ++k) {
+        const int m = nodeOf(k);
+        const Vec3d Gk{{G[3 * k], G[3 * k + 1], G[3 * k + 2]}};
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) {
+            Vec3d ei{}, ej{};
+            ei[i] = 1.0;
+            ej[j] = 1.0;
+            d.K[kPairDofs * (6 * m + 3 + i) + 6 * m + 3 + j] += dot(Gk, cross(ei, cross(ej, r[k])));
+          }
+      }
     }
   }
   return out;
+}
+
+template <int Vectors, class Fn>
+ContactKinematics kinematicsOf(const LinePairInput& in, const Vec3d* extraRef, const int* extraNode, Fn gapsOf,
+                               Variations order) {
+  return order == Variations::Second ? kinematicsOfOrder<Vectors, true>(in, extraRef, extraNode, gapsOf)
+                                     : kinematicsOfOrder<Vectors, false>(in, extraRef, extraNode, gapsOf);
 }
 
 }  // namespace

@@ -95,6 +95,10 @@ struct GapDerivatives {
   Matrix24 K{};
 };
 
+// Which variations of the gaps a kinematics call computes: First (values and R; K left zero) serves
+// the passes that read no tangent (active set, commit, output); Second adds K.
+enum class Variations { First, Second };
+
 struct ContactKinematics {
   double xi = 0.0, eta = 0.0;
   GapDerivatives normal, tangent1, tangent2;
@@ -127,13 +131,15 @@ ClosestPoints lineProjection(const LinePairInput& in, double xi);
 // side = lineSide(projection, keptNormal). A Gauss point whose axes have passed through each other
 // since the last converged step (p_B - p_A against the normal it had then) has side -1, so its gap is
 // deeply negative instead of positive again.
-ContactKinematics lineKinematics(const LinePairInput& in, double xi, double etaPrev, const Vec3d& keptNormal = {});
+ContactKinematics lineKinematics(const LinePairInput& in, double xi, double etaPrev, const Vec3d& keptNormal = {},
+                                 Variations order = Variations::Second);
 // The same at the Gauss point s (in [0, 1]) of a segment: xi = lo + s (hi - lo) with the bounds as
 // functions of the dofs (planeRoot), the slip along B from the history's etaPrev(xi); the segment's
 // length and xi with their first variations in ContactKinematics (their second variations are not
 // needed: the length weights the point's residual, K <- w K + f (x) grad w).
 ContactKinematics segmentKinematics(const LinePairInput& in, const LineSegment& segment, double s,
-                                    const LineHistory& history, const Vec3d& keptNormal = {});
+                                    const LineHistory& history, const Vec3d& keptNormal = {},
+                                    Variations order = Variations::Second);
 // -1 where the projection's p_B - p_A points against keptNormal (a nonzero normal of circular
 // sections' line contact), else +1 (face contact's gap carries its own sign).
 double lineSide(const LinePairInput& in, const ClosestPoints& projection, const Vec3d& keptNormal);
@@ -145,6 +151,7 @@ double lineSide(const LinePairInput& in, const ClosestPoints& projection, const 
 
 // All gaps and their derivatives at the current state; `sigma` from closestPoints (or the history),
 // `xiPrev`, `etaPrev` the previous converged contact point (for the tangential gaps).
-ContactKinematics contactKinematics(const LinePairInput& in, double sigma, double xiPrev, double etaPrev);
+ContactKinematics contactKinematics(const LinePairInput& in, double sigma, double xiPrev, double etaPrev,
+                                    Variations order = Variations::Second);
 
 }  // namespace bc::constraints

@@ -601,7 +601,7 @@ void ContactManager::giveCompliance(const core::State& state) {
   std::vector<double> weights;
   for (auto& [key, p] : points_) {
     if (p.node() || !enforcer_->wantsCompliance(*p.state)) continue;
-    const ContactKinematics k = kinematics(p, state);
+    const ContactKinematics k = kinematics(p, state, Variations::First);
     const auto d = pointDofs(p);
     for (const GapDerivatives* g : {&k.normal, &k.tangent1, &k.tangent2})
       loads.push_back({std::vector<GlobalDof>(d.begin(), d.end()), std::vector<double>(g->R.begin(), g->R.end())});
@@ -820,23 +820,23 @@ std::array<GlobalDof, kPairDofs> ContactManager::pointDofs(const Point& p) const
   return d;
 }
 
-ContactKinematics ContactManager::kinematics(const Point& p, const core::State& state) const {
+ContactKinematics ContactManager::kinematics(const Point& p, const core::State& state, Variations order) const {
   if (p.line()) {
     const LinePairInput in = lineContactInput(p, state);
-    return segmentKinematics(in, lineSegment(in), gaussXi_[p.gauss()], lineHistory(p), p.normal);
+    return segmentKinematics(in, lineSegment(in), gaussXi_[p.gauss()], lineHistory(p), p.normal, order);
   }
   const LinePairInput in = lineInput(p.elementA, p.lineA, p.elementB, p.lineB, state);
   const double xiPrev = p.xiPrev - beams_->elements()[p.elementA].index;
   const double etaPrev = p.etaPrev - beams_->elements()[p.elementB].index;
-  return contactKinematics(in, p.sigma, xiPrev, etaPrev);
+  return contactKinematics(in, p.sigma, xiPrev, etaPrev, order);
 }
 
 ContactKinematics ContactManager::judgedKinematics(const Point& p, const core::State& state) const {
-  if (!p.line()) return kinematics(p, state);
+  if (!p.line()) return kinematics(p, state, Variations::First);
   double segment = 0.0;
   const ClosestPoints cp = pointGeometry(p, state, &segment);
   const PointState* acting = actingState(p);
-  if (acting && enforcer_->contributes(cp.gap, *acting)) return kinematics(p, state);
+  if (acting && enforcer_->contributes(cp.gap, *acting)) return kinematics(p, state, Variations::First);
   // The values segmentKinematics would give, without their variations.
   ContactKinematics k;
   k.xi = cp.xi;
@@ -1014,7 +1014,7 @@ void ContactManager::checkNoPassThrough(const core::State& state) const {
         continue;
       if (p.node()) continue;
       const PointState* acting = actingState(p);
-      const ContactKinematics k = kinematics(p, state);
+      const ContactKinematics k = kinematics(p, state, Variations::First);
       if (acting && enforcer_->contributes(k.normal.value, *acting) && k.normal.value < 0.0) return;
     }
     const auto& pair = pairs_[pi];

@@ -154,10 +154,11 @@ class ContactManager : public core::Contribution {
   // strategies that enforce them exactly) after each pass of the increment solved last.
   const std::vector<double>& passViolations() const { return violations_; }
   // Kinematics of a point at a state (public for tests of the assembled contact tangent).
-  ContactKinematics kinematics(const Point& p, const core::State& state) const;
-  // The same where the point acts (or is a point contact); for a line point that does not act, only
-  // the values (gaps, xi, eta, segment, the axes' cosine), without the variations: what the active
-  // set and the step's end judge such a point by, at a fraction of the cost.
+  ContactKinematics kinematics(const Point& p, const core::State& state,
+                               Variations order = Variations::Second) const;
+  // The values and first variations (no second variations: K zero) where the point acts (or is a
+  // point contact); for a line point that does not act, only the values (gaps, xi, eta, segment, the
+  // axes' cosine): what the active set and the step's end judge a point by, at a fraction of the cost.
   ContactKinematics judgedKinematics(const Point& p, const core::State& state) const;
   std::array<core::GlobalDof, kPairDofs> pointDofs(const Point& p) const;
   // The point's multipliers in `state` (null when it has none) and how many there are.
