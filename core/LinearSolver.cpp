@@ -333,9 +333,9 @@ const ParameterSpec& linearSolverSpec() {
           {}, "");
     s.addOptional("Reuse Iteration Limit", 25,
                   "Direct with Reuse Factorization: GMRES iterations, summed over the solves since the last "
-                  "factorization, after which the matrix is factored again; absent or \"Automatic\": half "
-                  "the iterations whose floating-point operations equal the last full factorization's "
-                  "(KLU2's count), at least 10",
+                  "factorization, after which the matrix is factored again (one solve takes at most 100); "
+                  "absent or \"Automatic\": half the iterations whose floating-point operations equal the "
+                  "last full factorization's (KLU2's count), at least 10",
                   atLeast(1), ">= 1");
     s.allowWord("Reuse Iteration Limit", "Automatic");
     s.add("Tolerance", 1e-12, "GMRES only: relative residual at which GMRES stops", positive(), "> 0");

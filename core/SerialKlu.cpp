@@ -135,7 +135,8 @@ int SerialKlu::solvePreconditioned(const Matrix& A, const double* b, double* x, 
   for (std::size_t k = 0; k < entries.extent(0); ++k) frobenius += values[k] * values[k];
   frobenius = std::sqrt(frobenius);
 
-  const int m = maxIterations;
+  const int m = std::min(maxIterations, kMaxKrylov);
+  if (m < 1) return -1;
   std::vector<double> V(std::size_t(n) * (m + 1)), H(std::size_t(m + 1) * m, 0.0), cs(m), sn(m), g(m + 1, 0.0);
   std::vector<double> z(n), w(n);
   const double beta = norm(b);

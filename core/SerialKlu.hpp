@@ -29,9 +29,10 @@ class SerialKlu {
   // last full factorization (KLU2's flop count).
   double iterationsWorth() const;
   // Solves A x = b by GMRES (no restart) right-preconditioned with the last factorization, which may
-  // be of an earlier matrix of A's size (A: one process). Stops when ||b - A x|| falls to
-  // `backwardError` (||A||_F ||x|| + ||b||), with ||x|| estimated by ||LU^-1 b||. Returns the
-  // iterations taken, or -1 when `maxIterations` did not get there (x is then undefined).
+  // be of an earlier matrix of A's size (A: one process). Stops when the true residual ||b - A x||
+  // is at most `backwardError` (||A||_F ||x|| + ||b||). Returns the iterations taken, or -1 when
+  // `maxIterations` (at most kMaxKrylov: the basis is kept) did not get there (x is then undefined).
+  static constexpr int kMaxKrylov = 100;
   int solvePreconditioned(const Matrix& A, const double* b, double* x, int maxIterations, double backwardError) const;
 
  private:
