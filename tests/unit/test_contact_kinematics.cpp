@@ -336,3 +336,62 @@ TEST(LineKinematics, SegmentBoundsAndTheirVariations) {
   EXPECT_LT(worstXi, 1e-6);
   EXPECT_LT(worstLength, 1e-6);
 }
+
+// Variations::First (one AD level) gives what Variations::Second gives for the values and the first
+// variations, and leaves K zero: point contact at general states, and line contact on a segment.
+TEST(ContactKinematics, FirstVariationsOnlyAgreeWithTheFullKinematics) {
+  const auto compare = [](const ContactKinematics& full, const ContactKinematics& first) {
+    double worst = 0.0, scale = 0.0, kNorm = 0.0;
+    const auto take = [&](double a, double b) {
+      worst = std::max(worst, std::abs(a - b));
+      scale = std::max(scale, std::abs(a));
+    };
+    take(full.xi, first.xi);
+    take(full.eta, first.eta);
+    take(full.cosine, first.cosine);
+    take(full.segment, first.segment);
+    for (auto gap : {&ContactKinematics::normal, &ContactKinematics::tangent1, &ContactKinematics::tangent2}) {
+      take((full.*gap).value, (first.*gap).value);
+      for (int i = 0; i < kPairDofs; ++i) take((full.*gap).R[i], (first.*gap).R[i]);
+      for (double v : (first.*gap).K) kNorm = std::max(kNorm, std::abs(v));
+    }
+    for (int i = 0; i < kPairDofs; ++i) {
+      take(full.cosineR[i], first.cosineR[i]);
+      take(full.xiR[i], first.xiR[i]);
+      take(full.segmentR[i], first.segmentR[i]);
+    }
+    return std::make_tuple(worst / scale, kNorm);
+  };
+  std::mt19937 g(23);
+  double worstPoint = 0.0, worstLine = 0.0;
+  for (int trial = 0; trial < 6; ++trial) {
+    LinePairInput in = crossing();
+    placeGenerally(in, g, 0.5);
+    in.radiusSum = trial % 2 ? 0.7 : 0.0;
+    const auto cp = closestPoints(in);
+    const auto [err, kNorm] = compare(contactKinematics(in, cp.sigma, cp.xi - 0.05, cp.eta + 0.03),
+                                      contactKinematics(in, cp.sigma, cp.xi - 0.05, cp.eta + 0.03, Variations::First));
+    worstPoint = std::max(worstPoint, err);
+    EXPECT_EQ(kNorm, 0.0);
+  }
+  for (int trial = 0; trial < 4; ++trial) {
+    LinePairInput in;
+    in.xA1 = {{0, 0, 0}}; in.xA2 = {{10, 0, 0}};
+    in.xB1 = {{-3.0 + trial, 0.3, 2.5}}; in.xB2 = {{7.0 + trial, -0.2, 2.6}};
+    in.RA1 = in.RA2 = in.RB1 = in.RB2 = identity3<double>();
+    in.dA = in.dB = Vec3d{{10, 0, 0}};
+    in.sB1 = in.sB2 = Vec3d{{1, 0, 0}};
+    in.radiusSum = 2.0;
+    placeGenerally(in, g, 0.05);
+    const LineSegment seg = lineSegment(in);
+    ASSERT_GT(seg.length(), 0.0);
+    const auto [err, kNorm] = compare(segmentKinematics(in, seg, 0.3, LineHistory{}),
+                                      segmentKinematics(in, seg, 0.3, LineHistory{}, {}, Variations::First));
+    worstLine = std::max(worstLine, err);
+    EXPECT_EQ(kNorm, 0.0);
+  }
+  std::printf("first variations only vs full kinematics, largest difference relative to the largest entry: point "
+              "%.1e, line %.1e\n", worstPoint, worstLine);
+  EXPECT_LT(worstPoint, 1e-14);
+  EXPECT_LT(worstLine, 1e-14);
+}
