@@ -103,7 +103,8 @@ def main():
                     help="Direct (KLU2), or GMRES preconditioned by MueLu multigrid, ILUT or RILUK")
     ap.add_argument("--reuse", action="store_true",
                     help="Direct with Reuse Factorization: GMRES preconditioned with the last factorization, "
-                         "factoring only when it needs more than Reuse Iteration Limit iterations")
+                         "factoring again once the iterations since the last factorization reach Reuse Iteration "
+                         "Limit (Automatic)")
     ap.add_argument("--work", default="bench_scale")
     ap.add_argument("--mpiexec", default="mpirun")
     a = ap.parse_args()
