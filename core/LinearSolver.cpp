@@ -20,12 +20,16 @@ namespace bc::core {
 
 namespace {
 
-// A barrier whose waiting ranks sleep between polls instead of spinning.
-void quietBarrier(const Teuchos::Comm<int>& comm) {
+// The largest of each of n ints over the ranks, into `global`; the ranks that arrive first sleep
+// between polls instead of spinning.
+void quietMaxAll(const Teuchos::Comm<int>& comm, int n, const int* local, int* global) {
   const auto* mpi = dynamic_cast<const Teuchos::MpiComm<int>*>(&comm);
-  if (!mpi) return;
+  if (!mpi) {
+    Teuchos::reduceAll(comm, Teuchos::REDUCE_MAX, n, local, global);
+    return;
+  }
   MPI_Request request;
-  MPI_Ibarrier(*mpi->getRawMpiComm(), &request);
+  MPI_Iallreduce(local, global, n, MPI_INT, MPI_MAX, *mpi->getRawMpiComm(), &request);
   int done = 0;
   for (;;) {
     MPI_Test(&request, &done, MPI_STATUS_IGNORE);
@@ -33,6 +37,7 @@ void quietBarrier(const Teuchos::Comm<int>& comm) {
     std::this_thread::sleep_for(std::chrono::microseconds(100));
   }
 }
+
 
 }  // namespace
 
@@ -148,7 +153,7 @@ class DirectSolver : public LinearSolver {
     }
     Vector b0(rootMap_), x0(rootMap_);
     b0.doExport(b, *toRoot_, Tpetra::INSERT);
-    int local[3] = {0, 0, 0};  // failed, iterations, shortcut taken
+    int local[3] = {0, 0, 0}, global[3] = {0, 0, 0};  // failed, iterations, shortcut taken
     std::string what;
     if (comm->getRank() == 0) {
       try {
@@ -163,10 +168,8 @@ class DirectSolver : public LinearSolver {
       // The other ranks wait for rank 0 without spinning on a core that rank 0's factorization
       // shares (on two cores a busy wait slowed it by 40 %).
       Stage wait(*this, "Wait for Rank 0");
-      quietBarrier(*comm);
+      quietMaxAll(*comm, 3, local, global);
     }
-    int global[3] = {0, 0, 0};
-    Teuchos::reduceAll(*comm, Teuchos::REDUCE_MAX, 3, local, global);
     shortcut_ = global[2] != 0;
     if (global[0]) {
       gathered_ = Teuchos::null;

@@ -29,6 +29,19 @@ inline int klu_scale(int scale, int n, int Ap[], int Ai[], double Ax[], double R
 
 namespace bc::core {
 
+namespace {
+// A's column indices in its row map's local numbering (A on one process: every column is a row).
+std::vector<int> rowMapColumns(const Matrix& A) {
+  const auto entries = A.getLocalMatrixHost().graph.entries;
+  const auto& rowMap = *A.getRowMap();
+  const auto& colMap = *A.getColMap();
+  std::vector<int> columns(entries.extent(0));
+  for (std::size_t k = 0; k < columns.size(); ++k)
+    columns[k] = rowMap.getLocalElement(colMap.getGlobalElement(entries(k)));
+  return columns;
+}
+}  // namespace
+
 struct SerialKlu::Data {
   KLU2::klu_common<double, int> common;
   KLU2::klu_symbolic<double, int>* symbolic = nullptr;
@@ -38,6 +51,16 @@ struct SerialKlu::Data {
   std::vector<int> rowStart, columns, rawColumns;  // rawColumns: A's own local column indices
   int n = 0;
   double iterationsWorth = 0.0;  // see factor()
+
+  // Whether A's compressed rows (n rows) are the factorization's, so its column indices serve.
+  template <class Local>
+  bool samePattern(const Local& local, int rows) const {
+    const auto& rowPtr = local.graph.row_map;
+    const auto& entries = local.graph.entries;
+    return rows == n && rawColumns.size() == entries.extent(0) &&
+           std::equal(rowStart.begin(), rowStart.end(), rowPtr.data()) &&
+           std::equal(rawColumns.begin(), rawColumns.end(), entries.data());
+  }
 
   void release() {
     if (numeric) ::KLU2::klu_free_numeric<double, int>(&numeric, &common);
@@ -55,25 +78,17 @@ bool SerialKlu::factored() const { return d_->numeric != nullptr; }
 
 void SerialKlu::factor(const Matrix& A, bool refactor) {
   const auto local = A.getLocalMatrixHost();
-  const auto& rowMap = *A.getRowMap();
-  const auto& colMap = *A.getColMap();
-  const int n = static_cast<int>(rowMap.getNodeNumElements());
+  const int n = static_cast<int>(A.getRowMap()->getNodeNumElements());
   double* values = const_cast<double*>(local.values.data());
   // A refactorization needs the very same compressed rows as the factorization it reuses.
   const auto& rowPtr = local.graph.row_map;
   const auto& entries = local.graph.entries;
-  const bool samePattern =
-      refactor && factored() && n == d_->n && d_->rawColumns.size() == entries.extent(0) &&
-      std::equal(d_->rowStart.begin(), d_->rowStart.end(), rowPtr.data()) &&
-      std::equal(d_->rawColumns.begin(), d_->rawColumns.end(), entries.data());
-  if (!samePattern) {
+  if (!(refactor && factored() && d_->samePattern(local, n))) {
     d_->release();
     d_->n = n;
     d_->rowStart.assign(rowPtr.data(), rowPtr.data() + n + 1);
     d_->rawColumns.assign(entries.data(), entries.data() + entries.extent(0));
-    d_->columns.resize(entries.extent(0));
-    for (std::size_t k = 0; k < d_->columns.size(); ++k)
-      d_->columns[k] = rowMap.getLocalElement(colMap.getGlobalElement(entries(k)));
+    d_->columns = rowMapColumns(A);
     d_->symbolic = ::KLU2::klu_analyze<double, int>(n, d_->rowStart.data(), d_->columns.data(), &d_->common);
     if (!d_->symbolic) throw std::runtime_error("KLU2 analysis failed");
     d_->numeric = ::KLU2::klu_factor<double, int>(d_->rowStart.data(), d_->columns.data(), values, d_->symbolic,
@@ -94,30 +109,19 @@ void SerialKlu::factor(const Matrix& A, bool refactor) {
     factor(A, false);
 }
 
-int SerialKlu::size() const { return d_->n; }
-
 double SerialKlu::iterationsWorth() const { return d_->iterationsWorth; }
 
 int SerialKlu::solvePreconditioned(const Matrix& A, const double* b, double* x, int maxIterations,
                                    double backwardError) const {
   const auto local = A.getLocalMatrixHost();
-  const auto& rowMap = *A.getRowMap();
-  const auto& colMap = *A.getColMap();
-  const int n = static_cast<int>(rowMap.getNodeNumElements());
+  const int n = static_cast<int>(A.getRowMap()->getNodeNumElements());
   if (!factored() || n != d_->n) return -1;
   const auto& rowPtr = local.graph.row_map;
   const auto& entries = local.graph.entries;
   const double* values = local.values.data();
   // A's column indices in row-map order: the factorization's when A has its pattern.
-  const bool samePattern = d_->rawColumns.size() == entries.extent(0) &&
-                           std::equal(d_->rowStart.begin(), d_->rowStart.end(), rowPtr.data()) &&
-                           std::equal(d_->rawColumns.begin(), d_->rawColumns.end(), entries.data());
-  std::vector<int> ownColumns;
-  if (!samePattern) {
-    ownColumns.resize(entries.extent(0));
-    for (std::size_t k = 0; k < ownColumns.size(); ++k)
-      ownColumns[k] = rowMap.getLocalElement(colMap.getGlobalElement(entries(k)));
-  }
+  const bool samePattern = d_->samePattern(local, n);
+  const std::vector<int> ownColumns = samePattern ? std::vector<int>{} : rowMapColumns(A);
   const int* columns = samePattern ? d_->columns.data() : ownColumns.data();
   const auto multiply = [&](const double* v, double* out) {
     for (int i = 0; i < n; ++i) {

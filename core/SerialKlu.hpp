@@ -24,7 +24,6 @@ class SerialKlu {
   // Solves A x = b with the last factorization (x and b: the row map's local order).
   void solve(const double* b, double* x) const;
   bool factored() const;
-  int size() const;
   // The GMRES iterations of solvePreconditioned that cost as many floating-point operations as the
   // last full factorization (KLU2's flop count).
   double iterationsWorth() const;
