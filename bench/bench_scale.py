@@ -21,7 +21,7 @@ slope of log time per iteration against log crossings), and the 2-rank speed-up 
 1 rank over that on 2). Each figure is the median of --repeat runs (VTK off). The timings come from the
 run's timers.txt (Teuchos stacked timers of rank 0).
 Usage: bench_scale.py BEAMCONTACT [--sizes 4,8,16,32] [--strategies ...] [--ranks 1,2] [--repeat 3]
-                      [--model grid] [--increments 5] [--friction MU] [--solver Direct] [--reuse] [--work DIR]
+                      [--model grid] [--increments 5] [--friction MU] [--solver Direct|UMFPACK|MueLu|ILUT|RILUK] [--reuse] [--work DIR]
                       [--mpiexec mpirun]
 """
 import argparse
@@ -99,10 +99,11 @@ def main():
     ap.add_argument("--friction", type=float, default=None,
                     help="Coulomb coefficient; default 0 for the grid, 0.2 for the weave (frictionless yarns slide "
                          "freely along each other)")
-    ap.add_argument("--solver", default="Direct", choices=["Direct", "MueLu", "ILUT", "RILUK"],
-                    help="Direct (KLU2), or GMRES preconditioned by MueLu multigrid, ILUT or RILUK")
+    ap.add_argument("--solver", default="Direct", choices=["Direct", "UMFPACK", "MueLu", "ILUT", "RILUK"],
+                    help="Direct (KLU2), Direct with UMFPACK, or GMRES preconditioned by MueLu multigrid, ILUT or "
+                         "RILUK")
     ap.add_argument("--reuse", action="store_true",
-                    help="Direct with Reuse Factorization: GMRES preconditioned with the last factorization, "
+                    help="Direct or UMFPACK with Reuse Factorization: GMRES preconditioned with the last factorization, "
                          "factoring again once the iterations since the last factorization reach Reuse Iteration "
                          "Limit (Automatic)")
     ap.add_argument("--work", default="bench_scale")
@@ -134,10 +135,12 @@ def main():
             deck = os.path.join(a.work, f"{a.model}{n}_{SHORT.get(strategy, strategy)}.xml")
             t = text.replace('name="Type" type="string" value="Penalty"', f'name="Type" type="string" value="{strategy}"', 1)
             linear = ""
-            if a.reuse and a.solver == "Direct":
-                linear = ('<ParameterList name="Linear Solver"><Parameter name="Reuse Factorization" type="bool" '
-                          'value="true"/></ParameterList>')
-            if a.solver != "Direct":
+            if a.solver in ("Direct", "UMFPACK"):
+                direct = "KLU2" if a.solver == "Direct" else "UMFPACK"
+                linear = (f'<ParameterList name="Linear Solver"><Parameter name="Direct Solver" type="string" '
+                          f'value="{direct}"/><Parameter name="Reuse Factorization" type="bool" '
+                          f'value="{"true" if a.reuse else "false"}"/></ParameterList>')
+            else:
                 if a.solver == "MueLu" and strategy == "Lagrange Multiplier":
                     continue  # multigrid takes matrices without multiplier rows
                 linear = ('<ParameterList name="Linear Solver"><Parameter name="Type" type="string" value="GMRES"/>'

@@ -10,6 +10,7 @@ PACKAGES=(
   build-essential cmake
   trilinos-all-dev libptscotch-dev libscotch-dev
   libopenmpi-dev openmpi-bin
+  libsuitesparse-dev libopenblas0-serial   # UMFPACK, with an optimized BLAS for its dense kernels
   libgtest-dev libgmock-dev libbenchmark-dev
   python3-numpy python3-matplotlib
   procps util-linux   # pgrep, prlimit: the fault tests

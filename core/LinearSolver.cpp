@@ -1,7 +1,7 @@
 #include "LinearSolver.hpp"
 
 #include "Multigrid.hpp"
-#include "SerialKlu.hpp"
+#include "SerialLu.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -105,19 +105,20 @@ SolveReport LinearSolver::solve(const Teuchos::RCP<const Matrix>& A, const Vecto
 
 namespace {
 
-// KLU2, called directly (SerialKlu, refactoring); on more than one rank the matrix is gathered to
-// rank 0 and factored there. With "Reuse Factorization", GMRES preconditioned with the last
+// A sparse LU (SerialLu: KLU2, refactoring with old pivots, or UMFPACK), called directly; on more
+// than one rank the matrix is gathered to rank 0 and factored there. With "Reuse Factorization", GMRES preconditioned with the last
 // factorization solves first, and the matrix is factored only when that takes too many iterations.
 class DirectSolver : public LinearSolver {
  public:
   explicit DirectSolver(const Teuchos::ParameterList& p)
       : LinearSolver(p.get<double>("Residual Check Tolerance"), p.get<double>("Condition Limit")),
+        lu_(makeSerialLu(p.get<std::string>("Direct Solver"))),
         reuse_(p.get<bool>("Reuse Factorization")),
         reuseLimit_(p.isType<int>("Reuse Iteration Limit") ? p.get<int>("Reuse Iteration Limit") : 0),
         // The GMRES target leaves the backward error well below the check (LinearSolver::solve
         // redoes a shortcut's solve that is not).
         reuseTarget_(0.5e-3 * p.get<double>("Residual Check Tolerance")) {}
-  std::string name() const override { return "Direct (KLU2)"; }
+  std::string name() const override { return "Direct (" + lu_->name() + ")"; }
 
  protected:
   int doSolve(const Teuchos::RCP<const Matrix>& A, const Vector& b, Vector& x) override {
@@ -174,7 +175,7 @@ class DirectSolver : public LinearSolver {
     if (global[0]) {
       gathered_ = Teuchos::null;
       lastMatrix_ = Teuchos::null;
-      throw LinearSolveError("KLU2 failed on rank 0: " + what);
+      throw LinearSolveError(lu_->name() + " failed on rank 0: " + what);
     }
     x.doImport(x0, *fromRoot_, Tpetra::INSERT);
     return global[1];
@@ -182,7 +183,7 @@ class DirectSolver : public LinearSolver {
 
  private:
   Teuchos::RCP<const Matrix> lastMatrix_;
-  SerialKlu klu_;
+  std::unique_ptr<SerialLu> lu_;
   bool reuse_;
   int reuseLimit_;  // 0: automatic
   int sinceFactorization_ = 0;  // GMRES iterations with the last factorization
@@ -215,10 +216,10 @@ class DirectSolver : public LinearSolver {
     // Automatic: the flop count puts a factorization at 8 to 48 iterations from 10^2 to 10^4 contact
     // points, where timings put it at 17 to 26 (triangular solves are slower per flop at scale); half
     // the count, at least 10, keeps within a factor of two of the time where it matters.
-    const int limit = reuseLimit_ > 0 ? reuseLimit_ : std::max(10, static_cast<int>(0.5 * klu_.iterationsWorth()));
-    if (shortcuts && reuse_ && klu_.factored() && sinceFactorization_ < limit) {
+    const int limit = reuseLimit_ > 0 ? reuseLimit_ : std::max(10, static_cast<int>(0.5 * lu_->iterationsWorth()));
+    if (shortcuts && reuse_ && lu_->factored() && sinceFactorization_ < limit) {
       Stage stage(*this, "Krylov Iterations");
-      const int iterations = klu_.solvePreconditioned(A, bv.getRawPtr(), xv.getRawPtr(),
+      const int iterations = lu_->solvePreconditioned(A, bv.getRawPtr(), xv.getRawPtr(),
                                                       limit - sinceFactorization_, reuseTarget_);
       if (iterations >= 0) {
         shortcut_ = true;
@@ -228,12 +229,13 @@ class DirectSolver : public LinearSolver {
     }
     {
       Stage stage(*this, "Factorization");
-      shortcut_ = shortcuts && sameGraph && klu_.factored();
+      const bool refactor = shortcuts && sameGraph && lu_->factored();
+      shortcut_ = refactor && lu_->refactorKeepsPivots();
       sinceFactorization_ = 0;
-      klu_.factor(A, shortcut_);
+      lu_->factor(A, refactor);
     }
     Stage stage(*this, "Triangular Solves");
-    klu_.solve(bv.getRawPtr(), xv.getRawPtr());
+    lu_->solve(bv.getRawPtr(), xv.getRawPtr());
     return 0;
   }
 };
@@ -312,7 +314,13 @@ const ParameterSpec& linearSolverSpec() {
   static const ParameterSpec spec = [] {
     ParameterSpec s;
     s.addChoice("Type", "Direct", {"Direct", "GMRES"},
-                "Direct: sparse LU (KLU2); GMRES: Belos GMRES with an Ifpack2 or MueLu preconditioner");
+                "Direct: sparse LU (Direct Solver); GMRES: Belos GMRES with an Ifpack2 or MueLu preconditioner");
+    s.addChoice("Direct Solver", "KLU2", {"KLU2", "UMFPACK"},
+                "Direct only: the sparse LU factorization. KLU2: left-looking, no dense kernels, a matrix of the "
+                "last one's pattern refactored with its pivot order (fastest up to some 10^4 rows); UMFPACK: "
+                "multifrontal with dense (BLAS) kernels, less fill and faster from some 10^4 rows, and on "
+                "Lagrange multiplier saddle points");
+
     s.add("Residual Check Tolerance", 1e-10,
           "largest accepted backward error ||b - A x|| / (||A||_F ||x|| + ||b||) of a solve; above it the solve "
           "is an error",
@@ -338,7 +346,7 @@ const ParameterSpec& linearSolverSpec() {
                   "Direct with Reuse Factorization: GMRES iterations, summed over the solves since the last "
                   "factorization, after which the matrix is factored again (one solve takes at most 100); "
                   "absent or \"Automatic\": half the iterations whose floating-point operations equal the "
-                  "last full factorization's (KLU2's count), at least 10",
+                  "last full factorization's (the Direct Solver's count), at least 10",
                   atLeast(1), ">= 1");
     s.allowWord("Reuse Iteration Limit", "Automatic");
     s.add("Tolerance", 1e-12, "GMRES only: relative residual at which GMRES stops", positive(), "> 0");

@@ -1,8 +1,9 @@
 // Linear solvers chosen in the deck's "Linear Solver" sublist:
-//  - "Direct": KLU2 (core/SerialKlu: a matrix of the last one's pattern is refactored with its pivot
-//    order). On more than one rank the system is gathered to rank 0 and solved there
-//    on a one-process communicator, because KLU2 on several ranks returned wrong solutions without an
-//    error in this Trilinos build (see docs/toolchain.md).
+//  - "Direct": a sparse LU, "Direct Solver" KLU2 (core/SerialKlu: a matrix of the last one's pattern is
+//    refactored with its pivot order) or UMFPACK (core/SerialUmfpack: multifrontal, BLAS kernels).
+//    On more than one rank the system is gathered to rank 0 and solved there on a one-process
+//    communicator, because KLU2 on several ranks returned wrong solutions without an error in this
+//    Trilinos build (see docs/toolchain.md).
 //  - "GMRES": Belos GMRES, right-preconditioned by Ifpack2 (additive Schwarz with ILUT or RILUK
 //    subdomain solves) or by smoothed-aggregation multigrid (MueLu, with the nodes' rigid-body modes
 //    as near-null space; for matrices without multiplier rows).

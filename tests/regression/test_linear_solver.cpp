@@ -1,5 +1,5 @@
 // The linear solvers on small Tpetra systems whose solutions are known (x = A^-1 b by construction):
-//  - Direct refactors a matrix of the same pattern with the last factorization's pivot order; new
+//  - Direct, with KLU2 and with UMFPACK, solves unsymmetric systems and refactors a matrix of the same pattern with the last factorization's pivot order; new
 //    values, also values that make an old pivot zero, still give x to round-off, on 1 and 2 ranks;
 //  - with Reuse Factorization, GMRES preconditioned with the last factorization solves later matrices
 //    of the same size (same or new pattern) to the direct solve's accuracy, and the matrix is
@@ -25,13 +25,16 @@ Teuchos::ParameterList solverList(const std::string& type, const std::string& pr
   Teuchos::ParameterList p;
   p.set("Type", type);
   if (type == "GMRES") p.set("Preconditioner", prec);
+  if (type == "Direct") p.set("Direct Solver", prec);
   linearSolverSpec().apply(p, "Linear Solver");
   return p;
 }
 
 // A tridiagonal n x n matrix over all ranks: diag d(i), off-diagonals o(i) (row i to i+1 and back;
-// a zero o(i) is left out of the pattern).
-Teuchos::RCP<Matrix> tridiagonal(GO n, const std::function<double(GO)>& d, const std::function<double(GO)>& o) {
+// a zero o(i) is left out of the pattern), or o(i) below and up(i) above the diagonal.
+Teuchos::RCP<Matrix> tridiagonal(GO n, const std::function<double(GO)>& d, const std::function<double(GO)>& o,
+                                 std::function<double(GO)> up = {}) {
+  if (!up) up = o;
   const auto comm = Tpetra::getDefaultComm();
   const auto map = Teuchos::rcp(new Map(n, 0, comm));
   auto A = Teuchos::rcp(new Matrix(map, 3));
@@ -41,10 +44,34 @@ Teuchos::RCP<Matrix> tridiagonal(GO n, const std::function<double(GO)>& d, const
     std::vector<double> vals;
     if (i > 0 && o(i - 1) != 0.0) cols.push_back(i - 1), vals.push_back(o(i - 1));
     cols.push_back(i), vals.push_back(d(i));
-    if (i + 1 < n && o(i) != 0.0) cols.push_back(i + 1), vals.push_back(o(i));
+    if (i + 1 < n && o(i) != 0.0) cols.push_back(i + 1), vals.push_back(up(i));
     A->insertGlobalValues(i, Teuchos::ArrayView<const GO>(cols), Teuchos::ArrayView<const double>(vals));
   }
   A->fillComplete();
+  return A;
+}
+
+// The unsymmetric tridiagonal matrix diag 4, -1.5 below, 0.5 + 0.005 i above, with a column map that
+// numbers each rank's columns in descending global order: a row's local column indices then descend,
+// and a library that wants them ascending has to sort them.
+Teuchos::RCP<Matrix> unsymmetricWithDescendingColumns(GO n) {
+  const auto comm = Tpetra::getDefaultComm();
+  const auto map = Teuchos::rcp(new Map(n, 0, comm));
+  std::vector<GO> columns;
+  const GO first = map->getMinGlobalIndex(), last = map->getMaxGlobalIndex();
+  for (GO j = std::min(last + 1, n - 1); j >= std::max<GO>(first - 1, 0); --j) columns.push_back(j);
+  const auto colMap = Teuchos::rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(),
+                                           Teuchos::ArrayView<const GO>(columns), 0, comm));
+  auto A = Teuchos::rcp(new Matrix(map, colMap, 3));
+  for (GO i = first; i <= last; ++i) {
+    std::vector<GO> cols;
+    std::vector<double> vals;
+    if (i > 0) cols.push_back(i - 1), vals.push_back(-1.5);
+    cols.push_back(i), vals.push_back(4.0);
+    if (i + 1 < n) cols.push_back(i + 1), vals.push_back(0.5 + 0.005 * i);
+    A->insertGlobalValues(i, Teuchos::ArrayView<const GO>(cols), Teuchos::ArrayView<const double>(vals));
+  }
+  A->fillComplete(map, map);
   return A;
 }
 
@@ -81,10 +108,13 @@ std::pair<SolveReport, double> reportAndError(LinearSolver& s, const Teuchos::RC
 // The same, the largest error only.
 double solveError(LinearSolver& s, const Teuchos::RCP<Matrix>& A) { return reportAndError(s, A).second; }
 
+// The Direct solver's tests run with each sparse LU.
+class DirectSolver : public ::testing::TestWithParam<std::string> {};
+
 }  // namespace
 
-TEST(LinearSolver, DirectRefactorsNewValuesOfTheSamePattern) {
-  auto solver = makeLinearSolver(solverList("Direct"));
+TEST_P(DirectSolver, RefactorsNewValuesOfTheSamePattern) {
+  auto solver = makeLinearSolver(solverList("Direct", GetParam()));
   const GO n = 200;
   auto A = tridiagonal(n, [](GO i) { return 4.0 + 0.01 * i; }, [](GO) { return -1.0; });
   const double e0 = solveError(*solver, A);
@@ -94,15 +124,25 @@ TEST(LinearSolver, DirectRefactorsNewValuesOfTheSamePattern) {
   // Values whose first pivot (a_00 = 0) the old order cannot take: factored afresh, with pivoting.
   setValues(*A, [](GO i) { return i == 0 ? 0.0 : 4.0; }, [](GO) { return 1.0; });
   const double e2 = solveError(*solver, A);
-  std::printf("  Direct, solution error: first factorization %.1e, refactored %.1e, old pivot zero %.1e\n", e0, e1,
-              e2);
+  // Unsymmetric values (the solve with A, not A^T, is checked: the libraries read A's rows as the
+  // columns of A^T) in a new matrix.
+  auto U = tridiagonal(n, [](GO i) { return 4.0 + 0.01 * i; }, [](GO) { return -1.5; }, [](GO i) { return 0.5 + 0.005 * i; });
+  const double e3 = solveError(*solver, U);
+  // The same with each row's columns in descending order (KLU2 takes them so, UMFPACK's are sorted).
+  auto D = unsymmetricWithDescendingColumns(n);
+  const double e4 = solveError(*solver, D);
+  std::printf("  Direct (%s), solution error: first factorization %.1e, refactored %.1e, old pivot zero %.1e, "
+              "unsymmetric %.1e, columns descending %.1e\n",
+              GetParam().c_str(), e0, e1, e2, e3, e4);
   EXPECT_LT(e0, 1e-12);
   EXPECT_LT(e1, 1e-12);
   EXPECT_LT(e2, 1e-12);
+  EXPECT_LT(e3, 1e-12);
+  EXPECT_LT(e4, 1e-12);
 }
 
-TEST(LinearSolver, DirectReuseSolvesLaterMatricesWithTheLastFactorization) {
-  Teuchos::ParameterList p = solverList("Direct");
+TEST_P(DirectSolver, ReuseSolvesLaterMatricesWithTheLastFactorization) {
+  Teuchos::ParameterList p = solverList("Direct", GetParam());
   p.set("Reuse Factorization", true);
   p.set("Reuse Iteration Limit", 20);  // GMRES iterations summed over the solves since a factorization
   auto solver = makeLinearSolver(p);
@@ -125,10 +165,11 @@ TEST(LinearSolver, DirectReuseSolvesLaterMatricesWithTheLastFactorization) {
   const auto [r4, e4] = reportAndError(*solver, B);
   // The same values again: B's own factorization, one iteration (the count starts afresh).
   const auto [r5, e5] = reportAndError(*solver, B);
-  std::printf("  Direct with reuse: GMRES iterations %d (factored), %d (same values), %d (values within 2 %%), "
+  std::printf("  Direct (%s) with reuse: GMRES iterations %d (factored), %d (same values), %d (values within 2 %%), "
               "%d (new pattern), %d (far values: factored), %d (their values again); errors %.1e %.1e %.1e %.1e "
               "%.1e %.1e\n",
-              r0.iterations, r1.iterations, r2.iterations, r3.iterations, r4.iterations, r5.iterations, e0, e1, e2,
+              GetParam().c_str(), r0.iterations, r1.iterations, r2.iterations, r3.iterations, r4.iterations,
+              r5.iterations, e0, e1, e2,
               e3, e4, e5);
   EXPECT_EQ(r0.iterations, 0);
   EXPECT_EQ(r1.iterations, 1);
@@ -143,8 +184,8 @@ TEST(LinearSolver, DirectReuseSolvesLaterMatricesWithTheLastFactorization) {
   for (const SolveReport& r : {r0, r1, r2, r3, r4, r5}) EXPECT_LT(r.backwardError, 1e-13);
 }
 
-TEST(LinearSolver, ASingularMatrixIsAnError) {
-  auto solver = makeLinearSolver(solverList("Direct"));
+TEST_P(DirectSolver, ASingularMatrixIsAnError) {
+  auto solver = makeLinearSolver(solverList("Direct", GetParam()));
   // Rows 10 and 11 equal: singular.
   auto A = tridiagonal(40, [](GO i) { return i == 10 || i == 11 ? 1.0 : 4.0; },
                        [](GO i) { return i == 10 ? 1.0 : (i == 9 || i == 11 ? 0.0 : -1.0); });
@@ -153,6 +194,8 @@ TEST(LinearSolver, ASingularMatrixIsAnError) {
   b.putScalar(1.0);
   EXPECT_THROW(solver->solve(A, b, x), LinearSolveError);
 }
+
+INSTANTIATE_TEST_SUITE_P(LinearSolver, DirectSolver, ::testing::Values("KLU2", "UMFPACK"));
 
 TEST(LinearSolver, GmresWithMultigridSolvesNodalSystems) {
   // 6 dofs per node along a chain: a block-tridiagonal SPD matrix (a discrete Laplacian per dof plus
