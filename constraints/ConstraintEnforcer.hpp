@@ -129,7 +129,8 @@ class ConstraintEnforcer {
   // Here (acceptNormal, acceptPoint, reportedForces, commitPoint) a point's kinematics carry the gaps'
   // values and first variations R; their second variations K are not computed (zero).
   // First stage, for every point: the normal active set; return false if it changed (the increment
-  // is solved again). Only when no point changed there does the second stage run.
+  // is solved again), and leave `s` as it was when returning true. Only when no point changed there
+  // does the second stage run.
   virtual bool acceptNormal(const ContactPoint& p, PointState& s) const { return true; }
   // Second stage: friction states, augmentation. Return false to solve the increment again.
   // `worstViolation` collects the largest constraint violation (stopping test and output).

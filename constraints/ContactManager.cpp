@@ -1037,31 +1037,41 @@ bool ContactManager::acceptSolution(core::State& state) {
   ++passes_;
   worstViolation_ = 0.0;
   bool all = true;
-  std::vector<ContactKinematics> ks;
   // A point whose blend weight is at most kCarries carries (almost) nothing: the strategy does not judge it.
   // With a nodal line field the line nodes are judged, on their weighted gaps, not the Gauss points.
   std::vector<bool> carries;
   const auto gaps = nodalLines_ ? nodeGaps(state) : std::map<Key, NodeGap>{};
+  // The kinematics a point is judged by (values and first variations), and whether it carries. The
+  // second stage computes them again (from the same states: it runs only when no acceptNormal
+  // changed one) rather than keeping them: with its (zero) second variations a ContactKinematics
+  // takes 15 kB, and writing 150 MB of them for 10^4 points cost 80 us per point.
+  const auto judged = [&](const Key& key, const Point& p, bool& carriesHere) {
+    ContactKinematics k;
+    if (p.node()) {
+      const auto g = gaps.find(key);
+      carriesHere = g != gaps.end() && g->second.weight > kCarries * g->second.full;
+      if (carriesHere) {
+        k.normal.value = g->second.weighted;
+        k.tangent2.value = g->second.weightedSlip;
+      }
+      return k;
+    }
+    k = judgedKinematics(p, state);
+    // (A line point on a sliver of a segment carries almost nothing either.)
+    carriesHere = !(nodalLines_ && p.line()) && blendWeight(p, k.axesCosine, nullptr, nullptr) > kCarries &&
+                  (!p.line() || k.segment > kCarries);
+    return k;
+  };
   const auto view = [&](const Point& p, const ContactKinematics& k) {
     return p.node() ? nodeView(p, k, state) : strategyView(p, k, state);
   };
+  carries.reserve(points_.size());
   for (auto& [key, p] : points_) {
-    if (p.node()) {
-      ks.emplace_back();
-      const auto g = gaps.find(key);
-      carries.push_back(g != gaps.end() && g->second.weight > kCarries * g->second.full);
-      if (carries.back()) {
-        ks.back().normal.value = g->second.weighted;
-        ks.back().tangent2.value = g->second.weightedSlip;
-      }
-    } else {
-      ks.push_back(judgedKinematics(p, state));
-      // (A line point on a sliver of a segment carries almost nothing either.)
-      carries.push_back(!(nodalLines_ && p.line()) && blendWeight(p, ks.back().axesCosine, nullptr, nullptr) > kCarries &&
-                        (!p.line() || ks.back().segment > kCarries));
-    }
-    if (carries.back()) {
-      all = enforcer_->acceptNormal(view(p, ks.back()), *p.state) && all;
+    bool carriesHere = false;
+    const ContactKinematics k = judged(key, p, carriesHere);
+    carries.push_back(carriesHere);
+    if (carriesHere) {
+      all = enforcer_->acceptNormal(view(p, k), *p.state) && all;
     } else if (!p.line() && enforcer_->multipliers(*p.state) > 0) {
       // Multipliers of a point or line node that carries (almost) nothing: given up.
       p.state = PointStateHolder(enforcer_->newPointState());
@@ -1071,7 +1081,11 @@ bool ContactManager::acceptSolution(core::State& state) {
   if (all) {
     std::size_t i = 0;
     for (auto& [key, p] : points_) {
-      if (carries[i]) all = enforcer_->acceptPoint(view(p, ks[i]), *p.state, worstViolation_) && all;
+      bool carriesHere = false;
+      if (carries[i]) {
+        const ContactKinematics k = judged(key, p, carriesHere);
+        all = enforcer_->acceptPoint(view(p, k), *p.state, worstViolation_) && all;
+      }
       ++i;
     }
   }

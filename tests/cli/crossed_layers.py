@@ -15,7 +15,8 @@ stop with an error that says so (not converge to a wrong state), and Penalty mus
 And 8 x 8 layers laid on each other with every top crossing loaded (check_laid_and_loaded), also solved
 by GMRES with the multigrid preconditioner on 1 and 2 ranks; and frictional layers whose slip
 directions cycle with a stiff tangential penalty (check_friction_cycling): the failure names the cause.
-And the 8 x 8 layers between nodes with the Direct solver's Reuse Factorization (check_reused_factorization).
+And the 8 x 8 layers between nodes with UMFPACK as the Direct Solver and with Reuse Factorization
+(check_reused_factorization).
 Usage: crossed_layers.py BEAMCONTACT WORKDIR MPIEXEC...
 """
 import csv
@@ -132,44 +133,51 @@ def check_laid_and_loaded(exe, work, mpi):
 
 
 def check_reused_factorization(exe, work, mpi):
-    """8 x 8 layers between nodes (friction 0.2: unsymmetric matrices; Lagrange: indefinite) with
-    Reuse Factorization, every strategy on 1 and 2 ranks: the Direct runs' contact rows (1e-8 of the
-    largest force) and Newton iterations, with fewer factorizations than linear solves (GMRES with the
-    last factorization took the others: linear_iterations > 0 in newton.csv)."""
+    """8 x 8 layers between nodes (friction 0.2: unsymmetric matrices; Lagrange: indefinite), every
+    strategy on 1 and 2 ranks, against the Direct (KLU2) runs' contact rows (1e-8 of the largest
+    force) and Newton iterations: with Reuse Factorization (KLU2 and UMFPACK), with fewer
+    factorizations than linear solves (GMRES with the last factorization took the others:
+    linear_iterations > 0 in newton.csv); and with UMFPACK as the Direct Solver, one factorization
+    per solve."""
     failures = 0
     for strategy in STRATEGIES:
         direct = deck_for(exe, work, "8x8 between nodes", 8, 11, strategy)
-        tree = ET.parse(direct)
-        set_parameter(tree.getroot(), "Linear Solver/Reuse Factorization", "bool", "true")
-        deck = direct[:-4] + "_reuse.xml"
-        tree.write(deck)
         _, _, _, contact = run(exe, direct, direct[:-4] + "_np1")
         with open(os.path.join(direct[:-4] + "_np1", "steps.csv")) as f:
             newton = [row["newton_iterations"] for row in csv.DictReader(f)]
         scale = max(abs(float(v)) for c in contact for k, v in c.items() if k.startswith("normal_force"))
-        for ranks, mpi_cmd in ((1, None), (2, mpi)):
-            out = deck[:-4] + f"_np{ranks}"
-            _, _, _, contact_r = run(exe, deck, out, mpi_cmd)
-            with open(os.path.join(out, "steps.csv")) as f:
-                newton_r = [row["newton_iterations"] for row in csv.DictReader(f)]
-            with open(os.path.join(out, "newton.csv")) as f:
-                krylov = [int(row["linear_iterations"]) for row in csv.DictReader(f)]
-            solves = factorizations = 0
-            with open(os.path.join(out, "timers.txt")) as f:
-                for line in f:
-                    name = line.strip("| ").split(":")[0]
-                    calls = int(line.split("[")[1].split("]")[0]) if "[" in line else 0
-                    if name == "Linear Solve":
-                        solves = calls
-                    elif name == "Factorization":
-                        factorizations = calls
-            diff = max(abs(float(a[k]) - float(b[k])) for a, b in zip(contact, contact_r)
-                       for k in a if k.startswith("normal_force") or k.startswith("tangential_force"))
-            print(f"8x8 between nodes, {strategy}, Reuse Factorization on {ranks} rank(s): {factorizations} "
-                  f"factorizations for {solves} solves, GMRES iterations {sum(krylov)}; rows differ from Direct by "
-                  f"{diff / scale:.1e}; Newton per step {'/'.join(newton_r)} (Direct {'/'.join(newton)})")
-            failures += not (len(contact_r) == len(contact) and diff <= 1e-8 * scale and newton_r == newton
-                             and 0 < factorizations < solves and sum(krylov) > 0)
+        for lu, reuse in (("KLU2", True), ("UMFPACK", False), ("UMFPACK", True)):
+            tree = ET.parse(direct)
+            set_parameter(tree.getroot(), "Linear Solver/Direct Solver", "string", lu)
+            set_parameter(tree.getroot(), "Linear Solver/Reuse Factorization", "bool", "true" if reuse else "false")
+            deck = direct[:-4] + f"_{lu}{'_reuse' if reuse else ''}.xml"
+            tree.write(deck)
+            for ranks, mpi_cmd in ((1, None), (2, mpi)):
+                out = deck[:-4] + f"_np{ranks}"
+                _, _, _, contact_r = run(exe, deck, out, mpi_cmd)
+                with open(os.path.join(out, "steps.csv")) as f:
+                    newton_r = [row["newton_iterations"] for row in csv.DictReader(f)]
+                with open(os.path.join(out, "newton.csv")) as f:
+                    krylov = [int(row["linear_iterations"]) for row in csv.DictReader(f)]
+                solves = factorizations = 0
+                with open(os.path.join(out, "timers.txt")) as f:
+                    for line in f:
+                        name = line.strip("| ").split(":")[0]
+                        calls = int(line.split("[")[1].split("]")[0]) if "[" in line else 0
+                        if name == "Linear Solve":
+                            solves = calls
+                        elif name == "Factorization":
+                            factorizations = calls
+                diff = max(abs(float(a[k]) - float(b[k])) for a, b in zip(contact, contact_r)
+                           for k in a if k.startswith("normal_force") or k.startswith("tangential_force"))
+                print(f"8x8 between nodes, {strategy}, {lu}{' with Reuse Factorization' if reuse else ''} on {ranks} "
+                      f"rank(s): {factorizations} factorizations for {solves} solves, GMRES iterations {sum(krylov)}; "
+                      f"rows differ from KLU2 Direct by {diff / scale:.1e}; Newton per step {'/'.join(newton_r)} "
+                      f"(KLU2 Direct {'/'.join(newton)})")
+                counted = (0 < factorizations < solves and sum(krylov) > 0) if reuse else \
+                    (factorizations == solves and sum(krylov) == 0)
+                failures += not (len(contact_r) == len(contact) and diff <= 1e-8 * scale and newton_r == newton
+                                 and counted)
     return failures
 
 
