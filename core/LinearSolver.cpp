@@ -48,6 +48,8 @@ SolveReport LinearSolver::attempt(const Teuchos::RCP<const Matrix>& A, const Vec
     report.iterations = doSolve(A, b, x);
   } catch (const LinearSolveError&) {
     throw;
+  } catch (const std::bad_alloc&) {
+    throw;
   } catch (const std::exception& e) {
     // Belos and MueLu report over several lines; the first names the failure.
     std::string what = e.what();
@@ -157,6 +159,9 @@ class DirectSolver : public LinearSolver {
       try {
         local[1] = factorAndSolve(*gathered_, shortcuts, sameGraph, b0, x0);
         local[2] = shortcut_;
+      } catch (const std::bad_alloc& e) {
+        local[0] = 2;
+        what = e.what();
       } catch (const std::exception& e) {
         local[0] = 1;
         what = e.what();
@@ -172,6 +177,8 @@ class DirectSolver : public LinearSolver {
     if (global[0]) {
       gathered_ = Teuchos::null;
       lastMatrix_ = Teuchos::null;
+      if (global[0] == 2)
+        throw LinearSolverOutOfMemory(comm->getRank() == 0 ? what : lu_->name() + " ran out of memory on rank 0");
       throw LinearSolveError(lu_->name() + " failed on rank 0: " + what);
     }
     x.doImport(x0, *fromRoot_, Tpetra::INSERT);

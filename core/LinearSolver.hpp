@@ -15,6 +15,7 @@
 // ||A||_F ||x|| / ||b||, a lower bound of the condition number, above "Condition Limit" is an error too.
 #pragma once
 #include <memory>
+#include <new>
 #include <stdexcept>
 #include <string>
 
@@ -28,6 +29,17 @@ namespace bc::core {
 class LinearSolveError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
+};
+
+// A factorization that needs more memory than it can have. Not a failure of the step (a smaller step
+// needs the same): it ends the run, its message in status.txt, exit code 3 (out of memory).
+class LinearSolverOutOfMemory : public std::bad_alloc {
+ public:
+  explicit LinearSolverOutOfMemory(std::string what) : what_(std::move(what)) {}
+  const char* what() const noexcept override { return what_.c_str(); }
+
+ private:
+  std::string what_;
 };
 
 struct SolveReport {
