@@ -1081,8 +1081,8 @@ bool ContactManager::acceptSolution(core::State& state) {
   if (all) {
     std::size_t i = 0;
     for (auto& [key, p] : points_) {
-      bool carriesHere = false;
       if (carries[i]) {
+        bool carriesHere = false;
         const ContactKinematics k = judged(key, p, carriesHere);
         all = enforcer_->acceptPoint(view(p, k), *p.state, worstViolation_) && all;
       }

@@ -21,16 +21,22 @@ namespace bc::core {
 
 namespace {
 
+// The MPI communicator under `comm`, or MPI_COMM_NULL when it is not an MPI one (a serial build's).
+MPI_Comm rawMpiComm(const Teuchos::Comm<int>& comm) {
+  const auto* mpi = dynamic_cast<const Teuchos::MpiComm<int>*>(&comm);
+  return mpi ? MPI_Comm(*mpi->getRawMpiComm()) : MPI_COMM_NULL;
+}
+
 // The largest of each of n ints over the ranks, into `global`; the ranks that arrive first sleep
 // between polls instead of spinning.
 void quietMaxAll(const Teuchos::Comm<int>& comm, int n, const int* local, int* global) {
-  const auto* mpi = dynamic_cast<const Teuchos::MpiComm<int>*>(&comm);
-  if (!mpi) {
+  const MPI_Comm mpi = rawMpiComm(comm);
+  if (mpi == MPI_COMM_NULL) {
     Teuchos::reduceAll(comm, Teuchos::REDUCE_MAX, n, local, global);
     return;
   }
   MPI_Request request;
-  MPI_Iallreduce(local, global, n, MPI_INT, MPI_MAX, *mpi->getRawMpiComm(), &request);
+  MPI_Iallreduce(local, global, n, MPI_INT, MPI_MAX, mpi, &request);
   int done = 0;
   for (;;) {
     MPI_Test(&request, &done, MPI_STATUS_IGNORE);
@@ -38,7 +44,6 @@ void quietMaxAll(const Teuchos::Comm<int>& comm, int n, const int* local, int* g
     std::this_thread::sleep_for(std::chrono::microseconds(100));
   }
 }
-
 
 }  // namespace
 
@@ -202,10 +207,6 @@ class DirectSolver : public LinearSolver {
   std::vector<int> slots_, entryCounts_, entryOffsets_;
   std::vector<double> gatheredValues_;
 
-  static MPI_Comm rawComm(const Teuchos::Comm<int>& comm) {
-    return *dynamic_cast<const Teuchos::MpiComm<int>&>(comm).getRawMpiComm();
-  }
-
   // Each rank's entries' global rows and columns to rank 0, which builds the gathered graph from them
   // (rows and columns in global order) and notes where each entry went. Once per graph: later
   // matrices of the graph travel as their values alone (gatherValues: 4 ms per solve at 4096
@@ -214,7 +215,7 @@ class DirectSolver : public LinearSolver {
   // 0.68 s by a Tpetra export of the first matrix).
   void gatherGraph(const Matrix& A, const Teuchos::Comm<int>& comm) {
     static_assert(sizeof(GO) == sizeof(long long), "global indices travel as MPI_LONG_LONG");
-    const MPI_Comm mpi = rawComm(comm);
+    const MPI_Comm mpi = rawMpiComm(comm);  // more than one rank: an MPI communicator
     const auto local = A.getLocalMatrixHost();
     const auto& rowPtr = local.graph.row_map;
     const auto& entries = local.graph.entries;
@@ -279,7 +280,7 @@ class DirectSolver : public LinearSolver {
     const auto local = A.getLocalMatrixHost();
     const int count = static_cast<int>(local.values.extent(0));
     MPI_Gatherv(local.values.data(), count, MPI_DOUBLE, gatheredValues_.data(), entryCounts_.data(),
-                entryOffsets_.data(), MPI_DOUBLE, 0, rawComm(comm));
+                entryOffsets_.data(), MPI_DOUBLE, 0, rawMpiComm(comm));
     if (comm.getRank() != 0) return;
     const auto values = gathered_->getLocalMatrixHost().values;
     for (std::size_t k = 0; k < values.extent(0); ++k) values(k) = 0.0;
@@ -413,7 +414,6 @@ const ParameterSpec& linearSolverSpec() {
                 "multifrontal with dense (BLAS) kernels, 3 to 6 times faster factorizations at 10^5 rows (most "
                 "on Lagrange multiplier saddle points), the faster from about 10^4 rows with Reuse "
                 "Factorization");
-
     s.add("Residual Check Tolerance", 1e-10,
           "largest accepted backward error ||b - A x|| / (||A||_F ||x|| + ||b||) of a solve; above it the solve "
           "is an error",

@@ -1,6 +1,8 @@
 // The linear solvers on small Tpetra systems whose solutions are known (x = A^-1 b by construction):
-//  - Direct, with KLU2 and with UMFPACK, solves unsymmetric systems and refactors a matrix of the same pattern with the last factorization's pivot order; new
-//    values, also values that make an old pivot zero, still give x to round-off, on 1 and 2 ranks;
+//  - Direct, with KLU2 and with UMFPACK, solves unsymmetric systems (also with descending column
+//    numbering) and refactors a matrix of the same pattern (KLU2: with the last factorization's pivot
+//    order); new values, also values that make an old pivot zero, still give x to round-off, on 1
+//    and 2 ranks;
 //  - with Reuse Factorization, GMRES preconditioned with the last factorization solves later matrices
 //    of the same size (same or new pattern) to the direct solve's accuracy, and the matrix is
 //    factored again once the iterations since the last factorization reach the limit;
@@ -21,23 +23,35 @@ using namespace bc::core;
 
 namespace {
 
-Teuchos::ParameterList solverList(const std::string& type, const std::string& prec = "ILUT") {
+// `choice`: GMRES's Preconditioner or Direct's Direct Solver (empty: the default).
+Teuchos::ParameterList solverList(const std::string& type, const std::string& choice = "") {
   Teuchos::ParameterList p;
   p.set("Type", type);
-  if (type == "GMRES") p.set("Preconditioner", prec);
-  if (type == "Direct") p.set("Direct Solver", prec);
+  if (!choice.empty()) p.set(type == "GMRES" ? "Preconditioner" : "Direct Solver", choice);
   linearSolverSpec().apply(p, "Linear Solver");
   return p;
 }
 
 // A tridiagonal n x n matrix over all ranks: diag d(i), off-diagonals o(i) (row i to i+1 and back;
-// a zero o(i) is left out of the pattern), or o(i) below and up(i) above the diagonal.
+// a zero o(i) is left out of the pattern), or o(i) below and up(i) above the diagonal. With
+// `descendingColumns` the column map numbers each rank's columns in descending global order: a row's
+// local column indices then descend, and a library that wants them ascending has to sort them.
 Teuchos::RCP<Matrix> tridiagonal(GO n, const std::function<double(GO)>& d, const std::function<double(GO)>& o,
-                                 std::function<double(GO)> up = {}) {
+                                 std::function<double(GO)> up = {}, bool descendingColumns = false) {
   if (!up) up = o;
   const auto comm = Tpetra::getDefaultComm();
   const auto map = Teuchos::rcp(new Map(n, 0, comm));
-  auto A = Teuchos::rcp(new Matrix(map, 3));
+  Teuchos::RCP<Matrix> A;
+  if (descendingColumns) {
+    std::vector<GO> columns;
+    const GO first = map->getMinGlobalIndex(), last = map->getMaxGlobalIndex();
+    for (GO j = std::min(last + 1, n - 1); j >= std::max<GO>(first - 1, 0); --j) columns.push_back(j);
+    const auto colMap = Teuchos::rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(),
+                                             Teuchos::ArrayView<const GO>(columns), 0, comm));
+    A = Teuchos::rcp(new Matrix(map, colMap, 3));
+  } else {
+    A = Teuchos::rcp(new Matrix(map, 3));
+  }
   for (std::size_t l = 0; l < map->getNodeNumElements(); ++l) {
     const GO i = map->getGlobalElement(static_cast<LO>(l));
     std::vector<GO> cols;
@@ -45,30 +59,6 @@ Teuchos::RCP<Matrix> tridiagonal(GO n, const std::function<double(GO)>& d, const
     if (i > 0 && o(i - 1) != 0.0) cols.push_back(i - 1), vals.push_back(o(i - 1));
     cols.push_back(i), vals.push_back(d(i));
     if (i + 1 < n && o(i) != 0.0) cols.push_back(i + 1), vals.push_back(up(i));
-    A->insertGlobalValues(i, Teuchos::ArrayView<const GO>(cols), Teuchos::ArrayView<const double>(vals));
-  }
-  A->fillComplete();
-  return A;
-}
-
-// The unsymmetric tridiagonal matrix diag 4, -1.5 below, 0.5 + 0.005 i above, with a column map that
-// numbers each rank's columns in descending global order: a row's local column indices then descend,
-// and a library that wants them ascending has to sort them.
-Teuchos::RCP<Matrix> unsymmetricWithDescendingColumns(GO n) {
-  const auto comm = Tpetra::getDefaultComm();
-  const auto map = Teuchos::rcp(new Map(n, 0, comm));
-  std::vector<GO> columns;
-  const GO first = map->getMinGlobalIndex(), last = map->getMaxGlobalIndex();
-  for (GO j = std::min(last + 1, n - 1); j >= std::max<GO>(first - 1, 0); --j) columns.push_back(j);
-  const auto colMap = Teuchos::rcp(new Map(Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid(),
-                                           Teuchos::ArrayView<const GO>(columns), 0, comm));
-  auto A = Teuchos::rcp(new Matrix(map, colMap, 3));
-  for (GO i = first; i <= last; ++i) {
-    std::vector<GO> cols;
-    std::vector<double> vals;
-    if (i > 0) cols.push_back(i - 1), vals.push_back(-1.5);
-    cols.push_back(i), vals.push_back(4.0);
-    if (i + 1 < n) cols.push_back(i + 1), vals.push_back(0.5 + 0.005 * i);
     A->insertGlobalValues(i, Teuchos::ArrayView<const GO>(cols), Teuchos::ArrayView<const double>(vals));
   }
   A->fillComplete(map, map);
@@ -126,10 +116,13 @@ TEST_P(DirectSolver, RefactorsNewValuesOfTheSamePattern) {
   const double e2 = solveError(*solver, A);
   // Unsymmetric values (the solve with A, not A^T, is checked: the libraries read A's rows as the
   // columns of A^T) in a new matrix.
-  auto U = tridiagonal(n, [](GO i) { return 4.0 + 0.01 * i; }, [](GO) { return -1.5; }, [](GO i) { return 0.5 + 0.005 * i; });
+  auto U = tridiagonal(n, [](GO i) { return 4.0 + 0.01 * i; }, [](GO) { return -1.5; },
+                       [](GO i) { return 0.5 + 0.005 * i; });
   const double e3 = solveError(*solver, U);
-  // The same with each row's columns in descending order (KLU2 takes them so, UMFPACK's are sorted).
-  auto D = unsymmetricWithDescendingColumns(n);
+  // Unsymmetric values with each row's columns in descending order (KLU2 takes them so, UMFPACK's
+  // are sorted).
+  auto D = tridiagonal(n, [](GO) { return 4.0; }, [](GO) { return -1.5; }, [](GO i) { return 0.5 + 0.005 * i; },
+                       true);
   const double e4 = solveError(*solver, D);
   std::printf("  Direct (%s), solution error: first factorization %.1e, refactored %.1e, old pivot zero %.1e, "
               "unsymmetric %.1e, columns descending %.1e\n",
