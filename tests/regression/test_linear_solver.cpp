@@ -18,6 +18,7 @@
 #include <Tpetra_Core.hpp>
 
 #include "core/LinearSolver.hpp"
+#include "core/SerialUmfpack.hpp"
 
 using namespace bc::core;
 
@@ -37,9 +38,9 @@ Teuchos::ParameterList solverList(const std::string& type, const std::string& ch
 // `descendingColumns` the column map numbers each rank's columns in descending global order: a row's
 // local column indices then descend, and a library that wants them ascending has to sort them.
 Teuchos::RCP<Matrix> tridiagonal(GO n, const std::function<double(GO)>& d, const std::function<double(GO)>& o,
-                                 std::function<double(GO)> up = {}, bool descendingColumns = false) {
+                                 std::function<double(GO)> up = {}, bool descendingColumns = false,
+                                 Teuchos::RCP<const Teuchos::Comm<int>> comm = Tpetra::getDefaultComm()) {
   if (!up) up = o;
-  const auto comm = Tpetra::getDefaultComm();
   const auto map = Teuchos::rcp(new Map(n, 0, comm));
   Teuchos::RCP<Matrix> A;
   if (descendingColumns) {
@@ -189,6 +190,40 @@ TEST_P(DirectSolver, ASingularMatrixIsAnError) {
 }
 
 INSTANTIATE_TEST_SUITE_P(LinearSolver, DirectSolver, ::testing::Values("KLU2", "UMFPACK"));
+
+TEST(LinearSolver, UmfpackSixtyFourBitVersionSolvesAsTheThirtyTwoBit) {
+  // The 64-bit version, which takes over when the 32-bit one's addressing runs out (10^5 contact
+  // points), on one process's unsymmetric matrices: x to round-off and the 32-bit version's x, also
+  // after a new pattern (its analysis and factors freed and made again).
+  const auto world = Tpetra::getDefaultComm();
+  const auto self = world->split(world->getRank(), 0);
+  SerialUmfpack narrow, wide(true);
+  for (const bool newPattern : {false, true}) {
+    const GO n = 500;
+    auto A = tridiagonal(n, [](GO i) { return 4.0 + 0.01 * i; }, [&](GO i) { return newPattern && i % 7 == 3 ? 0.0 : -1.0; },
+                         [](GO i) { return 0.5 + 0.005 * i; }, false, self);
+    std::vector<double> xTrue(n), b(n), x32(n), x64(n);
+    for (GO i = 0; i < n; ++i) xTrue[i] = 1.0 + double(i) / n;
+    Vector xv(A->getRowMap()), bv(A->getRowMap());
+    for (GO i = 0; i < n; ++i) xv.replaceLocalValue(static_cast<LO>(i), xTrue[i]);
+    A->apply(xv, bv);
+    const auto bData = bv.getData(0);
+    std::copy(bData.begin(), bData.end(), b.begin());
+    narrow.factor(*A, false);
+    wide.factor(*A, false);
+    narrow.solve(b.data(), x32.data());
+    wide.solve(b.data(), x64.data());
+    double error = 0.0, difference = 0.0;
+    for (GO i = 0; i < n; ++i) {
+      error = std::max(error, std::abs(x64[i] - xTrue[i]));
+      difference = std::max(difference, std::abs(x64[i] - x32[i]));
+    }
+    std::printf("UMFPACK 64-bit, %s pattern: error %.2e, against 32-bit %.2e\n", newPattern ? "new" : "first", error,
+                difference);
+    EXPECT_LT(error, 1e-13);
+    EXPECT_LT(difference, 1e-14);
+  }
+}
 
 TEST(LinearSolver, GmresWithMultigridSolvesNodalSystems) {
   // 6 dofs per node along a chain: a block-tridiagonal SPD matrix (a discrete Laplacian per dof plus
