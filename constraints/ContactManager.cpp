@@ -38,7 +38,7 @@ using Key = std::tuple<int, int, int>;
 ContactManager::ContactManager(std::shared_ptr<const elements::BeamSet> beams, std::vector<ContactPairSpec> pairs,
                                std::unique_ptr<ConstraintEnforcer> enforcer, ContactOptions options)
     : beams_(std::move(beams)), pairs_(std::move(pairs)), enforcer_(std::move(enforcer)), options_(options) {
-  for (std::size_t i = 0; i < pairs_.size(); ++i) pairIndex_[{pairs_[i].beamA, pairs_[i].beamB}] = static_cast<int>(i);
+  for (std::size_t i = 0; i < pairs_.size(); ++i) pairIndex_[beamPairKey(pairs_[i].beamA, pairs_[i].beamB)] = static_cast<int>(i);
   lineContact_ = enforcer_->lineField() != ConstraintEnforcer::LineField::None && options_.lineAngle > 0.0 &&
                  options_.lineGaussPoints > 0;
   nodalLines_ = lineContact_ && enforcer_->lineField() == ConstraintEnforcer::LineField::Nodal;
@@ -297,8 +297,8 @@ Vec3d lineCross(const ClosestPoints& cp) { return cp.sigma * cp.normal; }
 void ContactManager::forEachElementPair(const core::State& s,
                                         const std::function<void(int, int, int)>& visit) const {
   const auto& elems = beams_->elements();
-  std::set<int> inPairs;
-  for (const auto& p : pairs_) { inPairs.insert(p.beamA); inPairs.insert(p.beamB); }
+  std::vector<char> inPairs(beams_->beams().size(), 0);
+  for (const auto& p : pairs_) inPairs[p.beamA] = inPairs[p.beamB] = 1;
   // Bounding boxes of the elements of beams in contact pairs, swept from the last converged state
   // to `s`: a pair that one increment carries through each other is still a candidate, with no
   // search margin tuned to the increment.
@@ -307,7 +307,7 @@ void ContactManager::forEachElementPair(const core::State& s,
   double cell = 0.0;
   for (std::size_t e = 0; e < elems.size(); ++e) {
     const BeamElement& el = elems[e];
-    if (!inPairs.count(el.beam)) continue;
+    if (!inPairs[el.beam]) continue;
     const auto& sec = beams_->beams()[el.beam].section;
     const double reach = (sec.shape == CrossSection::Shape::Rectangle
                               ? 0.5 * std::hypot(sec.width, sec.height)
@@ -327,7 +327,7 @@ void ContactManager::forEachElementPair(const core::State& s,
   auto cellKey = [](long long i, long long j, long long k) { return (i * 73856093LL) ^ (j * 19349663LL) ^ (k * 83492791LL); };
   auto range = [&](const Box& b, int k) { return std::make_pair((long long)std::floor(b.lo[k] / cell), (long long)std::floor(b.hi[k] / cell)); };
   for (std::size_t e = 0; e < elems.size(); ++e) {
-    if (!inPairs.count(elems[e].beam)) continue;
+    if (!inPairs[elems[e].beam]) continue;
     const auto [i0, i1] = range(boxes[e], 0);
     const auto [j0, j1] = range(boxes[e], 1);
     const auto [k0, k1] = range(boxes[e], 2);
@@ -341,7 +341,7 @@ void ContactManager::forEachElementPair(const core::State& s,
   std::vector<std::tuple<int, int, int>> found;
   std::vector<int> seen;
   for (std::size_t ea = 0; ea < elems.size(); ++ea) {
-    if (!inPairs.count(elems[ea].beam)) continue;
+    if (!inPairs[elems[ea].beam]) continue;
     seen.clear();
     {
       const Box& A = boxes[ea];
@@ -354,7 +354,13 @@ void ContactManager::forEachElementPair(const core::State& s,
             auto it = grid.find(cellKey(i, j, k));
             if (it == grid.end()) continue;
             for (int eb : it->second) {
-              const auto pairIt = pairIndex_.find({elems[ea].beam, elems[eb].beam});
+              // The boxes first: most elements of a cell are not in a pair with ea's beam or do not
+              // reach ea's box, and the box test costs less than the pair's lookup.
+              const Box& B = boxes[eb];
+              bool overlap = true;
+              for (int c = 0; c < 3; ++c) overlap = overlap && A.lo[c] <= B.hi[c] && B.lo[c] <= A.hi[c];
+              if (!overlap) continue;
+              const auto pairIt = pairIndex_.find(beamPairKey(elems[ea].beam, elems[eb].beam));
               if (pairIt == pairIndex_.end() || std::find(seen.begin(), seen.end(), eb) != seen.end()) continue;
               seen.push_back(eb);
               // Elements that share a node (beams joined there) or whose nodes are pinned together
@@ -363,11 +369,7 @@ void ContactManager::forEachElementPair(const core::State& s,
               bool joined = false;
               for (int na : {A0.node1, A0.node2})
                 for (int nb : {B0.node1, B0.node2}) joined = joined || na == nb || joined_.count({na, nb});
-              if (joined) continue;
-              const Box& B = boxes[eb];
-              bool overlap = true;
-              for (int c = 0; c < 3; ++c) overlap = overlap && A.lo[c] <= B.hi[c] && B.lo[c] <= A.hi[c];
-              if (overlap) found.emplace_back(pairIt->second, (int)ea, eb);
+              if (!joined) found.emplace_back(pairIt->second, (int)ea, eb);
             }
           }
     }
