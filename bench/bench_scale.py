@@ -62,6 +62,9 @@ def run_once(exe, deck, out, ranks, mpiexec):
     with open(os.path.join(os.path.dirname(out), "bench_output.txt")) as log:
         nodes = re.search(r"(\d+) nodes", log.read())
     peak = usage.ru_maxrss
+    if not os.path.exists(os.path.join(out, "timers.txt")):
+        raise SystemExit(f"bench_scale: {' '.join(cmd)} exited with {returncode} and wrote no timers; "
+                         f"its output is in {os.path.join(os.path.dirname(out), 'bench_output.txt')}")
     t = timers(os.path.join(out, "timers.txt"))
     iterations = t.get("Linear Solve", (0.0, 0))[1]
     with open(os.path.join(out, "steps.csv")) as f:

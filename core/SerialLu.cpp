@@ -108,7 +108,11 @@ int SerialLu::solvePreconditioned(const Matrix& A, const double* b, double* x, i
   bool converged = false;
   while (k < m && !converged) {
     double* v = &V[std::size_t(n) * k];
-    solve(v, z.data());
+    // LU^-1 v_0 = LU^-1 b / beta: solved above for the target.
+    if (k == 0)
+      for (int r = 0; r < n; ++r) z[r] /= beta;
+    else
+      solve(v, z.data());
     multiply(z.data(), w.data());
     // Modified Gram-Schmidt, twice (the second pass keeps the basis orthogonal when w has cancelled).
     for (int pass = 0; pass < 2; ++pass)
