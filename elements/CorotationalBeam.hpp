@@ -13,8 +13,11 @@
 // to the co-rotated frame. Strain energy:
 //   E = EA/(2 L0) (l-L0)^2 + GJ/(2 L0) (th2x-th1x)^2
 //     + 2 EIz/L0 (th1z^2 + th1z th2z + th2z^2) + 2 EIy/L0 (th1y^2 + th1y th2y + th2y^2).
-// Force and tangent come from forward automatic differentiation (Sacado) of E, so they are exact
-// derivatives of the same energy; tests compare them with central finite differences.
+// The force is E's gradient along the spins, written out (energyGradient in CorotationalBeam.cpp:
+// the co-rotated frame's spin and the inverse left Jacobian of the log map); the tangent is that
+// gradient's derivative by forward automatic differentiation (Sacado) along the Newton increment.
+// internalForceAndTangentFromEnergy gets both by nested AD of E alone (three to four times the cost):
+// the tests compare the two to round-off, and each with central finite differences.
 #pragma once
 #include <array>
 
@@ -47,6 +50,9 @@ BeamElementData makeBeamElement(const Vec3d& X1, const Vec3d& X2, const Vec3d& s
 double strainEnergy(const BeamElementData& d, const BeamElementState& s);
 void internalForce(const BeamElementData& d, const BeamElementState& s, Vector12& f);
 void internalForceAndTangent(const BeamElementData& d, const BeamElementState& s, Vector12& f, Matrix12& K);
+// The same by nested forward AD of the strain energy (the reference of the tests and bench_beam).
+void internalForceAndTangentFromEnergy(const BeamElementData& d, const BeamElementState& s, Vector12& f,
+                                       Matrix12& K);
 
 // The co-rotated frame [e1 e2 e3] of the current state (for output and drawing).
 Mat3d corotatedFrame(const BeamElementData& d, const BeamElementState& s);
