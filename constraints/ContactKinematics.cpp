@@ -140,6 +140,8 @@ Gaps<T> faceGaps(const Vec3<T>* P, const Vec3<T>* V, const Vec3<T>* N, bool cubi
 template <int Vectors, class Fn>
 ContactKinematics kinematicsOf(const LinePairInput& in, const Vec3d* extraRef, const int* extraNode, Fn gapsOf,
                                Variations order);
+template <bool Second>
+ContactKinematics pointKinematicsOfOrder(const LinePairInput& in, double sigma, double xiPrev, double etaPrev);
 
 // Where A's axis (the Hermite curve P[0], V[0], P[1], V[1]) meets the plane through `node` normal
 // to `tau`: the root of h(xi) = tau . (node - x_A(xi)) by Newton steps from `start` (a double
@@ -195,6 +197,12 @@ ClosestPoints closestPoints(const LinePairInput& in) {
 
 ContactKinematics contactKinematics(const LinePairInput& in, double sigma, double xiPrev, double etaPrev,
                                     Variations order) {
+  return order == Variations::Second ? pointKinematicsOfOrder<true>(in, sigma, xiPrev, etaPrev)
+                                     : pointKinematicsOfOrder<false>(in, sigma, xiPrev, etaPrev);
+}
+
+ContactKinematics contactKinematicsFromGaps(const LinePairInput& in, double sigma, double xiPrev, double etaPrev,
+                                            Variations order) {
   return kinematicsOf<4>(
       in, nullptr, nullptr,
       [&](const auto* P) { return gaps(P[0], P[1], P[2], P[3], in.radiusSum, sigma, xiPrev, etaPrev); }, order);
@@ -343,125 +351,235 @@ ContactKinematics segmentKinematics(const LinePairInput& in, const LineSegment& 
 }
 
 namespace {
-template <int Vectors, bool Second, class Fn>
-ContactKinematics kinematicsOfOrder(const LinePairInput& in, const Vec3d* extraRef, const int* extraNode, Fn gapsOf) {
-  // The gaps depend on the 24 dofs only through vectors attached to the four nodes m: the line end
-  // points P_m = x_m + R_m o and (Vectors = 8) the Hermite tangents V_m = R_m d. Nested forward AD
-  // gives the gradient G and Hessian H of each gap in their coordinates; the chain rule then gives
-  // R and K in the 24 dofs. With the spin variation w (inner) and the Newton increment delta
-  // (outer), a rotated vector r_m = R_m c becomes exp(w) exp(delta) r_m, so
-  //   dP_m = du_m + w x r_m,   dV_m = w x V_m,   d2(r) / dw_i d delta_j = e_i x (e_j x r),
-  //   R = J^T G,   K_ij = (J^T H J)_ij + sum_k G_k . (e_i x (e_j x r_k)) on vector k's node's spins.
-  constexpr int kCoords = 3 * Vectors;
-  using In = Sacado::Fad::SFad<double, kCoords>;
-  // With first variations only (Second false), one AD level: K stays zero.
-  using Out = std::conditional_t<Second, Sacado::Fad::SFad<In, kCoords>, In>;
-  // The value and first derivative of an AD result on either level.
-  const auto value = [](const Out& v) {
-    if constexpr (Second) return v.val().val(); else return v.val();
-  };
-  const auto first = [](const Out& v, int k) {
-    if constexpr (Second) return v.val().dx(k); else return v.dx(k);
-  };
-  const Vec3d* x[4] = {&in.xA1, &in.xA2, &in.xB1, &in.xB2};
-  const Mat3d* Rm[4] = {&in.RA1, &in.RA2, &in.RB1, &in.RB2};
-  const Vec3d* o[4] = {&in.oA, &in.oA, &in.oB, &in.oB};
-  const Vec3d* dv[4] = {&in.dA, &in.dA, &in.dB, &in.dB};
-  Vec3d r[Vectors];  // the rotated part of each vector
-  Vec3<Out> P[Vectors];
-  // Vector k: 0-3 the points of nodes 0-3, 4-7 their tangents, from 8 on the extra vectors R_m c
-  // (face normals, segment planes) of the nodes extraNode with references extraRef.
-  const auto nodeOf = [&](int k) { return k < 8 ? k % 4 : extraNode[k - 8]; };
-  for (int k = 0; k < Vectors; ++k) {
-    const int m = nodeOf(k);
-    r[k] = (*Rm[m]) * (k < 4 ? *o[m] : (k < 8 ? *dv[m] : extraRef[k - 8]));
-    const Vec3d p = k < 4 ? *x[m] + r[k] : r[k];
-    for (int a = 0; a < 3; ++a) {
-      if constexpr (Second) P[k][a] = Out(kCoords, 3 * k + a, In(kCoords, 3 * k + a, p[a]));
-      else P[k][a] = Out(kCoords, 3 * k + a, p[a]);
-    }
-  }
-  const Gaps<Out> g = gapsOf(static_cast<const Vec3<Out>*>(P));
+// The gaps' values, gradients G and (with second variations) Hessians H in the coordinates of the
+// vectors (3 per vector), as the kernels below hand them to the chain rule.
+enum Quantity { kGapN, kGapT1, kGapT2, kXi, kEta, kCosine, kLength, kQuantities };
+template <int kCoords>
+struct CoordinateGaps {
+  double value[kQuantities];
+  double G[kQuantities][kCoords];
+  double H[3][kCoords][kCoords];  // g_N, g_T1, g_T2
+};
 
-  // J: coordinates x 24; vector k moves with node m = k % 4: [I (points only), -skew(r_k)].
-  double J[kCoords][kPairDofs] = {};
-  for (int k = 0; k < Vectors; ++k) {
-    const int m = nodeOf(k);
-    for (int a = 0; a < 3; ++a) {
-      if (k < 4) J[3 * k + a][6 * m + a] = 1.0;
-      for (int b = 0; b < 3; ++b) {
-        Vec3d e{};
-        e[b] = 1.0;
-        J[3 * k + a][6 * m + 3 + b] = cross(e, r[k])[a];
+// The rotated part r_k of each vector and its node.
+template <int Vectors>
+struct VectorFrame {
+  Vec3d r[Vectors];
+  int node[Vectors];
+};
+
+// The gaps depend on the 24 dofs only through vectors attached to the four nodes m: the line end
+// points P_m = x_m + R_m o and (Vectors = 8) the Hermite tangents V_m = R_m d. With the spin
+// variation w and the Newton increment delta, a rotated vector r_m = R_m c becomes
+// exp(w) exp(delta) r_m, so
+//   dP_m = du_m + w x r_m,   dV_m = w x V_m,   d2(r) / dw_i d delta_j = e_i x (e_j x r),
+//   R = J^T G,   K_ij = (J^T H J)_ij + sum_k G_k . (e_i x (e_j x r_k)) on vector k's node's spins.
+template <int Vectors, bool Second>
+ContactKinematics chainRule(const CoordinateGaps<3 * Vectors>& c, const VectorFrame<Vectors>& v) {
+  // J by vector: vector k's three rows are nonzero in its node's six columns only, [I (points only),
+  // C_k] with C_k e_b = e_b x r_k.
+  double Jk[Vectors][3][6];
+  for (int k = 0; k < Vectors; ++k)
+    for (int b = 0; b < 3; ++b) {
+      Vec3d e{};
+      e[b] = 1.0;
+      const Vec3d col = cross(e, v.r[k]);
+      for (int a = 0; a < 3; ++a) {
+        Jk[k][a][b] = k < 4 && a == b ? 1.0 : 0.0;
+        Jk[k][a][3 + b] = col[a];
       }
     }
-  }
-  constexpr int kPoints = kCoords;
+  // R = J^T G.
+  const auto firstVariation = [&](int q, Vector24& R) {
+    R.fill(0.0);
+    for (int k = 0; k < Vectors; ++k) {
+      const double* G = &c.G[q][3 * k];
+      double* Rm = &R[6 * v.node[k]];
+      for (int j = 0; j < 6; ++j) Rm[j] += Jk[k][0][j] * G[0] + Jk[k][1][j] * G[1] + Jk[k][2][j] * G[2];
+    }
+  };
   ContactKinematics out;
-  out.xi = value(g.xi);
-  out.eta = value(g.eta);
-  out.cosine = value(g.cosine);
-  for (int i = 0; i < kPairDofs; ++i) {
-    double Ri = 0.0;
-    for (int k = 0; k < kPoints; ++k) Ri += J[k][i] * first(g.cosine, k);
-    out.cosineR[i] = Ri;
-  }
+  out.xi = c.value[kXi];
+  out.eta = c.value[kEta];
+  out.cosine = c.value[kCosine];
+  firstVariation(kCosine, out.cosineR);
   out.axesCosine = out.cosine;
   out.axesCosineR = out.cosineR;
-  out.segment = value(g.length);
-  for (int i = 0; i < kPairDofs; ++i) {
-    double xiR = 0.0, lengthR = 0.0;
-    for (int k = 0; k < kPoints; ++k) {
-      xiR += J[k][i] * first(g.xi, k);
-      lengthR += J[k][i] * first(g.length, k);
-    }
-    out.xiR[i] = xiR;
-    out.segmentR[i] = lengthR;
-  }
-  const Out* src[3] = {&g.gN, &g.gT1, &g.gT2};
+  out.segment = c.value[kLength];
+  firstVariation(kXi, out.xiR);
+  firstVariation(kLength, out.segmentR);
   GapDerivatives* dst[3] = {&out.normal, &out.tangent1, &out.tangent2};
   for (int q = 0; q < 3; ++q) {
-    const Out& v = *src[q];
     GapDerivatives& d = *dst[q];
-    d.value = value(v);
-    double G[kPoints];
-    for (int k = 0; k < kPoints; ++k) G[k] = first(v, k);
-    for (int i = 0; i < kPairDofs; ++i) {
-      double Ri = 0.0;
-      for (int k = 0; k < kPoints; ++k) Ri += J[k][i] * G[k];
-      d.R[i] = Ri;
-    }
+    d.value = c.value[q];
+    firstVariation(q, d.R);
     if constexpr (Second) {
-      double H[kPoints][kPoints], HJ[kPoints][kPairDofs];
-      for (int k = 0; k < kPoints; ++k)
-        for (int l = 0; l < kPoints; ++l) H[k][l] = v.dx(l).dx(k);
-      for (int k = 0; k < kPoints; ++k)
-        for (int j = 0; j < kPairDofs; ++j) {
-          double sum = 0.0;
-          for (int l = 0; l < kPoints; ++l) sum += H[k][l] * J[l][j];
-          HJ[k][j] = sum;
-        }
-      for (int i = 0; i < kPairDofs; ++i)
-        for (int j = 0; j < kPairDofs; ++j) {
-          double sum = 0.0;
-          for (int k = 0; k < kPoints; ++k) sum += J[k][i] * HJ[k][j];
-          d.K[kPairDofs * i + j] = sum;
-        }
-      // Second derivatives of the rotated vectors: the spins of the same node.
+      // J^T H J by 3 x 3 blocks of H.
+      const auto& H = c.H[q];
+      d.K.fill(0.0);
       for (int k = 0; k < Vectors; ++k) {
-        const int m = nodeOf(k);
-        const Vec3d Gk{{G[3 * k], G[3 * k + 1], G[3 * k + 2]}};
+        const int mk = v.node[k];
+        for (int l = 0; l < Vectors; ++l) {
+          const int ml = v.node[l];
+          double HJ[3][6];
+          for (int a = 0; a < 3; ++a)
+            for (int j = 0; j < 6; ++j)
+              HJ[a][j] = H[3 * k + a][3 * l] * Jk[l][0][j] + H[3 * k + a][3 * l + 1] * Jk[l][1][j] +
+                         H[3 * k + a][3 * l + 2] * Jk[l][2][j];
+          for (int i = 0; i < 6; ++i)
+            for (int j = 0; j < 6; ++j)
+              d.K[kPairDofs * (6 * mk + i) + 6 * ml + j] +=
+                  Jk[k][0][i] * HJ[0][j] + Jk[k][1][i] * HJ[1][j] + Jk[k][2][i] * HJ[2][j];
+        }
+      }
+      // Second derivatives of the rotated vectors, on the spins of the same node:
+      // G_k . (e_i x (e_j x r_k)) = r_k,i G_k,j - delta_ij (G_k . r_k).
+      for (int k = 0; k < Vectors; ++k) {
+        const int m = v.node[k];
+        const double* G = &c.G[q][3 * k];
+        const Vec3d& r = v.r[k];
+        const double Gr = G[0] * r[0] + G[1] * r[1] + G[2] * r[2];
         for (int i = 0; i < 3; ++i)
-          for (int j = 0; j < 3; ++j) {
-            Vec3d ei{}, ej{};
-            ei[i] = 1.0;
-            ej[j] = 1.0;
-            d.K[kPairDofs * (6 * m + 3 + i) + 6 * m + 3 + j] += dot(Gk, cross(ei, cross(ej, r[k])));
-          }
+          for (int j = 0; j < 3; ++j)
+            d.K[kPairDofs * (6 * m + 3 + i) + 6 * m + 3 + j] += r[i] * G[j] - (i == j ? Gr : 0.0);
       }
     }
   }
   return out;
+}
+
+// Vector k: 0-3 the points of nodes 0-3, 4-7 their tangents, from 8 on the extra vectors R_m c (face
+// normals, segment planes) of the nodes extraNode with references extraRef. p[k]: the vector's value.
+template <int Vectors>
+VectorFrame<Vectors> vectorFrame(const LinePairInput& in, const Vec3d* extraRef, const int* extraNode, Vec3d* p) {
+  const Vec3d* x[4] = {&in.xA1, &in.xA2, &in.xB1, &in.xB2};
+  const Mat3d* Rm[4] = {&in.RA1, &in.RA2, &in.RB1, &in.RB2};
+  const Vec3d* o[4] = {&in.oA, &in.oA, &in.oB, &in.oB};
+  const Vec3d* dv[4] = {&in.dA, &in.dA, &in.dB, &in.dB};
+  VectorFrame<Vectors> v;
+  for (int k = 0; k < Vectors; ++k) {
+    const int m = k < 8 ? k % 4 : extraNode[k - 8];
+    v.node[k] = m;
+    v.r[k] = (*Rm[m]) * (k < 4 ? *o[m] : (k < 8 ? *dv[m] : extraRef[k - 8]));
+    p[k] = k < 4 ? *x[m] + v.r[k] : v.r[k];
+  }
+  return v;
+}
+
+// G and H of the gaps by nested forward AD of gapsOf (inner level: the variation, outer: the
+// increment; one level with first variations only).
+template <int Vectors, bool Second, class Fn>
+ContactKinematics kinematicsOfOrder(const LinePairInput& in, const Vec3d* extraRef, const int* extraNode, Fn gapsOf) {
+  constexpr int kCoords = 3 * Vectors;
+  using In = Sacado::Fad::SFad<double, kCoords>;
+  using Out = std::conditional_t<Second, Sacado::Fad::SFad<In, kCoords>, In>;
+  Vec3d p[Vectors];
+  const VectorFrame<Vectors> frame = vectorFrame<Vectors>(in, extraRef, extraNode, p);
+  Vec3<Out> P[Vectors];
+  for (int k = 0; k < Vectors; ++k)
+    for (int a = 0; a < 3; ++a) {
+      if constexpr (Second) P[k][a] = Out(kCoords, 3 * k + a, In(kCoords, 3 * k + a, p[k][a]));
+      else P[k][a] = Out(kCoords, 3 * k + a, p[k][a]);
+    }
+  const Gaps<Out> g = gapsOf(static_cast<const Vec3<Out>*>(P));
+  const Out* src[kQuantities] = {&g.gN, &g.gT1, &g.gT2, &g.xi, &g.eta, &g.cosine, &g.length};
+  CoordinateGaps<kCoords> c;
+  for (int q = 0; q < kQuantities; ++q) {
+    const Out& v = *src[q];
+    if constexpr (Second) {
+      c.value[q] = v.val().val();
+      for (int k = 0; k < kCoords; ++k) c.G[q][k] = v.val().dx(k);
+      if (q < 3)
+        for (int k = 0; k < kCoords; ++k)
+          for (int l = 0; l < kCoords; ++l) c.H[q][k][l] = v.dx(l).dx(k);
+    } else {
+      c.value[q] = v.val();
+      for (int k = 0; k < kCoords; ++k) c.G[q][k] = v.dx(k);
+    }
+  }
+  return chainRule<Vectors, Second>(c, frame);
+}
+
+// The point gaps of two straight lines (gaps above) and their gradients in the 12 coordinates of the
+// end points P, written out. With a = P1 - P0, b = P3 - P2 and w = p_B - p_A = (g_N + r) n, which is
+// orthogonal to a and b:
+//  - g_N: dg_N = n . (dp_B - dp_A) at fixed (xi, eta) (their variations and dn are orthogonal to w);
+//  - xi, eta from the orthogonality a . w = b . w = 0: aa dxi - ab deta = u1, ab dxi - bb deta = u2,
+//    u1 = da . w + a . (dd + eta db - xi da), u2 = db . w + b . (dd + eta db - xi da), d = P2 - P0;
+//  - g_T1 = (xi - xiPrev) |a|, g_T2 = (eta - etaPrev) |b|, cosine = a . b / (|a| |b|).
+// T = double gives the first variations; T = SFad<double, 12> seeded on the coordinates also the
+// Hessians (the gradients' derivatives).
+template <class T>
+void pointGapGradients(const Vec3<T>* P, double radiusSum, double sigma, double xiPrev, double etaPrev,
+                       T value[kQuantities], Vec3<T> G[kQuantities][4]) {
+  using std::sqrt;
+  const Vec3<T> a = P[1] - P[0], b = P[3] - P[2];
+  T xi, eta;
+  solveClosest(P[0], P[1], P[2], P[3], xi, eta);
+  const Vec3<T> w = (P[2] + eta * b) - (P[0] + xi * a);
+  const Vec3<T> c = cross(b, a);
+  const Vec3<T> n = (sigma / sqrt(dot(c, c))) * c;
+  const T aa = dot(a, a), bb = dot(b, b), ab = dot(a, b);
+  const T la = sqrt(aa), lb = sqrt(bb);
+  const T det = aa * bb - ab * ab;
+  value[kGapN] = dot(w, n) - radiusSum;
+  value[kGapT1] = (xi - xiPrev) * la;
+  value[kGapT2] = (eta - etaPrev) * lb;
+  value[kXi] = xi;
+  value[kEta] = eta;
+  value[kCosine] = ab / (la * lb);
+  value[kLength] = T(1.0);
+  const T oneXi = 1.0 - xi, oneEta = 1.0 - eta;
+  const Vec3<T> U1[4] = {T(-1.0) * w - oneXi * a, w - xi * a, oneEta * a, eta * a};
+  const Vec3<T> U2[4] = {T(-1.0) * (oneXi * b), T(-1.0) * (xi * b), oneEta * b - w, w + eta * b};
+  const Vec3<T> gN[4] = {T(-1.0) * (oneXi * n), T(-1.0) * (xi * n), oneEta * n, eta * n};
+  const Vec3<T> slipA = ((xi - xiPrev) / la) * a, slipB = ((eta - etaPrev) / lb) * b;
+  const Vec3<T> cosA = (1.0 / (la * lb)) * b - (value[kCosine] / aa) * a;
+  const Vec3<T> cosB = (1.0 / (la * lb)) * a - (value[kCosine] / bb) * b;
+  const T zero(0.0);
+  const Vec3<T> none{{zero, zero, zero}};
+  for (int k = 0; k < 4; ++k) {
+    const Vec3<T> dXi = (1.0 / det) * (bb * U1[k] - ab * U2[k]);
+    const Vec3<T> dEta = (1.0 / det) * (ab * U1[k] - aa * U2[k]);
+    const double signA = k == 0 ? -1.0 : k == 1 ? 1.0 : 0.0, signB = k == 2 ? -1.0 : k == 3 ? 1.0 : 0.0;
+    G[kGapN][k] = gN[k];
+    G[kGapT1][k] = la * dXi + signA * slipA;
+    G[kGapT2][k] = lb * dEta + signB * slipB;
+    G[kXi][k] = dXi;
+    G[kEta][k] = dEta;
+    G[kCosine][k] = signA * cosA + signB * cosB;
+    G[kLength][k] = none;
+  }
+}
+
+template <bool Second>
+ContactKinematics pointKinematicsOfOrder(const LinePairInput& in, double sigma, double xiPrev, double etaPrev) {
+  using T = std::conditional_t<Second, Sacado::Fad::SFad<double, 12>, double>;
+  Vec3d p[4];
+  const VectorFrame<4> frame = vectorFrame<4>(in, nullptr, nullptr, p);
+  Vec3<T> P[4];
+  for (int k = 0; k < 4; ++k)
+    for (int a = 0; a < 3; ++a) {
+      if constexpr (Second) P[k][a] = T(12, 3 * k + a, p[k][a]);
+      else P[k][a] = p[k][a];
+    }
+  T value[kQuantities];
+  Vec3<T> G[kQuantities][4];
+  pointGapGradients(P, in.radiusSum, sigma, xiPrev, etaPrev, value, G);
+  CoordinateGaps<12> c;
+  for (int q = 0; q < kQuantities; ++q) {
+    if constexpr (Second) {
+      c.value[q] = value[q].val();
+      for (int k = 0; k < 12; ++k) c.G[q][k] = G[q][k / 3][k % 3].val();
+      if (q < 3)
+        for (int k = 0; k < 12; ++k)
+          for (int l = 0; l < 12; ++l) c.H[q][k][l] = G[q][k / 3][k % 3].dx(l);
+    } else {
+      c.value[q] = value[q];
+      for (int k = 0; k < 12; ++k) c.G[q][k] = G[q][k / 3][k % 3];
+    }
+  }
+  return chainRule<4, Second>(c, frame);
 }
 
 template <int Vectors, class Fn>

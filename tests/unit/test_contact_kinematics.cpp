@@ -1,6 +1,7 @@
 // Contact kinematics of one line pair: values against the geometry of crossed beams, first
 // variations R against central differences of the gaps, and K against central differences of R
-// (perturbing positions additively and rotations by spins, as the Newton update does).
+// (perturbing positions additively and rotations by spins, as the Newton update does); the point
+// contact's written-out gradients against nested AD of its gaps.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -394,4 +395,46 @@ TEST(ContactKinematics, FirstVariationsOnlyAgreeWithTheFullKinematics) {
               "%.1e, line %.1e\n", worstPoint, worstLine);
   EXPECT_LT(worstPoint, 1e-14);
   EXPECT_LT(worstLine, 1e-14);
+}
+
+// The point contact's written-out gradients (and their AD Hessians) against nested AD of the gaps:
+// every value, first variation and K at general states, with and without radii and history offsets,
+// with both variation orders.
+TEST(ContactKinematics, WrittenOutPointGradientsMatchNestedAdOfTheGaps) {
+  std::mt19937 g(31);
+  double worstValue = 0.0, worstR = 0.0, worstK = 0.0;
+  const auto relative = [](auto a, auto b, std::size_t n) {
+    double diff = 0.0, scale = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      diff = std::max(diff, std::abs(a[i] - b[i]));
+      scale = std::max(scale, std::abs(b[i]));
+    }
+    return scale > 0.0 ? diff / scale : diff;
+  };
+  for (int trial = 0; trial < 12; ++trial) {
+    LinePairInput in = crossing();
+    placeGenerally(in, g, 0.5);
+    in.radiusSum = trial % 2 ? 0.7 : 0.0;
+    const auto cp = closestPoints(in);
+    for (const Variations order : {Variations::Second, Variations::First}) {
+      const double xiPrev = cp.xi - 0.05 * (trial % 3), etaPrev = cp.eta + 0.03 * (trial % 4);
+      const ContactKinematics a = contactKinematics(in, cp.sigma, xiPrev, etaPrev, order);
+      const ContactKinematics b = contactKinematicsFromGaps(in, cp.sigma, xiPrev, etaPrev, order);
+      const double va[] = {a.xi, a.eta, a.cosine, a.segment, a.normal.value, a.tangent1.value, a.tangent2.value};
+      const double vb[] = {b.xi, b.eta, b.cosine, b.segment, b.normal.value, b.tangent1.value, b.tangent2.value};
+      for (int i = 0; i < 7; ++i) worstValue = std::max(worstValue, std::abs(va[i] - vb[i]) / (1.0 + std::abs(vb[i])));
+      for (auto gap : {&ContactKinematics::normal, &ContactKinematics::tangent1, &ContactKinematics::tangent2}) {
+        worstR = std::max(worstR, relative((a.*gap).R, (b.*gap).R, kPairDofs));
+        worstK = std::max(worstK, relative((a.*gap).K, (b.*gap).K, kPairDofs * kPairDofs));
+      }
+      for (auto field : {&ContactKinematics::cosineR, &ContactKinematics::xiR, &ContactKinematics::axesCosineR})
+        worstR = std::max(worstR, relative(a.*field, b.*field, kPairDofs));
+      worstR = std::max(worstR, relative(a.segmentR, b.segmentR, kPairDofs));
+    }
+  }
+  std::printf("written-out point gradients against nested AD: values %.2e, R %.2e, K %.2e (largest relative)\n",
+              worstValue, worstR, worstK);
+  EXPECT_LT(worstValue, 1e-13);
+  EXPECT_LT(worstR, 1e-12);
+  EXPECT_LT(worstK, 1e-11);
 }
