@@ -34,15 +34,17 @@ SerialUmfpack::SerialUmfpack(bool wide) : wide_(wide), control_(UMFPACK_CONTROL)
 
 SerialUmfpack::~SerialUmfpack() { release(); }
 
+void SerialUmfpack::freeNumeric() {
+  if (numeric_ && wide_) umfpack_dl_free_numeric(&numeric_);
+  if (numeric_ && !wide_) umfpack_di_free_numeric(&numeric_);
+  numeric_ = nullptr;
+}
+
 void SerialUmfpack::release() {
-  if (wide_) {
-    if (numeric_) umfpack_dl_free_numeric(&numeric_);
-    if (symbolic_) umfpack_dl_free_symbolic(&symbolic_);
-  } else {
-    if (numeric_) umfpack_di_free_numeric(&numeric_);
-    if (symbolic_) umfpack_di_free_symbolic(&symbolic_);
-  }
-  numeric_ = symbolic_ = nullptr;
+  freeNumeric();
+  if (symbolic_ && wide_) umfpack_dl_free_symbolic(&symbolic_);
+  if (symbolic_ && !wide_) umfpack_di_free_symbolic(&symbolic_);
+  symbolic_ = nullptr;
 }
 
 int SerialUmfpack::analyse(const double* values, double* info) {
@@ -57,11 +59,7 @@ int SerialUmfpack::analyse(const double* values, double* info) {
 }
 
 int SerialUmfpack::factorValues(const double* values, double* info) {
-  if (numeric_) {
-    if (wide_) umfpack_dl_free_numeric(&numeric_);
-    else umfpack_di_free_numeric(&numeric_);
-  }
-  numeric_ = nullptr;
+  freeNumeric();
   const int status =
       wide_ ? umfpack_dl_numeric(wideRowStart_.data(), wideColumns_.data(), values, symbolic_, &numeric_,
                                  control_.data(), info)
@@ -70,11 +68,7 @@ int SerialUmfpack::factorValues(const double* values, double* info) {
   // Warnings of an under- or overflowing determinant say nothing about the solve.
   if (status == UMFPACK_WARNING_determinant_underflow || status == UMFPACK_WARNING_determinant_overflow)
     return UMFPACK_OK;
-  if (status != UMFPACK_OK && numeric_) {
-    if (wide_) umfpack_dl_free_numeric(&numeric_);
-    else umfpack_di_free_numeric(&numeric_);
-    numeric_ = nullptr;
-  }
+  if (status != UMFPACK_OK) freeNumeric();
   return status;
 }
 

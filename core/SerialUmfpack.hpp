@@ -25,6 +25,7 @@ class SerialUmfpack : public SerialLu {
 
  private:
   void release();
+  void freeNumeric();
   // UMFPACK's symbolic analysis and numeric factorization with the 32- or 64-bit version (wide_);
   // they return its status.
   int analyse(const double* values, double* info);
