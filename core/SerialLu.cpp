@@ -78,18 +78,21 @@ int SerialLu::solvePreconditioned(const Matrix& A, const double* b, double* x, i
 
   const int m = std::min(maxIterations, kMaxKrylov);
   if (m < 1) return -1;
-  std::vector<double> V(std::size_t(n) * (m + 1)), H(std::size_t(m + 1) * m, 0.0), cs(m), sn(m), g(m + 1, 0.0);
-  std::vector<double> z(n), w(n);
+  std::vector<double> H(std::size_t(m + 1) * m, 0.0), cs(m), sn(m), g(m + 1, 0.0);
+  std::vector<double> z0(n), w(n);
   const double beta = norm(b);
   if (beta == 0.0) {
     std::fill(x, x + n, 0.0);
     return 0;
   }
-  solve(b, z.data());
+  solve(b, z0.data());
   // The residual GMRES aims at; where x's norm turns out smaller than this estimate, it is lowered.
-  double target = backwardError * (frobenius * norm(z.data()) + beta);
+  double target = backwardError * (frobenius * norm(z0.data()) + beta);
   if (!std::isfinite(target)) return -1;
-  // x = LU^-1 V y with H y = g (the first k columns).
+  // The basis V and its images Z = LU^-1 V, as many as the iterations take (x = Z y then needs no
+  // further solve).
+  std::vector<std::vector<double>> V, Z;
+  // x = Z y with H y = g (the first k columns).
   std::vector<double> y(m);
   const auto form = [&](int k) {
     for (int i = k - 1; i >= 0; --i) {
@@ -97,27 +100,28 @@ int SerialLu::solvePreconditioned(const Matrix& A, const double* b, double* x, i
       for (int j = i + 1; j < k; ++j) s -= H[std::size_t(m) * i + j] * y[j];
       y[i] = s / H[std::size_t(m) * i + i];
     }
-    std::fill(w.begin(), w.end(), 0.0);
+    std::fill(x, x + n, 0.0);
     for (int j = 0; j < k; ++j)
-      for (int r = 0; r < n; ++r) w[r] += y[j] * V[std::size_t(n) * j + r];
-    solve(w.data(), x);
+      for (int r = 0; r < n; ++r) x[r] += y[j] * Z[j][r];
   };
-  for (int i = 0; i < n; ++i) V[i] = b[i] / beta;
+  V.emplace_back(n);
+  for (int i = 0; i < n; ++i) V[0][i] = b[i] / beta;
   g[0] = beta;
   int k = 0;
   bool converged = false;
   while (k < m && !converged) {
-    double* v = &V[std::size_t(n) * k];
+    Z.emplace_back(n);
+    double* z = Z[k].data();
     // LU^-1 v_0 = LU^-1 b / beta: solved above for the target.
     if (k == 0)
-      for (int r = 0; r < n; ++r) z[r] /= beta;
+      for (int r = 0; r < n; ++r) z[r] = z0[r] / beta;
     else
-      solve(v, z.data());
-    multiply(z.data(), w.data());
+      solve(V[k].data(), z);
+    multiply(z, w.data());
     // Modified Gram-Schmidt, twice (the second pass keeps the basis orthogonal when w has cancelled).
     for (int pass = 0; pass < 2; ++pass)
       for (int i = 0; i <= k; ++i) {
-        const double* vi = &V[std::size_t(n) * i];
+        const double* vi = V[i].data();
         double h = 0.0;
         for (int r = 0; r < n; ++r) h += w[r] * vi[r];
         for (int r = 0; r < n; ++r) w[r] -= h * vi[r];
@@ -125,8 +129,9 @@ int SerialLu::solvePreconditioned(const Matrix& A, const double* b, double* x, i
       }
     const double h1 = norm(w.data());
     H[std::size_t(m) * (k + 1) + k] = h1;
+    V.emplace_back(n);
     if (h1 > 0.0)
-      for (int r = 0; r < n; ++r) V[std::size_t(n) * (k + 1) + r] = w[r] / h1;
+      for (int r = 0; r < n; ++r) V[k + 1][r] = w[r] / h1;
     // Givens rotations keep H upper triangular; |g[k + 1]| is the residual norm.
     for (int i = 0; i < k; ++i) {
       const double a = H[std::size_t(m) * i + k], c = H[std::size_t(m) * (i + 1) + k];
