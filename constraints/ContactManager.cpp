@@ -322,18 +322,62 @@ void ContactManager::forEachElementPair(const core::State& s,
     }
     boxes[e] = b;
   }
-  // Uniform grid of cell size = largest box extent: a box overlaps at most 2 x 2 x 2 cells.
-  std::unordered_map<long long, std::vector<int>> grid;
-  auto cellKey = [](long long i, long long j, long long k) { return (i * 73856093LL) ^ (j * 19349663LL) ^ (k * 83492791LL); };
-  auto range = [&](const Box& b, int k) { return std::make_pair((long long)std::floor(b.lo[k] / cell), (long long)std::floor(b.hi[k] / cell)); };
+  // Uniform grid of cell size = largest box extent: a box overlaps at most 2 x 2 x 2 cells. Over
+  // the boxes' bounding box it is stored densely (each cell's elements one after another) when that
+  // takes at most 8 cells per element, else hashed (sparse fibre sets): at 4 x 10^4 contact points of
+  // the crossed layers the hashed cells' lookups were the search's own hot spot.
+  constexpr double kHuge = std::numeric_limits<double>::max();
+  Vec3d lo{{kHuge, kHuge, kHuge}}, hi{{-kHuge, -kHuge, -kHuge}};
+  std::size_t boxed = 0;
+  bool finite = std::isfinite(cell) && cell > 0.0;
   for (std::size_t e = 0; e < elems.size(); ++e) {
     if (!inPairs[elems[e].beam]) continue;
-    const auto [i0, i1] = range(boxes[e], 0);
-    const auto [j0, j1] = range(boxes[e], 1);
-    const auto [k0, k1] = range(boxes[e], 2);
+    ++boxed;
+    for (int k = 0; k < 3; ++k) {
+      finite = finite && std::isfinite(boxes[e].lo[k]) && std::isfinite(boxes[e].hi[k]);
+      lo[k] = std::min(lo[k], boxes[e].lo[k]);
+      hi[k] = std::max(hi[k], boxes[e].hi[k]);
+    }
+  }
+  if (boxed == 0) return;
+  // (Not finite: a diverged state, its boxes' cells hashed as before and no index out of the grid.)
+  long long dims[3] = {1, 1, 1};
+  double cells = 1.0;
+  for (int k = 0; k < 3 && finite; ++k) {
+    dims[k] = static_cast<long long>(std::floor((hi[k] - lo[k]) / cell)) + 1;
+    cells *= double(dims[k]);
+  }
+  const bool dense = finite && cells <= 8.0 * double(boxed) + 64.0;
+  if (!finite) lo = Vec3d{};
+  auto range = [&](const Box& b, int k) {
+    return std::make_pair((long long)std::floor((b.lo[k] - lo[k]) / cell), (long long)std::floor((b.hi[k] - lo[k]) / cell));
+  };
+  auto cellKey = [&](long long i, long long j, long long k) {
+    return dense ? (i * dims[1] + j) * dims[2] + k : (i * 73856093LL) ^ (j * 19349663LL) ^ (k * 83492791LL);
+  };
+  // Each element's cells, by the callback.
+  const auto forEachCell = [&](const Box& b, const auto& fn) {
+    const auto [i0, i1] = range(b, 0);
+    const auto [j0, j1] = range(b, 1);
+    const auto [k0, k1] = range(b, 2);
     for (long long i = i0; i <= i1; ++i)
       for (long long j = j0; j <= j1; ++j)
-        for (long long k = k0; k <= k1; ++k) grid[cellKey(i, j, k)].push_back(static_cast<int>(e));
+        for (long long k = k0; k <= k1; ++k) fn(cellKey(i, j, k));
+  };
+  std::vector<int> cellStart, cellElements;  // dense: cell c's elements at [cellStart[c], cellStart[c + 1])
+  std::unordered_map<long long, std::vector<int>> grid;  // hashed
+  if (dense) {
+    cellStart.assign(static_cast<std::size_t>(cells) + 1, 0);
+    for (std::size_t e = 0; e < elems.size(); ++e)
+      if (inPairs[elems[e].beam]) forEachCell(boxes[e], [&](long long c) { ++cellStart[c + 1]; });
+    for (std::size_t c = 1; c < cellStart.size(); ++c) cellStart[c] += cellStart[c - 1];
+    cellElements.resize(cellStart.back());
+    std::vector<int> next(cellStart.begin(), cellStart.end() - 1);
+    for (std::size_t e = 0; e < elems.size(); ++e)
+      if (inPairs[elems[e].beam]) forEachCell(boxes[e], [&](long long c) { cellElements[next[c]++] = int(e); });
+  } else {
+    for (std::size_t e = 0; e < elems.size(); ++e)
+      if (inPairs[elems[e].beam]) forEachCell(boxes[e], [&](long long c) { grid[c].push_back(int(e)); });
   }
   // Element pairs (pair, element of its beam A, element of its beam B) whose boxes overlap, found
   // from each element's cells (not by looping over every pair and element: with All Pairs of n
@@ -343,36 +387,36 @@ void ContactManager::forEachElementPair(const core::State& s,
   for (std::size_t ea = 0; ea < elems.size(); ++ea) {
     if (!inPairs[elems[ea].beam]) continue;
     seen.clear();
-    {
-      const Box& A = boxes[ea];
-      const auto [i0, i1] = range(A, 0);
-      const auto [j0, j1] = range(A, 1);
-      const auto [k0, k1] = range(A, 2);
-      for (long long i = i0; i <= i1; ++i)
-        for (long long j = j0; j <= j1; ++j)
-          for (long long k = k0; k <= k1; ++k) {
-            auto it = grid.find(cellKey(i, j, k));
-            if (it == grid.end()) continue;
-            for (int eb : it->second) {
-              // The boxes first: most elements of a cell are not in a pair with ea's beam or do not
-              // reach ea's box, and the box test costs less than the pair's lookup.
-              const Box& B = boxes[eb];
-              bool overlap = true;
-              for (int c = 0; c < 3; ++c) overlap = overlap && A.lo[c] <= B.hi[c] && B.lo[c] <= A.hi[c];
-              if (!overlap) continue;
-              const auto pairIt = pairIndex_.find(beamPairKey(elems[ea].beam, elems[eb].beam));
-              if (pairIt == pairIndex_.end() || std::find(seen.begin(), seen.end(), eb) != seen.end()) continue;
-              seen.push_back(eb);
-              // Elements that share a node (beams joined there) or whose nodes are pinned together
-              // do not contact each other.
-              const BeamElement &A0 = elems[ea], &B0 = elems[eb];
-              bool joined = false;
-              for (int na : {A0.node1, A0.node2})
-                for (int nb : {B0.node1, B0.node2}) joined = joined || na == nb || joined_.count({na, nb});
-              if (!joined) found.emplace_back(pairIt->second, (int)ea, eb);
-            }
-          }
-    }
+    const Box& A = boxes[ea];
+    const auto visitCell = [&](const int* begin, const int* end) {
+      for (const int* it = begin; it != end; ++it) {
+        const int eb = *it;
+        // The boxes first: most elements of a cell are not in a pair with ea's beam or do not reach
+        // ea's box, and the box test costs less than the pair's lookup.
+        const Box& B = boxes[eb];
+        bool overlap = true;
+        for (int c = 0; c < 3; ++c) overlap = overlap && A.lo[c] <= B.hi[c] && B.lo[c] <= A.hi[c];
+        if (!overlap) continue;
+        const auto pairIt = pairIndex_.find(beamPairKey(elems[ea].beam, elems[eb].beam));
+        if (pairIt == pairIndex_.end() || std::find(seen.begin(), seen.end(), eb) != seen.end()) continue;
+        seen.push_back(eb);
+        // Elements that share a node (beams joined there) or whose nodes are pinned together do
+        // not contact each other.
+        const BeamElement &A0 = elems[ea], &B0 = elems[eb];
+        bool joined = false;
+        for (int na : {A0.node1, A0.node2})
+          for (int nb : {B0.node1, B0.node2}) joined = joined || na == nb || joined_.count({na, nb});
+        if (!joined) found.emplace_back(pairIt->second, (int)ea, eb);
+      }
+    };
+    forEachCell(A, [&](long long c) {
+      if (dense) {
+        visitCell(cellElements.data() + cellStart[c], cellElements.data() + cellStart[c + 1]);
+      } else {
+        const auto it = grid.find(c);
+        if (it != grid.end()) visitCell(it->second.data(), it->second.data() + it->second.size());
+      }
+    });
   }
   std::stable_sort(found.begin(), found.end(),
                    [](const auto& a, const auto& b) { return std::get<0>(a) < std::get<0>(b); });
