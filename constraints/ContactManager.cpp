@@ -299,15 +299,18 @@ void ContactManager::forEachElementPair(const core::State& s,
   const auto& elems = beams_->elements();
   std::vector<char> inPairs(beams_->beams().size(), 0);
   for (const auto& p : pairs_) inPairs[p.beamA] = inPairs[p.beamB] = 1;
+  // The elements of beams in contact pairs: the only ones boxed, gridded and searched.
+  std::vector<int> boxedElements;
+  for (std::size_t e = 0; e < elems.size(); ++e)
+    if (inPairs[elems[e].beam]) boxedElements.push_back(static_cast<int>(e));
   // Bounding boxes of the elements of beams in contact pairs, swept from the last converged state
   // to `s`: a pair that one increment carries through each other is still a candidate, with no
   // search margin tuned to the increment.
   struct Box { Vec3d lo, hi; };
   std::vector<Box> boxes(elems.size());
   double cell = 0.0;
-  for (std::size_t e = 0; e < elems.size(); ++e) {
+  for (const int e : boxedElements) {
     const BeamElement& el = elems[e];
-    if (!inPairs[el.beam]) continue;
     const auto& sec = beams_->beams()[el.beam].section;
     const double reach = (sec.shape == CrossSection::Shape::Rectangle
                               ? 0.5 * std::hypot(sec.width, sec.height)
@@ -328,11 +331,9 @@ void ContactManager::forEachElementPair(const core::State& s,
   // the crossed layers the hashed cells' lookups were the search's own hot spot.
   constexpr double kHuge = std::numeric_limits<double>::max();
   Vec3d lo{{kHuge, kHuge, kHuge}}, hi{{-kHuge, -kHuge, -kHuge}};
-  std::size_t boxed = 0;
+  const std::size_t boxed = boxedElements.size();
   bool finite = std::isfinite(cell) && cell > 0.0;
-  for (std::size_t e = 0; e < elems.size(); ++e) {
-    if (!inPairs[elems[e].beam]) continue;
-    ++boxed;
+  for (const int e : boxedElements) {
     for (int k = 0; k < 3; ++k) {
       finite = finite && std::isfinite(boxes[e].lo[k]) && std::isfinite(boxes[e].hi[k]);
       lo[k] = std::min(lo[k], boxes[e].lo[k]);
@@ -368,24 +369,20 @@ void ContactManager::forEachElementPair(const core::State& s,
   std::unordered_map<long long, std::vector<int>> grid;  // hashed
   if (dense) {
     cellStart.assign(static_cast<std::size_t>(cells) + 1, 0);
-    for (std::size_t e = 0; e < elems.size(); ++e)
-      if (inPairs[elems[e].beam]) forEachCell(boxes[e], [&](long long c) { ++cellStart[c + 1]; });
+    for (const int e : boxedElements) forEachCell(boxes[e], [&](long long c) { ++cellStart[c + 1]; });
     for (std::size_t c = 1; c < cellStart.size(); ++c) cellStart[c] += cellStart[c - 1];
     cellElements.resize(cellStart.back());
     std::vector<int> next(cellStart.begin(), cellStart.end() - 1);
-    for (std::size_t e = 0; e < elems.size(); ++e)
-      if (inPairs[elems[e].beam]) forEachCell(boxes[e], [&](long long c) { cellElements[next[c]++] = int(e); });
+    for (const int e : boxedElements) forEachCell(boxes[e], [&](long long c) { cellElements[next[c]++] = e; });
   } else {
-    for (std::size_t e = 0; e < elems.size(); ++e)
-      if (inPairs[elems[e].beam]) forEachCell(boxes[e], [&](long long c) { grid[c].push_back(int(e)); });
+    for (const int e : boxedElements) forEachCell(boxes[e], [&](long long c) { grid[c].push_back(e); });
   }
   // Element pairs (pair, element of its beam A, element of its beam B) whose boxes overlap, found
   // from each element's cells (not by looping over every pair and element: with All Pairs of n
   // beams that is n^2 / 2 pairs), then visited pair by pair in element order.
   std::vector<std::tuple<int, int, int>> found;
   std::vector<int> seen;
-  for (std::size_t ea = 0; ea < elems.size(); ++ea) {
-    if (!inPairs[elems[ea].beam]) continue;
+  for (const int ea : boxedElements) {
     seen.clear();
     const Box& A = boxes[ea];
     const auto visitCell = [&](const int* begin, const int* end) {
@@ -406,7 +403,7 @@ void ContactManager::forEachElementPair(const core::State& s,
         bool joined = false;
         for (int na : {A0.node1, A0.node2})
           for (int nb : {B0.node1, B0.node2}) joined = joined || na == nb || joined_.count({na, nb});
-        if (!joined) found.emplace_back(pairIt->second, (int)ea, eb);
+        if (!joined) found.emplace_back(pairIt->second, ea, eb);
       }
     };
     forEachCell(A, [&](long long c) {

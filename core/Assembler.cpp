@@ -21,6 +21,9 @@ class TpetraSink : public AssemblySink {
   TpetraSink(Matrix* K, Vector& r, const std::set<GlobalDof>& constrained) : K_(K), r_(r) {
     if (!K_) return;
     const auto& rowMap = *K_->getRowMap();
+    // The overlapped matrix's rows are the residual's entries (both the overlap map): one lookup
+    // serves both.
+    sameRows_ = rowMap.locallySameAs(*r_.getMap());
     constrainedRow_.assign(rowMap.getNodeNumElements(), 0);
     for (GlobalDof g : constrained) {
       const LO l = rowMap.getLocalElement(g);
@@ -29,14 +32,17 @@ class TpetraSink : public AssemblySink {
   }
   void add(const GlobalDof* dofs, int n, const double* f, const double* Ke) override {
     const auto& vectorMap = *r_.getMap();
-    for (int i = 0; i < n; ++i) r_.sumIntoLocalValue(local(vectorMap, dofs[i]), f[i]);
+    rows_.resize(n);
+    for (int i = 0; i < n; ++i) {
+      rows_[i] = local(vectorMap, dofs[i]);
+      r_.sumIntoLocalValue(rows_[i], f[i]);
+    }
     if (!K_ || !Ke) return;
     const auto& rowMap = *K_->getRowMap();
     const auto& colMap = *K_->getColMap();
-    rows_.resize(n);
     cols_.resize(n);
     for (int i = 0; i < n; ++i) {
-      rows_[i] = local(rowMap, dofs[i]);
+      if (!sameRows_) rows_[i] = local(rowMap, dofs[i]);
       cols_[i] = local(colMap, dofs[i]);
     }
     for (int i = 0; i < n; ++i) {
@@ -55,6 +61,7 @@ class TpetraSink : public AssemblySink {
   }
   Matrix* K_;
   Vector& r_;
+  bool sameRows_ = false;
   std::vector<char> constrainedRow_;  // by local row of K
   std::vector<LO> rows_, cols_;
 };
