@@ -1,6 +1,7 @@
 #include "Assembler.hpp"
 
 #include <algorithm>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
@@ -77,24 +78,64 @@ Assembler::Assembler(Teuchos::RCP<const Comm> comm, const Model& model) : comm_(
 
 bool Assembler::ownsDof(GlobalDof g) const { return owns_(g); }
 
+namespace {
+
+// Recursive coordinate bisection: the nodes `ids` go to ranks [r0, r1). The box's longest side is cut
+// where the ranks on either side get their share of the nodes (ties in the coordinate broken by node
+// number, so every rank computes the same split).
+void bisect(const std::vector<Vec3d>& X, std::vector<int>& ids, std::size_t begin, std::size_t end, int r0,
+            int r1, std::vector<int>& owner) {
+  if (r1 - r0 <= 1 || end - begin <= 1) {
+    for (std::size_t k = begin; k < end; ++k) owner[ids[k]] = r0;
+    return;
+  }
+  Vec3d lo = X[ids[begin]], hi = lo;
+  for (std::size_t k = begin; k < end; ++k)
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], X[ids[k]][a]);
+      hi[a] = std::max(hi[a], X[ids[k]][a]);
+    }
+  int axis = 0;
+  for (int a = 1; a < 3; ++a)
+    if (hi[a] - lo[a] > hi[axis] - lo[axis]) axis = a;
+  const int rm = r0 + (r1 - r0) / 2;
+  const std::size_t mid = begin + (end - begin) * std::size_t(rm - r0) / std::size_t(r1 - r0);
+  std::nth_element(ids.begin() + begin, ids.begin() + mid, ids.begin() + end, [&](int a, int b) {
+    return X[a][axis] < X[b][axis] || (X[a][axis] == X[b][axis] && a < b);
+  });
+  bisect(X, ids, begin, mid, r0, rm, owner);
+  bisect(X, ids, mid, end, rm, r1, owner);
+}
+
+}  // namespace
+
+std::vector<int> coordinatePartition(const std::vector<Vec3d>& X, int ranks) {
+  std::vector<int> owner(X.size(), 0), ids(X.size());
+  for (std::size_t k = 0; k < ids.size(); ++k) ids[k] = static_cast<int>(k);
+  bisect(X, ids, 0, ids.size(), 0, std::max(1, ranks), owner);
+  return owner;
+}
+
 void Assembler::rebuild(const State& state) {
   const int P = comm_->getSize(), r = comm_->getRank();
   const int N = state.numNodes();
-  nodeBegin_ = static_cast<int>((long long)N * r / P);
-  nodeEnd_ = static_cast<int>((long long)N * (r + 1) / P);
+  // The nodes are split in space once, from their reference positions: crossing beams near each
+  // other then sit on one rank, and so do the contact points between them.
+  if (!nodeOwner_ || static_cast<int>(nodeOwner_->size()) != N)
+    nodeOwner_ = std::make_shared<const std::vector<int>>(coordinatePartition(state.reference, P));
   const GlobalDof nodeDofs = GlobalDof(kDofsPerNode) * N;
   numDofs_ = state.numDofs();
-  const int b = nodeBegin_, e = nodeEnd_;
   // Extra unknowns (multipliers) are owned by rank 0.
-  owns_ = [b, e, nodeDofs, r](GlobalDof g) {
+  const auto nodeOwner = nodeOwner_;
+  owns_ = [nodeOwner, nodeDofs, r](GlobalDof g) {
     if (g >= nodeDofs) return r == 0;
-    const GlobalDof n = g / kDofsPerNode;
-    return n >= b && n < e;
+    return (*nodeOwner)[g / kDofsPerNode] == r;
   };
 
   std::vector<GO> owned;
-  for (int n = b; n < e; ++n)
-    for (int k = 0; k < kDofsPerNode; ++k) owned.push_back(GO(kDofsPerNode) * n + k);
+  for (int n = 0; n < N; ++n)
+    if ((*nodeOwner_)[n] == r)
+      for (int k = 0; k < kDofsPerNode; ++k) owned.push_back(GO(kDofsPerNode) * n + k);
   if (r == 0)
     for (GlobalDof g = nodeDofs; g < numDofs_; ++g) owned.push_back(g);
 

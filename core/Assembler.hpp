@@ -1,9 +1,10 @@
-// Distributed assembly on Tpetra. Nodes are split into contiguous ranges over the ranks; a rank owns
+// Distributed assembly on Tpetra. Nodes are split in space over the ranks (coordinatePartition); a rank owns
 // the 6 dofs of its nodes (and, later, extra unknowns assigned to it) and evaluates every block whose
 // first dof it owns. Blocks are summed with the FE classes (FECrsGraph / FECrsMatrix over the owned
 // and owned+shared maps, beginAssembly/endAssembly), the residual through an overlapped vector and an
 // Export with ADD. The graph is rebuilt by rebuild() whenever the coupling changes.
 #pragma once
+#include <memory>
 #include <set>
 #include <vector>
 
@@ -17,6 +18,10 @@
 #include "TpetraTypes.hpp"
 
 namespace bc::core {
+
+// Each node's rank: recursive coordinate bisection of the positions X into `ranks` parts of equal
+// counts (every rank gets the same answer).
+std::vector<int> coordinatePartition(const std::vector<Vec3d>& X, int ranks);
 
 class Assembler {
  public:
@@ -52,7 +57,7 @@ class Assembler {
   Teuchos::RCP<const Comm> comm_;
   const Model& model_;
   Teuchos::RCP<Teuchos::StackedTimer> timer_;
-  int nodeBegin_ = 0, nodeEnd_ = 0;  // owned node range
+  std::shared_ptr<const std::vector<int>> nodeOwner_;  // each node's rank
   Contribution::OwnsDof owns_;
   std::set<GlobalDof> constrained_;
   GlobalDof numDofs_ = 0;
