@@ -41,15 +41,22 @@ struct SerialKlu::Data {
   }
 };
 
-SerialKlu::SerialKlu() : d_(std::make_unique<Data>()) { ::KLU2::klu_defaults<double, int>(&d_->common); }
+SerialKlu::SerialKlu() : d_(std::make_unique<Data>()) {
+  ::KLU2::klu_defaults<double, int>(&d_->common);
+  pivotTolerance_ = d_->common.tol;
+}
+
+// KLU2 takes the diagonal when it is at least `tol` times the column's largest entry; with a
+// tolerance of 1e-300 any nonzero diagonal passes and a zero one does not (with zero it would).
+void SerialKlu::preferDiagonalPivots(bool on) { d_->common.tol = on ? 1e-300 : pivotTolerance_; }
 
 SerialKlu::~SerialKlu() { d_->release(); }
 
 bool SerialKlu::factored() const { return d_->numeric != nullptr; }
 
-void SerialKlu::factor(const Matrix& A, bool refactor) {
+void SerialKlu::factor(const Matrix& A, bool refactor, const double* given) {
   const auto local = A.getLocalMatrixHost();
-  double* values = const_cast<double*>(local.values.data());
+  double* values = const_cast<double*>(given ? given : local.values.data());
   // A refactorization needs the very same compressed rows as the factorization it reuses.
   if (!(refactor && factored() && pattern_.same(A))) {
     d_->release();
@@ -68,7 +75,7 @@ void SerialKlu::factor(const Matrix& A, bool refactor) {
   // A pivot of the old order that is zero now: factor afresh, with pivoting.
   if (!::KLU2::klu_refactor_definition<double, int>(pattern_.rowStart.data(), pattern_.columns.data(), values,
                                                     d_->symbolic, d_->numeric, &d_->common))
-    factor(A, false);
+    factor(A, false, given);
 }
 
 void SerialKlu::solve(const double* b, double* x) const {

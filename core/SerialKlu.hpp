@@ -15,7 +15,9 @@ class SerialKlu : public SerialLu {
   ~SerialKlu() override;
   std::string name() const override { return "KLU2"; }
   // `refactor` keeps the last pivot order (a zero pivot in that order: factored afresh).
-  void factor(const Matrix& A, bool refactor) override;
+  using SerialLu::factor;
+  void factor(const Matrix& A, bool refactor, const double* values) override;
+  void preferDiagonalPivots(bool on) override;
   void solve(const double* b, double* x) const override;
   bool factored() const override;
   bool refactorKeepsPivots() const override { return true; }
@@ -23,6 +25,7 @@ class SerialKlu : public SerialLu {
  private:
   struct Data;
   std::unique_ptr<Data> d_;
+  double pivotTolerance_ = 0.001;  // the library default, restored by preferDiagonalPivots(false)
 };
 
 }  // namespace bc::core

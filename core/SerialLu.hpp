@@ -20,12 +20,19 @@ class SerialLu {
 
   virtual std::string name() const = 0;
   // Factors A (on one process). `refactor`: A is the last factorization's matrix with new values,
-  // and the factorization may keep what it chose for it (KLU2: the pivot order). Throws
+  // and the factorization may keep what it chose for it (KLU2: the pivot order). `values`, when not
+  // null: factored in place of A's values (one per entry of A's compressed rows). Throws
   // std::runtime_error when the factorization fails (a singular matrix).
-  virtual void factor(const Matrix& A, bool refactor) = 0;
+  virtual void factor(const Matrix& A, bool refactor, const double* values) = 0;
+  void factor(const Matrix& A, bool refactor) { factor(A, refactor, nullptr); }
   // Solves A x = b with the last factorization (x and b: the row map's local order).
   virtual void solve(const double* b, double* x) const = 0;
   virtual bool factored() const = 0;
+  // With `on`, the next factorizations take a nonzero diagonal entry as its column's pivot whenever
+  // the fill-reducing order reaches it, however small it is against the column (for a saddle point
+  // whose zero diagonal was replaced by a small one: DirectSolver with Reuse Factorization); off (the
+  // default), the library's threshold test chooses.
+  virtual void preferDiagonalPivots(bool on) = 0;
   // Whether factor(A, true) keeps choices made for an earlier matrix that may not suit A (KLU2's
   // pivot order): a solve after it that fails its check is done again with a fresh factorization.
   virtual bool refactorKeepsPivots() const { return false; }

@@ -30,6 +30,14 @@ SerialUmfpack::SerialUmfpack(bool wide) : wide_(wide), control_(UMFPACK_CONTROL)
   // No iterative refinement within UMFPACK: every solve is checked by its residual (LinearSolver),
   // and with Reuse Factorization GMRES refines.
   control_[UMFPACK_IRSTEP] = 0;
+  symmetricPivotTolerance_ = control_[UMFPACK_SYM_PIVOT_TOLERANCE];
+}
+
+// UMFPACK's symmetric strategy (the one it chooses for these structurally symmetric matrices) takes
+// the diagonal when it is at least this tolerance times its column's largest entry; zero takes any
+// nonzero diagonal (and never a zero one while the column has another entry).
+void SerialUmfpack::preferDiagonalPivots(bool on) {
+  control_[UMFPACK_SYM_PIVOT_TOLERANCE] = on ? 0.0 : symmetricPivotTolerance_;
 }
 
 SerialUmfpack::~SerialUmfpack() { release(); }
@@ -72,9 +80,10 @@ int SerialUmfpack::factorValues(const double* values, double* info) {
   return status;
 }
 
-void SerialUmfpack::factor(const Matrix& A, bool /*refactor: the symbolic analysis is kept by pattern*/) {
+void SerialUmfpack::factor(const Matrix& A, bool /*refactor: the symbolic analysis is kept by pattern*/,
+                           const double* given) {
   const auto local = A.getLocalMatrixHost();
-  const double* values = local.values.data();
+  const double* values = given ? given : local.values.data();
   std::vector<double> info(UMFPACK_INFO);
   if (!(symbolic_ && pattern_.same(A))) {
     release();

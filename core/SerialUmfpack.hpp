@@ -19,7 +19,9 @@ class SerialUmfpack : public SerialLu {
   explicit SerialUmfpack(bool wide = false);
   ~SerialUmfpack() override;
   std::string name() const override { return "UMFPACK"; }
-  void factor(const Matrix& A, bool refactor) override;
+  using SerialLu::factor;
+  void factor(const Matrix& A, bool refactor, const double* values) override;
+  void preferDiagonalPivots(bool on) override;
   void solve(const double* b, double* x) const override;
   bool factored() const override { return numeric_ != nullptr; }
 
@@ -31,6 +33,7 @@ class SerialUmfpack : public SerialLu {
   int analyse(const double* values, double* info);
   int factorValues(const double* values, double* info);
   bool wide_ = false;
+  double symmetricPivotTolerance_ = 0.001;  // the library default, restored by preferDiagonalPivots(false)
   void* symbolic_ = nullptr;
   void* numeric_ = nullptr;
   std::vector<double> control_;

@@ -6,6 +6,8 @@
 //  - with Reuse Factorization, GMRES preconditioned with the last factorization solves later matrices
 //    of the same size (same or new pattern) to the direct solve's accuracy, and the matrix is
 //    factored again once the iterations since the last factorization reach the limit;
+//  - with Reuse Factorization, a saddle point (a zero diagonal in the pattern) is factored with that
+//    diagonal regularized, and GMRES solves the saddle point itself to the direct solve's accuracy;
 //  - a singular matrix is an error (LinearSolveError), not a huge x that passes a backward-error test;
 //  - GMRES with the MueLu preconditioner (rigid-body modes as near-null space) solves a system of
 //    6-dof nodes to its tolerance.
@@ -96,6 +98,36 @@ std::pair<SolveReport, double> reportAndError(LinearSolver& s, const Teuchos::RC
   return {report, x.normInf()};
 }
 
+// A saddle point over all ranks: n displacements with a tridiagonal stiffness (diagonal 4 + 0.01 i,
+// off-diagonals -1), and m multipliers, multiplier k tying displacement 10 k to displacement 10 k + 5
+// (u_10k - u_10k+5 = c: rows [B 0], columns B^T), as Lagrange multipliers do. With
+// `diagonalInPattern`, the multipliers' rows hold their zero diagonal as an entry (the assembled
+// contact blocks do).
+Teuchos::RCP<Matrix> saddlePoint(GO n, GO m, bool diagonalInPattern) {
+  const auto map = Teuchos::rcp(new Map(n + m, 0, Tpetra::getDefaultComm()));
+  auto A = Teuchos::rcp(new Matrix(map, 5));
+  for (std::size_t l = 0; l < map->getNodeNumElements(); ++l) {
+    const GO i = map->getGlobalElement(static_cast<LO>(l));
+    std::vector<GO> cols;
+    std::vector<double> vals;
+    if (i < n) {
+      if (i > 0) cols.push_back(i - 1), vals.push_back(-1.0);
+      cols.push_back(i), vals.push_back(4.0 + 0.01 * i);
+      if (i + 1 < n) cols.push_back(i + 1), vals.push_back(-1.0);
+      if (i % 10 == 0 && i / 10 < m) cols.push_back(n + i / 10), vals.push_back(1.0);
+      if (i % 10 == 5 && i / 10 < m) cols.push_back(n + i / 10), vals.push_back(-1.0);
+    } else {
+      const GO k = i - n;
+      cols = {10 * k, 10 * k + 5};
+      vals = {1.0, -1.0};
+      if (diagonalInPattern) cols.push_back(i), vals.push_back(0.0);
+    }
+    A->insertGlobalValues(i, Teuchos::ArrayView<const GO>(cols), Teuchos::ArrayView<const double>(vals));
+  }
+  A->fillComplete(map, map);
+  return A;
+}
+
 // The same, the largest error only.
 double solveError(LinearSolver& s, const Teuchos::RCP<Matrix>& A) { return reportAndError(s, A).second; }
 
@@ -176,6 +208,32 @@ TEST_P(DirectSolver, ReuseSolvesLaterMatricesWithTheLastFactorization) {
   for (double e : {e0, e1, e2, e3, e4, e5}) EXPECT_LT(e, 1e-11);
   // Each solve meets the check the direct solve meets, with the margin that keeps it from a redo.
   for (const SolveReport& r : {r0, r1, r2, r3, r4, r5}) EXPECT_LT(r.backwardError, 1e-13);
+}
+
+TEST_P(DirectSolver, ReuseFactorsASaddlePointWithItsZeroDiagonalRegularized) {
+  Teuchos::ParameterList p = solverList("Direct", GetParam());
+  p.set("Reuse Factorization", true);
+  auto reuse = makeLinearSolver(p);
+  auto direct = makeLinearSolver(solverList("Direct", GetParam()));
+  const auto K = saddlePoint(200, 19, true);
+  // Reuse: the multipliers' zero diagonal regularized for the factorization, GMRES with it solves A
+  // itself (at least one iteration, where the exact factorization's solve reports none).
+  const auto [r, e] = reportAndError(*reuse, K);
+  const auto [d, ed] = reportAndError(*direct, K);
+  // The zero diagonal outside the pattern: nothing to regularize, A factored as it is.
+  auto reuseAgain = makeLinearSolver(p);
+  const auto [u, eu] = reportAndError(*reuseAgain, saddlePoint(200, 19, false));
+  std::printf("  Direct (%s) on a saddle point: with reuse %d GMRES iterations, error %.1e, backward error %.1e; "
+              "exact factorization error %.1e; zero diagonal outside the pattern: %d iterations, error %.1e\n",
+              GetParam().c_str(), r.iterations, e, r.backwardError, ed, u.iterations, eu);
+  EXPECT_GE(r.iterations, 1);
+  EXPECT_LE(r.iterations, 4);
+  EXPECT_LT(e, 1e-11);
+  EXPECT_LT(r.backwardError, 1e-13);
+  EXPECT_EQ(d.iterations, 0);
+  EXPECT_LT(ed, 1e-11);
+  EXPECT_EQ(u.iterations, 0);
+  EXPECT_LT(eu, 1e-11);
 }
 
 TEST_P(DirectSolver, ASingularMatrixIsAnError) {
