@@ -525,7 +525,10 @@ const ParameterSpec& linearSolverSpec() {
     s.add("Reuse Factorization", false,
           "Direct only: solve by GMRES preconditioned with the last LU factorization (of an earlier Newton "
           "matrix of the same size), and factor the matrix again only when the GMRES iterations since the "
-          "last factorization reach Reuse Iteration Limit; the solution is held to the same residual check",
+          "last factorization reach Reuse Iteration Limit; a saddle point (Lagrange multipliers' zero "
+          "diagonal) is factored with that diagonal regularized (a millionth of its Schur complement "
+          "estimate), which keeps the fill-reducing order's pivots; the solution is held to the same "
+          "residual check",
           {}, "");
     s.addOptional("Reuse Iteration Limit", 25,
                   "Direct with Reuse Factorization: GMRES iterations, summed over the solves since the last "
