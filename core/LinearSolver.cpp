@@ -142,18 +142,25 @@ class DirectSolver : public LinearSolver {
     {
       Stage gather(*this, "Gather to Rank 0");
       if (!sameGraph || gathered_.is_null()) {
+        Stage setup(*this, "New Graph");
         // A new matrix (graph): rank 0's map holds every row, in global order, so the gathered
         // matrix's local rows and vectors are in global order too.
+        // The maps and the vectors' export and import stay while the rows do (a new active set with
+        // as many multipliers: 0.3 s of a new graph's 0.84 s at 10^4 points, Lagrange, 2 ranks).
         const auto owned = A->getRowMap();
-        const GO n = static_cast<GO>(owned->getGlobalNumElements());
-        std::vector<GO> mine;
-        if (comm->getRank() == 0)
-          for (GO g = 0; g < n; ++g) mine.push_back(g);
-        rootMap_ = Teuchos::rcp(new Map(n, Teuchos::ArrayView<const GO>(mine), 0, comm));
-        toRoot_ = Teuchos::rcp(new Tpetra::Export<LO, GO, Node>(owned, rootMap_));
-        fromRoot_ = Teuchos::rcp(new Tpetra::Import<LO, GO, Node>(rootMap_, owned));
+        if (ownedRows_.is_null() || !owned->isSameAs(*ownedRows_)) {
+          const GO n = static_cast<GO>(owned->getGlobalNumElements());
+          std::vector<GO> mine;
+          if (comm->getRank() == 0)
+            for (GO g = 0; g < n; ++g) mine.push_back(g);
+          rootMap_ = Teuchos::rcp(new Map(n, Teuchos::ArrayView<const GO>(mine), 0, comm));
+          toRoot_ = Teuchos::rcp(new Tpetra::Export<LO, GO, Node>(owned, rootMap_));
+          fromRoot_ = Teuchos::rcp(new Tpetra::Import<LO, GO, Node>(rootMap_, owned));
+          ownedRows_ = owned;
+        }
         gatherGraph(*A, *comm);
       }
+      Stage values(*this, "Values");
       gatherValues(*A, *comm);
     }
     Vector b0(rootMap_), x0(rootMap_);
@@ -205,21 +212,23 @@ class DirectSolver : public LinearSolver {
   int sinceFactorization_ = 0;  // GMRES iterations with the last factorization
   double reuseTarget_;
   // More than one rank: the system gathered to rank 0, kept while the graph stands.
-  Teuchos::RCP<const Map> rootMap_;
+  Teuchos::RCP<const Map> rootMap_, ownedRows_;
   Teuchos::RCP<Tpetra::Export<LO, GO, Node>> toRoot_;
   Teuchos::RCP<Tpetra::Import<LO, GO, Node>> fromRoot_;
   Teuchos::RCP<Matrix> gathered_;
-  // Rank 0: where each rank's matrix entries (its compressed rows in its own order, rank after rank)
-  // go among the gathered matrix's entries, and the counts and offsets of the ranks' entries.
+  // Rank 0: where each value to arrive (each rank's rows in its own order, a row's columns by global
+  // index, rank after rank) goes among the gathered matrix's entries, and the counts and offsets of
+  // the ranks' entries.
   std::vector<int> slots_, entryCounts_, entryOffsets_;
   std::vector<double> gatheredValues_;
+  // Each rank: its matrix entries in the order they travel (each row's columns by global index).
+  std::vector<int> sendOrder_;
+  std::vector<double> sendValues_;
 
-  // Each rank's entries' global rows and columns to rank 0, which builds the gathered graph from them
-  // (rows and columns in global order) and notes where each entry went. Once per graph: later
-  // matrices of the graph travel as their values alone (gatherValues: 4 ms per solve at 4096
-  // contact points, where a Tpetra export with ADD into the gathered matrix took 90 ms; the graph
-  // built here, at 4096 points, in 0.37 s with the Export and Import of the vectors, against 0.53 to
-  // 0.68 s by a Tpetra export of the first matrix).
+  // Each rank's rows (global indices, lengths, columns by global index) to rank 0, which builds the
+  // gathered graph from them (rows and columns in global order) and notes where each entry went.
+  // Once per graph: later matrices of the graph travel as their values alone (gatherValues: 4 ms per
+  // solve at 4096 contact points, where a Tpetra export with ADD into the gathered matrix took 90 ms).
   void gatherGraph(const Matrix& A, const Teuchos::Comm<int>& comm) {
     static_assert(sizeof(GO) == sizeof(long long), "global indices travel as MPI_LONG_LONG");
     const MPI_Comm mpi = rawMpiComm(comm);  // more than one rank: an MPI communicator
@@ -229,52 +238,74 @@ class DirectSolver : public LinearSolver {
     const auto& rowMap = *A.getRowMap();
     const auto& colMap = *A.getColMap();
     const int rows = static_cast<int>(rowMap.getNodeNumElements());
-    int count = static_cast<int>(entries.extent(0));
-    std::vector<long long> rowCol(2 * std::size_t(count));
-    for (int i = 0; i < rows; ++i)
-      for (auto k = rowPtr(i); k < rowPtr(i + 1); ++k) {
-        rowCol[2 * k] = rowMap.getGlobalElement(i);
-        rowCol[2 * k + 1] = colMap.getGlobalElement(entries(k));
+    // Each rank sorts its own rows' columns by global index (all ranks at once, where rank 0 sorted
+    // every row before), and sends its rows' global indices, their lengths and the sorted columns;
+    // sendOrder_ keeps the order in which its values are to travel.
+    std::vector<long long> rowIds(rows), cols(entries.extent(0));
+    std::vector<int> lengths(rows);
+    sendOrder_.resize(entries.extent(0));
+    std::vector<std::pair<long long, int>> row;
+    for (int i = 0; i < rows; ++i) {
+      row.clear();
+      for (auto k = rowPtr(i); k < rowPtr(i + 1); ++k)
+        row.emplace_back(colMap.getGlobalElement(entries(k)), static_cast<int>(k));
+      std::sort(row.begin(), row.end());
+      for (std::size_t j = 0; j < row.size(); ++j) {
+        cols[rowPtr(i) + j] = row[j].first;
+        sendOrder_[rowPtr(i) + j] = row[j].second;
       }
+      rowIds[i] = rowMap.getGlobalElement(i);
+      lengths[i] = static_cast<int>(row.size());
+    }
     const int ranks = comm.getSize(), rank = comm.getRank();
+    int counts[2] = {rows, static_cast<int>(entries.extent(0))};
+    std::vector<int> allCounts(2 * ranks);
+    MPI_Gather(counts, 2, MPI_INT, allCounts.data(), 2, MPI_INT, 0, mpi);
+    std::vector<int> rowCounts(ranks), rowOffsets(ranks);
     entryCounts_.assign(ranks, 0);
-    MPI_Gather(&count, 1, MPI_INT, entryCounts_.data(), 1, MPI_INT, 0, mpi);
-    std::vector<int> pairCounts(ranks), pairOffsets(ranks);
     entryOffsets_.assign(ranks, 0);
-    long long total = 0;
+    long long totalRows = 0, total = 0;
     for (int r = 0; r < ranks; ++r) {
+      rowCounts[r] = allCounts[2 * r];
+      rowOffsets[r] = static_cast<int>(totalRows);
+      entryCounts_[r] = allCounts[2 * r + 1];
       entryOffsets_[r] = static_cast<int>(total);
-      pairCounts[r] = 2 * entryCounts_[r];
-      pairOffsets[r] = 2 * entryOffsets_[r];
+      totalRows += rowCounts[r];
       total += entryCounts_[r];
     }
-    if (rank != 0) total = 0;
-    std::vector<long long> all(2 * total);
-    MPI_Gatherv(rowCol.data(), 2 * count, MPI_LONG_LONG, all.data(), pairCounts.data(), pairOffsets.data(),
+    if (rank != 0) totalRows = total = 0;
+    std::vector<long long> allRows(totalRows), allCols(total);
+    std::vector<int> allLengths(totalRows);
+    MPI_Gatherv(rowIds.data(), rows, MPI_LONG_LONG, allRows.data(), rowCounts.data(), rowOffsets.data(),
                 MPI_LONG_LONG, 0, mpi);
-    // Rank 0: the compressed rows, each row's columns ascending; slots_[e]: where entry e went.
+    MPI_Gatherv(lengths.data(), rows, MPI_INT, allLengths.data(), rowCounts.data(), rowOffsets.data(), MPI_INT, 0,
+                mpi);
+    MPI_Gatherv(cols.data(), counts[1], MPI_LONG_LONG, allCols.data(), entryCounts_.data(), entryOffsets_.data(),
+                MPI_LONG_LONG, 0, mpi);
+    // Rank 0: the compressed rows in global order (rootMap_'s local index of a global index is the
+    // global index itself); each row comes whole from the rank that owns it. slots_[e]: where the
+    // e-th value to arrive goes.
     const std::size_t n = rootMap_->getNodeNumElements();
     Teuchos::ArrayRCP<std::size_t> start(n + 1, 0);
     Teuchos::ArrayRCP<LO> columns(total);
-    std::vector<long long> origin(total);
-    for (long long e = 0; e < total; ++e) {
-      const LO row = rootMap_->getLocalElement(all[2 * e]);
-      if (row < 0 || rootMap_->getLocalElement(all[2 * e + 1]) < 0)
-        throw std::logic_error("Direct solver: a matrix entry outside the gathered rows");
-      ++start[row + 1];
+    for (long long r = 0; r < totalRows; ++r) {
+      if (allRows[r] < 0 || allRows[r] >= static_cast<long long>(n) || start[allRows[r] + 1] != 0)
+        throw std::logic_error("Direct solver: a gathered row outside the matrix, or sent twice");
+      start[allRows[r] + 1] = allLengths[r];
     }
     for (std::size_t i = 0; i < n; ++i) start[i + 1] += start[i];
-    std::vector<std::size_t> fill(start.begin(), start.end() - 1);
-    for (long long e = 0; e < total; ++e) origin[fill[rootMap_->getLocalElement(all[2 * e])]++] = e;
+    if (rank == 0 && static_cast<long long>(start[n]) != total)
+      throw std::logic_error("Direct solver: the gathered rows do not hold every entry");
     slots_.assign(total, 0);
-    for (std::size_t i = 0; i < n; ++i) {
-      const auto by = [&](long long a, long long b) { return all[2 * a + 1] < all[2 * b + 1]; };
-      std::sort(origin.begin() + start[i], origin.begin() + start[i + 1], by);
-      for (std::size_t k = start[i]; k < start[i + 1]; ++k) {
-        columns[k] = rootMap_->getLocalElement(all[2 * origin[k] + 1]);
-        slots_[origin[k]] = static_cast<int>(k);
+    long long e = 0;
+    for (long long r = 0; r < totalRows; ++r)
+      for (int j = 0; j < allLengths[r]; ++j, ++e) {
+        const std::size_t k = start[allRows[r]] + j;
+        if (allCols[e] < 0 || allCols[e] >= static_cast<long long>(n))
+          throw std::logic_error("Direct solver: a matrix entry outside the gathered rows");
+        columns[k] = static_cast<LO>(allCols[e]);
+        slots_[e] = static_cast<int>(k);
       }
-    }
     gatheredValues_.assign(total, 0.0);
     auto graph = Teuchos::rcp(new Tpetra::CrsGraph<LO, GO, Node>(rootMap_, rootMap_, start, columns));
     graph->expertStaticFillComplete(rootMap_, rootMap_);
@@ -286,12 +317,13 @@ class DirectSolver : public LinearSolver {
   void gatherValues(const Matrix& A, const Teuchos::Comm<int>& comm) {
     const auto local = A.getLocalMatrixHost();
     const int count = static_cast<int>(local.values.extent(0));
-    MPI_Gatherv(local.values.data(), count, MPI_DOUBLE, gatheredValues_.data(), entryCounts_.data(),
+    sendValues_.resize(count);
+    for (int k = 0; k < count; ++k) sendValues_[k] = local.values(sendOrder_[k]);
+    MPI_Gatherv(sendValues_.data(), count, MPI_DOUBLE, gatheredValues_.data(), entryCounts_.data(),
                 entryOffsets_.data(), MPI_DOUBLE, 0, rawMpiComm(comm));
     if (comm.getRank() != 0) return;
     const auto values = gathered_->getLocalMatrixHost().values;
-    for (std::size_t k = 0; k < values.extent(0); ++k) values(k) = 0.0;
-    for (std::size_t e = 0; e < slots_.size(); ++e) values(slots_[e]) += gatheredValues_[e];
+    for (std::size_t e = 0; e < slots_.size(); ++e) values(slots_[e]) = gatheredValues_[e];
   }
 
   // How much smaller than the Schur complement's diagonal estimate the regularized diagonal is. Its
