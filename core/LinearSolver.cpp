@@ -342,23 +342,15 @@ class DirectSolver : public LinearSolver {
   int regularize(const Matrix& A) {
     const auto a = A.getLocalMatrixHost();
     const auto& rowPtr = a.graph.row_map;
-    const auto& entries = a.graph.entries;
     const int n = static_cast<int>(A.getRowMap()->getNodeNumElements());
     if (regularizedGraph_.is_null() || regularizedGraph_ != A.getCrsGraph()) {
       // (No Tpetra object is made here: on more than one rank rank 0 alone runs this.)
       regularizedGraph_ = A.getCrsGraph();
-      const auto& rowMap = *A.getRowMap();
-      const auto& colMap = *A.getColMap();
-      entryRow_.assign(entries.extent(0), -1);
+      entryRow_ = rowMapColumns(A);
       diagonalEntry_.assign(n, -1);
-      std::vector<int> columnRow(colMap.getNodeNumElements());
-      for (std::size_t c = 0; c < columnRow.size(); ++c)
-        columnRow[c] = rowMap.getLocalElement(colMap.getGlobalElement(static_cast<LO>(c)));
       for (int i = 0; i < n; ++i)
-        for (auto k = rowPtr(i); k < rowPtr(i + 1); ++k) {
-          entryRow_[k] = columnRow[entries(k)];
+        for (auto k = rowPtr(i); k < rowPtr(i + 1); ++k)
           if (entryRow_[k] == i) diagonalEntry_[i] = static_cast<long>(k);
-        }
     }
     const auto diagonal = [&](int i) { return diagonalEntry_[i] < 0 ? 0.0 : a.values(diagonalEntry_[i]); };
     std::vector<int> zero;

@@ -9,8 +9,6 @@
 
 namespace bc::core {
 
-namespace {
-// A's column indices in its row map's local numbering (A on one process: every column is a row).
 std::vector<int> rowMapColumns(const Matrix& A) {
   const auto entries = A.getLocalMatrixHost().graph.entries;
   const auto& rowMap = *A.getRowMap();
@@ -20,7 +18,6 @@ std::vector<int> rowMapColumns(const Matrix& A) {
     columns[k] = rowMap.getLocalElement(colMap.getGlobalElement(entries(k)));
   return columns;
 }
-}  // namespace
 
 bool SerialLu::Pattern::same(const Matrix& A) const {
   const auto local = A.getLocalMatrixHost();

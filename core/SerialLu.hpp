@@ -67,6 +67,10 @@ class SerialLu {
   double iterationsWorth_ = 0.0;
 };
 
+// Each entry of A's compressed rows: its column's index in A's row map (A on one process: every
+// column is a row; -1 where a column is not).
+std::vector<int> rowMapColumns(const Matrix& A);
+
 // "KLU2" or "UMFPACK".
 std::unique_ptr<SerialLu> makeSerialLu(const std::string& name);
 
