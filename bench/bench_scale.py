@@ -102,11 +102,11 @@ def main():
     ap.add_argument("--friction", type=float, default=None,
                     help="Coulomb coefficient; default 0 for the grid, 0.2 for the weave (frictionless yarns slide "
                          "freely along each other)")
-    ap.add_argument("--solver", default="Direct", choices=["Direct", "UMFPACK", "MueLu", "ILUT", "RILUK"],
-                    help="Direct (KLU2), Direct with UMFPACK, or GMRES preconditioned by MueLu multigrid, ILUT or "
+    ap.add_argument("--solver", default="Direct", choices=["Direct", "UMFPACK", "MUMPS", "MueLu", "ILUT", "RILUK"],
+                    help="Direct (KLU2), Direct with UMFPACK or with MUMPS, or GMRES preconditioned by MueLu multigrid, ILUT or "
                          "RILUK")
     ap.add_argument("--reuse", action="store_true",
-                    help="Direct or UMFPACK with Reuse Factorization: GMRES preconditioned with the last factorization, "
+                    help="Direct, UMFPACK or MUMPS with Reuse Factorization: GMRES preconditioned with the last factorization, "
                          "factoring again once the iterations since the last factorization reach Reuse Iteration "
                          "Limit (Automatic)")
     ap.add_argument("--work", default="bench_scale")
@@ -138,8 +138,8 @@ def main():
             deck = os.path.join(a.work, f"{a.model}{n}_{SHORT.get(strategy, strategy)}.xml")
             t = text.replace('name="Type" type="string" value="Penalty"', f'name="Type" type="string" value="{strategy}"', 1)
             linear = ""
-            if a.solver in ("Direct", "UMFPACK"):
-                direct = "KLU2" if a.solver == "Direct" else "UMFPACK"
+            if a.solver in ("Direct", "UMFPACK", "MUMPS"):
+                direct = "KLU2" if a.solver == "Direct" else a.solver
                 linear = (f'<ParameterList name="Linear Solver"><Parameter name="Direct Solver" type="string" '
                           f'value="{direct}"/><Parameter name="Reuse Factorization" type="bool" '
                           f'value="{"true" if a.reuse else "false"}"/></ParameterList>')

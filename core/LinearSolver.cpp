@@ -1,6 +1,8 @@
 #include "LinearSolver.hpp"
 
+#include "Krylov.hpp"
 #include "Multigrid.hpp"
+#include "MumpsLu.hpp"
 #include "SerialLu.hpp"
 
 #include <algorithm>
@@ -16,6 +18,7 @@
 #include <Tpetra_CrsGraph.hpp>
 #include <Tpetra_Export.hpp>
 #include <Tpetra_Import.hpp>
+#include <Tpetra_Import_Util.hpp>
 
 namespace bc::core {
 
@@ -121,13 +124,14 @@ class DirectSolver : public LinearSolver {
  public:
   explicit DirectSolver(const Teuchos::ParameterList& p)
       : LinearSolver(p.get<double>("Residual Check Tolerance"), p.get<double>("Condition Limit")),
-        lu_(makeSerialLu(p.get<std::string>("Direct Solver"))),
+        parallel_(p.get<std::string>("Direct Solver") == "MUMPS"),
+        lu_(parallel_ ? nullptr : makeSerialLu(p.get<std::string>("Direct Solver"))),
         reuse_(p.get<bool>("Reuse Factorization")),
         reuseLimit_(p.isType<int>("Reuse Iteration Limit") ? p.get<int>("Reuse Iteration Limit") : 0),
         // The GMRES target leaves the backward error well below the check (LinearSolver::solve
         // redoes a shortcut's solve that is not).
         reuseTarget_(0.5e-3 * p.get<double>("Residual Check Tolerance")) {}
-  std::string name() const override { return "Direct (" + lu_->name() + ")"; }
+  std::string name() const override { return parallel_ ? "Direct (MUMPS)" : "Direct (" + lu_->name() + ")"; }
 
  protected:
   int doSolve(const Teuchos::RCP<const Matrix>& A, const Vector& b, Vector& x) override {
@@ -138,6 +142,7 @@ class DirectSolver : public LinearSolver {
     fresh_ = false;
     shortcut_ = false;
     lastMatrix_ = A;
+    if (parallel_) return parallelSolve(*A, shortcuts, b, x);
     if (comm->getSize() == 1) return factorAndSolve(*A, shortcuts, sameGraph, b, x);
     {
       Stage gather(*this, "Gather to Rank 0");
@@ -199,7 +204,10 @@ class DirectSolver : public LinearSolver {
 
  private:
   Teuchos::RCP<const Matrix> lastMatrix_;
+  // MUMPS (parallel_): the matrix factored where its rows are, by every rank; otherwise lu_ on rank 0.
+  bool parallel_;
   std::unique_ptr<SerialLu> lu_;
+  std::unique_ptr<MumpsLu> mumps_;
   // Reuse Factorization on a saddle point: the values factored in A's place (see regularize), and
   // for the graph they were laid out for, each entry's column as a local row (-1: none) and each
   // row's diagonal entry (-1: none).
@@ -374,6 +382,181 @@ class DirectSolver : public LinearSolver {
     return changed;
   }
 
+  // MUMPS: Reuse Factorization's saddle point regularized as in regularize, over the ranks. The rows
+  // j that couple to a zero-diagonal row i are anywhere, so each rank sends, for its rows j, the
+  // a_ji / a_jj to the owner of row i, which sums a_ij a_ji / a_jj. Collective; returns the rows
+  // changed over all ranks (regularized_: this rank's values).
+  int regularizeOverRanks(const Matrix& A) {
+    const auto a = A.getLocalMatrixHost();
+    const auto& rowPtr = a.graph.row_map;
+    const auto& entries = a.graph.entries;
+    const auto& rowMap = *A.getRowMap();
+    const auto& colMap = *A.getColMap();
+    const MPI_Comm mpi = rawMpiComm(*rowMap.getComm());
+    const int n = static_cast<int>(rowMap.getNodeNumElements());
+    if (regularizedGraph_.is_null() || regularizedGraph_ != A.getCrsGraph()) {
+      regularizedGraph_ = A.getCrsGraph();
+      diagonalEntry_.assign(n, -1);
+      for (int i = 0; i < n; ++i)
+        for (auto k = rowPtr(i); k < rowPtr(i + 1); ++k)
+          if (colMap.getGlobalElement(entries(k)) == rowMap.getGlobalElement(i)) diagonalEntry_[i] = static_cast<long>(k);
+    }
+    const auto diagonal = [&](int i) { return diagonalEntry_[i] < 0 ? 0.0 : a.values(diagonalEntry_[i]); };
+    // The rows with a zero diagonal in the pattern, marked in the column map.
+    Vector zero(A.getRowMap()), zeroColumn(A.getColMap());
+    int zeros = 0, allZeros = 0;
+    {
+      auto z = zero.getDataNonConst();
+      for (int i = 0; i < n; ++i)
+        if (diagonalEntry_[i] >= 0 && diagonal(i) == 0.0) z[i] = 1.0, ++zeros;
+    }
+    MPI_Allreduce(&zeros, &allZeros, 1, MPI_INT, MPI_SUM, mpi);
+    if (allZeros == 0) return 0;
+    const auto importer = A.getGraph()->getImporter();
+    if (importer.is_null())
+      zeroColumn = zero;  // the column map is the domain (= row) map
+    else
+      zeroColumn.doImport(zero, *importer, Tpetra::INSERT);
+    const auto zc = zeroColumn.getData();
+    // For each of this rank's rows j with a nonzero diagonal, and each zero-diagonal row i among its
+    // columns: (i, j, a_ji / a_jj), to go to the owner of row i.
+    int ranks = 0, rank = 0;
+    MPI_Comm_size(mpi, &ranks);
+    MPI_Comm_rank(mpi, &rank);
+    // Each column's owner: this rank, or for a column of another rank's row the importer's record.
+    Teuchos::Array<int> columnOwner(colMap.getNodeNumElements(), rank);
+    if (!importer.is_null()) Tpetra::Import_Util::getPids(*importer, columnOwner, false);
+    std::vector<GO> targets, from;
+    std::vector<int> owners;
+    std::vector<double> ratios;
+    for (int j = 0; j < n; ++j) {
+      const double d = diagonal(j);
+      if (d == 0.0) continue;
+      for (auto k = rowPtr(j); k < rowPtr(j + 1); ++k)
+        if (zc[entries(k)] == 1.0 && a.values(k) != 0.0) {
+          targets.push_back(colMap.getGlobalElement(entries(k)));
+          owners.push_back(columnOwner[entries(k)]);
+          from.push_back(rowMap.getGlobalElement(j));
+          ratios.push_back(a.values(k) / d);
+        }
+    }
+    std::vector<int> sendCounts(ranks, 0), sendOffsets(ranks, 0), receiveCounts(ranks), receiveOffsets(ranks, 0);
+    for (int o : owners) ++sendCounts[o];
+    for (int r = 1; r < ranks; ++r) sendOffsets[r] = sendOffsets[r - 1] + sendCounts[r - 1];
+    std::vector<GO> sendIds(2 * targets.size());
+    std::vector<double> sendRatios(targets.size());
+    {
+      std::vector<int> next = sendOffsets;
+      for (std::size_t t = 0; t < targets.size(); ++t) {
+        const int slot = next[owners[t]]++;
+        sendIds[2 * slot] = targets[t];
+        sendIds[2 * slot + 1] = from[t];
+        sendRatios[slot] = ratios[t];
+      }
+    }
+    MPI_Alltoall(sendCounts.data(), 1, MPI_INT, receiveCounts.data(), 1, MPI_INT, mpi);
+    for (int r = 1; r < ranks; ++r) receiveOffsets[r] = receiveOffsets[r - 1] + receiveCounts[r - 1];
+    const int received = receiveOffsets[ranks - 1] + receiveCounts[ranks - 1];
+    std::vector<GO> receiveIds(2 * static_cast<std::size_t>(received));
+    std::vector<double> receiveRatios(received);
+    MPI_Alltoallv(sendRatios.data(), sendCounts.data(), sendOffsets.data(), MPI_DOUBLE, receiveRatios.data(),
+                  receiveCounts.data(), receiveOffsets.data(), MPI_DOUBLE, mpi);
+    for (int r = 0; r < ranks; ++r) sendCounts[r] *= 2, sendOffsets[r] *= 2, receiveCounts[r] *= 2, receiveOffsets[r] *= 2;
+    MPI_Alltoallv(sendIds.data(), sendCounts.data(), sendOffsets.data(), MPI_LONG_LONG, receiveIds.data(),
+                  receiveCounts.data(), receiveOffsets.data(), MPI_LONG_LONG, mpi);
+    // s_i = -sum_j a_ij a_ji / a_jj, with a_ij from this rank's row i.
+    std::vector<double> s(n, 0.0);
+    for (int t = 0; t < received; ++t) {
+      const LO i = rowMap.getLocalElement(receiveIds[2 * t]);
+      const LO j = colMap.getLocalElement(receiveIds[2 * t + 1]);
+      if (i < 0) throw std::logic_error("Direct (MUMPS): a multiplier's coupling sent to a rank without its row");
+      if (j < 0) continue;  // a_ij is not in row i's pattern
+      for (auto k = rowPtr(i); k < rowPtr(i + 1); ++k)
+        if (entries(k) == j) s[i] -= a.values(k) * receiveRatios[t];
+    }
+    regularized_.assign(a.values.data(), a.values.data() + a.values.extent(0));
+    int changed = 0, allChanged = 0;
+    for (int i = 0; i < n; ++i)
+      if (diagonalEntry_[i] >= 0 && diagonal(i) == 0.0 && s[i] != 0.0 && std::isfinite(s[i])) {
+        regularized_[diagonalEntry_[i]] = s[i] / kRegularization;
+        ++changed;
+      }
+    MPI_Allreduce(&changed, &allChanged, 1, MPI_INT, MPI_SUM, mpi);
+    return allChanged;
+  }
+
+  // Solves A x = b with MUMPS on every rank (returns the Krylov iterations; 0: direct): as
+  // factorAndSolve, with the GMRES of Reuse Factorization over the ranks.
+  int parallelSolve(const Matrix& A, bool shortcuts, const Vector& b, Vector& x) {
+    const MPI_Comm mpi = rawMpiComm(*A.getRowMap()->getComm());
+    if (!mumps_) mumps_ = std::make_unique<MumpsLu>(*A.getRowMap()->getComm());
+    auto xv = x.getDataNonConst();
+    const auto bv = b.getData();
+    const int n = static_cast<int>(A.getRowMap()->getNodeNumElements());
+    Vector in(A.getDomainMap()), out(A.getRangeMap());
+    KrylovSpace space;
+    space.n = n;
+    space.multiply = [&](const double* v, double* result) {
+      {
+        auto d = in.getDataNonConst();
+        std::copy(v, v + n, d.getRawPtr());
+      }
+      A.apply(in, out);
+      const auto r = out.getData();
+      std::copy(r.getRawPtr(), r.getRawPtr() + n, result);
+    };
+    space.precondition = [&](const double* v, double* result) { mumps_->solve(v, result); };
+    // Reduced on rank 0 and sent to all: every rank follows the same iteration.
+    space.sum = [mpi](double mine) {
+      double all = 0.0;
+      MPI_Reduce(&mine, &all, 1, MPI_DOUBLE, MPI_SUM, 0, mpi);
+      MPI_Bcast(&all, 1, MPI_DOUBLE, 0, mpi);
+      return all;
+    };
+    const int limit = reuseLimit_ > 0 ? reuseLimit_ : std::max(10, static_cast<int>(0.5 * mumps_->iterationsWorth()));
+    if (shortcuts && reuse_ && mumps_->factored() && sinceFactorization_ < limit && mumps_->fits(A)) {
+      Stage stage(*this, "Krylov Iterations");
+      const int iterations = gmres(space, bv.getRawPtr(), xv.getRawPtr(), limit - sinceFactorization_, reuseTarget_,
+                                   A.getFrobeniusNorm());
+      if (iterations >= 0) {
+        shortcut_ = true;
+        sinceFactorization_ += iterations;
+        return iterations;
+      }
+    }
+    if (reuse_ && regularizeOverRanks(A) > 0) {
+      bool failed = false;
+      {
+        Stage stage(*this, "Factorization");
+        sinceFactorization_ = 0;
+        mumps_->preferDiagonalPivots(true);
+        try {
+          mumps_->factor(A, regularized_.data());
+        } catch (const std::runtime_error&) {
+          failed = true;  // (a singular regularized matrix, on every rank): A as it is, below
+        }
+        mumps_->preferDiagonalPivots(false);
+      }
+      if (!failed) {
+        Stage stage(*this, "Krylov Iterations");
+        const int iterations =
+            gmres(space, bv.getRawPtr(), xv.getRawPtr(), kMaxKrylov, reuseTarget_, A.getFrobeniusNorm());
+        if (iterations >= 0) {
+          sinceFactorization_ = iterations;
+          return iterations;
+        }
+      }
+    }
+    {
+      Stage stage(*this, "Factorization");
+      sinceFactorization_ = 0;
+      mumps_->factor(A);
+    }
+    Stage stage(*this, "Triangular Solves");
+    mumps_->solve(bv.getRawPtr(), xv.getRawPtr());
+    return 0;
+  }
+
   // shortcut_: the last solve refactored with old pivots or reused an old factorization; fresh_:
   // the next one is to do neither.
   bool shortcut_ = false, fresh_ = false;
@@ -427,7 +610,7 @@ class DirectSolver : public LinearSolver {
       }
       if (!regularizedFailed) {
         Stage stage(*this, "Krylov Iterations");
-        const int iterations = lu_->solvePreconditioned(A, bv.getRawPtr(), xv.getRawPtr(), SerialLu::kMaxKrylov,
+        const int iterations = lu_->solvePreconditioned(A, bv.getRawPtr(), xv.getRawPtr(), kMaxKrylov,
                                                         reuseTarget_);
         if (iterations >= 0) {
           sinceFactorization_ = iterations;
@@ -524,12 +707,13 @@ const ParameterSpec& linearSolverSpec() {
     ParameterSpec s;
     s.addChoice("Type", "Direct", {"Direct", "GMRES"},
                 "Direct: sparse LU (Direct Solver); GMRES: Belos GMRES with an Ifpack2 or MueLu preconditioner");
-    s.addChoice("Direct Solver", "KLU2", {"KLU2", "UMFPACK"},
+    s.addChoice("Direct Solver", "KLU2", {"KLU2", "UMFPACK", "MUMPS"},
                 "Direct only: the sparse LU factorization. KLU2: no dense kernels, a matrix of the last one's "
                 "pattern refactored with its pivot order (the faster up to about 10^4 rows); UMFPACK: "
                 "multifrontal with dense (BLAS) kernels, 3 to 6 times faster factorizations at 10^5 rows (most "
                 "on Lagrange multiplier saddle points), the faster from about 10^4 rows with Reuse "
-                "Factorization");
+                "Factorization; MUMPS: multifrontal with dense kernels, the matrix factored where its rows are by "
+                "all ranks together (the others gather it to rank 0)");
     s.add("Residual Check Tolerance", 1e-10,
           "largest accepted backward error ||b - A x|| / (||A||_F ||x|| + ||b||) of a solve; above it the solve "
           "is an error",

@@ -43,8 +43,8 @@ class SerialLu {
   // Solves A x = b by GMRES (no restart) right-preconditioned with the last factorization, which may
   // be of an earlier matrix of A's size (A: one process). Stops when the true residual ||b - A x||
   // is at most `backwardError` (||A||_F ||x|| + ||b||). Returns the iterations taken, or -1 when
-  // `maxIterations` (at most kMaxKrylov: the basis is kept) did not get there (x is then undefined).
-  static constexpr int kMaxKrylov = 100;
+  // `maxIterations` (at most kMaxKrylov of Krylov.hpp: the basis is kept) did not get there (x is then
+  // undefined).
   int solvePreconditioned(const Matrix& A, const double* b, double* x, int maxIterations, double backwardError) const;
 
  protected:

@@ -135,10 +135,10 @@ def check_laid_and_loaded(exe, work, mpi):
 def check_reused_factorization(exe, work, mpi):
     """8 x 8 layers between nodes (friction 0.2: unsymmetric matrices; Lagrange: indefinite), every
     strategy on 1 and 2 ranks, against the Direct (KLU2) runs' contact rows (1e-8 of the largest
-    force) and Newton iterations: with Reuse Factorization (KLU2 and UMFPACK), with fewer
+    force) and Newton iterations: with Reuse Factorization (KLU2, UMFPACK and MUMPS), with fewer
     factorizations than linear solves (GMRES with the last factorization took the others:
-    linear_iterations > 0 in newton.csv); and with UMFPACK as the Direct Solver, one factorization
-    per solve."""
+    linear_iterations > 0 in newton.csv); and with UMFPACK or MUMPS (factored by both ranks) as the
+    Direct Solver, one factorization per solve."""
     failures = 0
     for strategy in STRATEGIES:
         direct = deck_for(exe, work, "8x8 between nodes", 8, 11, strategy)
@@ -146,7 +146,7 @@ def check_reused_factorization(exe, work, mpi):
         with open(os.path.join(direct[:-4] + "_np1", "steps.csv")) as f:
             newton = [row["newton_iterations"] for row in csv.DictReader(f)]
         scale = max(abs(float(v)) for c in contact for k, v in c.items() if k.startswith("normal_force"))
-        for lu, reuse in (("KLU2", True), ("UMFPACK", False), ("UMFPACK", True)):
+        for lu, reuse in (("KLU2", True), ("UMFPACK", False), ("UMFPACK", True), ("MUMPS", False), ("MUMPS", True)):
             tree = ET.parse(direct)
             set_parameter(tree.getroot(), "Linear Solver/Direct Solver", "string", lu)
             set_parameter(tree.getroot(), "Linear Solver/Reuse Factorization", "bool", "true" if reuse else "false")

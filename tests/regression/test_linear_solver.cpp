@@ -247,7 +247,7 @@ TEST_P(DirectSolver, ASingularMatrixIsAnError) {
   EXPECT_THROW(solver->solve(A, b, x), LinearSolveError);
 }
 
-INSTANTIATE_TEST_SUITE_P(LinearSolver, DirectSolver, ::testing::Values("KLU2", "UMFPACK"));
+INSTANTIATE_TEST_SUITE_P(LinearSolver, DirectSolver, ::testing::Values("KLU2", "UMFPACK", "MUMPS"));
 
 TEST(LinearSolver, UmfpackSixtyFourBitVersionSolvesAsTheThirtyTwoBit) {
   // The 64-bit version, which takes over when the 32-bit one's addressing runs out (10^5 contact
