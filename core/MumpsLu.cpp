@@ -40,6 +40,10 @@ MumpsLu::MumpsLu(const Teuchos::Comm<int>& comm) : h_(std::make_unique<Handle>()
   id.icntl[icntl(18)] = 3;  // the matrix distributed: each rank gives its own rows
   id.icntl[icntl(20)] = 0;  // a dense right-hand side on rank 0
   id.icntl[icntl(21)] = 0;  // the solution on rank 0
+  // QAMD ordering: on the 10^4-point crossed layers as few operations as the automatic choice (PORD
+  // in this build, which has no METIS or SCOTCH), with a 25 % cheaper analysis and factorizations
+  // that parallelize better (2 ranks: 0.80-0.87 s against 0.92-1.03 s).
+  id.icntl[icntl(7)] = 6;
   // No iterative refinement and no error analysis: every solve is checked by its residual
   // (LinearSolver), and with Reuse Factorization GMRES refines.
   id.icntl[icntl(10)] = 0;
