@@ -125,10 +125,35 @@ void Assembler::rebuild(const State& state) {
     nodeOwner_ = std::make_shared<const std::vector<int>>(coordinatePartition(state.reference, P));
   const GlobalDof nodeDofs = GlobalDof(kDofsPerNode) * N;
   numDofs_ = state.numDofs();
-  // Extra unknowns (multipliers) are owned by rank 0.
+  // The contributions choose the rank that evaluates a block by its node dofs (a contact point: by
+  // one of its elements' first nodes), so the blocks are known before the extra unknowns
+  // (multipliers) have owners.
   const auto nodeOwner = nodeOwner_;
   owns_ = [nodeOwner, nodeDofs, r](GlobalDof g) {
     if (g >= nodeDofs) return r == 0;
+    return (*nodeOwner)[g / kDofsPerNode] == r;
+  };
+  std::vector<std::vector<GlobalDof>> blocks;
+  for (const auto& c : model_.contributions) c->connectivity(owns_, blocks);
+
+  // An extra unknown goes to the rank whose blocks hold it (a contact point's multipliers to the rank
+  // that evaluates the point), the lowest of several, rank 0 when none does: its row and the rows it
+  // couples to are then mostly on one rank. (All on rank 0, its rows made the graph rebuild and the
+  // solver's Schur sums serial: at 10^4 points with Lagrange multipliers a rebuild took as long on 2
+  // ranks as on 1.)
+  const GlobalDof extras = numDofs_ - nodeDofs;
+  auto extraOwner = std::make_shared<std::vector<int>>(extras, 0);
+  if (P > 1 && extras > 0) {
+    std::vector<int> claim(extras, P);
+    for (const auto& blk : blocks)
+      for (GlobalDof g : blk)
+        if (g >= nodeDofs) claim[g - nodeDofs] = r;
+    Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MIN, static_cast<int>(extras), claim.data(), extraOwner->data());
+    for (int& o : *extraOwner)
+      if (o == P) o = 0;
+  }
+  owns_ = [nodeOwner, extraOwner, nodeDofs, r](GlobalDof g) {
+    if (g >= nodeDofs) return (*extraOwner)[g - nodeDofs] == r;
     return (*nodeOwner)[g / kDofsPerNode] == r;
   };
 
@@ -136,11 +161,8 @@ void Assembler::rebuild(const State& state) {
   for (int n = 0; n < N; ++n)
     if ((*nodeOwner_)[n] == r)
       for (int k = 0; k < kDofsPerNode; ++k) owned.push_back(GO(kDofsPerNode) * n + k);
-  if (r == 0)
-    for (GlobalDof g = nodeDofs; g < numDofs_; ++g) owned.push_back(g);
-
-  std::vector<std::vector<GlobalDof>> blocks;
-  for (const auto& c : model_.contributions) c->connectivity(owns_, blocks);
+  for (GlobalDof g = nodeDofs; g < numDofs_; ++g)
+    if ((*extraOwner)[g - nodeDofs] == r) owned.push_back(g);
 
   // Row -> columns over the overlapped rows; owned rows always hold their diagonal. Each row's
   // columns are gathered with repeats, then sorted once (a set per row took 1.4 s at 10^4 contact

@@ -527,6 +527,10 @@ class DirectSolver : public LinearSolver {
     if (reuse_ && regularizeOverRanks(A) > 0) {
       bool failed = false;
       {
+        {
+          Stage analysis(*this, "Analysis");
+          mumps_->analyseIfNew(A);
+        }
         Stage stage(*this, "Factorization");
         sinceFactorization_ = 0;
         mumps_->preferDiagonalPivots(true);
@@ -546,6 +550,10 @@ class DirectSolver : public LinearSolver {
           return iterations;
         }
       }
+    }
+    {
+      Stage analysis(*this, "Analysis");
+      mumps_->analyseIfNew(A);
     }
     {
       Stage stage(*this, "Factorization");

@@ -3,7 +3,8 @@
 //    refactored with its pivot order) or UMFPACK (core/SerialUmfpack: multifrontal, BLAS kernels).
 //    On more than one rank the system is gathered to rank 0 and solved there on a one-process
 //    communicator, because KLU2 on several ranks returned wrong solutions without an error in this
-//    Trilinos build (see docs/toolchain.md). With "Reuse Factorization", GMRES preconditioned with
+//    Trilinos build (see docs/toolchain.md). "Direct Solver" MUMPS (core/MumpsLu) is factored where
+//    the rows are, by every rank. With "Reuse Factorization", GMRES preconditioned with
 //    the last factorization solves first; a saddle point (Lagrange multipliers: rows with a zero
 //    diagonal) is then factored with that diagonal regularized, and GMRES solves the saddle point
 //    itself.

@@ -130,11 +130,15 @@ void MumpsLu::analyse(const Matrix& A) {
   graph_ = A.getCrsGraph();
 }
 
-void MumpsLu::factor(const Matrix& A, const double* values) {
+void MumpsLu::analyseIfNew(const Matrix& A) {
   // Every rank has the same answer: the graph is the matrix's, the same object on all ranks or none.
   int same = graph_ == A.getCrsGraph() ? 1 : 0, all = 0;
   MPI_Allreduce(&same, &all, 1, MPI_INT, MPI_MIN, h_->comm);
   if (!all) analyse(A);
+}
+
+void MumpsLu::factor(const Matrix& A, const double* values) {
+  analyseIfNew(A);
   const auto local = A.getLocalMatrixHost();
   const double* v = values ? values : local.values.data();
   std::copy(v, v + values_.size(), values_.begin());

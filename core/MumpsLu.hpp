@@ -29,6 +29,9 @@ class MumpsLu {
   // Factors A (square, row map = domain map = range map). `values`, when not null: factored in place
   // of this rank's values of A (one per entry of its local compressed rows).
   void factor(const Matrix& A, const double* values = nullptr);
+  // MUMPS's analysis (ordering, symbolic factorization) of A's pattern, unless it is the last one's
+  // (collective; factor calls it, a caller may call it first to time it apart).
+  void analyseIfNew(const Matrix& A);
   // x = A^-1 b, both in this rank's rows of the last factored matrix's row map (local order).
   void solve(const double* b, double* x);
   bool factored() const { return factored_; }
