@@ -119,6 +119,7 @@ std::vector<int> coordinatePartition(const std::vector<Vec3d>& X, int ranks) {
 void Assembler::rebuild(const State& state) {
   const int P = comm_->getSize(), r = comm_->getRank();
   const int N = state.numNodes();
+  if (!timer_.is_null()) timer_->start("Rows");
   // The nodes are split in space once, from their reference positions: crossing beams near each
   // other then sit on one rank, and so do the contact points between them.
   if (!nodeOwner_ || static_cast<int>(nodeOwner_->size()) != N)
@@ -198,6 +199,8 @@ void Assembler::rebuild(const State& state) {
   std::vector<GO> overlap = owned;
   overlap.insert(overlap.end(), ghosts.begin(), ghosts.end());
 
+  if (!timer_.is_null()) timer_->stop("Rows");
+  if (!timer_.is_null()) timer_->start("Maps and Transfers");
   const auto invalid = Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid();
   ownedMap_ = Teuchos::rcp(new Map(invalid, Teuchos::ArrayView<const GO>(owned), 0, comm_));
   overlapMap_ = Teuchos::rcp(new Map(invalid, Teuchos::ArrayView<const GO>(overlap), 0, comm_));
@@ -206,7 +209,9 @@ void Assembler::rebuild(const State& state) {
   replicatedMap_ = Teuchos::rcp(new Map(invalid, Teuchos::ArrayView<const GO>(all), 0, comm_));
   overlapToOwned_ = Teuchos::rcp(new Tpetra::Export<LO, GO, Node>(overlapMap_, ownedMap_));
   ownedToReplicated_ = Teuchos::rcp(new Tpetra::Import<LO, GO, Node>(ownedMap_, replicatedMap_));
+  if (!timer_.is_null()) timer_->stop("Maps and Transfers");
 
+  if (!timer_.is_null()) timer_->start("Graph");
   graph_ = Teuchos::rcp(new FEGraph(ownedMap_, overlapMap_, maxPerRow));
   Tpetra::beginAssembly(*graph_);
   for (std::size_t k = 0; k < rowIds.size(); ++k)
@@ -217,6 +222,7 @@ void Assembler::rebuild(const State& state) {
   overlapResidual_ = Teuchos::rcp(new Vector(overlapMap_));
   residual_ = Teuchos::rcp(new Vector(ownedMap_));
   externalLoad_ = Teuchos::rcp(new Vector(ownedMap_));
+  if (!timer_.is_null()) timer_->stop("Graph");
 }
 
 void Assembler::assemble(const State& state, double loadFactor, bool tangent) {
