@@ -185,11 +185,9 @@ void Assembler::rebuild(const State& state) {
       auto& row = rowOf(i);
       row.insert(row.end(), blk.begin(), blk.end());
     }
-  std::size_t maxPerRow = 1;
   for (auto& row : rowColumns) {
     std::sort(row.begin(), row.end());
     row.erase(std::unique(row.begin(), row.end()), row.end());
-    maxPerRow = std::max(maxPerRow, row.size());
   }
   // The overlapped rows: the owned ones, then the others ascending.
   std::vector<GO> ghosts;
@@ -212,7 +210,14 @@ void Assembler::rebuild(const State& state) {
   if (!timer_.is_null()) timer_->stop("Maps and Transfers");
 
   if (!timer_.is_null()) timer_->start("Graph");
-  graph_ = Teuchos::rcp(new FEGraph(ownedMap_, overlapMap_, maxPerRow));
+  // Each overlapped row's own entry count: a bound for all rows (the longest, a node where many
+  // contact points meet) allocated that many entries for each of them, 7.2 s of the two graph
+  // rebuilds' 13.1 s at 10^5 contact points with Lagrange multipliers on 2 ranks.
+  Kokkos::DualView<std::size_t*, FEGraph::device_type> counts("row entry counts", overlap.size());
+  for (std::size_t l = 0; l < overlap.size(); ++l) counts.h_view(l) = rowColumns[rowIndex.at(overlap[l])].size();
+  counts.modify_host();
+  counts.sync_device();
+  graph_ = Teuchos::rcp(new FEGraph(ownedMap_, overlapMap_, Kokkos::DualView<const std::size_t*, FEGraph::device_type>(counts)));
   Tpetra::beginAssembly(*graph_);
   for (std::size_t k = 0; k < rowIds.size(); ++k)
     graph_->insertGlobalIndices(rowIds[k], Teuchos::ArrayView<const GO>(rowColumns[k]));
