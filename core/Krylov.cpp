@@ -6,6 +6,12 @@
 
 namespace bc::core {
 
+double iterationsWorth(double factorizationFlops, double factorNonzeros, double matrixNonzeros, double rows) {
+  const double solve = 2.0 * factorNonzeros;
+  const double iteration = 2.0 * solve + 2.0 * matrixNonzeros + 40.0 * rows;
+  return factorizationFlops / iteration;
+}
+
 int gmres(const KrylovSpace& space, const double* b, double* x, int maxIterations, double backwardError,
           double frobenius) {
   const int n = space.n;

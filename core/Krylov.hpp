@@ -24,4 +24,9 @@ constexpr int kMaxKrylov = 100;
 int gmres(const KrylovSpace& space, const double* b, double* x, int maxIterations, double backwardError,
           double frobenius);
 
+// The GMRES iterations of one solve each (a solve with the factors, a product with A, and the
+// orthogonalization against about 10 basis vectors, twice) whose floating-point operations equal a
+// factorization's: from its flop count, the nonzeros of its factors and of A, and A's rows.
+double iterationsWorth(double factorizationFlops, double factorNonzeros, double matrixNonzeros, double rows);
+
 }  // namespace bc::core

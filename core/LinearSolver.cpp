@@ -351,34 +351,52 @@ class DirectSolver : public LinearSolver {
     const auto a = A.getLocalMatrixHost();
     const auto& rowPtr = a.graph.row_map;
     const int n = static_cast<int>(A.getRowMap()->getNodeNumElements());
-    if (regularizedGraph_.is_null() || regularizedGraph_ != A.getCrsGraph()) {
-      // (No Tpetra object is made here: on more than one rank rank 0 alone runs this.)
-      regularizedGraph_ = A.getCrsGraph();
-      entryRow_ = rowMapColumns(A);
-      diagonalEntry_.assign(n, -1);
-      for (int i = 0; i < n; ++i)
-        for (auto k = rowPtr(i); k < rowPtr(i + 1); ++k)
-          if (entryRow_[k] == i) diagonalEntry_[i] = static_cast<long>(k);
-    }
+    // (No Tpetra object is made here: on more than one rank rank 0 alone runs this.)
+    if (locateDiagonals(A)) entryRow_ = rowMapColumns(A);
     const auto diagonal = [&](int i) { return diagonalEntry_[i] < 0 ? 0.0 : a.values(diagonalEntry_[i]); };
     std::vector<int> zero;
     for (int i = 0; i < n; ++i)
       if (diagonalEntry_[i] >= 0 && diagonal(i) == 0.0) zero.push_back(i);
     if (zero.empty()) return 0;
-    regularized_.assign(a.values.data(), a.values.data() + a.values.extent(0));
-    int changed = 0;
-    for (int i : zero) {
-      double s = 0.0;
+    std::vector<double> s(n, 0.0);
+    for (int i : zero)
       for (auto k = rowPtr(i); k < rowPtr(i + 1); ++k) {
         const int j = entryRow_[k];
         if (j < 0 || j == i || a.values(k) == 0.0 || diagonal(j) == 0.0) continue;
         for (auto m = rowPtr(j); m < rowPtr(j + 1); ++m)
-          if (entryRow_[m] == i) s -= a.values(k) * a.values(m) / diagonal(j);
+          if (entryRow_[m] == i) s[i] -= a.values(k) * a.values(m) / diagonal(j);
       }
-      if (s == 0.0 || !std::isfinite(s)) continue;
-      regularized_[diagonalEntry_[i]] = s / kRegularization;
-      ++changed;
-    }
+    return setRegularized(A, s);
+  }
+
+  // Each row's diagonal entry among A's local entries (diagonalEntry_, -1: none), found again only
+  // for a new graph; returns whether it was.
+  bool locateDiagonals(const Matrix& A) {
+    if (!regularizedGraph_.is_null() && regularizedGraph_ == A.getCrsGraph()) return false;
+    regularizedGraph_ = A.getCrsGraph();
+    const auto graph = A.getLocalMatrixHost().graph;
+    const auto& rowMap = *A.getRowMap();
+    const auto& colMap = *A.getColMap();
+    const int n = static_cast<int>(rowMap.getNodeNumElements());
+    diagonalEntry_.assign(n, -1);
+    for (int i = 0; i < n; ++i)
+      for (auto k = graph.row_map(i); k < graph.row_map(i + 1); ++k)
+        if (colMap.getGlobalElement(graph.entries(k)) == rowMap.getGlobalElement(i)) diagonalEntry_[i] = static_cast<long>(k);
+    return true;
+  }
+
+  // regularized_ = A's values, with the diagonal of each zero-diagonal row i whose s[i] (the Schur
+  // complement's diagonal estimate) is nonzero and finite set to s[i] / kRegularization. Returns the
+  // rows changed (on this process).
+  int setRegularized(const Matrix& A, const std::vector<double>& s) {
+    const auto values = A.getLocalMatrixHost().values;
+    regularized_.assign(values.data(), values.data() + values.extent(0));
+    int changed = 0;
+    for (std::size_t i = 0; i < s.size(); ++i)
+      if (diagonalEntry_[i] >= 0 && values(diagonalEntry_[i]) == 0.0 && s[i] != 0.0 && std::isfinite(s[i])) {
+        regularized_[diagonalEntry_[i]] = s[i] / kRegularization;
+        ++changed;
+      }
     return changed;
   }
 
@@ -394,13 +412,7 @@ class DirectSolver : public LinearSolver {
     const auto& colMap = *A.getColMap();
     const MPI_Comm mpi = rawMpiComm(*rowMap.getComm());
     const int n = static_cast<int>(rowMap.getNodeNumElements());
-    if (regularizedGraph_.is_null() || regularizedGraph_ != A.getCrsGraph()) {
-      regularizedGraph_ = A.getCrsGraph();
-      diagonalEntry_.assign(n, -1);
-      for (int i = 0; i < n; ++i)
-        for (auto k = rowPtr(i); k < rowPtr(i + 1); ++k)
-          if (colMap.getGlobalElement(entries(k)) == rowMap.getGlobalElement(i)) diagonalEntry_[i] = static_cast<long>(k);
-    }
+    locateDiagonals(A);
     const auto diagonal = [&](int i) { return diagonalEntry_[i] < 0 ? 0.0 : a.values(diagonalEntry_[i]); };
     // The rows with a zero diagonal in the pattern, marked in the column map.
     Vector zero(A.getRowMap()), zeroColumn(A.getColMap());
@@ -474,13 +486,7 @@ class DirectSolver : public LinearSolver {
       for (auto k = rowPtr(i); k < rowPtr(i + 1); ++k)
         if (entries(k) == j) s[i] -= a.values(k) * receiveRatios[t];
     }
-    regularized_.assign(a.values.data(), a.values.data() + a.values.extent(0));
-    int changed = 0, allChanged = 0;
-    for (int i = 0; i < n; ++i)
-      if (diagonalEntry_[i] >= 0 && diagonal(i) == 0.0 && s[i] != 0.0 && std::isfinite(s[i])) {
-        regularized_[diagonalEntry_[i]] = s[i] / kRegularization;
-        ++changed;
-      }
+    int changed = setRegularized(A, s), allChanged = 0;
     MPI_Allreduce(&changed, &allChanged, 1, MPI_INT, MPI_SUM, mpi);
     return allChanged;
   }

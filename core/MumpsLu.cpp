@@ -1,5 +1,6 @@
 #include "MumpsLu.hpp"
 
+#include "Krylov.hpp"
 #include "LinearSolver.hpp"
 
 #include <cmath>
@@ -99,6 +100,10 @@ void MumpsLu::analyse(const Matrix& A) {
       columns_[k] = static_cast<int>(colMap.getGlobalElement(entries(k)) + 1);
     }
   values_.resize(entries.extent(0));
+  static_assert(sizeof(GO) == sizeof(long long), "entry counts travel as MPI_LONG_LONG");
+  GO entryCount = static_cast<GO>(rows_.size()), allEntries = 0;
+  MPI_Allreduce(&entryCount, &allEntries, 1, MPI_LONG_LONG, MPI_SUM, h_->comm);
+  matrixEntries_ = double(allEntries);
   // Rank 0 learns where each rank's rows go in the dense right-hand side.
   int ranks = 0, rank = 0;
   MPI_Comm_size(h_->comm, &ranks);
@@ -168,11 +173,7 @@ void MumpsLu::factor(const Matrix& A, const double* values) {
   // millions when negative).
   const double flops = id.rinfog[2];
   const double entries = id.infog[28] >= 0 ? double(id.infog[28]) : -1e6 * double(id.infog[28]);
-  static_assert(sizeof(GO) == sizeof(long long), "entry counts travel as MPI_LONG_LONG");
-  GO nnz = static_cast<GO>(rows_.size()), total = 0;
-  MPI_Allreduce(&nnz, &total, 1, MPI_LONG_LONG, MPI_SUM, h_->comm);
-  const double iteration = 2.0 * (2.0 * entries) + 2.0 * double(total) + 40.0 * double(id.n);
-  iterationsWorth_ = flops / iteration;
+  iterationsWorth_ = core::iterationsWorth(flops, entries, matrixEntries_, double(id.n));
 }
 
 void MumpsLu::solve(const double* b, double* x) {

@@ -41,8 +41,8 @@ class MumpsLu {
   // (no threshold pivoting: for a saddle point whose zero diagonal was replaced by a small one, see
   // SerialLu::preferDiagonalPivots); off (the default), MUMPS's threshold test chooses.
   void preferDiagonalPivots(bool on);
-  // The GMRES iterations (a solve with the factors, a product with A, orthogonalization against about
-  // 10 basis vectors, twice) that cost as many floating-point operations as the last factorization.
+  // The GMRES iterations that cost as many floating-point operations as the last factorization
+  // (Krylov.hpp's iterationsWorth).
   double iterationsWorth() const { return iterationsWorth_; }
 
  private:
@@ -61,6 +61,7 @@ class MumpsLu {
   double pivotThreshold_ = 0.01;  // MUMPS's CNTL(1) as it came
   bool factored_ = false;
   double iterationsWorth_ = 0.0;
+  double matrixEntries_ = 0.0;  // the analysed matrix's entries over all ranks
   void analyse(const Matrix& A);
   // MUMPS's phase `job` on every rank; throws on its global error.
   void run(int job, const char* what);

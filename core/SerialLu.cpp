@@ -41,9 +41,7 @@ void SerialLu::Pattern::take(const Matrix& A) {
 }
 
 void SerialLu::setIterationsWorth(double factorizationFlops, double factorNonzeros, double matrixNonzeros) {
-  const double solve = 2.0 * factorNonzeros;
-  const double iteration = 2.0 * solve + 2.0 * matrixNonzeros + 40.0 * pattern_.n;
-  iterationsWorth_ = factorizationFlops / iteration;
+  iterationsWorth_ = core::iterationsWorth(factorizationFlops, factorNonzeros, matrixNonzeros, pattern_.n);
 }
 
 int SerialLu::solvePreconditioned(const Matrix& A, const double* b, double* x, int maxIterations,

@@ -58,9 +58,8 @@ class SerialLu {
     void take(const Matrix& A);
   };
   Pattern pattern_;
-  // The iterations one factorization is worth, from its flop count and the nonzeros of its factors
-  // (a GMRES iteration: a solve with the factors, a product with A, and the orthogonalization
-  // against about 10 basis vectors, twice).
+  // The iterations one factorization is worth (Krylov.hpp's iterationsWorth), from its flop count
+  // and the nonzeros of its factors.
   void setIterationsWorth(double factorizationFlops, double factorNonzeros, double matrixNonzeros);
 
  private:
