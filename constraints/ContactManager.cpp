@@ -1,16 +1,21 @@
 #include "ContactManager.hpp"
 
+#include <mpi.h>
+
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <functional>
 #include <limits>
 #include <memory>
 #include <set>
 #include <sstream>
 #include <stdexcept>
+#include <type_traits>
 #include <unordered_map>
 
 #include <Teuchos_CommHelpers.hpp>
+#include <Teuchos_DefaultMpiComm.hpp>
 
 #include "core/Checkpoint.hpp"
 #include "core/Parameters.hpp"
@@ -448,77 +453,159 @@ double ContactManager::referenceSigma(int eA, int lA, int eB, int lB, const Clos
 }
 
 std::map<Key, ContactManager::Candidate> ContactManager::detect(const core::State& s) const {
-  std::map<Key, Candidate> found;
-  std::map<Key, double> outside;  // how far the chosen candidate lies from its elements' centres
-  forEachElementPair(s, [&](int pi, int ea, int eb) {
-    const auto& pair = pairs_[pi];
-    if (inLineContact(pi, ea, eb)) {
-      // The Gauss points of the segment of A's element that lies between the planes of B's element's
-      // nodes (segments of neighbouring elements of B share their plane, so they tile A's line and
-      // no Gauss point straddles a node of B or lies beyond B's end).
-      // Rectangular sections: on each of A's two edges facing B, against B's face facing A, where
-      // the edge lies across that face.
-      std::vector<std::pair<int, int>> lines = {{0, 0}};  // (edge of A, face of B)
-      if (rectangles(pi)) {
-        const auto [edges, face] = facing(ea, eb, reference_);
-        lines = {{edges[0], face}, {edges[1], face}};
-      }
-      for (const auto& [edge, face] : lines) {
-        const LinePairInput in = segmentInput(pi, ea, eb, edge, face, s);
-        // (A sliver of a segment, where A's element ends at B's node within round-off, carries nothing.)
-        constexpr double kSliver = 1e-9;
-        const LineSegment seg = lineSegment(in);
-        if (!(seg.length() > kSliver)) continue;
-        // The planes partition A's line where its points project onto B about along B's axis (nearly
-        // parallel lines close together). Where the segment's points project far beyond B's element
-        // instead (lines further apart than their elements are long, at an angle: neighbouring wires
-        // of a strand, element pairs several elements apart), the pair is not in line contact.
-        const double mid = lineProjection(in, seg.lo + 0.5 * seg.length()).eta;
-        if (!(mid > -0.5 && mid < 1.5)) continue;
-        for (int q = 0; q < (int)gaussXi_.size(); ++q) {
-          const ClosestPoints cp = lineProjection(in, seg.lo + seg.length() * gaussXi_[q]);
-          const Key key{pi, -1 - (q + Point::kGaussSlots * (edge + 4 * face) + Point::kSegmentSlots * eb), ea};
-          // Across B's face: a new point within 1e-3 of its width beyond the face's edge, a known one
-          // while within 5 % (equal widths put A's edges exactly on B's face edges, where a sharp
-          // bound would drop and take up points from one iterate to the next).
-          if (in.face && std::abs(cp.lateral) > in.halfWidthB * (points_.count(key) ? 1.05 : 1.001)) continue;
-          found[key] = Candidate{ea, eb, cp};
+  std::vector<std::tuple<int, int, int>> visits;
+  forEachElementPair(s, [&](int pi, int ea, int eb) { visits.emplace_back(pi, ea, eb); });
+  // A key's candidate is the one offered with the lowest (outside, visit): for a point contact the
+  // candidate most central in its elements, the first visited of equals; for a line Gauss point the
+  // last visited (offered with outside 0 and -visit). The choice does not depend on which rank
+  // evaluated which visit, so the ranks' shares merge into the whole search's result.
+  struct Offer {
+    Candidate candidate;
+    double outside;
+    long long visit;
+  };
+  std::map<Key, Offer> chosen;
+  const auto offer = [&chosen](const Key& key, const Candidate& c, double outside, long long visit) {
+    const auto it = chosen.find(key);
+    if (it == chosen.end())
+      chosen.emplace(key, Offer{c, outside, visit});
+    else if (outside < it->second.outside || (!(it->second.outside < outside) && visit < it->second.visit))
+      it->second = Offer{c, outside, visit};
+  };
+  const auto* mpi = dynamic_cast<const Teuchos::MpiComm<int>*>(comm_.get());
+  const int ranks = mpi ? mpi->getSize() : 1, me = mpi ? mpi->getRank() : 0;
+  const std::size_t first = visits.size() * me / ranks, last = visits.size() * (me + 1) / ranks;
+  std::exception_ptr error;
+  try {
+    for (std::size_t v = first; v < last; ++v) {
+      const auto& [pi, ea, eb] = visits[v];
+      narrowPhase(pi, ea, eb, static_cast<long long>(v), s, offer);
+    }
+  } catch (...) {
+    error = std::current_exception();
+  }
+  if (ranks > 1) {
+    const MPI_Comm raw = *mpi->getRawMpiComm();
+    // A failure on one rank is thrown on every rank, with the lowest failing rank's message.
+    int failing = error ? me : ranks, firstFailing = ranks;
+    MPI_Allreduce(&failing, &firstFailing, 1, MPI_INT, MPI_MIN, raw);
+    if (firstFailing < ranks) {
+      std::string message;
+      if (me == firstFailing) {
+        try {
+          std::rethrow_exception(error);
+        } catch (const std::exception& e) {
+          message = e.what();
+        } catch (...) {
+          message = "unknown error";
         }
+      }
+      int length = static_cast<int>(message.size());
+      MPI_Bcast(&length, 1, MPI_INT, firstFailing, raw);
+      message.resize(length);
+      MPI_Bcast(message.data(), length, MPI_CHAR, firstFailing, raw);
+      if (me == firstFailing) std::rethrow_exception(error);
+      throw std::runtime_error("contact search (rank " + std::to_string(firstFailing) + "): " + message);
+    }
+    // Every rank's choices to every rank, merged by the same rule.
+    struct Record {
+      int key[3];
+      int elementA, elementB;
+      double outside;
+      long long visit;
+      ClosestPoints cp;
+    };
+    static_assert(std::is_trivially_copyable_v<Record>, "records travel as bytes");
+    std::vector<Record> mine;
+    mine.reserve(chosen.size());
+    for (const auto& [key, o] : chosen)
+      mine.push_back(Record{{std::get<0>(key), std::get<1>(key), std::get<2>(key)}, o.candidate.elementA,
+                            o.candidate.elementB, o.outside, o.visit, o.candidate.cp});
+    const int bytes = static_cast<int>(mine.size() * sizeof(Record));
+    std::vector<int> counts(ranks), offsets(ranks);
+    MPI_Allgather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, raw);
+    long long total = 0;
+    for (int r = 0; r < ranks; ++r) offsets[r] = static_cast<int>(total), total += counts[r];
+    if (total > std::numeric_limits<int>::max())
+      throw std::runtime_error("contact search: the candidates exceed what one exchange carries (2 GB)");
+    std::vector<Record> all(static_cast<std::size_t>(total) / sizeof(Record));
+    MPI_Allgatherv(mine.data(), bytes, MPI_BYTE, all.data(), counts.data(), offsets.data(), MPI_BYTE, raw);
+    chosen.clear();
+    for (const Record& r : all)
+      offer(Key{r.key[0], r.key[1], r.key[2]}, Candidate{r.elementA, r.elementB, r.cp}, r.outside, r.visit);
+  } else if (error) {
+    std::rethrow_exception(error);
+  }
+  std::map<Key, Candidate> found;
+  for (auto& [key, o] : chosen) found.emplace_hint(found.end(), key, o.candidate);
+  return found;
+}
+
+void ContactManager::narrowPhase(int pi, int ea, int eb, long long visit, const core::State& s,
+                                 const std::function<void(const Key&, const Candidate&, double, long long)>& offer)
+    const {
+  const auto& pair = pairs_[pi];
+  if (inLineContact(pi, ea, eb)) {
+    // The Gauss points of the segment of A's element that lies between the planes of B's element's
+    // nodes (segments of neighbouring elements of B share their plane, so they tile A's line and
+    // no Gauss point straddles a node of B or lies beyond B's end).
+    // Rectangular sections: on each of A's two edges facing B, against B's face facing A, where
+    // the edge lies across that face.
+    std::vector<std::pair<int, int>> lines = {{0, 0}};  // (edge of A, face of B)
+    if (rectangles(pi)) {
+      const auto [edges, face] = facing(ea, eb, reference_);
+      lines = {{edges[0], face}, {edges[1], face}};
+    }
+    for (const auto& [edge, face] : lines) {
+      const LinePairInput in = segmentInput(pi, ea, eb, edge, face, s);
+      // (A sliver of a segment, where A's element ends at B's node within round-off, carries nothing.)
+      constexpr double kSliver = 1e-9;
+      const LineSegment seg = lineSegment(in);
+      if (!(seg.length() > kSliver)) continue;
+      // The planes partition A's line where its points project onto B about along B's axis (nearly
+      // parallel lines close together). Where the segment's points project far beyond B's element
+      // instead (lines further apart than their elements are long, at an angle: neighbouring wires
+      // of a strand, element pairs several elements apart), the pair is not in line contact.
+      const double mid = lineProjection(in, seg.lo + 0.5 * seg.length()).eta;
+      if (!(mid > -0.5 && mid < 1.5)) continue;
+      for (int q = 0; q < (int)gaussXi_.size(); ++q) {
+        const ClosestPoints cp = lineProjection(in, seg.lo + seg.length() * gaussXi_[q]);
+        const Key key{pi, -1 - (q + Point::kGaussSlots * (edge + 4 * face) + Point::kSegmentSlots * eb), ea};
+        // Across B's face: a new point within 1e-3 of its width beyond the face's edge, a known one
+        // while within 5 % (equal widths put A's edges exactly on B's face edges, where a sharp
+        // bound would drop and take up points from one iterate to the next).
+        if (in.face && std::abs(cp.lateral) > in.halfWidthB * (points_.count(key) ? 1.05 : 1.001)) continue;
+        offer(key, Candidate{ea, eb, cp}, 0.0, -visit);  // the last visit wins
       }
     }
-    if (!inPointContact(pi, ea, eb)) return;
-    for (int la = 0; la < (int)lines_[pair.beamA].size(); ++la)
-      for (int lb = 0; lb < (int)lines_[pair.beamB].size(); ++lb) {
-        const LinePairInput in = lineInput(ea, la, eb, lb, s);
-        ClosestPoints cp = closestPoints(in);
-        if (cp.sinAngle < options_.minimumSinAngle) continue;
-        if (!withinElement(ea, cp.xi) || !withinElement(eb, cp.eta)) continue;
-        const Key key{pi, la, lb};
-        // The normal's orientation: carried by a known point, else from the last converged state.
-        const auto known = points_.find(key);
-        orient(cp, known != points_.end() ? known->second.sigma : referenceSigma(ea, la, eb, lb, cp),
-               in.radiusSum);
-        // Only lines on the sides facing each other.
-        if (dot(cp.pA - cp.cA, cp.normal) < -1e-12 || dot(cp.pB - cp.cB, cp.normal) > 1e-12) continue;
-        if (in.radiusSum == 0.0 && (dot(cp.pA - cp.cA, cp.normal) <= 0 || dot(cp.pB - cp.cB, cp.normal) >= 0))
-          continue;
-        // A known point stays on its element pair while its closest points lie within the
-        // elements or up to kStay of an element length beyond a shared node; it is handed to a
-        // neighbour only beyond that, so a point at a node cannot flip between elements from one
-        // iteration to the next. Otherwise the candidate most central in its elements wins.
-        constexpr double kStay = 0.05;
-        double out = std::max(std::abs(cp.xi - 0.5), std::abs(cp.eta - 0.5));
-        if (known != points_.end() && known->second.elementA == ea && known->second.elementB == eb &&
-            out <= 0.5 + kStay)
-          out = -1.0;
-        auto f = outside.find(key);
-        if (f == outside.end() || out < f->second) {
-          found[key] = Candidate{ea, eb, cp};
-          outside[key] = out;
-        }
-      }
-  });
-  return found;
+  }
+  if (!inPointContact(pi, ea, eb)) return;
+  for (int la = 0; la < (int)lines_[pair.beamA].size(); ++la)
+    for (int lb = 0; lb < (int)lines_[pair.beamB].size(); ++lb) {
+      const LinePairInput in = lineInput(ea, la, eb, lb, s);
+      ClosestPoints cp = closestPoints(in);
+      if (cp.sinAngle < options_.minimumSinAngle) continue;
+      if (!withinElement(ea, cp.xi) || !withinElement(eb, cp.eta)) continue;
+      const Key key{pi, la, lb};
+      // The normal's orientation: carried by a known point, else from the last converged state.
+      const auto known = points_.find(key);
+      orient(cp, known != points_.end() ? known->second.sigma : referenceSigma(ea, la, eb, lb, cp),
+             in.radiusSum);
+      // Only lines on the sides facing each other.
+      if (dot(cp.pA - cp.cA, cp.normal) < -1e-12 || dot(cp.pB - cp.cB, cp.normal) > 1e-12) continue;
+      if (in.radiusSum == 0.0 && (dot(cp.pA - cp.cA, cp.normal) <= 0 || dot(cp.pB - cp.cB, cp.normal) >= 0))
+        continue;
+      // A known point stays on its element pair while its closest points lie within the
+      // elements or up to kStay of an element length beyond a shared node; it is handed to a
+      // neighbour only beyond that, so a point at a node cannot flip between elements from one
+      // iteration to the next. Otherwise the candidate most central in its elements wins.
+      constexpr double kStay = 0.05;
+      double out = std::max(std::abs(cp.xi - 0.5), std::abs(cp.eta - 0.5));
+      if (known != points_.end() && known->second.elementA == ea && known->second.elementB == eb &&
+          out <= 0.5 + kStay)
+        out = -1.0;
+      offer(key, Candidate{ea, eb, cp}, out, visit);
+    }
 }
 
 void ContactManager::initialize(core::State& state) {

@@ -98,6 +98,7 @@ class ContactManager : public core::Contribution {
   void loadCommitted(core::CheckpointIn& in, const core::State& committed) override;
   void markIterate() override { marked_ = points_; }
   void useCompliance(core::ComplianceFunction compliance) override { compliance_ = std::move(compliance); }
+  void useCommunicator(const Teuchos::RCP<const Teuchos::Comm<int>>& comm) override { comm_ = comm; }
   static constexpr const char* kExtraOwner = "contact";
   double stepBound(const core::State& state, const std::vector<double>& du) const override;
   void returnToIterate() override { points_ = marked_; }
@@ -181,7 +182,16 @@ class ContactManager : public core::Contribution {
     ClosestPoints cp;
   };
   LinePairInput lineInput(int elementA, int lineA, int elementB, int lineB, const core::State& s) const;
+  // The candidates of the state's element pairs: the closest points of each element pair's lines
+  // (the narrow phase) for the pairs of the broad phase (forEachElementPair). With a communicator of
+  // several ranks each rank evaluates a contiguous share of the pairs and the ranks exchange their
+  // choices; the result is the same on every rank and the same as the whole search's on one.
   std::map<std::tuple<int, int, int>, Candidate> detect(const core::State& s) const;
+  // The narrow phase of one element pair, the broad phase's `visit`-th: offers each candidate it
+  // finds with how far outside its elements' centres it lies and an order (see detect).
+  void narrowPhase(int pair, int elementA, int elementB, long long visit, const core::State& s,
+                   const std::function<void(const std::tuple<int, int, int>&, const Candidate&, double, long long)>&
+                       offer) const;
   // Calls visit(pair, elementA, elementB) for the element pairs of the contact pairs whose bounding
   // boxes, swept from the last converged state to `s`, overlap.
   void forEachElementPair(const core::State& s, const std::function<void(int, int, int)>& visit) const;
@@ -225,6 +235,7 @@ class ContactManager : public core::Contribution {
   // compliance function.
   void giveCompliance(const core::State& state);
   core::ComplianceFunction compliance_;
+  Teuchos::RCP<const Teuchos::Comm<int>> comm_;  // the ranks that share the narrow phase (detect)
   // Automatic tangential parameters are lowered tenfold (their compliances handed on times
   // tangentialRelaxation_) when a Newton solve fails with slip directions cycling (failureHint sets
   // cycling_, restoreStep relaxes), at most kMaxRelaxations times; the run then warns.

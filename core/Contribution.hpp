@@ -112,6 +112,10 @@ class Physics {
   // The solver hands every contribution the compliance of the structure without it, for parameters
   // chosen from the structure's stiffness (automatic penalty parameters); kept by those that use it.
   virtual void useCompliance(ComplianceFunction compliance) {}
+  // The solver hands every contribution the communicator of its ranks: work that every rank would
+  // otherwise do alike (a contact search's narrow phase) may be shared out and its results
+  // exchanged, in the collective hooks above (prepareIteration). Without it the work is done whole.
+  virtual void useCommunicator(const Teuchos::RCP<const Teuchos::Comm<int>>& comm) {}
 };
 
 // The load-step life cycle: history committed at a converged step, restored when a step is cut, and

@@ -104,6 +104,7 @@ StaticSolver::StaticSolver(Teuchos::RCP<const Comm> comm, Model& model, SolverSe
     c->useCompliance([this, self](const State& state, const std::vector<SparseLoad>& loads) {
       return structureCompliance(model_, *self, state, loads);
     });
+    c->useCommunicator(comm_);
   }
 }
 

@@ -3,8 +3,12 @@
 // The deck has two beams, point loads, a prescribed rotation and prescribed displacements.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <random>
+
 #include <Teuchos_DefaultMpiComm.hpp>
 
+#include "constraints/ContactManager.hpp"
 #include "support/TestSupport.hpp"
 
 using namespace bc;
@@ -142,3 +146,79 @@ TEST(RankAgreement, LineContactAugmentedLagrangeAutomatic) {
 TEST(RankAgreement, LineContactPenalty) { compareDeck("parallel_rods.xml", "Penalty", 1e-10); }
 TEST(RankAgreement, LineContactAugmentedLagrange) { compareDeck("parallel_rods.xml", "Augmented Lagrange", 1e-10); }
 TEST(RankAgreement, LineContactLagrangeMultiplier) { compareDeck("parallel_rods.xml", "Lagrange Multiplier", 1e-10); }
+
+// The contact search's narrow phase shared over the ranks (each rank evaluates a contiguous share of
+// the element pairs the broad phase found, and the ranks exchange the candidates they chose) picks
+// exactly the points of the whole search done on one rank: random straight fibres (40 and 120,
+// radius 0.2, length 40 with 8 to 16 elements, each through a random point of a cube of side 10, All
+// Pairs), at the start and after random nodal displacements of up to 0.5. The same keys, element pairs, orientations and beam coordinates, bit
+// for bit.
+TEST(SharedSearch, ChoosesThePointsOfTheWholeSearch) {
+  auto world = Tpetra::getDefaultComm();
+  std::mt19937 g(7);  // the same fibres and motions on every rank
+  std::uniform_real_distribution<double> u(0.0, 10.0), d(-0.5, 0.5);
+  std::uniform_int_distribution<int> elements(8, 16);
+  for (int fibres : {40, 120}) {
+    Teuchos::ParameterList deck("BeamContact");
+    for (int f = 0; f < fibres; ++f) {
+      const std::string name = "fibre " + std::to_string(f);
+      Teuchos::ParameterList& b = deck.sublist("Beams").sublist(name);
+      // Through a point of the cube, 20 on either side of it: the ends, where contact is not
+      // modelled, lie far apart in the sparse shell around the cube.
+      const double centre[3] = {u(g), u(g), u(g)};
+      double t[3] = {u(g) - 5.0, u(g) - 5.0, u(g) - 5.0};
+      const double length = std::sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+      for (double& v : t) v *= 20.0 / length;
+      b.set("Start", Teuchos::Array<double>(std::vector<double>{centre[0] - t[0], centre[1] - t[1], centre[2] - t[2]}));
+      b.set("End", Teuchos::Array<double>(std::vector<double>{centre[0] + t[0], centre[1] + t[1], centre[2] + t[2]}));
+      b.set("Elements", elements(g));
+      b.sublist("Section").set("Shape", std::string("Circle"));
+      b.sublist("Section").set("Radius", 0.2);
+      b.sublist("Material").set("Young's Modulus", 1e5);
+      b.sublist("Material").set("Poisson's Ratio", 0.3);
+      Teuchos::ParameterList& sup = deck.sublist("Supports").sublist(name);
+      sup.set("Beam", name);
+      sup.set("Node", std::string("start"));
+    }
+    Teuchos::ParameterList& c = deck.sublist("Contact");
+    c.set("All Pairs", true);
+    c.set("Friction Coefficient", 0.0);
+    c.set("Allow Initial Penetration", true);
+    c.sublist("Enforcement").set("Type", std::string("Penalty"));
+    c.sublist("Enforcement").sublist("Penalty").set("Normal Penalty Parameter", 1e4);
+    c.sublist("Enforcement").sublist("Penalty").set("Tangential Penalty Parameter", 1e3);
+    auto shared = input::buildProblem(deck, "shared");
+    auto whole = input::buildProblem(deck, "whole");
+    shared.contact->useCommunicator(world);
+    core::State a = shared.model.initial, b = whole.model.initial;
+    const auto same = [&](const char* when) {
+      const auto& pa = shared.contact->points();
+      const auto& pb = whole.contact->points();
+      if (world->getRank() == 0)
+        std::printf("%3d fibres, %s: %zu points shared over %d ranks, %zu by the whole search\n", fibres, when,
+                    pa.size(), world->getSize(), pb.size());
+      EXPECT_GT(pb.size(), 0u);
+      ASSERT_EQ(pa.size(), pb.size());
+      for (auto ia = pa.begin(), ib = pb.begin(); ia != pa.end(); ++ia, ++ib) {
+        ASSERT_EQ(ia->first, ib->first);
+        EXPECT_EQ(ia->second.elementA, ib->second.elementA);
+        EXPECT_EQ(ia->second.elementB, ib->second.elementB);
+        EXPECT_EQ(ia->second.sigma, ib->second.sigma);
+        EXPECT_EQ(ia->second.xiPrev, ib->second.xiPrev);
+        EXPECT_EQ(ia->second.etaPrev, ib->second.etaPrev);
+        EXPECT_EQ(ia->second.xi, ib->second.xi);
+      }
+    };
+    shared.contact->initialize(a);
+    whole.contact->initialize(b);
+    same("at the start");
+    for (int n = 0; n < a.numNodes(); ++n) {
+      const double du[6] = {d(g), d(g), d(g), 0.0, 0.0, 0.0};
+      a.applyNodeIncrement(n, du);
+      b.applyNodeIncrement(n, du);
+    }
+    shared.contact->prepareIteration(a);
+    whole.contact->prepareIteration(b);
+    same("moved");
+  }
+}
