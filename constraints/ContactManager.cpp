@@ -521,15 +521,20 @@ std::map<Key, ContactManager::Candidate> ContactManager::detect(const core::Stat
     for (const auto& [key, o] : chosen)
       mine.push_back(Record{{std::get<0>(key), std::get<1>(key), std::get<2>(key)}, o.candidate.elementA,
                             o.candidate.elementB, o.outside, o.visit, o.candidate.cp});
-    const int bytes = static_cast<int>(mine.size() * sizeof(Record));
+    // The byte counts as 64-bit integers, so that every rank takes the same decision on their total.
+    const long long bytes = static_cast<long long>(mine.size() * sizeof(Record));
+    std::vector<long long> sizes(ranks);
+    MPI_Allgather(&bytes, 1, MPI_LONG_LONG, sizes.data(), 1, MPI_LONG_LONG, raw);
     std::vector<int> counts(ranks), offsets(ranks);
-    MPI_Allgather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, raw);
     long long total = 0;
-    for (int r = 0; r < ranks; ++r) offsets[r] = static_cast<int>(total), total += counts[r];
+    for (int r = 0; r < ranks; ++r) total += sizes[r];
     if (total > std::numeric_limits<int>::max())
-      throw std::runtime_error("contact search: the candidates exceed what one exchange carries (2 GB)");
+      throw std::runtime_error("contact search: the candidates (" + std::to_string(total) +
+                               " bytes) exceed what one exchange between the ranks carries (2 GB)");
+    for (int r = 0, at = 0; r < ranks; ++r) offsets[r] = at, counts[r] = static_cast<int>(sizes[r]), at += counts[r];
     std::vector<Record> all(static_cast<std::size_t>(total) / sizeof(Record));
-    MPI_Allgatherv(mine.data(), bytes, MPI_BYTE, all.data(), counts.data(), offsets.data(), MPI_BYTE, raw);
+    MPI_Allgatherv(mine.data(), static_cast<int>(bytes), MPI_BYTE, all.data(), counts.data(), offsets.data(),
+                   MPI_BYTE, raw);
     chosen.clear();
     for (const Record& r : all)
       offer(Key{r.key[0], r.key[1], r.key[2]}, Candidate{r.elementA, r.elementB, r.cp}, r.outside, r.visit);
