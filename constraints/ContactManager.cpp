@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <exception>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -15,9 +14,9 @@
 #include <unordered_map>
 
 #include <Teuchos_CommHelpers.hpp>
-#include <Teuchos_DefaultMpiComm.hpp>
 
 #include "core/Checkpoint.hpp"
+#include "core/Faults.hpp"
 #include "core/Parameters.hpp"
 
 namespace bc::constraints {
@@ -472,41 +471,20 @@ std::map<Key, ContactManager::Candidate> ContactManager::detect(const core::Stat
     else if (outside < it->second.outside || (!(it->second.outside < outside) && visit < it->second.visit))
       it->second = Offer{c, outside, visit};
   };
-  const auto* mpi = dynamic_cast<const Teuchos::MpiComm<int>*>(comm_.get());
-  const int ranks = mpi ? mpi->getSize() : 1, me = mpi ? mpi->getRank() : 0;
+  const int ranks = comm_.is_null() ? 1 : comm_->getSize(), me = comm_.is_null() ? 0 : comm_->getRank();
   const std::size_t first = visits.size() * me / ranks, last = visits.size() * (me + 1) / ranks;
-  std::exception_ptr error;
-  try {
+  const auto share = [&] {
     for (std::size_t v = first; v < last; ++v) {
       const auto& [pi, ea, eb] = visits[v];
       narrowPhase(pi, ea, eb, static_cast<long long>(v), s, offer);
     }
-  } catch (...) {
-    error = std::current_exception();
-  }
-  if (ranks > 1) {
-    const MPI_Comm raw = *mpi->getRawMpiComm();
-    // A failure on one rank is thrown on every rank, with the lowest failing rank's message.
-    int failing = error ? me : ranks, firstFailing = ranks;
-    MPI_Allreduce(&failing, &firstFailing, 1, MPI_INT, MPI_MIN, raw);
-    if (firstFailing < ranks) {
-      std::string message;
-      if (me == firstFailing) {
-        try {
-          std::rethrow_exception(error);
-        } catch (const std::exception& e) {
-          message = e.what();
-        } catch (...) {
-          message = "unknown error";
-        }
-      }
-      int length = static_cast<int>(message.size());
-      MPI_Bcast(&length, 1, MPI_INT, firstFailing, raw);
-      message.resize(length);
-      MPI_Bcast(message.data(), length, MPI_CHAR, firstFailing, raw);
-      if (me == firstFailing) std::rethrow_exception(error);
-      throw std::runtime_error("contact search (rank " + std::to_string(firstFailing) + "): " + message);
-    }
+  };
+  if (ranks == 1) {
+    share();
+  } else {
+    // A failure in one rank's share is thrown on every rank (the first failing rank's error).
+    core::collectively(*comm_, share);
+    const MPI_Comm raw = core::rawMpiComm(*comm_);
     // Every rank's choices to every rank, merged by the same rule.
     struct Record {
       int key[3];
@@ -538,11 +516,9 @@ std::map<Key, ContactManager::Candidate> ContactManager::detect(const core::Stat
     chosen.clear();
     for (const Record& r : all)
       offer(Key{r.key[0], r.key[1], r.key[2]}, Candidate{r.elementA, r.elementB, r.cp}, r.outside, r.visit);
-  } else if (error) {
-    std::rethrow_exception(error);
   }
   std::map<Key, Candidate> found;
-  for (auto& [key, o] : chosen) found.emplace_hint(found.end(), key, o.candidate);
+  for (auto& [key, o] : chosen) found.emplace_hint(found.end(), key, std::move(o.candidate));
   return found;
 }
 

@@ -24,12 +24,6 @@ namespace bc::core {
 
 namespace {
 
-// The MPI communicator under `comm`, or MPI_COMM_NULL when it is not an MPI one (a serial build's).
-MPI_Comm rawMpiComm(const Teuchos::Comm<int>& comm) {
-  const auto* mpi = dynamic_cast<const Teuchos::MpiComm<int>*>(&comm);
-  return mpi ? MPI_Comm(*mpi->getRawMpiComm()) : MPI_COMM_NULL;
-}
-
 // The largest of each of n ints over the ranks, into `global`; the ranks that arrive first sleep
 // between polls instead of spinning.
 void quietMaxAll(const Teuchos::Comm<int>& comm, int n, const int* local, int* global) {

@@ -7,7 +7,6 @@
 #include <stdexcept>
 #include <string>
 
-#include <Teuchos_DefaultMpiComm.hpp>
 #include <dmumps_c.h>
 
 namespace bc::core {
@@ -23,10 +22,10 @@ constexpr int icntl(int k) { return k - 1; }
 }  // namespace
 
 MumpsLu::MumpsLu(const Teuchos::Comm<int>& comm) : h_(std::make_unique<Handle>()) {
-  const auto* mpi = dynamic_cast<const Teuchos::MpiComm<int>*>(&comm);
-  if (!mpi) throw std::invalid_argument("MUMPS needs an MPI communicator");
+  const MPI_Comm mpi = rawMpiComm(comm);
+  if (mpi == MPI_COMM_NULL) throw std::invalid_argument("MUMPS needs an MPI communicator");
   // Its own communicator: MUMPS's messages cannot meet Tpetra's.
-  MPI_Comm_dup(*mpi->getRawMpiComm(), &h_->comm);
+  MPI_Comm_dup(mpi, &h_->comm);
   auto& id = h_->id;
   id.comm_fortran = static_cast<MUMPS_INT>(MPI_Comm_c2f(h_->comm));
   id.par = 1;  // rank 0 factors and solves too
