@@ -1,0 +1,10 @@
+// The BeamContact version, as the top-level CMakeLists.txt's project() states it (CMake checks that the
+// two agree). Results, checkpoints and plug-ins record it; a plug-in built against another version is
+// refused (constraints/Plugin.hpp).
+#pragma once
+
+#define BEAMCONTACT_VERSION "0.1.0"
+
+namespace bc::core {
+inline constexpr const char* kVersion = BEAMCONTACT_VERSION;
+}  // namespace bc::core
