@@ -11,18 +11,31 @@ std::vector<EnforcerEntry>& registry() {
   static std::vector<EnforcerEntry> r;
   return r;
 }
+std::string& currentOrigin() {
+  static std::string origin = "the program";
+  return origin;
+}
 }  // namespace
 
+RegistrationOrigin::RegistrationOrigin(std::string origin) : previous_(std::move(origin)) {
+  std::swap(previous_, currentOrigin());
+}
+RegistrationOrigin::~RegistrationOrigin() { std::swap(previous_, currentOrigin()); }
+
 void registerEnforcer(EnforcerEntry entry) {
-  for (auto& e : registry())
-    if (e.name == entry.name) {
-      e = std::move(entry);
-      return;
-    }
+  entry.origin = currentOrigin();
+  for (const auto& e : registry())
+    if (e.name == entry.name)
+      throw core::InputError("the strategy name \"" + entry.name + "\" is registered twice: by " + e.origin +
+                             " and by " + entry.origin + "; a strategy of your own needs a name of its own");
   registry().push_back(std::move(entry));
 }
 
 void registerBuiltinEnforcers() {
+  static bool done = false;
+  if (done) return;
+  done = true;
+  const RegistrationOrigin origin("built-in");
   registerEnforcer<PenaltyEnforcer>();
   registerEnforcer<LagrangeMultiplierEnforcer>();
   registerEnforcer<AugmentedLagrangeEnforcer>();
@@ -74,7 +87,17 @@ Teuchos::ParameterList enforcementReference() { return enforcementSpec().referen
 
 std::unique_ptr<ConstraintEnforcer> createEnforcer(const Teuchos::ParameterList& e) {
   const EnforcerEntry& entry = findEnforcer(e.get<std::string>("Type"), "Enforcement/Type");
-  return entry.create(e.sublist(entry.name));
+  if (entry.origin == "built-in") return entry.create(e.sublist(entry.name));
+  const std::string who = "strategy \"" + entry.name + "\" (" + entry.origin + ")";
+  try {
+    return entry.create(e.sublist(entry.name));
+  } catch (const core::InputError& x) {
+    throw core::InputError(who + ": " + x.what());
+  } catch (const std::exception& x) {
+    throw core::InputError(who + " failed to start: " + x.what());
+  } catch (...) {
+    throw core::InputError(who + " failed to start: it threw an exception that is not a std::exception");
+  }
 }
 
 }  // namespace bc::constraints

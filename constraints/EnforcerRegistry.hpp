@@ -21,16 +21,31 @@ struct EnforcerEntry {
   std::string description;                     // one line for the reference
   const core::ParameterSpec* spec = nullptr;   // parameters of the strategy's sublist
   std::function<std::unique_ptr<ConstraintEnforcer>(const Teuchos::ParameterList&)> create;
+  std::string origin;  // who registered it: "built-in", "plug-in \"<path>\"" or "the program" (set by registerEnforcer)
 };
 
-// Adds a strategy (replacing one of the same name).
+// While one lives, strategies are registered as coming from `origin` (the plug-in loader sets it).
+class RegistrationOrigin {
+ public:
+  explicit RegistrationOrigin(std::string origin);
+  ~RegistrationOrigin();
+  RegistrationOrigin(const RegistrationOrigin&) = delete;
+  RegistrationOrigin& operator=(const RegistrationOrigin&) = delete;
+
+ private:
+  std::string previous_;
+};
+
+// Adds a strategy. A name that is registered already (built-in or by a plug-in) is an InputError
+// naming both origins: nothing replaces a strategy silently.
 void registerEnforcer(EnforcerEntry entry);
 // T has static name(), description() and spec(), and a constructor from its validated sublist.
 template <class T> void registerEnforcer() {
   registerEnforcer({T::name(), T::description(), &T::spec(),
-                    [](const Teuchos::ParameterList& p) { return std::make_unique<T>(p); }});
+                    [](const Teuchos::ParameterList& p) { return std::make_unique<T>(p); }, {}});
 }
-// Registers the built-in strategies: Penalty, Lagrange Multiplier, Augmented Lagrange (idempotent).
+// Registers the built-in strategies: Penalty, Lagrange Multiplier, Augmented Lagrange (once; later
+// calls do nothing).
 void registerBuiltinEnforcers();
 const std::vector<EnforcerEntry>& enforcers();
 std::vector<std::string> enforcerNames();
@@ -44,7 +59,8 @@ const EnforcerEntry& findEnforcer(const std::string& name, const std::string& pa
 const EnforcerEntry& validateEnforcement(Teuchos::ParameterList& e, const std::string& path);
 // The documented reference of the Enforcement sublist.
 Teuchos::ParameterList enforcementReference();
-// The chosen strategy, constructed from a validated Enforcement sublist.
+// The chosen strategy, constructed from a validated Enforcement sublist. Anything a plug-in's
+// constructor throws, of any type, becomes an InputError naming the strategy and its plug-in.
 std::unique_ptr<ConstraintEnforcer> createEnforcer(const Teuchos::ParameterList& validatedEnforcement);
 
 }  // namespace bc::constraints

@@ -9,6 +9,8 @@
 
 #include <Tpetra_Assembly_Helpers.hpp>
 
+#include "Faults.hpp"
+
 namespace bc::core {
 
 namespace {
@@ -239,11 +241,21 @@ void Assembler::assemble(const State& state, double loadFactor, bool tangent) {
     matrix_->setAllToScalar(0.0);
   }
   TpetraSink sink(tangent ? matrix_.get() : nullptr, *overlapResidual_, constrained_);
-  for (const auto& c : model_.contributions) {
-    if (!timer_.is_null()) timer_->start("Evaluate " + c->name());
-    c->evaluate(state, owns_, sink, tangent);
-    if (!timer_.is_null()) timer_->stop("Evaluate " + c->name());
-  }
+  // The evaluations are local; an error in one rank's share is agreed before the collective
+  // completion of the matrix, so every rank stops with it instead of waiting in the export.
+  collectively(*comm_, [&] {
+    injectFault("assembly");
+    for (const auto& c : model_.contributions) {
+      if (!timer_.is_null()) timer_->start("Evaluate " + c->name());
+      try {
+        c->evaluate(state, owns_, sink, tangent);
+      } catch (...) {
+        if (!timer_.is_null()) timer_->stop("Evaluate " + c->name());
+        throw;
+      }
+      if (!timer_.is_null()) timer_->stop("Evaluate " + c->name());
+    }
+  });
   if (tangent) {
     const double one = 1.0;
     for (GlobalDof g : constrained_)

@@ -1,13 +1,17 @@
 #include "Faults.hpp"
 
+#include <fcntl.h>
 #include <stdio_ext.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <cerrno>
 #include <csignal>
+#include <cstdlib>
 #include <cstring>
 #include <vector>
+
+#include <mpi.h>
 
 #include <Teuchos_CommHelpers.hpp>
 
@@ -46,12 +50,27 @@ void OutputFile::fail(const std::string& what) {
   throw OutputError("cannot " + what + " " + path_ + ": " + reason, reason);
 }
 
+void OutputFile::failLink() {
+  throw OutputError("cannot write " + path_ + ": it is a symbolic link (results files are not written through links)",
+                    "a symbolic link");
+}
+
 void OutputFile::open(const fs::path& path, bool append) {
   if (file_) close();
   path_ = path.string();
   errno = 0;
-  file_ = std::fopen(path_.c_str(), append ? "a" : "w");
-  if (!file_) fail("open");
+  // Never through a symbolic link in the last component: a link planted where a results file goes
+  // would send the writes elsewhere.
+  const int fd = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_NOFOLLOW | O_CLOEXEC | (append ? O_APPEND : O_TRUNC), 0644);
+  if (fd < 0) {
+    if (errno == ELOOP) failLink();
+    fail("open");
+  }
+  file_ = fdopen(fd, append ? "a" : "w");
+  if (!file_) {
+    ::close(fd);
+    fail("open");
+  }
 }
 
 void OutputFile::write(const std::string& text) {
@@ -131,6 +150,40 @@ std::string signalName(int signal) {
   }
 }
 
+namespace {
+// A plain array, not a std::string: it is read by an exit handler, after static objects may have been
+// destroyed.
+char g_foreignNote[4096] = {0};
+}  // namespace
+
+void setForeignCodeNote(const std::string& note) {
+  std::snprintf(g_foreignNote, sizeof g_foreignNote, "%s", note.c_str());
+}
+std::string foreignCodeNote() { return g_foreignNote; }
+
+std::string nonStandardExceptionMessage() {
+  std::string m = "an exception that is not a std::exception was thrown";
+  if (g_foreignNote[0]) m += std::string(" (") + g_foreignNote + ")";
+  return m;
+}
+
+void injectFault(const char* place) {
+  // BEAMCONTACT_INJECT_FAULT="place:rank" (tests only): an error at `place` on that rank alone.
+  static const std::string spec = [] {
+    const char* v = std::getenv("BEAMCONTACT_INJECT_FAULT");
+    return std::string(v ? v : "");
+  }();
+  if (spec.empty()) return;
+  const auto colon = spec.find(':');
+  if (spec.substr(0, colon) != place) return;
+  int rank = 0;
+  int initialized = 0;
+  MPI_Initialized(&initialized);
+  if (initialized) MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  if (colon != std::string::npos && std::atoi(spec.c_str() + colon + 1) != rank) return;
+  throw std::runtime_error(std::string("injected fault at ") + place + " on rank " + std::to_string(rank));
+}
+
 void collectively(const Comm& comm, const std::function<void()>& work) {
   // kind: 0 none, 1 input, 2 output, 3 interrupted, 4 other.
   int kind = 0, signal = 0;
@@ -145,6 +198,8 @@ void collectively(const Comm& comm, const std::function<void()>& work) {
     kind = 3, message = e.what(), signal = e.signal();
   } catch (const std::exception& e) {
     kind = 4, message = e.what();
+  } catch (...) {
+    kind = 4, message = nonStandardExceptionMessage();
   }
   const int size = comm.getSize();
   int first = kind ? comm.getRank() : size, failed = size;

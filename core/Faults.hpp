@@ -56,6 +56,7 @@ class OutputFile {
 
  private:
   void fail(const std::string& what);
+  [[noreturn]] void failLink();
   std::FILE* file_ = nullptr;
   std::string path_;
 };
@@ -82,5 +83,16 @@ std::string signalName(int signal);
 // when it threw on any rank, every rank throws the first failing rank's error, of the same kind
 // (InputError, OutputError, Interrupted or std::runtime_error).
 void collectively(const Comm& comm, const std::function<void()>& work);
+
+// What is said of an exception that is not a std::exception (caught by collectively() and the
+// driver): it names the code besides ours that was running, set by the plug-in loader.
+void setForeignCodeNote(const std::string& note);
+std::string foreignCodeNote();
+std::string nonStandardExceptionMessage();
+
+// Tests only: with BEAMCONTACT_INJECT_FAULT="place:rank" in the environment, throws a
+// std::runtime_error at `place` on that rank alone (places: "deck", "plugin", "strategy",
+// "assembly", "solve", "output"), to show that every rank stops with it.
+void injectFault(const char* place);
 
 }  // namespace bc::core

@@ -57,13 +57,18 @@ long livePid(const fs::path& status) {
 
 }  // namespace
 
-ResultsWriter::ResultsWriter(const std::string& directory, const Model& model, Teuchos::RCP<const Comm> comm,
-                             bool writeVtk, int resumeStep)
-    : dir_(directory), model_(model), comm_(comm), rank_(comm->getRank()), vtk_(writeVtk) {
+ResultsWriter::ResultsWriter(const Where& where, const Model& model, Teuchos::RCP<const Comm> comm, bool writeVtk,
+                             int resumeStep)
+    : dir_(where.directory), notes_(where.notes), model_(model), comm_(comm), rank_(comm->getRank()), vtk_(writeVtk) {
   collectively(*comm_, [&] {
     if (!root()) return;
     if (dir_.empty()) throw InputError("the results directory is empty; give Output/Directory or --output");
     try {
+      OutputDirectory::Options options;
+      options.overwrite = where.overwrite;
+      options.pathFromDeck = where.fromDeck;
+      options.parameter = "Output/Directory";
+      out_ = OutputDirectory(dir_, options);
       if (resumeStep >= 0) prepareResume(resumeStep);
       else prepareFresh();
       writeStatus("running (pid " + std::to_string(getpid()) + ")");
@@ -84,39 +89,33 @@ std::vector<std::string> ResultsWriter::fileNames() const {
   return names;
 }
 
+bool ResultsWriter::ownResult(const std::string& relative) const {
+  if (relative.rfind("vtk/", 0) == 0) return vtkStep(relative.substr(4)) >= 0;
+  const auto names = fileNames();
+  return std::find(names.begin(), names.end(), relative) != names.end();
+}
+
 void ResultsWriter::prepareFresh() {
   const fs::path dir(dir_);
-  std::error_code ec;
-  fs::create_directories(dir / "vtk", ec);
-  if (ec) throw InputError("cannot create the results directory \"" + dir_ + "\": " + ec.message());
-  const bool ours = fs::exists(dir / "status.txt");
-  if (ours) {
+  if (out_.lists("status.txt") && fs::exists(dir / "status.txt"))
     if (const long pid = livePid(dir / "status.txt"))
       throw InputError("results directory \"" + dir_ + "\" is in use by a running beamcontact (pid " +
                        std::to_string(pid) + "); choose another --output");
-  } else {
-    for (const auto& name : fileNames())
-      if (fs::exists(dir / name))
-        throw InputError("results directory \"" + dir_ + "\" holds " + name +
-                         " but no status.txt: it is not from an earlier run; choose another directory or remove it");
-    for (const auto& f : fs::directory_iterator(dir / "vtk"))
-      if (vtkStep(f.path().filename().string()) < 0)
-        throw InputError("results directory \"" + dir_ + "\" has a vtk/ folder with other files (" +
-                         f.path().filename().string() + "); choose another directory");
-  }
-  // An earlier run's results go, so none of them is mistaken for this run's.
-  for (const auto& name : fileNames()) {
-    fs::remove(dir / name, ec);
-    fs::remove(dir / (name + ".tmp"), ec);
-  }
-  for (const auto& f : fs::directory_iterator(dir / "vtk"))
-    if (vtkStep(f.path().filename().string()) >= 0) fs::remove(f.path(), ec);
+  // An earlier run's results go, so none of them is mistaken for this run's; only files the
+  // manifest names are removed.
+  out_.removeOwn([&](const std::string& name) { return ownResult(name); });
+  for (const auto& name : fileNames()) out_.add(name);
+  out_.add("vtk/");
+  std::error_code ec;
+  fs::create_directories(dir / "vtk", ec);
+  if (ec) throw InputError("cannot create " + (dir / "vtk").string() + ": " + ec.message());
   openTables(false);
 }
 
 void ResultsWriter::prepareResume(int step) {
   const fs::path dir(dir_);
-  if (!fs::exists(dir / "status.txt") || !fs::exists(dir / "checkpoint.txt"))
+  if (!out_.lists("status.txt") || !out_.lists("checkpoint.txt") || !fs::exists(dir / "status.txt") ||
+      !fs::exists(dir / "checkpoint.txt"))
     throw InputError("\"" + dir_ + "\" holds no run to restart (status.txt and checkpoint.txt are needed)");
   if (const long pid = livePid(dir / "status.txt"))
     throw InputError("results directory \"" + dir_ + "\" is in use by a running beamcontact (pid " +
@@ -147,10 +146,9 @@ void ResultsWriter::prepareResume(int step) {
     }
     writeFileAtomically(dir / name, kept);
   }
-  for (const auto& f : fs::directory_iterator(dir / "vtk")) {
-    const int s = vtkStep(f.path().filename().string());
-    if (s > step) fs::remove(f.path(), ec);
-  }
+  out_.removeOwn([&](const std::string& name) {
+    return name.rfind("vtk/", 0) == 0 && vtkStep(name.substr(4)) > step;
+  });
   // results.pvd: the entries of the kept files.
   std::istringstream pvd(readAll(dir / "results.pvd"));
   for (std::string line; std::getline(pvd, line);) {
@@ -192,7 +190,11 @@ void ResultsWriter::openTables(bool append) {
   reactions_.write(h + "\n");
 }
 
-void ResultsWriter::writeStatus(const std::string& text) { writeFileAtomically(fs::path(dir_) / "status.txt", text + "\n"); }
+void ResultsWriter::writeStatus(const std::string& text) {
+  std::string all = text + "\n";
+  for (const auto& n : notes_) all += n + "\n";
+  writeFileAtomically(fs::path(dir_) / "status.txt", all);
+}
 
 void ResultsWriter::writeEffective(const Teuchos::ParameterList& effective) {
   collectively(*comm_, [&] {
@@ -211,6 +213,7 @@ void ResultsWriter::writeInitial(const State& state) {
 
 void ResultsWriter::writeStep(const StepReport& step, const State& state, const std::vector<double>& r) {
   collectively(*comm_, [&] {
+    injectFault("output");
     if (!root()) return;
     int linear = 0;
     for (const auto& h : step.history) linear += h.linearIterations;
@@ -305,6 +308,7 @@ void ResultsWriter::writeVtk(int step, double T, const State& state) {
   for (const auto& c : model_.contributions) c->appendVtk(state, mesh);
   char name[64];
   std::snprintf(name, sizeof name, "vtk/step_%05d.vtu", step);
+  out_.add(name);
   const std::size_t n = mesh.points.size();
   // Points at their reference place, with the displacement as point data: ParaView's Warp By Vector
   // (scale 1) draws the deformed shape. (Contact points have no reference place: they are drawn where

@@ -17,10 +17,10 @@
 //   effective_parameters.xml the deck with every default filled in
 // Every write is checked (Faults.hpp): a failure is an OutputError naming the file, raised on every
 // rank. Whole files (status, summary, results.pvd, checkpoint) are replaced atomically, CSV rows are
-// appended and flushed per step. A fresh run first clears the files an earlier run left in the
-// directory; a directory holding files of these names that no run wrote (no status.txt) is refused,
-// as is one in which a live run is writing. A restarted run keeps the rows up to its checkpoint's step
-// and appends after them.
+// appended and flushed per step. The directory's manifest (OutputDirectory.hpp) names every file a
+// run wrote there: a directory holding anything else is refused (unless --overwrite), a fresh run
+// removes only an earlier run's files named there, and a directory in which a live run is writing is
+// refused. A restarted run keeps the rows up to its checkpoint's step and appends after them.
 #pragma once
 #include <memory>
 #include <string>
@@ -30,6 +30,7 @@
 
 #include "Faults.hpp"
 #include "Model.hpp"
+#include "OutputDirectory.hpp"
 #include "StaticSolver.hpp"
 #include "TpetraTypes.hpp"
 
@@ -47,8 +48,14 @@ class ResultsWriter {
  public:
   // Every member function is collective (call it on all ranks). `resumeStep` >= 0 continues the run
   // in `directory` after that step (restart); otherwise the directory is prepared for a fresh run.
-  ResultsWriter(const std::string& directory, const Model& model, Teuchos::RCP<const Comm> comm,
-                bool writeVtk = true, int resumeStep = -1);
+  struct Where {
+    std::string directory;
+    bool fromDeck = false;   // the deck's Output/Directory: relative, no "..", no symbolic links
+    bool overwrite = false;  // write beside files beamcontact did not write (--overwrite)
+    std::vector<std::string> notes;  // lines status.txt carries after its first (e.g. the loaded plug-ins)
+  };
+  ResultsWriter(const Where& where, const Model& model, Teuchos::RCP<const Comm> comm, bool writeVtk = true,
+                int resumeStep = -1);
   void writeEffective(const Teuchos::ParameterList& effective);
   void writeInitial(const State& state);
   void writeStep(const StepReport& step, const State& state, const std::vector<double>& fullResidual);
@@ -62,8 +69,11 @@ class ResultsWriter {
   std::vector<std::string> fileNames() const;
 
  private:
+  void open(const Where& where);
   void prepareFresh();
   void prepareResume(int step);
+  // A file of a run's own (one of fileNames(), or vtk/step_N.vtu).
+  bool ownResult(const std::string& relative) const;
   void openTables(bool append);
   void writeVtk(int step, double T, const State& state);
   void writePvd();
@@ -71,6 +81,8 @@ class ResultsWriter {
   bool root() const { return rank_ == 0; }
 
   std::string dir_;
+  std::vector<std::string> notes_;
+  OutputDirectory out_;  // rank 0: the directory and its manifest
   const Model& model_;
   Teuchos::RCP<const Comm> comm_;
   int rank_ = 0;

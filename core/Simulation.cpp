@@ -78,7 +78,12 @@ RunResult simulate(Model& model, const SolverSettings& settings, const Teuchos::
     result.restartedAtStep = resumeStep;
   }
 
-  ResultsWriter writer(options.outputDirectory, model, comm, options.writeVtk, resumeStep);
+  ResultsWriter::Where where;
+  where.directory = options.outputDirectory;
+  where.fromDeck = options.outputFromDeck;
+  where.overwrite = options.overwrite;
+  where.notes = options.statusNotes;
+  ResultsWriter writer(where, model, comm, options.writeVtk, resumeStep);
   try {
     if (options.effective) writer.writeEffective(*options.effective);
     if (!options.restart) writer.writeInitial(model.initial);

@@ -16,6 +16,9 @@ namespace bc::core {
 
 struct RunOptions {
   std::string outputDirectory;
+  bool outputFromDeck = false;  // the directory is the deck's Output/Directory (relative, no "..", no links)
+  bool overwrite = false;       // --overwrite: write beside files beamcontact did not write (OutputDirectory.hpp)
+  std::vector<std::string> statusNotes;  // lines status.txt carries after its first (the loaded plug-ins)
   bool writeVtk = true;
   bool progress = true;                       // one line per step on rank 0
   const Teuchos::ParameterList* effective = nullptr;  // written as effective_parameters.xml

@@ -3,7 +3,9 @@
 // refused (constraints/Plugin.hpp).
 #pragma once
 
+#ifndef BEAMCONTACT_VERSION  // a test plug-in poses as built against another version (tests/CMakeLists.txt)
 #define BEAMCONTACT_VERSION "0.1.0"
+#endif
 
 namespace bc::core {
 inline constexpr const char* kVersion = BEAMCONTACT_VERSION;

@@ -399,8 +399,9 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
   const fs::path base = (fs::path(studyFile).parent_path() / study->get<std::string>("Base Deck")).lexically_normal();
   if (!fs::exists(base)) throw InputError("parameter \"" + root + "/Base Deck\": file \"" + base.string() + "\" does not exist");
   const Teuchos::RCP<ParameterList> baseDeck = Teuchos::rcp(new ParameterList(input::readParameterXmlFile(base.string())));
-  // The base deck's Plugins become absolute paths, so each case's copy of the deck finds them.
-  input::loadDeckPlugins(*baseDeck, base.string());
+  // The base deck's Plugins must be among --plugin; they become absolute paths with their digests, so each
+  // case's copy of the deck names exactly what runs.
+  input::checkDeckPlugins(*baseDeck, base.string(), options.plugins);
   const double atT = study->get<double>("At T");
 
   // Groups and their cases.

@@ -31,9 +31,9 @@
 namespace {
 
 const char* kUsage =
-    "usage: beamcontact run DECK.xml [--output DIR] [--quiet] [--restart DIR] [--plugin LIB]...\n"
+    "usage: beamcontact run DECK.xml [--output DIR] [--overwrite] [--quiet] [--restart DIR] [--plugin LIB]...\n"
     "       beamcontact check DECK.xml [--plugin LIB]...\n"
-    "       beamcontact study STUDY.xml [--output DIR] [--parallel N] [--timing [N]] [--no-report] [--plugin LIB]...\n"
+    "       beamcontact study STUDY.xml [--output DIR] [--overwrite] [--parallel N] [--timing [N]] [--no-report] [--plugin LIB]...\n"
     "       beamcontact render RESULTS_DIR OUT.png [--stages T1,T2,...] [--view ELEV,AZIM] [--title TEXT]\n"
     "       beamcontact generate grid|weave [--n N] [--m M] [--spacing S] [--radius R] [--gap G]\n"
     "                [--press P (grid) | --pull P (weave)] [--elements E] [--youngs-modulus Y] [--friction MU]\n"
@@ -47,8 +47,13 @@ const char* kUsage =
     "Runs a BeamContact XML deck: geometrically nonlinear 3D beams, load factor T from 0 to 1.\n"
     "Results (CSV, VTK, status, effective parameters) go to the deck's Output/Directory, by\n"
     "default results/<deck name>, or to DIR.\n"
-    "--plugin LIB loads a shared library with strategies of its own (also the deck's Plugins list;\n"
-    "a study passes it to every case); docs/contact.md shows how to write one.\n"
+    "--plugin LIB loads a shared library with strategies of its own (a study passes it to every case);\n"
+    "a deck's Plugins list only names what it needs: each must be given with --plugin too, since a\n"
+    "plug-in runs code. docs/contact.md shows how to write one.\n"
+    "A results or study directory holds beamcontact-manifest.txt, the files beamcontact wrote there; a\n"
+    "directory holding anything else is refused, unless --overwrite, which writes beside the other\n"
+    "files and replaces only beamcontact's own. A deck's output paths are relative, without \"..\" and\n"
+    "links; --output may name any directory.\n"
     "generate writes a many-beam deck (grid: two layers of crossing beams pressed together; weave: a\n"
     "plain-weave mat of undulating yarns whose warps are pulled; network: random fibres in a box,\n"
     "compressed; strand: helical wires, pulled); docs/input.md lists the options.\n"
@@ -83,8 +88,29 @@ int withExitCodes(bool print, const std::function<int()>& body) {
   } catch (const std::exception& e) {
     if (print) std::fprintf(stderr, "beamcontact: error: %s\n", e.what());
     return 3;
+  } catch (...) {
+    if (print) std::fprintf(stderr, "beamcontact: error: %s\n", bc::core::nonStandardExceptionMessage().c_str());
+    return 3;
   }
 }
+
+// Code besides ours (a plug-in) that calls exit() in the middle of a run would end it with that code and
+// nothing recorded: while `g_working` is set, such an exit becomes exit code 3 with one line.
+volatile bool g_working = false;
+extern "C" void onExitDuringWork() {
+  if (!g_working) return;
+  const std::string note = bc::core::foreignCodeNote();
+  std::fprintf(stderr, "beamcontact: error: the process was ended by a call to exit() in the middle of the work%s\n",
+               note.empty() ? "" : (" (" + note + ")").c_str());
+  std::fflush(stderr);
+  std::_Exit(3);
+}
+// Registered after MPI and Kokkos are initialized too, so it runs before their own exit handlers.
+void guardExit() { std::atexit(onExitDuringWork); }
+struct Working {
+  Working() { g_working = true; }
+  ~Working() { g_working = false; }
+};
 
 int studyCommand(const std::vector<std::string>& args, const std::vector<std::string>& plugins) {
   bc::drivers::StudyOptions options;
@@ -125,17 +151,30 @@ int studyCommand(const std::vector<std::string>& args, const std::vector<std::st
   return withExitCodes(true, [&] { return bc::drivers::runStudy(args[1], options); });
 }
 
-int runDeck(const std::string& deck, const std::string& output, bool quiet, const std::string& restart) {
+int runDeck(const std::string& deck, const std::string& output, bool quiet, const std::string& restart, bool overwrite,
+            const std::vector<std::string>& plugins) {
   auto comm = Tpetra::getDefaultComm();
   const bool root = comm->getRank() == 0;
   const std::string stem = std::filesystem::path(deck).stem().string();
-  Teuchos::ParameterList list = bc::input::readDeckFile(deck);
-  bc::input::loadDeckPlugins(list, deck);
-  bc::input::Problem problem = bc::input::buildProblem(list, stem);
+  // Every rank reads the deck and builds the model (the strategy's constructor included); an error on
+  // any rank ends every rank with the first failing rank's message.
+  Teuchos::ParameterList list;
+  bc::input::Problem problem;
+  bc::core::collectively(*comm, [&] {
+    bc::core::injectFault("deck");
+    list = bc::input::readDeckFile(deck);
+    bc::input::checkDeckPlugins(list, deck, plugins);
+    bc::core::injectFault("strategy");
+    problem = bc::input::buildProblem(list, stem);
+  });
   if (!restart.empty()) problem.outputDirectory = restart;
   else if (!output.empty()) problem.outputDirectory = output;
   bc::core::RunOptions options;
   options.outputDirectory = problem.outputDirectory;
+  options.outputFromDeck = restart.empty() && output.empty();
+  options.overwrite = overwrite;
+  for (const auto& p : bc::input::loadedPlugins())
+    options.statusNotes.push_back("plug-in: " + p.path + " sha256 " + p.sha256);
   options.writeVtk = problem.writeVtk;
   options.progress = !quiet;
   options.effective = &problem.effective;
@@ -176,6 +215,7 @@ int main(int argc, char** argv) {
   mallopt(M_MMAP_MAX, 0);
   mallopt(M_TRIM_THRESHOLD, -1);
   std::vector<std::string> args(argv + 1, argv + argc);
+  guardExit();
   // --plugin LIB (any number, after the command): shared libraries with strategies of their own.
   std::vector<std::string> plugins;
   for (std::size_t i = 1; i < args.size();) {
@@ -223,10 +263,11 @@ int main(int argc, char** argv) {
       return 1;
     }
     return withExitCodes(true, [&] {
+      const Working working;
       bc::constraints::registerBuiltinEnforcers();
       for (const auto& plugin : plugins) bc::input::loadPlugin(plugin);
       Teuchos::ParameterList list = bc::input::readDeckFile(args[1]);
-      bc::input::loadDeckPlugins(list, args[1]);
+      bc::input::checkDeckPlugins(list, args[1], plugins);
       const auto problem = bc::input::buildProblem(list, std::filesystem::path(args[1]).stem().string());
       std::printf("ok: %s: %d nodes, %zu elements, %d joints, %zu supports, %zu loads\n", args[1].c_str(),
                   problem.model.initial.numNodes(), problem.beams->elements().size(), problem.joints,
@@ -235,11 +276,18 @@ int main(int argc, char** argv) {
     });
   }
   Tpetra::ScopeGuard scope(&argc, &argv);
+  guardExit();
   bc::core::installSignalHandlers();
   bc::constraints::registerBuiltinEnforcers();
-  const bool root = Tpetra::getDefaultComm()->getRank() == 0;
+  const auto comm = Tpetra::getDefaultComm();
+  const bool root = comm->getRank() == 0;
   return withExitCodes(root, [&] {
-    for (const auto& plugin : plugins) bc::input::loadPlugin(plugin);
+    const Working working;
+    // Loaded on every rank; a library that fails on one rank only ends every rank with its message.
+    bc::core::collectively(*comm, [&] {
+      bc::core::injectFault("plugin");
+      for (const auto& plugin : plugins) bc::input::loadPlugin(plugin);
+    });
     if (args[0] == "--print-valid-parameters") {
       if (root) {
         std::cout << "BeamContact deck reference (ParameterList \"BeamContact\"):\n";
@@ -253,11 +301,12 @@ int main(int argc, char** argv) {
       return 1;
     }
     std::string output, restart;
-    bool quiet = false;
+    bool quiet = false, overwrite = false;
     for (std::size_t i = 2; i < args.size(); ++i) {
       if (args[i] == "--output" && i + 1 < args.size()) output = args[++i];
       else if (args[i] == "--restart" && i + 1 < args.size()) restart = args[++i];
       else if (args[i] == "--quiet") quiet = true;
+      else if (args[i] == "--overwrite") overwrite = true;
       else {
         if (root)
           std::fprintf(stderr, "beamcontact: %s \"%s\"\n%s",
@@ -275,6 +324,6 @@ int main(int argc, char** argv) {
       if (root) std::fprintf(stderr, "beamcontact: --output names no directory\n");
       return 1;
     }
-    return runDeck(args[1], output, quiet, restart);
+    return runDeck(args[1], output, quiet, restart, overwrite, plugins);
   });
 }

@@ -256,8 +256,11 @@ const ParameterSpec& topSpec() {
     p.addSublist("Contact", contactSpec().reference(), "beam-to-beam contact (optional)");
     p.addSublist("Joints", ParameterList(), "named joints between beam ends and nodes of other beams, Rigid or "
                  "Pinned (coincident ends are joined rigidly without one)");
-    p.addOptional("Plugins", Array<std::string>(), "shared libraries loaded before the deck is read, e.g. a "
-                  "strategy of your own (paths relative to the deck's folder); see docs/contact.md");
+    p.addOptional("Plugins", Array<std::string>(), "shared libraries the deck needs, e.g. a strategy of your own "
+                  "(paths relative to the deck's folder); each must also be given with --plugin, which loads it; "
+                  "see docs/contact.md");
+    p.addOptional("Plugin SHA-256", Array<std::string>(), "SHA-256 of each of Plugins' libraries, in order "
+                  "(effective_parameters.xml records them); when given, a library whose digest differs is refused");
     return p;
   }();
   return s;

@@ -1,10 +1,16 @@
 // Run-time plug-ins: shared libraries that register enforcement strategies (or anything else with a
-// registry) when loaded. A plug-in defines
-//   extern "C" void beamcontact_plugin_register() { bc::constraints::registerEnforcer<MyStrategy>(); }
-// (BEAMCONTACT_PLUGIN in constraints/Plugin.hpp writes it) and is linked against the installed
-// BeamContact libraries (find_package(BeamContact), target BeamContact::constraints). It is named on
-// the command line (`beamcontact run|check|study ... --plugin lib.so`) or in the deck's top-level
-// "Plugins" (Array(string), paths relative to the deck's folder).
+// registry) when loaded. A plug-in writes BEAMCONTACT_PLUGIN(...) (constraints/Plugin.hpp), which
+// defines its registration function and records the BeamContact version it was built against, and is
+// linked against the installed BeamContact libraries (find_package(BeamContact), target
+// BeamContact::constraints).
+//
+// A plug-in runs code in this process, so it is loaded only when the user names it on the command
+// line (`beamcontact run|check|study ... --plugin lib.so`). A deck's top-level "Plugins" (paths
+// relative to the deck's folder) says which libraries the deck needs: each must also be given with
+// --plugin, otherwise the deck is refused, before anything is loaded, with a line saying how to allow
+// it. The path and SHA-256 of every loaded library go into effective_parameters.xml ("Plugins",
+// "Plugin SHA-256") and status.txt; a deck that gives "Plugin SHA-256" is refused when a library's
+// digest differs.
 #pragma once
 #include <string>
 #include <vector>
@@ -13,14 +19,22 @@
 
 namespace bc::input {
 
-// Loads the library at `path` (once; later calls with the same file do nothing) and calls its
-// registration function. An InputError names the file and the cause (not found, not a shared
-// library, undefined symbols, no beamcontact_plugin_register).
+struct LoadedPlugin {
+  std::string path;    // canonical
+  std::string sha256;  // of the file's bytes when it was loaded
+};
+
+// Loads the library at `path` (once; later calls with the same file do nothing), checks the version
+// it was built against, and calls its registration function. An InputError names the file and the
+// cause (not found, not a shared library, undefined symbols, no entry point, another version, a name
+// registered twice, anything thrown while registering).
 void loadPlugin(const std::string& path);
-// Loads the deck's "Plugins" (relative paths taken from the folder of `deckPath`) and writes them
-// back as absolute paths, so a copy of the deck (a study case, effective_parameters.xml) finds them.
-void loadDeckPlugins(Teuchos::ParameterList& deck, const std::string& deckPath);
-// The plug-ins loaded so far (absolute paths), in order.
-const std::vector<std::string>& loadedPlugins();
+// Checks the deck's "Plugins" against the libraries given with --plugin (`commandLine`), without
+// loading anything, and writes them back as absolute paths with their digests ("Plugin SHA-256"), so
+// a copy of the deck (a study case, effective_parameters.xml) names exactly what ran.
+void checkDeckPlugins(Teuchos::ParameterList& deck, const std::string& deckPath,
+                      const std::vector<std::string>& commandLine);
+// The plug-ins loaded so far, in order.
+const std::vector<LoadedPlugin>& loadedPlugins();
 
 }  // namespace bc::input

@@ -11,7 +11,11 @@ CATALOGUE lines (blank lines and # comments are skipped):
     occurrence of OLD (which must be there); "@nest:N" wraps N nested lists around the Beams list;
     "@text:..." replaces the whole deck ("\\n" for new lines). Empty: the base deck unchanged.
   - arguments: the command line after the executable, with {DECK} (the edited deck) and {OUT}
-    (WORKDIR/name); empty: "run {DECK} --output {OUT} --quiet".
+    (WORKDIR/name); empty: "run {DECK} --output {OUT} --quiet". Leading NAME=VALUE words are set in
+    the environment of the run instead (e.g. BC_TEST_PLUGIN=hijack for the test plug-in).
+  - {PLUGIN} and {OLD_PLUGIN} (in edits, arguments, setup and check): the test plug-in
+    (tests/support/FaultPlugin.cpp) and its copy built against another version, from the environment
+    variables BC_FAULT_PLUGIN and BC_OLD_PLUGIN.
   - setup: a shell command run first (with {OUT}, {DECK}, {BASE} and {EXE}), e.g. to leave files in
     {OUT}.
   - check: a shell command run afterwards that must succeed (e.g. that stale files are gone).
@@ -72,15 +76,20 @@ def run(name, code, pattern, edits, args, setup, post):
     out_dir = os.path.join(work, name)
     deck_path = os.path.join(work, name + ".xml")
     subprocess.run(["rm", "-rf", out_dir])
-    with open(deck_path, "w") as f:
-        f.write(edit(base, edits, name))
     subst = lambda s: (s.replace("{DECK}", deck_path).replace("{OUT}", out_dir).replace("{BASE}", base_deck)
-                       .replace("{EXE}", exe))
+                       .replace("{EXE}", exe).replace("{PLUGIN}", os.environ.get("BC_FAULT_PLUGIN", "no-plugin"))
+                       .replace("{OLD_PLUGIN}", os.environ.get("BC_OLD_PLUGIN", "no-plugin")))
+    with open(deck_path, "w") as f:
+        f.write(subst(edit(base, edits, name)))
     if setup:
         subprocess.run(["sh", "-c", subst(setup)], check=True)
     argv = subst(args or "run {DECK} --output {OUT} --quiet").split()
+    env = dict(os.environ)
+    while argv and re.match(r"^[A-Z_][A-Z0-9_]*=", argv[0]):
+        key, value = argv.pop(0).split("=", 1)
+        env[key] = value
     try:
-        r = subprocess.run([exe] + argv, capture_output=True, text=True, timeout=120, cwd=work)
+        r = subprocess.run([exe] + argv, capture_output=True, text=True, timeout=120, cwd=work, env=env)
     except subprocess.TimeoutExpired:
         return "hang (no exit within 120 s)"
     text = r.stdout + r.stderr
