@@ -3,6 +3,8 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
+
+#include <set>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -25,6 +27,7 @@
 #include "core/Parameters.hpp"
 #include "input/XmlDeck.hpp"
 #include "input/Plugins.hpp"
+#include "core/OutputDirectory.hpp"
 
 extern char** environ;
 
@@ -281,6 +284,14 @@ std::string lastLine(const fs::path& file, const std::string& prefix = "") {
   return last;
 }
 
+// A run's status: the first line of its status.txt (warnings and notes follow it).
+std::string runStatusLine(const fs::path& dir) {
+  std::ifstream f(dir / "status.txt");
+  std::string line;
+  std::getline(f, line);
+  return line;
+}
+
 std::string readText(const fs::path& file) {
   std::ifstream f(file);
   if (!f) return "";
@@ -298,20 +309,29 @@ std::string selfExecutable() {
 
 // Starts `command` (program path and arguments, no shell); with `log`, its stdout and stderr go to
 // that file.
-pid_t spawn(const std::vector<std::string>& command, const std::string& log = "") {
+// With `ownGroup` it runs in a process group of its own, so a Ctrl-C at the terminal reaches the study
+// alone, which then stops its cases with one SIGTERM each (two signals would end a case at once).
+pid_t spawn(const std::vector<std::string>& command, const std::string& log = "", bool ownGroup = false) {
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   if (!log.empty()) {
-    posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW, 0644);
     posix_spawn_file_actions_adddup2(&actions, 1, 2);
+  }
+  posix_spawnattr_t attributes;
+  posix_spawnattr_init(&attributes);
+  if (ownGroup) {
+    posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
+    posix_spawnattr_setpgroup(&attributes, 0);
   }
   std::vector<std::string> args = command;
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
   pid_t pid = 0;
-  const int rc = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+  const int rc = posix_spawn(&pid, argv[0], &actions, &attributes, argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
+  posix_spawnattr_destroy(&attributes);
   if (rc != 0) throw std::runtime_error("cannot start " + command[0] + ": " + std::strerror(rc));
   return pid;
 }
@@ -335,13 +355,14 @@ std::string scriptPath(const std::string& name) {
 
 namespace {
 
-pid_t launch(const std::string& exe, const Case& c, const std::vector<std::string>& plugins) {
+pid_t launch(const std::string& exe, const Case& c, const std::vector<std::string>& plugins, bool overwrite) {
   std::vector<std::string> command = {exe, "run", (c.dir / "deck.xml").string(), "--output", c.dir.string(), "--quiet"};
+  if (overwrite) command.push_back("--overwrite");
   for (const auto& p : plugins) {
     command.push_back("--plugin");
     command.push_back(p);
   }
-  return spawn(command, (c.dir / "log.txt").string());
+  return spawn(command, (c.dir / "log.txt").string(), true);
 }
 
 std::string describe(const Case& c, const std::vector<std::string>& columns) {
@@ -515,7 +536,18 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
 
   // Expand the groups and write each case's deck.
   const fs::path dir = options.output.empty() ? fs::path(study->get<std::string>("Output Directory")) : fs::path(options.output);
-  fs::create_directories(dir / "cases");
+  core::OutputDirectory::Options where;
+  where.overwrite = options.overwrite;
+  where.pathFromDeck = options.output.empty();
+  where.parameter = root + "/Output Directory";
+  where.what = "study directory";
+  core::OutputDirectory out(dir, where);
+  out.add("cases/");
+  {
+    std::error_code ec;
+    fs::create_directories(dir / "cases", ec);
+    if (ec) throw InputError("cannot create " + (dir / "cases").string() + ": " + ec.message());
+  }
   std::vector<Case> all;
   for (const Group& g : groups) {
     std::vector<std::size_t> idx(g.variables.size(), 0);
@@ -553,16 +585,19 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
   // is kept from an earlier run of the study; any other case directory is cleared and run again.
   // Case directories beyond this study's cases, and the last report, are from an earlier study.
   {
-    std::error_code ec;
+    // Only what the study's manifest names goes (a case folder with its own manifest: its listed files).
     for (const auto& entry : fs::directory_iterator(dir / "cases")) {
       const std::string n = entry.path().filename().string();
       const bool number = n.size() == 3 && n.find_first_not_of("0123456789") == std::string::npos;
-      if (!number || std::stoi(n) < 1 || std::stoi(n) > static_cast<int>(all.size())) fs::remove_all(entry.path(), ec);
+      const std::string rel = "cases/" + n + "/";
+      if ((!number || std::stoi(n) < 1 || std::stoi(n) > static_cast<int>(all.size())) && out.lists(rel))
+        out.removeOwnFolder(rel);
     }
-    for (const auto& entry : fs::directory_iterator(dir))
-      if (entry.path().extension() == ".png" || entry.path().extension() == ".pdf" ||
-          entry.path().filename() == "report.md")
-        fs::remove(entry.path(), ec);
+    out.removeOwn([](const std::string& name) {
+      const fs::path p(name);
+      return name.find('/') == std::string::npos &&
+             (p.extension() == ".png" || p.extension() == ".pdf" || name == "report.md");
+    });
   }
   int kept = 0;
   for (Case& c : all) {
@@ -577,15 +612,22 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
     std::ostringstream xml;
     Teuchos::writeParameterListToXmlOStream(deck, xml);
     if (!timing && readText(c.dir / "deck.xml") == xml.str() &&
-        lastLine(c.dir / "status.txt").rfind("complete", 0) == 0) {
+        runStatusLine(c.dir).rfind("complete", 0) == 0) {
       c.status = "complete";
       c.kept = true;
       c.exitCode = 0;
       ++kept;
       continue;
     }
-    fs::remove_all(c.dir);
-    fs::create_directories(c.dir);
+    const std::string rel = "cases/" + std::string(name) + "/";
+    if (out.lists(rel)) out.removeOwnFolder(rel);
+    out.add(rel);
+    core::OutputDirectory::Options caseWhere;
+    caseWhere.overwrite = options.overwrite;
+    caseWhere.what = "case directory";
+    core::OutputDirectory caseDir(c.dir, caseWhere);
+    caseDir.add("deck.xml");
+    caseDir.add("log.txt");
     core::writeFileAtomically(c.dir / "deck.xml", xml.str());
   }
 
@@ -646,6 +688,7 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
       }
       csv << ',' << csvField(c.cause) << '\n';
     }
+    out.add("cases.csv");
     core::writeFileAtomically(dir / "cases.csv", csv.str());
   };
 
@@ -670,7 +713,7 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
   writeTable();
   while (done < all.size() && !(stopSignal && running.empty())) {
     while (!stopSignal && next < all.size() && static_cast<int>(running.size()) < parallel) {
-      if (!all[next].kept) running[launch(exe, all[next], plugins)] = &all[next];
+      if (!all[next].kept) running[launch(exe, all[next], plugins, options.overwrite)] = &all[next];
       ++next;
     }
     if (running.empty()) break;
@@ -698,17 +741,20 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
       const auto seconds = summary.find("solve_seconds");
       if (seconds != summary.end()) c.timings.push_back(std::stod(seconds->second));
       if (static_cast<int>(c.timings.size()) < timing && !stopSignal && !core::receivedSignal()) {
-        running[launch(exe, c, plugins)] = &c;
+        running[launch(exe, c, plugins, options.overwrite)] = &c;
         continue;
       }
     }
     ++done;
-    const std::string runStatus = lastLine(c.dir / "status.txt");
-    if (c.exitCode == 0) {
+    const std::string runStatus = runStatusLine(c.dir);
+    // A run that recorded itself complete is complete, whatever ended its process afterwards (its
+    // status is written last, after every other file).
+    if (c.exitCode == 0 || runStatus.rfind("complete: ", 0) == 0) {
       c.status = "complete";
     } else if (runStatus.rfind("interrupted: ", 0) == 0 || (stopSignal && c.exitCode > 128)) {
       c.status = "interrupted";
-      c.cause = runStatus.empty() ? "stopped by " + core::signalName(c.exitCode - 128) : runStatus.substr(13);
+      c.cause = runStatus.rfind("interrupted: ", 0) == 0 ? runStatus.substr(13)
+                                                         : "stopped by " + core::signalName(c.exitCode - 128);
     } else {
       c.status = c.exitCode == 2 ? "incomplete" : c.exitCode == 1 ? "input error" : "failed";
       // The run's own record first (status.txt: "incomplete: <cause>"), else its one-line error.
@@ -748,6 +794,7 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
       v << l->getEntry(key).getAny();
       return v.str();
     };
+    out.add("study.json");
     std::ofstream j(dir / "study.json");
     j << "{\n  \"title\": " << jsonString(study->get<std::string>("Title")) << ",\n  \"base_deck\": "
       << jsonString(base.string()) << ",\n  \"at_T\": " << atT << ",\n  \"reference_group\": "
@@ -810,7 +857,15 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
               static_cast<std::ptrdiff_t>(all.size()) - failed, failed, (dir / "cases.csv").string().c_str());
   if (options.report) {
     const std::string script = scriptPath("study_report.py");
-    if (runProgram({"/usr/bin/python3", script, dir.string()}) != 0)
+    out.add("report.md");
+    // The figures the script writes are named after they appear (it names them from the plots).
+    std::set<std::string> before;
+    for (const auto& e : fs::directory_iterator(dir)) before.insert(e.path().filename().string());
+    const int code = runProgram({"/usr/bin/python3", script, dir.string()});
+    for (const auto& e : fs::directory_iterator(dir))
+      if (!before.count(e.path().filename().string()) && fs::is_regular_file(fs::symlink_status(e.path())))
+        out.add(e.path().filename().string());
+    if (code != 0)
       throw std::runtime_error("the report script " + script + " failed; the table is in " + (dir / "cases.csv").string());
   }
   return failed == 0 ? 0 : 2;

@@ -24,6 +24,7 @@ struct StudyOptions {
   bool report = true;     // write report.md and the plots
   int timing = 0;         // > 0: fair timing: one case at a time, VTK off, each run this many times
   std::vector<std::string> plugins;  // --plugin libraries, passed on to every case
+  bool overwrite = false;  // --overwrite: write beside files beamcontact did not write (passed on to every case)
 };
 
 // The installed helper script `name` (share/beamcontact beside the program's bin folder; in the

@@ -143,6 +143,8 @@ int studyCommand(const std::vector<std::string>& args, const std::vector<std::st
       }
     } else if (args[i] == "--no-report") {
       options.report = false;
+    } else if (args[i] == "--overwrite") {
+      options.overwrite = true;
     } else {
       std::fprintf(stderr, "beamcontact: unknown option \"%s\"\n%s", args[i].c_str(), kUsage);
       return 1;

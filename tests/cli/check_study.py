@@ -80,7 +80,21 @@ error_plot = [p for p in meta["plots"] if p["name"] == "A uz error vs eps_N"][0]
 assert error_plot["published_x"] == [2e4] and error_plot["published_y"] == [-9.79], error_plot
 assert error_plot["relative_to"] == "lagrange" and error_plot["error"], error_plot
 stamps = {c: (out / "cases" / c / "summary.csv").stat().st_mtime_ns for c in ("001", "002", "003")}
+# A file of the user's in the study directory: the rerun is refused, naming it, and nothing changes.
+(out / "cases" / "mine.txt").write_text("user data\n")
+refused = subprocess.run([exe, "study", deck, "--output", str(out), "--parallel", "2"], capture_output=True, text=True)
+assert refused.returncode == 1, refused.returncode
+assert 'holds "cases/mine.txt", which beamcontact did not write' in refused.stderr, refused.stderr
+assert (out / "cases" / "mine.txt").read_text() == "user data\n"
+assert all((out / "cases" / c / "summary.csv").stat().st_mtime_ns == t for c, t in stamps.items())
+(out / "cases" / "mine.txt").unlink()
+# A case folder of an earlier, larger study (named in the manifests): the rerun removes it.
 (out / "cases" / "099").mkdir()
+(out / "cases" / "099" / "deck.xml").write_text("<ParameterList/>\n")
+manifest_header = (out / "beamcontact-manifest.txt").read_text().splitlines()[0]
+(out / "cases" / "099" / "beamcontact-manifest.txt").write_text(manifest_header + "\ndeck.xml\n")
+with open(out / "beamcontact-manifest.txt", "a") as m:
+    m.write("cases/099/\n")
 again = subprocess.run([exe, "study", deck, "--output", str(out), "--parallel", "2"], capture_output=True, text=True)
 print(again.stdout)
 assert again.returncode == 2, f"rerun exit code {again.returncode}"

@@ -19,7 +19,8 @@ cd "$work/decks"
 /usr/bin/python3 "$src/examples/external-strategy/check_study.py" "$work/study"
 "$work/prefix/bin/beamcontact" render "$work/study/cases/003" "$work/case3.png"
 test -s "$work/case3.png"
-# The deck's own Plugins (a path relative to the deck's folder) instead of --plugin.
+# The deck's own Plugins (a path relative to the deck's folder) names what it needs: without --plugin
+# it is refused before anything is loaded, with --plugin it runs.
 cp "$work/example/libquadratic_penalty.so" "$work/decks/"
 /usr/bin/python3 - "$work/decks/press.xml" "$work/decks/press_plugins.xml" <<'PY'
 import sys
@@ -28,7 +29,13 @@ tree = ET.parse(sys.argv[1])
 ET.SubElement(tree.getroot(), "Parameter", name="Plugins", type="Array(string)", value="{libquadratic_penalty.so}")
 tree.write(sys.argv[2])
 PY
-"$work/prefix/bin/beamcontact" run press_plugins.xml --output "$work/deck_plugins" --quiet
+if "$work/prefix/bin/beamcontact" run press_plugins.xml --output "$work/deck_plugins" --quiet 2> "$work/refused.txt"; then
+  echo "a deck's Plugins was loaded without --plugin"; exit 1
+fi
+grep -q "the deck asks to load the plug-in .*libquadratic_penalty.so" "$work/refused.txt"
+test ! -e "$work/deck_plugins"
+"$work/prefix/bin/beamcontact" run press_plugins.xml --output "$work/deck_plugins" --quiet --plugin libquadratic_penalty.so
 grep -q "^complete" "$work/deck_plugins/status.txt"
+grep -q "^plug-in: .*libquadratic_penalty.so sha256 [0-9a-f]*$" "$work/deck_plugins/status.txt"
 grep -q 'name="Type" type="string" value="Quadratic Penalty"' "$work/deck_plugins/effective_parameters.xml"
 echo "external strategy: ok"
