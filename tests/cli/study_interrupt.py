@@ -4,7 +4,11 @@
 - cases.csv lists all four cases: those that were running "interrupted" (with their cause), those not
   started "not run"; no case directory says "running";
 - run again, the study keeps the complete cases (says so) and runs the others: exit 0, four complete,
-  and each F_N equals the one of an uninterrupted run of the same deck alone."""
+  and each F_N equals the one of an uninterrupted run of the same deck alone;
+- Ctrl-C at a terminal (SIGINT to the study's whole process group): exit 130, and cases.csv agrees with
+  every case's own status.txt (a case recorded complete says so itself; an interrupted one names the
+  signal)."""
+import os
 import csv
 import signal
 import subprocess
@@ -59,3 +63,27 @@ total = sum(float(l.split(",")[11]) for l in open(alone / "contact_points.csv").
             if l.split(",")[1] == "1" and l.split(",")[16] == "1")
 assert abs(total - float(rows[3]["F_N"])) <= 1e-9 * abs(total), (total, rows[3]["F_N"])
 print(f"ok: stopped with {statuses}, resumed to 4 complete; case 4 F_N {rows[3]['F_N']} equals a run alone")
+
+# Ctrl-C at a terminal: SIGINT to the foreground process group the study leads.
+subprocess.run(["rm", "-rf", str(out)])
+p = subprocess.Popen([exe, "study", deck, "--output", str(out), "--parallel", "2", "--no-report"],
+                     stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True)
+deadline = time.time() + 60
+while time.time() < deadline and not (started.exists() and started.read_text().startswith("running")):
+    time.sleep(0.02)
+os.killpg(p.pid, signal.SIGINT)
+text, _ = p.communicate(timeout=60)
+assert p.returncode == 130, f"exit {p.returncode} after SIGINT to the group, expected 130"
+rows = list(csv.DictReader(open(out / "cases.csv")))
+for r in rows:
+    status = out / "cases" / f"{int(r['case']):03d}" / "status.txt"
+    first = status.read_text().splitlines()[0] if status.exists() else ""
+    if r["status"] == "complete":
+        assert first.startswith("complete: "), (r, first)
+    elif r["status"] == "interrupted" and first:
+        assert first.startswith("interrupted: ") and r["cause"] == first[len("interrupted: "):], (r, first)
+    elif r["status"] == "interrupted":  # stopped before its run wrote a status
+        assert r["cause"] in ("stopped by SIGTERM", "stopped by SIGINT"), r
+    else:
+        assert r["status"] == "not run" and not first, (r, first)
+print("ok: after SIGINT to the process group:", [r["status"] for r in rows], "each as its status.txt says")
