@@ -1,6 +1,7 @@
 #include "Faults.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <stdio_ext.h>
 #include <unistd.h>
 
@@ -86,6 +87,20 @@ void OutputFile::write(const std::string& text) {
     }
     errno = saved;
     fail("write");
+  }
+}
+
+long OutputFile::length() const {
+  if (!file_) return -1;
+  std::fflush(file_);
+  struct stat st {};
+  return fstat(fileno(file_), &st) == 0 ? static_cast<long>(st.st_size) : -1;
+}
+
+void OutputFile::truncateTo(long length) noexcept {
+  if (!file_ || length < 0) return;
+  __fpurge(file_);
+  if (ftruncate(fileno(file_), length) != 0) {
   }
 }
 

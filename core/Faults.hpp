@@ -53,6 +53,10 @@ class OutputFile {
   void write(const std::string& text);
   void close();
   bool isOpen() const { return file_ != nullptr; }
+  // The file's length now (-1 when not open), and a return to that length (best effort, never throws):
+  // the rows of a step that could not be written whole in every file are taken back from all of them.
+  long length() const;
+  void truncateTo(long length) noexcept;
 
  private:
   void fail(const std::string& what);

@@ -1,5 +1,6 @@
 #include "ResultsWriter.hpp"
 
+#include <fcntl.h>
 #include <signal.h>
 #include <sys/resource.h>
 #include <unistd.h>
@@ -43,6 +44,20 @@ std::string readAll(const fs::path& p) {
   std::ostringstream s;
   s << f.rdbuf();
   return s.str();
+}
+
+// Bytes kept allocated for status.txt, so that its final status can be written on a full disk.
+constexpr long kStatusReserve = 64 * 1024;
+
+// Replaces the content of the existing file `path` by `text` in place (no new file, no new blocks
+// while the text fits the space allocated to it). False when that fails too.
+bool rewriteInPlace(const fs::path& path, const std::string& text) {
+  if (static_cast<long>(text.size()) > kStatusReserve) return false;
+  const int fd = ::open(path.c_str(), O_WRONLY | O_NOFOLLOW | O_CLOEXEC);
+  if (fd < 0) return false;
+  const bool ok = pwrite(fd, text.data(), text.size(), 0) == static_cast<ssize_t>(text.size()) &&
+                  ftruncate(fd, static_cast<off_t>(text.size())) == 0;
+  return ::close(fd) == 0 && ok;
 }
 
 // The pid of a live process other than this one that status.txt says is running, else 0.
@@ -193,7 +208,22 @@ void ResultsWriter::openTables(bool append) {
 void ResultsWriter::writeStatus(const std::string& text) {
   std::string all = text + "\n";
   for (const auto& n : notes_) all += n + "\n";
-  writeFileAtomically(fs::path(dir_) / "status.txt", all);
+  const fs::path path = fs::path(dir_) / "status.txt";
+  try {
+    writeFileAtomically(path, all);
+  } catch (const OutputError&) {
+    // A full disk has no room for a new file; the status is then rewritten in place, in the space
+    // reserved for it below.
+    if (!rewriteInPlace(path, all)) throw;
+    return;
+  }
+  // Room for the final status: kStatusReserve bytes allocated beyond the text (the file's length stays).
+  const int fd = ::open(path.c_str(), O_WRONLY | O_NOFOLLOW | O_CLOEXEC);
+  if (fd >= 0) {
+    if (fallocate(fd, FALLOC_FL_KEEP_SIZE, 0, kStatusReserve) != 0) {
+    }
+    ::close(fd);
+  }
 }
 
 void ResultsWriter::writeEffective(const Teuchos::ParameterList& effective) {
@@ -215,6 +245,29 @@ void ResultsWriter::writeStep(const StepReport& step, const State& state, const 
   collectively(*comm_, [&] {
     injectFault("output");
     if (!root()) return;
+    // The step is committed to every file or to none: when a write fails, the rows already written for
+    // it are taken back, so the CSVs never disagree by a step.
+    std::vector<std::pair<OutputFile*, long>> lengths;
+    for (OutputFile* f : {&steps_, &newton_, &tracked_, &reactions_}) lengths.emplace_back(f, f->length());
+    for (auto& t : tables_)
+      if (t) lengths.emplace_back(t.get(), t->length());
+    const std::size_t vtkBefore = vtkFiles_.size();
+    try {
+      writeStepFiles(step, state, r);
+    } catch (...) {
+      for (auto& [file, length] : lengths) file->truncateTo(length);
+      if (vtkFiles_.size() > vtkBefore) {
+        std::error_code ec;
+        fs::remove(fs::path(dir_) / vtkFiles_.back().second, ec);
+        vtkFiles_.resize(vtkBefore);
+      }
+      throw;
+    }
+  });
+}
+
+void ResultsWriter::writeStepFiles(const StepReport& step, const State& state, const std::vector<double>& r) {
+  {
     int linear = 0;
     for (const auto& h : step.history) linear += h.linearIterations;
     std::ostringstream row;
@@ -257,7 +310,7 @@ void ResultsWriter::writeStep(const StepReport& step, const State& state, const 
       tables_[i]->write(rows);
     }
     if (vtk_) writeVtk(step.step, step.T, state);
-  });
+  }
 }
 
 void ResultsWriter::writeCheckpoint(const std::string& text) {

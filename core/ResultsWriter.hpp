@@ -75,6 +75,7 @@ class ResultsWriter {
   // A file of a run's own (one of fileNames(), or vtk/step_N.vtu).
   bool ownResult(const std::string& relative) const;
   void openTables(bool append);
+  void writeStepFiles(const StepReport& step, const State& state, const std::vector<double>& fullResidual);
   void writeVtk(int step, double T, const State& state);
   void writePvd();
   void writeStatus(const std::string& text);
