@@ -11,7 +11,8 @@ CATALOGUE lines (blank lines and # comments are skipped):
     occurrence of OLD (which must be there); "@nest:N" wraps N nested lists around the Beams list;
     "@text:..." replaces the whole deck ("\\n" for new lines). Empty: the base deck unchanged.
   - arguments: the command line after the executable, with {DECK} (the edited deck) and {OUT}
-    (WORKDIR/name); empty: "run {DECK} --output {OUT} --quiet".
+    (WORKDIR/name), split into words like a shell's (shlex: '' is an empty argument); empty:
+    "run {DECK} --output {OUT} --quiet".
   - setup: a shell command run first (with {OUT}, {DECK}, {BASE} and {EXE}), e.g. to leave files in
     {OUT}.
   - check: a shell command run afterwards that must succeed (e.g. that stale files are gone).
@@ -21,6 +22,7 @@ With CASE only that case runs; otherwise all, with a count by verdict.
 """
 import os
 import re
+import shlex
 import subprocess
 import sys
 
@@ -78,7 +80,7 @@ def run(name, code, pattern, edits, args, setup, post):
                        .replace("{EXE}", exe))
     if setup:
         subprocess.run(["sh", "-c", subst(setup)], check=True)
-    argv = subst(args or "run {DECK} --output {OUT} --quiet").split()
+    argv = shlex.split(subst(args or "run {DECK} --output {OUT} --quiet"))
     try:
         r = subprocess.run([exe] + argv, capture_output=True, text=True, timeout=120, cwd=work)
     except subprocess.TimeoutExpired:

@@ -3,7 +3,8 @@
 //    stretch and twist, loads small enough (tip deflection 1e-4 L) that geometric nonlinearity is
 //    ~1e-8 relative; tolerance 1e-6 relative;
 //  - end moment M = 2 pi E I / L rolls the cantilever into a full circle;
-//  - quadratic convergence of Newton on a large-deflection tip-force case (order asserted).
+//  - quadratic convergence of Newton on a large-deflection tip-force case (order asserted);
+//  - a tip force of 1e-200 (forces that underflow when squared) is solved, not taken for equilibrium.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -101,6 +102,22 @@ TEST(LinearCantilever, TipValuesMatchEulerBernoulliClosedForms) {
     const double phi = T * L / (G * J);
     EXPECT_NEAR(s.rotationVector[tip][0], phi, 1e-6 * phi);
   }
+}
+
+TEST(LinearCantilever, ALoadWhoseForcesUnderflowWhenSquaredIsSolvedNotTakenForEquilibrium) {
+  // A tip force of 1e-200: the residual's entries square to 1e-400, below the smallest double, so a
+  // plain 2-norm of the first residual is 0 and every step passed for exact equilibrium at
+  // iteration 0 (no solve, zero displacement). The tip deflection is P L^3 / (3 E Iy).
+  const auto cs = elements::CrossSection::rectangle(b, h);
+  const double P = 1e-200;
+  auto p = test::problemFromXml(test::cantileverXml(L, b, h, E, nu, 10, "0,0," + test::num(P), "0,0,0", 1));
+  const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "tiny_load");
+  ASSERT_TRUE(r.report.completed) << r.report.failure;
+  const double w = P * L * L * L / (3 * E * cs.inertiaY());
+  std::printf("tip deflection %.9e, closed form %.9e, Newton iterations %d\n", r.finalState.displacement(10)[2], w,
+              r.report.newtonIterations);
+  EXPECT_GE(r.report.newtonIterations, 1);
+  EXPECT_NEAR(r.finalState.displacement(10)[2], w, 1e-6 * w);
 }
 
 TEST(RollUp, EndMomentRollsCantileverIntoFullCircle) {
