@@ -233,6 +233,7 @@ bool StaticSolver::attempt(double Ta, double Tb, int cutLevel, StepReport& repor
     committed_ = trial_;
     committed_.updateRotationVectors();
     for (auto& c : model_.contributions) c->commitStep(committed_);
+    for (auto& c : model_.contributions) c->stepConverged(committed_, Tb);
     report.step = ++run_.steps;
     report.T = Tb;
     report.cutLevel = cutLevel;
@@ -295,6 +296,8 @@ void StaticSolver::loadCheckpoint(CheckpointIn& in) {
   in.label("end");
   trial_ = committed_;
   graphStale_ = true;
+  if (run_.steps > 0)
+    for (auto& c : model_.contributions) c->stepConverged(committed_, committedT_);
 }
 
 StepReport StaticSolver::iterateFrom(const State& start, double Ta, double Tb, State& result) {
