@@ -109,18 +109,7 @@ StaticSolver::StaticSolver(Teuchos::RCP<const Comm> comm, Model& model, SolverSe
 }
 
 namespace {
-// ||v||_2 without underflow or overflow: Tpetra's norm2 squares the entries, so forces below about
-// 1e-154 (a model whose stiffness is tiny in its units) square to 0 and a residual of 1e-298 had the
-// norm 0, which passed for exact equilibrium. Scaled by the largest entry when the entries lie
-// outside 1e-150 .. 1e150; else the plain norm (the same bits as before).
-double safeNorm2(const Vector& v) {
-  const double m = v.normInf();
-  if (!(m > 0.0) || !std::isfinite(m) || (m >= 1e-150 && m <= 1e150)) return m > 0.0 ? v.norm2() : m;
-  Vector scaled(v, Teuchos::Copy);
-  scaled.scale(1.0 / m);
-  return m * scaled.norm2();
-}
-// The same for the sum of squares of a few numbers (reactions, loads), as a norm.
+// The 2-norm of a few numbers (reactions, loads) without underflow or overflow (scaledNorm2).
 double safeNorm2(const std::vector<double>& v) {
   double m = 0.0;
   for (double x : v) m = std::max(m, std::abs(x));
@@ -387,7 +376,7 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
     start("Assembly");
     assembler_.assemble(trial_, Tb, !likelyConverged);
     stop("Assembly");
-    const double rn = safeNorm2(*assembler_.residual());
+    const double rn = scaledNorm2(*assembler_.residual());
     std::vector<double> entries;
     for (GlobalDof g : assembler_.constrainedDofs()) entries.push_back(assembler_.fullResidual()[g]);
     const double reactionNorm = safeNorm2(entries);
