@@ -262,8 +262,7 @@ int main(int argc, char** argv) {
       if (args[i] == "--output" && i + 1 < args.size()) {
         output = args[++i];
         outputGiven = true;
-      }
-      else if (args[i] == "--restart" && i + 1 < args.size()) restart = args[++i];
+      } else if (args[i] == "--restart" && i + 1 < args.size()) restart = args[++i];
       else if (args[i] == "--quiet") quiet = true;
       else {
         if (root)
