@@ -162,7 +162,8 @@ std::string toDouble(const std::string& raw, double& v) {
   v = std::strtod(t.c_str(), &end);
   if (end != t.c_str() + t.size()) return "\"" + t + "\" is not a number";
   if (errno == ERANGE && std::abs(v) > 1.0) return "\"" + t + "\" is out of range for a double";
-  // strtod returns 0 (or a subnormal, with 15 or fewer digits) for a number below about 2.2e-308.
+  // Below the smallest normal double (about 2.2e-308) strtod sets ERANGE and returns 0 or a subnormal
+  // number with fewer digits ("1e-400" was read as 0).
   if (errno == ERANGE) return "\"" + t + "\" is too small for a double (its magnitude is below 2.2e-308; write 0 for zero)";
   if (!std::isfinite(v)) return "\"" + t + "\" is not a finite number";
   return "";
