@@ -145,6 +145,9 @@ class Output {
   // What the run could not model as asked (e.g. friction along a line contact): each a sentence,
   // written to status.txt after "complete" and printed; read when the run ends.
   virtual std::vector<std::string> warnings() const { return {}; }
+  // After every converged step at load factor T (on every rank, with the committed state), and at a
+  // restart for the checkpoint's step: checks of the converged state that warnings() reports.
+  virtual void stepConverged(const State& state, double T) {}
 };
 
 // What the model holds: all three concerns of one piece of the model.

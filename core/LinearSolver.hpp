@@ -57,6 +57,11 @@ struct SolveReport {
 // The residual measures of x as a solution of A x = b (iterations 0): what every solve is checked by.
 SolveReport residualReport(const Matrix& A, const Vector& b, const Vector& x);
 
+// ||v||_2 without underflow or overflow: Tpetra's norm2 squares the entries, so entries below about
+// 1e-154 square to 0 (forces of a model that is very soft in its units: a residual of 1e-298 had the
+// norm 0). Scaled by the largest entry when that lies outside 1e-150 .. 1e150; else the plain norm.
+double scaledNorm2(const Vector& v);
+
 class LinearSolver {
  public:
   virtual ~LinearSolver() = default;

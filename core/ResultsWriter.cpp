@@ -423,11 +423,12 @@ void ResultsWriter::writeSummary(const RunSummary& summary) {
     std::ostringstream f;
     f << "completed,last_T,steps,newton_iterations,max_newton_per_step,passes,solve_seconds,peak_memory_mb";
     for (const auto& [column, seconds] : summary.stages) f << ',' << column;
+    f << ",warnings";  // how many warnings status.txt lists (e.g. a beam strained beyond the model's 5 %)
     f << '\n' << (summary.run.completed ? 1 : 0) << ',' << summary.run.lastT << ',' << summary.run.steps << ','
       << summary.run.newtonIterations << ',' << summary.maxIterationsPerStep << ',' << summary.passes << ','
       << summary.solveSeconds << ',' << usage.ru_maxrss / 1024.0;
     for (const auto& [column, seconds] : summary.stages) f << ',' << seconds;
-    f << '\n';
+    f << ',' << summary.run.warnings.size() << '\n';
     writeFileAtomically(fs::path(dir_) / "summary.csv", f.str());
   });
 }

@@ -109,6 +109,16 @@ StaticSolver::StaticSolver(Teuchos::RCP<const Comm> comm, Model& model, SolverSe
 }
 
 namespace {
+// The 2-norm of a few numbers (reactions, loads) without underflow or overflow (scaledNorm2).
+double safeNorm2(const std::vector<double>& v) {
+  double m = 0.0;
+  for (double x : v) m = std::max(m, std::abs(x));
+  if (!(m > 0.0) || !std::isfinite(m)) return m;
+  double s = 0.0;
+  for (double x : v) s += (x / m) * (x / m);
+  return m * std::sqrt(s);
+}
+
 // The six rigid-body modes of the nodes at the state's positions (translations along x, y, z and
 // rotations about axes through the nodes' centroid), on the owned dofs of `map`; zero on any dof
 // beyond the nodal ones.
@@ -212,6 +222,7 @@ bool StaticSolver::attempt(double Ta, double Tb, int cutLevel, StepReport& repor
     committed_ = trial_;
     committed_.updateRotationVectors();
     for (auto& c : model_.contributions) c->commitStep(committed_);
+    for (auto& c : model_.contributions) c->stepConverged(committed_, Tb);
     report.step = ++run_.steps;
     report.T = Tb;
     report.cutLevel = cutLevel;
@@ -274,6 +285,8 @@ void StaticSolver::loadCheckpoint(CheckpointIn& in) {
   in.label("end");
   trial_ = committed_;
   graphStale_ = true;
+  if (run_.steps > 0)
+    for (auto& c : model_.contributions) c->stepConverged(committed_, committedT_);
 }
 
 StepReport StaticSolver::iterateFrom(const State& start, double Ta, double Tb, State& result) {
@@ -363,12 +376,14 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
     start("Assembly");
     assembler_.assemble(trial_, Tb, !likelyConverged);
     stop("Assembly");
-    const double rn = assembler_.residual()->norm2();
-    double reactions2 = 0.0;
-    for (GlobalDof g : assembler_.constrainedDofs()) reactions2 += std::pow(assembler_.fullResidual()[g], 2);
-    double ext2 = 0.0;
+    const double rn = scaledNorm2(*assembler_.residual());
+    std::vector<double> entries;
+    for (GlobalDof g : assembler_.constrainedDofs()) entries.push_back(assembler_.fullResidual()[g]);
+    const double reactionNorm = safeNorm2(entries);
+    entries.clear();
     for (const NodalLoad& l : model_.loads)
-      for (double v : l.value) ext2 += std::pow(l.curve(Tb) * v, 2);
+      for (double v : l.value) entries.push_back(l.curve(Tb) * v);
+    const double loadNorm = safeNorm2(entries);
     if (kp == 0) {
       firstResidual = rn;
       best = rn;
@@ -378,7 +393,7 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
       best = rn;
       progressAt = kp;
     }
-    const double reference = std::max({firstResidual, std::sqrt(reactions2), std::sqrt(ext2)});
+    const double reference = std::max({firstResidual, reactionNorm, loadNorm});
     // Backtracking: the residual did not fall (by 1e-4 of the step fraction), so go back to the last
     // iterate and take half the step. Not once the Newton step was already below its tolerance (the
     // residual may then sit at its round-off floor). The recorded increment norm stays the full
@@ -424,7 +439,7 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
     }
     // At k = 0 nothing has been solved yet: accept only a state already in equilibrium with
     // respect to the loads and reactions (e.g. an increment that changes nothing).
-    const double forceScale = std::max(std::sqrt(reactions2), std::sqrt(ext2));
+    const double forceScale = std::max(reactionNorm, loadNorm);
     bool converged;
     if (kp == 0) {
       converged = rn == 0.0 || rn <= settings_.residualTolerance * forceScale;

@@ -536,6 +536,10 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
 
   // Expand the groups and write each case's deck.
   const fs::path dir = options.output.empty() ? fs::path(study->get<std::string>("Output Directory")) : fs::path(options.output);
+  if (std::error_code ec; fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+    throw InputError("the study directory \"" + dir.string() + "\" is a file, not a directory; give " +
+                     (options.output.empty() ? "\"" + root + "/Output Directory\"" : std::string("--output")) +
+                     " a directory");
   core::OutputDirectory::Options where;
   where.overwrite = options.overwrite;
   where.pathFromDeck = options.output.empty();

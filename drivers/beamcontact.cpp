@@ -298,15 +298,21 @@ int main(int argc, char** argv) {
       }
       return 0;
     }
-    if (args[0] != "run" || args.size() < 2) {
+    if (args[0] == "run" && args.size() < 2) {
+      if (root) std::fprintf(stderr, "beamcontact: run needs a deck\n%s", kUsage);
+      return 1;
+    }
+    if (args[0] != "run") {
       if (root) std::fprintf(stderr, "beamcontact: unknown command \"%s\"\n%s", args[0].c_str(), kUsage);
       return 1;
     }
     std::string output, restart;
-    bool quiet = false, overwrite = false;
+    bool quiet = false, overwrite = false, outputGiven = false;
     for (std::size_t i = 2; i < args.size(); ++i) {
-      if (args[i] == "--output" && i + 1 < args.size()) output = args[++i];
-      else if (args[i] == "--restart" && i + 1 < args.size()) restart = args[++i];
+      if (args[i] == "--output" && i + 1 < args.size()) {
+        output = args[++i];
+        outputGiven = true;
+      } else if (args[i] == "--restart" && i + 1 < args.size()) restart = args[++i];
       else if (args[i] == "--quiet") quiet = true;
       else if (args[i] == "--overwrite") overwrite = true;
       else {
@@ -322,7 +328,7 @@ int main(int argc, char** argv) {
       if (root) std::fprintf(stderr, "beamcontact: --restart continues in its own directory; leave out --output\n");
       return 1;
     }
-    if ((!output.empty() && output.find_first_not_of(' ') == std::string::npos)) {
+    if (outputGiven && output.find_first_not_of(' ') == std::string::npos) {
       if (root) std::fprintf(stderr, "beamcontact: --output names no directory\n");
       return 1;
     }

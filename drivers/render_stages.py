@@ -61,6 +61,9 @@ def main():
     ap.add_argument("--title", default="")
     a = ap.parse_args()
     results = Path(a.results)
+    folder = Path(a.out).parent
+    if not folder.is_dir():
+        sys.exit(f"beamcontact: render: cannot write {a.out}: {folder} is not a directory")
     pvd = results / "results.pvd"
     if not pvd.exists():
         sys.exit(f"beamcontact: render: {pvd} does not exist (is {results} a results directory written with VTK output?)")
@@ -104,7 +107,12 @@ def main():
     fig.suptitle(a.title or f"{results.name}: stages of deformation (contact forces on beam B in red, "
                  f"largest {fmax:.4g})")
     fig.tight_layout()
-    fig.savefig(a.out, dpi=100)
+    # An output path that cannot be written (its folder missing or read-only, a file in place of the
+    # folder) is the caller's to fix: a usage error naming the path.
+    try:
+        fig.savefig(a.out, dpi=100)
+    except OSError as e:
+        sys.exit(f"beamcontact: render: cannot write {a.out}: {e.strerror or e}")
     print(f"render: {a.out}")
 
 

@@ -1,6 +1,9 @@
 #include "BeamSet.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 
 namespace bc::elements {
 
@@ -32,6 +35,69 @@ std::array<GlobalDof, 12> BeamSet::elementDofs(const BeamElement& e) {
     dofs[6 + k] = GlobalDof(kDofsPerNode) * e.node2 + k;
   }
   return dofs;
+}
+
+BeamSet::Strains BeamSet::elementStrains(const BeamElement& e, const CrossSection& section, const core::State& state) {
+  const BeamElementState s = elementState(e, state);
+  const BeamElementData& d = e.data;
+  const Mat3d RrT = transpose(corotatedFrame(d, s));
+  const Vec3d th1 = logSO3(RrT * (s.R1 * d.T0)), th2 = logSO3(RrT * (s.R2 * d.T0));
+  Strains out;
+  out.axial = std::abs(norm(s.x2 - s.x1) - d.L0) / d.L0;
+  // The local element's deflection is cubic, so its curvature is linear along it and largest at an
+  // end: (4 th1 + 2 th2) / L0 at the first, (2 th1 + 4 th2) / L0 at the second (a circular arc:
+  // th2 = -th1 = phi / 2, curvature phi / L0). Bending about local y (th[1]) strains the fibres at
+  // z = +-h/2, about local z (th[2]) those at y = +-b/2; a circle's farthest fibre is at r from the
+  // resultant's axis.
+  for (int end = 0; end < 2; ++end) {
+    const double a = end == 0 ? 4.0 : 2.0, c = end == 0 ? 2.0 : 4.0;
+    const double ky = std::abs(a * th1[1] + c * th2[1]) / d.L0, kz = std::abs(a * th1[2] + c * th2[2]) / d.L0;
+    const double fibre = section.shape == CrossSection::Shape::Circle
+                             ? section.radius * std::sqrt(ky * ky + kz * kz)
+                             : 0.5 * section.height * ky + 0.5 * section.width * kz;
+    out.bending = std::max(out.bending, fibre);
+  }
+  return out;
+}
+
+void BeamSet::stepConverged(const core::State& state, double T) {
+  strainExcess_.resize(beams_.size());
+  std::vector<Strains> worst(beams_.size());
+  for (const BeamElement& e : elements_) {
+    const Strains s = elementStrains(e, beams_[e.beam].section, state);
+    Strains& w = worst[e.beam];
+    if (std::max(s.axial, s.bending) > std::max(w.axial, w.bending)) w = s;
+  }
+  for (std::size_t b = 0; b < beams_.size(); ++b) {
+    const double strain = std::max(worst[b].axial, worst[b].bending);
+    if (!(strain > kStrainLimit)) continue;
+    StrainExcess& x = strainExcess_[b];
+    if (x.firstT < 0.0) {
+      x.firstT = T;
+      x.first = worst[b];
+    }
+    if (strain > x.largest) {
+      x.largest = strain;
+      x.largestT = T;
+    }
+  }
+}
+
+std::vector<std::string> BeamSet::warnings() const {
+  std::vector<std::string> w;
+  for (std::size_t b = 0; b < strainExcess_.size(); ++b) {
+    const StrainExcess& x = strainExcess_[b];
+    if (x.firstT < 0.0) continue;
+    const bool axial = x.first.axial >= x.first.bending;
+    std::ostringstream s;
+    s << std::setprecision(4) << "beam \"" << beams_[b].name << "\" is strained beyond the beam model's "
+      << 100.0 * kStrainLimit << " % from T = " << x.firstT << " (" << (axial ? "axial" : "bending") << " strain "
+      << 100.0 * (axial ? x.first.axial : x.first.bending) << " %; largest " << 100.0 * x.largest << " % at T = "
+      << x.largestT << "): the model assumes small strains, so its results from there are not the material's "
+      << "(docs/beam-element.md)";
+    w.push_back(s.str());
+  }
+  return w;
 }
 
 BeamElementState BeamSet::elementState(const BeamElement& e, const core::State& s) {

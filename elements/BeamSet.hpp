@@ -39,12 +39,31 @@ class BeamSet : public core::Contribution {
   double energy(const core::State& state, const OwnsDof& owns) const override;
   void appendVtk(const core::State& state, core::VtkMesh& mesh) const override;
 
+  // The small-strain check: after each converged step, every element's axial strain (l - L0) / L0 and
+  // bending strain (the curvature at its ends times the distance of the section's farthest fibre) are
+  // compared with kStrainLimit; each beam that exceeds it is a warning naming the first T.
+  static constexpr double kStrainLimit = 0.05;
+  struct Strains {
+    double axial = 0.0, bending = 0.0;
+  };
+  static Strains elementStrains(const BeamElement& e, const CrossSection& section, const core::State& s);
+  void stepConverged(const core::State& state, double T) override;
+  std::vector<std::string> warnings() const override;
+
   static BeamElementState elementState(const BeamElement& e, const core::State& s);
   static std::array<core::GlobalDof, 12> elementDofs(const BeamElement& e);
 
  private:
   std::vector<Beam> beams_;
   std::vector<BeamElement> elements_;
+  // Per beam: the first T at which a strain exceeded kStrainLimit (< 0: none yet), the strains of the
+  // beam's worst element then, and the largest strain of any later step with its T.
+  struct StrainExcess {
+    double firstT = -1.0;
+    Strains first;
+    double largest = 0.0, largestT = 0.0;
+  };
+  std::vector<StrainExcess> strainExcess_;
 };
 
 }  // namespace bc::elements

@@ -845,6 +845,38 @@ Problem buildProblem(ParameterList deck, const std::string& deckName) {
         throw InputError("parameter \"" + path + "/Section Orientation\" is zero or parallel to element " + std::to_string(k) +
                          " of the beam (give a direction across the beam)");
     }
+    // A section wider than its beam is no beam (the model is a slender beam: sections much smaller than
+    // the length). Measured: Width 1e6 on Example 1's 100 long cantilever made the tangent's condition
+    // bound 4e17, and the run stopped with a failed linear solve blaming a free motion.
+    double length = 0.0;
+    for (std::size_t k = 0; k + 1 < points.size(); ++k) length += norm(points[k + 1] - points[k]);
+    {
+      const bool circle = beam.section.shape == elements::CrossSection::Shape::Circle;
+      const double extent = circle ? 2.0 * beam.section.radius : std::max(beam.section.width, beam.section.height);
+      const char* what = circle ? "Radius" : beam.section.width >= beam.section.height ? "Width" : "Height";
+      if (extent > length) {
+        std::ostringstream m;
+        m << "parameter \"" << path << "/Section/" << what << "\": " << (circle ? "a diameter of " : "") << extent
+          << " exceeds the beam's length " << length
+          << "; a section larger than its beam is not a beam (the model is a slender beam, its section much "
+             "smaller than its length)";
+        throw InputError(m.str());
+      }
+    }
+    // The forces of a beam scale with E A: outside 1e-100 .. 1e100 they underflow or overflow when the
+    // solver squares them for its norms (measured: E = 1e-300 on Example 1 gave forces of 1e-298, whose
+    // norm was 0, and every step passed as converged without a solve).
+    {
+      const double EA = beam.material.youngsModulus * beam.section.area();
+      if (!(EA >= 1e-100 && EA <= 1e100)) {
+        std::ostringstream m;
+        m << "parameter \"" << path << "/Material/Young's Modulus\": " << beam.material.youngsModulus
+          << " makes the beam's axial stiffness E A = " << EA
+          << ", outside 1e-100 to 1e100: forces on that scale underflow or overflow in double precision; choose "
+             "units in which E A is nearer 1";
+        throw InputError(m.str());
+      }
+    }
     checkModelSize(reference.size() + points.size());
     const int first = static_cast<int>(reference.size());
     for (std::size_t k = 0; k < points.size(); ++k) {

@@ -1,5 +1,6 @@
 #include "XmlDeck.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <climits>
 #include <cmath>
@@ -161,6 +162,9 @@ std::string toDouble(const std::string& raw, double& v) {
   v = std::strtod(t.c_str(), &end);
   if (end != t.c_str() + t.size()) return "\"" + t + "\" is not a number";
   if (errno == ERANGE && std::abs(v) > 1.0) return "\"" + t + "\" is out of range for a double";
+  // Below the smallest normal double (about 2.2e-308) strtod sets ERANGE and returns 0 or a subnormal
+  // number with fewer digits ("1e-400" was read as 0).
+  if (errno == ERANGE) return "\"" + t + "\" is too small for a double (its magnitude is below 2.2e-308; write 0 for zero)";
   if (!std::isfinite(v)) return "\"" + t + "\" is not a finite number";
   return "";
 }
@@ -252,6 +256,17 @@ void setValue(ParameterList& list, const std::string& name, const std::string& t
 
 ParameterList Parser::parse() {
   if (s_.size() > kMaxBytes) fail(std::string("the file is ") + kTooLarge);
+  // UTF-16 (a byte order mark, or ASCII characters each followed or preceded by a NUL byte) is what
+  // some Windows editors save; its NUL bytes would otherwise end the first name read.
+  if (startsWith("\xFF\xFE") || startsWith("\xFE\xFF") ||
+      (s_.size() >= 2 && ((s_[0] != '\0' && s_[1] == '\0') || (s_[0] == '\0' && s_[1] != '\0'))))
+    fail("the deck is UTF-16; save it as UTF-8");
+  // A NUL byte is no text: C strings (and messages quoting the deck) end at it.
+  if (const std::size_t nul = s_.find('\0'); nul != std::string::npos) {
+    line_ = 1 + static_cast<int>(std::count(s_.begin(), s_.begin() + static_cast<std::ptrdiff_t>(nul), '\n'));
+    fail("a NUL byte (byte " + std::to_string(nul + 1) + " of the file); a deck is UTF-8 text");
+  }
+  // A UTF-8 byte order mark is valid UTF-8 and is skipped.
   if (startsWith("\xEF\xBB\xBF")) advance(3);
   struct Open {
     ParameterList* list;

@@ -11,8 +11,9 @@ CATALOGUE lines (blank lines and # comments are skipped):
     occurrence of OLD (which must be there); "@nest:N" wraps N nested lists around the Beams list;
     "@text:..." replaces the whole deck ("\\n" for new lines). Empty: the base deck unchanged.
   - arguments: the command line after the executable, with {DECK} (the edited deck) and {OUT}
-    (WORKDIR/name); empty: "run {DECK} --output {OUT} --quiet". Leading NAME=VALUE words are set in
-    the environment of the run instead (e.g. BC_TEST_PLUGIN=hijack for the test plug-in).
+    (WORKDIR/name), split into words like a shell's (shlex: '' is an empty argument); empty:
+    "run {DECK} --output {OUT} --quiet". Leading NAME=VALUE words are set in the environment of the
+    run instead (e.g. BC_TEST_PLUGIN=hijack for the test plug-in).
   - {PLUGIN} and {OLD_PLUGIN} (in edits, arguments, setup and check): the test plug-in
     (tests/support/FaultPlugin.cpp) and its copy built against another version, from the environment
     variables BC_FAULT_PLUGIN and BC_OLD_PLUGIN.
@@ -25,6 +26,7 @@ With CASE only that case runs; otherwise all, with a count by verdict.
 """
 import os
 import re
+import shlex
 import subprocess
 import sys
 
@@ -83,7 +85,7 @@ def run(name, code, pattern, edits, args, setup, post):
         f.write(subst(edit(base, edits, name)))
     if setup:
         subprocess.run(["sh", "-c", subst(setup)], check=True)
-    argv = subst(args or "run {DECK} --output {OUT} --quiet").split()
+    argv = shlex.split(subst(args or "run {DECK} --output {OUT} --quiet"))
     env = dict(os.environ)
     while argv and re.match(r"^[A-Z_][A-Z0-9_]*=", argv[0]):
         key, value = argv.pop(0).split("=", 1)

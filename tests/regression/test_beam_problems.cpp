@@ -3,13 +3,16 @@
 //    stretch and twist, loads small enough (tip deflection 1e-4 L) that geometric nonlinearity is
 //    ~1e-8 relative; tolerance 1e-6 relative;
 //  - end moment M = 2 pi E I / L rolls the cantilever into a full circle;
-//  - quadratic convergence of Newton on a large-deflection tip-force case (order asserted).
+//  - quadratic convergence of Newton on a large-deflection tip-force case (order asserted);
+//  - a tip force of 1e-200 (forces that underflow when squared) is solved, not taken for equilibrium;
+//  - the small-strain check warns exactly when M h / (2 E I) or N / (E A) crosses 5 %.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "constraints/ContactManager.hpp"
 #include "core/Compliance.hpp"
+#include "elements/BeamSet.hpp"
 #include "elements/CrossSection.hpp"
 #include "elements/PinnedJoints.hpp"
 #include "support/TestSupport.hpp"
@@ -100,6 +103,73 @@ TEST(LinearCantilever, TipValuesMatchEulerBernoulliClosedForms) {
     const auto s = solveTip("0,0,0", test::num(T) + ",0,0", "torsion");
     const double phi = T * L / (G * J);
     EXPECT_NEAR(s.rotationVector[tip][0], phi, 1e-6 * phi);
+  }
+}
+
+TEST(LinearCantilever, ALoadWhoseForcesUnderflowWhenSquaredIsSolvedNotTakenForEquilibrium) {
+  // A tip force of 1e-200: the residual's entries square to 1e-400, below the smallest double, so a
+  // plain 2-norm of the first residual is 0 and every step passed for exact equilibrium at
+  // iteration 0 (no solve, zero displacement). The tip deflection is P L^3 / (3 E Iy).
+  const auto cs = elements::CrossSection::rectangle(b, h);
+  const double P = 1e-200;
+  auto p = test::problemFromXml(test::cantileverXml(L, b, h, E, nu, 10, "0,0," + test::num(P), "0,0,0", 1));
+  const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "tiny_load");
+  ASSERT_TRUE(r.report.completed) << r.report.failure;
+  const double w = P * L * L * L / (3 * E * cs.inertiaY());
+  std::printf("tip deflection %.9e, closed form %.9e, Newton iterations %d\n", r.finalState.displacement(10)[2], w,
+              r.report.newtonIterations);
+  EXPECT_GE(r.report.newtonIterations, 1);
+  EXPECT_NEAR(r.finalState.displacement(10)[2], w, 1e-6 * w);
+}
+
+TEST(StrainCheck, EndMomentWarnsExactlyWhenTheBendingStrainCrossesFivePercent) {
+  // An end moment M bends the cantilever to the uniform curvature M / (E Iy) (the roll-up below), so
+  // its fibres at z = +-h/2 strain by M h / (2 E Iy); at load factor T by T times that. M5 is the
+  // moment of 5 % (BeamSet::kStrainLimit). 0.95 M5 stays below at T = 1: no warning. 1.3 M5 in 20
+  // increments first exceeds 5 % at the first T = k / 20 with 1.3 T > 1: T = 0.8 (0.75 gives 4.9 %).
+  // The same for a tip force N along the axis: axial strain T N / (E A).
+  const double Iy = elements::CrossSection::rectangle(b, h).inertiaY(), A = b * h;
+  const double M5 = elements::BeamSet::kStrainLimit * 2 * E * Iy / h, N5 = elements::BeamSet::kStrainLimit * E * A;
+  const int n = 20;
+  double firstT = 0.0;
+  for (int k = 1; k <= n; ++k)
+    if (1.3 * k / double(n) > 1.0) {
+      firstT = k / double(n);
+      break;
+    }
+  struct Case {
+    std::string name, force, moment, kind;
+    bool warns;
+  };
+  const std::vector<Case> cases = {
+      {"bending_below", "0,0,0", "0," + test::num(-0.95 * M5) + ",0", "bending", false},
+      {"bending_above", "0,0,0", "0," + test::num(-1.3 * M5) + ",0", "bending", true},
+      {"axial_below", test::num(0.95 * N5) + ",0,0", "0,0,0", "axial", false},
+      {"axial_above", test::num(1.3 * N5) + ",0,0", "0,0,0", "axial", true}};
+  for (const Case& c : cases) {
+    auto p = test::problemFromXml(test::cantileverXml(L, b, h, E, nu, 10, c.force, c.moment, n));
+    const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "strain_" + c.name);
+    ASSERT_TRUE(r.report.completed) << c.name << ": " << r.report.failure;
+    // The strain the check measures at T = 1, against the closed form.
+    const auto& beams = dynamic_cast<const elements::BeamSet&>(*p.model.contributions[0]);
+    double strain = 0.0;
+    for (const auto& e : beams.elements()) {
+      const auto s = elements::BeamSet::elementStrains(e, beams.beams()[0].section, r.finalState);
+      strain = std::max(strain, c.kind == "axial" ? s.axial : s.bending);
+    }
+    const double expected = (c.warns ? 1.3 : 0.95) * elements::BeamSet::kStrainLimit;
+    std::printf("%s: strain at T = 1 %.9f, closed form %.9f, %zu warnings\n", c.name.c_str(), strain, expected,
+                r.report.warnings.size());
+    for (const auto& w : r.report.warnings) std::printf("  %s\n", w.c_str());
+    EXPECT_NEAR(strain, expected, 1e-6 * expected) << c.name;
+    ASSERT_EQ(r.report.warnings.size(), c.warns ? 1u : 0u) << c.name;
+    if (c.warns) {
+      const std::string& w = r.report.warnings[0];
+      char at[64];
+      std::snprintf(at, sizeof at, "from T = %g (%s strain", firstT, c.kind.c_str());
+      EXPECT_NE(w.find("beam \"b\""), std::string::npos) << w;
+      EXPECT_NE(w.find(at), std::string::npos) << "expected \"" << at << "\" in: " << w;
+    }
   }
 }
 
