@@ -611,7 +611,13 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
     ParameterList deck(*baseDeck);
     for (const auto& [var, value] : c.settings)
       setValue(deck, *var, value, "case " + std::to_string(c.index) + " (group \"" + c.group + "\")");
-    deck.sublist("Output").set("Directory", c.dir.string());
+    // The case's deck names its folder where a deck may (relative, no ".."), so it can be run again
+    // by itself; otherwise it keeps the default (results/deck). The study runs it with --output.
+    const bool deckMayName = c.dir.is_relative() && std::none_of(c.dir.begin(), c.dir.end(), [](const fs::path& part) {
+                               return part == "..";
+                             });
+    if (deckMayName) deck.sublist("Output").set("Directory", c.dir.string());
+    else deck.sublist("Output").remove("Directory", false);
     if (timing) deck.sublist("Output").set("Write VTK", false);  // fair timing: the method, not the output
     std::ostringstream xml;
     Teuchos::writeParameterListToXmlOStream(deck, xml);
