@@ -4,6 +4,7 @@
 
 #include <climits>
 #include <cmath>
+#include <map>
 #include <sstream>
 
 #include "Checkpoint.hpp"
@@ -341,6 +342,26 @@ void StaticSolver::loadCheckpoint(CheckpointIn& in) {
   if (run_.steps < at.increment + (inside ? 1 : 0))
     in.fail("its step counter (" + std::to_string(run_.steps) + ") is below the steps needed to reach T = " +
             shortest(at.T) + " (" + std::to_string(at.increment + (inside ? 1 : 0)) + ")");
+  // Prescribed translations: every step moves a supported node's fixed translation by
+  // value (curve(T_b) - curve(T_a)) and nothing else does, so a state at T has it at
+  // x_0 + value (curve(T) - curve(0)) (to the round-off of the steps' sum; 1e-9 of the model's size).
+  std::map<std::pair<int, int>, const Support*> prescribed;  // (node, translation) -> its support (the last wins, as in newton())
+  for (const Support& sup : model_.supports)
+    for (int node : sup.nodes)
+      for (int k = 0; k < 3; ++k)
+        if (sup.fixed[k]) prescribed[{node, k}] = &sup;
+  const auto checkPrescribed = [&](const State& state, double T, const std::string& which) {
+    for (const auto& [dof, sup] : prescribed) {
+      const auto [node, k] = dof;
+      const double expected = model_.initial.position[node][k] + sup->value[k] * (sup->curve(T) - sup->curve(0.0));
+      if (!(std::abs(state.position[node][k] - expected) <= 1e-9 * (modelSize_ + std::abs(sup->value[k]))))
+        in.fail(which + " has supported node " + std::to_string(node) + " at " + "xyz"[k] + " = " +
+                shortest(state.position[node][k]) + ", where its support \"" + sup->name + "\" puts it at " +
+                shortest(expected) + " (T = " + shortest(T) + ")");
+    }
+  };
+  checkPrescribed(committed_, committedT_, "its converged state");
+  if (previousT_ >= 0.0) checkPrescribed(previous_, previousT_, "its previous state");
   trial_ = committed_;
   graphStale_ = true;
 }
