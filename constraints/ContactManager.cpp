@@ -1329,6 +1329,12 @@ void ContactManager::loadCommitted(core::CheckpointIn& in, const core::State& co
             std::to_string(lastPasses) + ", relaxations " + std::to_string(relaxations) + ")");
   lastPasses_ = static_cast<int>(lastPasses);
   relaxations_ = static_cast<int>(relaxations);
+  // The tangential penalties are relaxed by a factor 10 each time (restoreStep), from 1.
+  double relaxation = 1.0;
+  for (int k = 0; k < relaxations_ && std::isfinite(relaxation); ++k) relaxation *= 10.0;
+  if (tangentialRelaxation_ != relaxation)
+    in.fail("its tangential relaxation factor " + core::shortest(tangentialRelaxation_) + " is not 10^" +
+            std::to_string(relaxations_) + " (its count of relaxations)");
   const int elements = static_cast<int>(beams_->elements().size());
   struct Reader : StateFields {
     core::CheckpointIn& in;
@@ -1365,6 +1371,9 @@ void ContactManager::loadCommitted(core::CheckpointIn& in, const core::State& co
     if (committed_.count({p.pair, p.lineA, p.lineB}))
       in.fail("contact point " + std::to_string(i + 1) + " is there twice (it is damaged)");
     p.sigma = in.real();
+    if (p.sigma != 1.0 && p.sigma != -1.0)
+      in.fail("contact point " + std::to_string(i + 1) + " has the normal orientation " + core::shortest(p.sigma) +
+              " (it is +1 or -1)");
     p.xiPrev = in.real();
     p.etaPrev = in.real();
     p.etaRate = in.real();
