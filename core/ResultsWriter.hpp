@@ -46,9 +46,11 @@ struct RunSummary {
 class ResultsWriter {
  public:
   // Every member function is collective (call it on all ranks). `resumeStep` >= 0 continues the run
-  // in `directory` after that step (restart); otherwise the directory is prepared for a fresh run.
+  // in `directory` after that step, reached at load factor `resumeT` (restart: steps.csv must hold
+  // the rows of steps 1 to resumeStep, the last at resumeT, or nothing is changed); otherwise the
+  // directory is prepared for a fresh run.
   ResultsWriter(const std::string& directory, const Model& model, Teuchos::RCP<const Comm> comm,
-                bool writeVtk = true, int resumeStep = -1);
+                bool writeVtk = true, int resumeStep = -1, double resumeT = 0.0);
   void writeEffective(const Teuchos::ParameterList& effective);
   void writeInitial(const State& state);
   void writeStep(const StepReport& step, const State& state, const std::vector<double>& fullResidual);
@@ -63,7 +65,7 @@ class ResultsWriter {
 
  private:
   void prepareFresh();
-  void prepareResume(int step);
+  void prepareResume(int step, double T);
   void openTables(bool append);
   void writeVtk(int step, double T, const State& state);
   void writePvd();

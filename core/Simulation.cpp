@@ -102,7 +102,8 @@ RunResult simulate(Model& model, const SolverSettings& settings, const Teuchos::
     result.restartedAtStep = resumeStep;
   }
 
-  ResultsWriter writer(options.outputDirectory, model, comm, options.writeVtk, resumeStep);
+  ResultsWriter writer(options.outputDirectory, model, comm, options.writeVtk, resumeStep,
+                       options.restart ? solver.runReport().lastT : 0.0);
   try {
     if (options.effective) writer.writeEffective(*options.effective);
     if (!options.restart) writer.writeInitial(model.initial);
