@@ -1359,7 +1359,8 @@ void ContactManager::loadCommitted(core::CheckpointIn& in, const core::State& co
         p.elementB < 0 || p.elementB >= elements)
       in.fail("contact point " + std::to_string(i + 1) + " refers to a pair or element the deck does not have (pair " +
               std::to_string(p.pair) + " of " + std::to_string(pairs_.size()) + ", elements " +
-              std::to_string(p.elementA) + " and " + std::to_string(p.elementB) + " of " + std::to_string(elements) + ")");
+              std::to_string(p.elementA) + " and " + std::to_string(p.elementB) + " of " + std::to_string(elements) +
+              ")");
     // Its elements belong to the beams of its pair.
     const auto onPair = [&](int e) {
       const int beam = beams_->elements()[e].beam;
@@ -1367,7 +1368,8 @@ void ContactManager::loadCommitted(core::CheckpointIn& in, const core::State& co
     };
     if (!onPair(p.elementA) || !onPair(p.elementB))
       in.fail("contact point " + std::to_string(i + 1) + " joins elements " + std::to_string(p.elementA) + " and " +
-              std::to_string(p.elementB) + ", which are not on the beams of its contact pair \"" + pairs_[p.pair].name + "\"");
+              std::to_string(p.elementB) + ", which are not on the beams of its contact pair \"" +
+              pairs_[p.pair].name + "\"");
     if (committed_.count({p.pair, p.lineA, p.lineB}))
       in.fail("contact point " + std::to_string(i + 1) + " is there twice (it is damaged)");
     p.sigma = in.real();

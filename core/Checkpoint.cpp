@@ -85,7 +85,8 @@ void CheckpointIn::verifyChecksum() const {
                           std::all_of(line.begin() + 7, line.end(), [](char c) {
                             return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f');
                           });
-  if (!wellFormed) fail("its last line is not its checksum (\"sha256\" and 64 hexadecimal digits): it was cut short or damaged");
+  if (!wellFormed)
+    fail("its last line is not its checksum (\"sha256\" and 64 hexadecimal digits): it was cut short or damaged");
   if (sha256Hex(text_.substr(0, start)) != line.substr(7))
     fail("its SHA-256 checksum does not match its content: it was edited or damaged after it was written");
 }
@@ -98,7 +99,8 @@ void CheckpointIn::finish() {
 }
 
 std::string CheckpointIn::where() const {
-  return " (line " + std::to_string(1 + std::count(text_.begin(), text_.begin() + std::min(tokenStart_, text_.size()), '\n')) + ")";
+  const auto end = text_.begin() + static_cast<std::ptrdiff_t>(std::min(tokenStart_, text_.size()));
+  return " (line " + std::to_string(1 + std::count(text_.begin(), end, '\n')) + ")";
 }
 
 void CheckpointIn::fail(const std::string& what) const {
@@ -124,7 +126,8 @@ double CheckpointIn::real() {
   char* end = nullptr;
   errno = 0;
   const double v = std::strtod(t.c_str(), &end);
-  if (end != t.c_str() + t.size() || errno == ERANGE) fail("\"" + t + "\" is not a number" + where() + " (it is damaged)");
+  if (end != t.c_str() + t.size() || errno == ERANGE)
+    fail("\"" + t + "\" is not a number" + where() + " (it is damaged)");
   if (!std::isfinite(v)) fail("\"" + t + "\" is not a finite number" + where());
   return v;
 }
@@ -134,7 +137,8 @@ long long CheckpointIn::integer() {
   char* end = nullptr;
   errno = 0;
   const long long v = std::strtoll(t.c_str(), &end, 10);
-  if (end != t.c_str() + t.size() || errno == ERANGE) fail("\"" + t + "\" is not a whole number" + where() + " (it is damaged)");
+  if (end != t.c_str() + t.size() || errno == ERANGE)
+    fail("\"" + t + "\" is not a whole number" + where() + " (it is damaged)");
   return v;
 }
 
@@ -161,7 +165,8 @@ void CheckpointIn::state(State& s) {
         for (int k = 0; k < 3; ++k) rtr += R(k, i) * R(k, j);
         off = std::max(off, std::abs(rtr - (i == j ? 1.0 : 0.0)));
       }
-    const double det = R(0, 0) * (R(1, 1) * R(2, 2) - R(1, 2) * R(2, 1)) - R(0, 1) * (R(1, 0) * R(2, 2) - R(1, 2) * R(2, 0)) +
+    const double det = R(0, 0) * (R(1, 1) * R(2, 2) - R(1, 2) * R(2, 1)) -
+                       R(0, 1) * (R(1, 0) * R(2, 2) - R(1, 2) * R(2, 0)) +
                        R(0, 2) * (R(1, 0) * R(2, 1) - R(1, 1) * R(2, 0));
     if (off > 1e-8 || det <= 0.0)
       fail("node " + std::to_string(n) + "'s rotation is not a rotation matrix (R^T R - I up to " + shortest(off) +

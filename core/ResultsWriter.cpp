@@ -145,10 +145,12 @@ void ResultsWriter::prepareResume(int step, double T) {
     }
     if (in.is_open() && rows != step)
       throw InputError("checkpoint " + checkpoint + " cannot be used: it is at step " + std::to_string(step) +
-                       ", steps.csv has " + std::to_string(rows) + " steps up to there (it is not this directory's run)");
+                       ", steps.csv has " + std::to_string(rows) +
+                       " steps up to there (it is not this directory's run)");
     if (rows > 0 && !(std::abs(lastT - T) <= 1e-11 * std::max(1.0, std::abs(T))))
-      throw InputError("checkpoint " + checkpoint + " cannot be used: its step " + std::to_string(step) + " is at T = " +
-                       shortest(T) + ", steps.csv's at T = " + shortest(lastT) + " (it is not this directory's run)");
+      throw InputError("checkpoint " + checkpoint + " cannot be used: its step " + std::to_string(step) +
+                       " is at T = " + shortest(T) + ", steps.csv's at T = " + shortest(lastT) +
+                       " (it is not this directory's run)");
   }
   std::error_code ec;
   fs::create_directories(dir / "vtk", ec);

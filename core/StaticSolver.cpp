@@ -311,14 +311,18 @@ void StaticSolver::loadCheckpoint(CheckpointIn& in) {
   const Progress& at = progress_;
   const std::string position = "in configured increment " + std::to_string(at.increment + 1) + " of " +
                                std::to_string(n) + " at cut level " + std::to_string(at.level);
-  if (at.increment > n) in.fail("its configured increment " + std::to_string(at.increment + 1) + " is beyond the " + std::to_string(n) + " of the load stepping");
+  if (at.increment > n)
+    in.fail("its configured increment " + std::to_string(at.increment + 1) + " is beyond the " + std::to_string(n) +
+            " of the load stepping");
   if (at.level > settings_.maxStepCuts)
     in.fail("its cut level " + std::to_string(at.level) + " is beyond Maximum Step Cuts (" +
             std::to_string(settings_.maxStepCuts) + ")");
   if (at.converged > (at.level > 0 ? 1 : 0))
-    in.fail("its count of converged pieces (" + std::to_string(at.converged) + ") is not one the load stepping reaches " + position);
+    in.fail("its count of converged pieces (" + std::to_string(at.converged) +
+            ") is not one the load stepping reaches " + position);
   if (at.increment == n) {
-    if (at.T != 1.0 || at.level != 0) in.fail("its load stepping is finished but T = " + shortest(at.T) + " (it must be 1)");
+    if (at.T != 1.0 || at.level != 0)
+      in.fail("its load stepping is finished but T = " + shortest(at.T) + " (it must be 1)");
   } else {
     const double Ta = at.increment == 0 ? 0.0 : settings_.loadFactors[at.increment - 1];
     const double Tb = settings_.loadFactors[at.increment];
@@ -345,7 +349,8 @@ void StaticSolver::loadCheckpoint(CheckpointIn& in) {
   // Prescribed translations: every step moves a supported node's fixed translation by
   // value (curve(T_b) - curve(T_a)) and nothing else does, so a state at T has it at
   // x_0 + value (curve(T) - curve(0)) (to the round-off of the steps' sum; 1e-9 of the model's size).
-  std::map<std::pair<int, int>, const Support*> prescribed;  // (node, translation) -> its support (the last wins, as in newton())
+  // (node, translation) -> its support (the last one wins, as in newton()).
+  std::map<std::pair<int, int>, const Support*> prescribed;
   for (const Support& sup : model_.supports)
     for (int node : sup.nodes)
       for (int k = 0; k < 3; ++k)
