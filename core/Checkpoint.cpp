@@ -100,7 +100,7 @@ void CheckpointIn::finish() {
 
 std::string CheckpointIn::where() const {
   const auto end = text_.begin() + static_cast<std::ptrdiff_t>(std::min(tokenStart_, text_.size()));
-  return " (line " + std::to_string(1 + std::count(text_.begin(), end, '\n')) + ")";
+  return " on line " + std::to_string(1 + std::count(text_.begin(), end, '\n'));
 }
 
 void CheckpointIn::fail(const std::string& what) const {
@@ -148,7 +148,7 @@ void CheckpointIn::state(State& s) {
   label("nodes");
   const long long nodes = integer();
   if (nodes != s.numNodes())
-    fail("it has " + std::to_string(nodes) + " nodes, the model " + std::to_string(s.numNodes()) + where());
+    fail("its state" + where() + " has " + std::to_string(nodes) + " nodes, the model " + std::to_string(s.numNodes()));
   for (int n = 0; n < s.numNodes(); ++n) {
     label("node");
     if (integer() != n) fail("nodes out of order" + where() + " (it is damaged)");

@@ -13,7 +13,8 @@
 // checksum does not match is refused. The content is also checked where a recomputed checksum would
 // let an edit through: the format and BeamContact versions, counters >= 0, every real finite, the
 // load factor against the load stepping, the reference geometry against the model's (StaticSolver,
-// ContactManager). Every refusal is an InputError "checkpoint FILE cannot be used: WHAT".
+// ContactManager), its step against the results directory's steps.csv (ResultsWriter). Every refusal
+// is an InputError "checkpoint FILE cannot be used: WHAT", thrown before the results directory changes.
 #pragma once
 #include <cstdint>
 #include <sstream>
@@ -60,7 +61,7 @@ class CheckpointIn {
 
  private:
   std::string next();
-  // " (line N)": the line of the token read last.
+  // " on line N": the line of the token read last.
   std::string where() const;
   std::string text_;
   std::istringstream in_;

@@ -80,7 +80,7 @@ TEST(Checkpoint, NonFiniteNumbersAreRefused) {
     in.label("run");
     in.label("T");
     const std::string message = refusal([&] { in.real(); });
-    EXPECT_NE(message.find(std::string("\"") + word + "\" is not a finite number (line 2)"), std::string::npos)
+    EXPECT_NE(message.find(std::string("\"") + word + "\" is not a finite number on line 2"), std::string::npos)
         << message;
   }
 }
