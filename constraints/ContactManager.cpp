@@ -3,6 +3,7 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -1320,9 +1321,20 @@ void ContactManager::loadCommitted(core::CheckpointIn& in, const core::State& co
   in.label("contact");
   if (in.word() != core::CheckpointOut::token(enforcer_->type())) in.fail("it was written with another enforcement strategy");
   const long long n = in.integer();
-  lastPasses_ = static_cast<int>(in.integer());
+  const long long lastPasses = in.integer();
   tangentialRelaxation_ = in.real();
-  relaxations_ = static_cast<int>(in.integer());
+  const long long relaxations = in.integer();
+  if (n < 0 || lastPasses < 0 || lastPasses > INT_MAX || relaxations < 0 || relaxations > INT_MAX)
+    in.fail("its contact counters are negative or too large (points " + std::to_string(n) + ", passes " +
+            std::to_string(lastPasses) + ", relaxations " + std::to_string(relaxations) + ")");
+  lastPasses_ = static_cast<int>(lastPasses);
+  relaxations_ = static_cast<int>(relaxations);
+  // The tangential penalties are relaxed by a factor 10 each time (restoreStep), from 1.
+  double relaxation = 1.0;
+  for (int k = 0; k < relaxations_ && std::isfinite(relaxation); ++k) relaxation *= 10.0;
+  if (tangentialRelaxation_ != relaxation)
+    in.fail("its tangential relaxation factor " + core::shortest(tangentialRelaxation_) + " is not 10^" +
+            std::to_string(relaxations_) + " (its count of relaxations)");
   const int elements = static_cast<int>(beams_->elements().size());
   struct Reader : StateFields {
     core::CheckpointIn& in;
@@ -1345,8 +1357,25 @@ void ContactManager::loadCommitted(core::CheckpointIn& in, const core::State& co
     p.elementB = static_cast<int>(in.integer());
     if (p.pair < 0 || p.pair >= static_cast<int>(pairs_.size()) || p.elementA < 0 || p.elementA >= elements ||
         p.elementB < 0 || p.elementB >= elements)
-      in.fail("a contact point refers to a pair or element the deck does not have");
+      in.fail("contact point " + std::to_string(i + 1) + " refers to a pair or element the deck does not have (pair " +
+              std::to_string(p.pair) + " of " + std::to_string(pairs_.size()) + ", elements " +
+              std::to_string(p.elementA) + " and " + std::to_string(p.elementB) + " of " + std::to_string(elements) +
+              ")");
+    // Its elements belong to the beams of its pair.
+    const auto onPair = [&](int e) {
+      const int beam = beams_->elements()[e].beam;
+      return beam == pairs_[p.pair].beamA || beam == pairs_[p.pair].beamB;
+    };
+    if (!onPair(p.elementA) || !onPair(p.elementB))
+      in.fail("contact point " + std::to_string(i + 1) + " joins elements " + std::to_string(p.elementA) + " and " +
+              std::to_string(p.elementB) + ", which are not on the beams of its contact pair \"" +
+              pairs_[p.pair].name + "\"");
+    if (committed_.count({p.pair, p.lineA, p.lineB}))
+      in.fail("contact point " + std::to_string(i + 1) + " is there twice (it is damaged)");
     p.sigma = in.real();
+    if (p.sigma != 1.0 && p.sigma != -1.0)
+      in.fail("contact point " + std::to_string(i + 1) + " has the normal orientation " + core::shortest(p.sigma) +
+              " (it is +1 or -1)");
     p.xiPrev = in.real();
     p.etaPrev = in.real();
     p.etaRate = in.real();
@@ -1363,6 +1392,13 @@ void ContactManager::loadCommitted(core::CheckpointIn& in, const core::State& co
       in.fail("a contact point's multipliers do not match its state");
     committed_[{p.pair, p.lineA, p.lineB}] = p;
   }
+  // Every contact multiplier in the state belongs to one of these points.
+  std::size_t blocks = 0, withBlock = 0;
+  for (const auto& [id, block] : committed.extra.blocks()) blocks += id.first == kExtraOwner ? 1 : 0;
+  for (const auto& [key, p] : committed_) withBlock += p.extraOffset >= 0 ? 1 : 0;
+  if (blocks != withBlock)
+    in.fail("its state holds contact multipliers of " + std::to_string(blocks) + " points, its contact history " +
+            std::to_string(withBlock) + " points with multipliers");
   points_ = committed_;
   marked_ = committed_;
   reference_ = committed;

@@ -1,5 +1,7 @@
 #include "Checkpoint.hpp"
 
+#include <algorithm>
+#include <charconv>
 #include <map>
 
 #include <cctype>
@@ -9,8 +11,20 @@
 #include <cstdlib>
 
 #include "Parameters.hpp"
+#include "Sha256.hpp"
 
 namespace bc::core {
+
+std::string shortest(double v) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
+std::string CheckpointOut::text() const {
+  const std::string body = out_.str() + "\n";
+  return body + "sha256 " + sha256Hex(body) + "\n";
+}
 
 CheckpointOut& CheckpointOut::label(const std::string& name) {
   if (out_.tellp() > 0) out_ << '\n';
@@ -58,21 +72,53 @@ void CheckpointOut::state(const State& s) {
   }
 }
 
-CheckpointIn::CheckpointIn(const std::string& text, const std::string& source) : in_(text), source_(source) {}
+CheckpointIn::CheckpointIn(const std::string& text, const std::string& source)
+    : text_(text), in_(text), source_(source) {}
+
+void CheckpointIn::verifyChecksum() const {
+  // The last line: "sha256 " and 64 lower-case hexadecimal digits, then the file's final new line.
+  const std::size_t n = text_.size();
+  const std::size_t cut = n >= 2 ? text_.rfind('\n', n - 2) : std::string::npos;
+  const std::size_t start = cut == std::string::npos ? 0 : cut + 1;
+  const std::string line = n > 0 && text_.back() == '\n' ? text_.substr(start, n - 1 - start) : std::string();
+  const bool wellFormed = line.size() == 7 + 64 && line.compare(0, 7, "sha256 ") == 0 &&
+                          std::all_of(line.begin() + 7, line.end(), [](char c) {
+                            return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f');
+                          });
+  if (!wellFormed)
+    fail("its last line is not its checksum (\"sha256\" and 64 hexadecimal digits): it was cut short or damaged");
+  if (sha256Hex(text_.substr(0, start)) != line.substr(7))
+    fail("its SHA-256 checksum does not match its content: it was edited or damaged after it was written");
+}
+
+void CheckpointIn::finish() {
+  label("sha256");
+  next();
+  in_ >> std::ws;
+  if (in_.peek() != std::char_traits<char>::eof()) fail("text follows its checksum line (it is damaged)");
+}
+
+std::string CheckpointIn::where() const {
+  const auto end = text_.begin() + static_cast<std::ptrdiff_t>(std::min(tokenStart_, text_.size()));
+  return " on line " + std::to_string(1 + std::count(text_.begin(), end, '\n'));
+}
 
 void CheckpointIn::fail(const std::string& what) const {
   throw InputError("checkpoint " + source_ + " cannot be used: " + what);
 }
 
 std::string CheckpointIn::next() {
+  in_ >> std::ws;
+  const auto at = in_.tellg();
   std::string t;
   if (!(in_ >> t)) fail("it ends early (it is damaged)");
+  if (at >= 0) tokenStart_ = static_cast<std::size_t>(at);
   return t;
 }
 
 void CheckpointIn::label(const std::string& name) {
   const std::string t = next();
-  if (t != name) fail("expected \"" + name + "\", found \"" + t + "\" (it is damaged)");
+  if (t != name) fail("expected \"" + name + "\", found \"" + t + "\"" + where() + " (it is damaged)");
 }
 
 double CheckpointIn::real() {
@@ -80,7 +126,9 @@ double CheckpointIn::real() {
   char* end = nullptr;
   errno = 0;
   const double v = std::strtod(t.c_str(), &end);
-  if (end != t.c_str() + t.size() || errno == ERANGE) fail("\"" + t + "\" is not a number (it is damaged)");
+  if (end != t.c_str() + t.size() || errno == ERANGE)
+    fail("\"" + t + "\" is not a number" + where() + " (it is damaged)");
+  if (!std::isfinite(v)) fail("\"" + t + "\" is not a finite number" + where());
   return v;
 }
 
@@ -89,7 +137,8 @@ long long CheckpointIn::integer() {
   char* end = nullptr;
   errno = 0;
   const long long v = std::strtoll(t.c_str(), &end, 10);
-  if (end != t.c_str() + t.size() || errno == ERANGE) fail("\"" + t + "\" is not a whole number (it is damaged)");
+  if (end != t.c_str() + t.size() || errno == ERANGE)
+    fail("\"" + t + "\" is not a whole number" + where() + " (it is damaged)");
   return v;
 }
 
@@ -97,13 +146,37 @@ std::string CheckpointIn::word() { return next(); }
 
 void CheckpointIn::state(State& s) {
   label("nodes");
-  if (integer() != s.numNodes()) fail("it is for a model with another number of nodes");
+  const long long nodes = integer();
+  if (nodes != s.numNodes())
+    fail("its state" + where() + " has " + std::to_string(nodes) + " nodes, the model " + std::to_string(s.numNodes()));
   for (int n = 0; n < s.numNodes(); ++n) {
     label("node");
-    if (integer() != n) fail("nodes out of order (it is damaged)");
+    if (integer() != n) fail("nodes out of order" + where() + " (it is damaged)");
     for (double& v : s.position[n].v) v = real();
     for (double& v : s.rotation[n].m) v = real();
     for (double& v : s.rotationVector[n].v) v = real();
+    // A rotation is orthonormal with determinant 1, and the rotation vector (updated at every
+    // converged step) is its logarithm; both hold to round-off (about 1e-15 per update).
+    const Mat3d& R = s.rotation[n];
+    double off = 0.0;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        double rtr = 0.0;
+        for (int k = 0; k < 3; ++k) rtr += R(k, i) * R(k, j);
+        off = std::max(off, std::abs(rtr - (i == j ? 1.0 : 0.0)));
+      }
+    const double det = R(0, 0) * (R(1, 1) * R(2, 2) - R(1, 2) * R(2, 1)) -
+                       R(0, 1) * (R(1, 0) * R(2, 2) - R(1, 2) * R(2, 0)) +
+                       R(0, 2) * (R(1, 0) * R(2, 1) - R(1, 1) * R(2, 0));
+    if (off > 1e-8 || det <= 0.0)
+      fail("node " + std::to_string(n) + "'s rotation is not a rotation matrix (R^T R - I up to " + shortest(off) +
+           ", det " + shortest(det) + ")" + where());
+    const Mat3d E = math::expSO3(s.rotationVector[n]);
+    double diff = 0.0;
+    for (int k = 0; k < 9; ++k) diff = std::max(diff, std::abs(E.m[k] - R.m[k]));
+    if (diff > 1e-8)
+      fail("node " + std::to_string(n) + "'s rotation vector does not give its rotation (they differ by " +
+           shortest(diff) + ")" + where());
   }
   label("extra");
   const long long m = integer(), nb = integer();

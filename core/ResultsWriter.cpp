@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -17,6 +18,7 @@
 
 #include <Teuchos_XMLParameterListHelpers.hpp>
 
+#include "Checkpoint.hpp"
 #include "Parameters.hpp"
 
 namespace bc::core {
@@ -73,7 +75,7 @@ long livePid(const fs::path& status) {
 }  // namespace
 
 ResultsWriter::ResultsWriter(const Where& where, const Model& model, Teuchos::RCP<const Comm> comm, bool writeVtk,
-                             int resumeStep)
+                             int resumeStep, double resumeT)
     : dir_(where.directory), notes_(where.notes), model_(model), comm_(comm), rank_(comm->getRank()), vtk_(writeVtk) {
   collectively(*comm_, [&] {
     if (!root()) return;
@@ -84,7 +86,7 @@ ResultsWriter::ResultsWriter(const Where& where, const Model& model, Teuchos::RC
       options.pathFromDeck = where.fromDeck;
       options.parameter = "Output/Directory";
       out_ = OutputDirectory(dir_, options);
-      if (resumeStep >= 0) prepareResume(resumeStep);
+      if (resumeStep >= 0) prepareResume(resumeStep, resumeT);
       else prepareFresh();
       writeStatus("running (pid " + std::to_string(getpid()) + ")");
     } catch (const OutputError& e) {
@@ -127,7 +129,7 @@ void ResultsWriter::prepareFresh() {
   openTables(false);
 }
 
-void ResultsWriter::prepareResume(int step) {
+void ResultsWriter::prepareResume(int step, double T) {
   const fs::path dir(dir_);
   if (!out_.lists("status.txt") || !out_.lists("checkpoint.txt") || !fs::exists(dir / "status.txt") ||
       !fs::exists(dir / "checkpoint.txt"))
@@ -135,6 +137,35 @@ void ResultsWriter::prepareResume(int step) {
   if (const long pid = livePid(dir / "status.txt"))
     throw InputError("results directory \"" + dir_ + "\" is in use by a running beamcontact (pid " +
                      std::to_string(pid) + ")");
+  // The checkpoint belongs to this directory's run: steps.csv holds the rows of its steps 1 to `step`
+  // (each converged step's row is written before its checkpoint), the last at its load factor (to the
+  // 12 digits written). Checked before anything here changes.
+  {
+    const std::string checkpoint = (dir / "checkpoint.txt").string();
+    std::ifstream in(dir / "steps.csv");
+    std::string line;
+    int rows = 0;
+    double lastT = 0.0;
+    for (bool header = true; std::getline(in, line); header = false) {
+      if (header || std::count(line.begin(), line.end(), ',') < 2) continue;  // a row cut short stays out
+      char* end = nullptr;
+      const long s = std::strtol(line.c_str(), &end, 10);
+      if (*end != ',' || s > step) continue;
+      if (s != rows + 1)
+        throw InputError("checkpoint " + checkpoint + " cannot be used: steps.csv has step " + std::to_string(s) +
+                         " where step " + std::to_string(rows + 1) + " belongs (it is not this directory's run)");
+      ++rows;
+      lastT = std::strtod(end + 1, nullptr);
+    }
+    if (in.is_open() && rows != step)
+      throw InputError("checkpoint " + checkpoint + " cannot be used: it is at step " + std::to_string(step) +
+                       ", steps.csv has " + std::to_string(rows) +
+                       " steps up to there (it is not this directory's run)");
+    if (rows > 0 && !(std::abs(lastT - T) <= 1e-11 * std::max(1.0, std::abs(T))))
+      throw InputError("checkpoint " + checkpoint + " cannot be used: its step " + std::to_string(step) +
+                       " is at T = " + shortest(T) + ", steps.csv's at T = " + shortest(lastT) +
+                       " (it is not this directory's run)");
+  }
   std::error_code ec;
   fs::create_directories(dir / "vtk", ec);
   // Rows of steps after the checkpoint's were computed by the interrupted run past the state this
@@ -153,11 +184,14 @@ void ResultsWriter::prepareResume(int step) {
         header = false;
         continue;
       }
+      // A row cut short by the interruption has no line end (a table without tracked points has rows
+      // of step and T only, so the commas do not tell).
+      const bool whole = !in.eof();
       const auto comma = line.find(',');
-      if (comma == std::string::npos) continue;  // a row cut short by the interruption
+      if (!whole || comma == std::string::npos) continue;
       char* end = nullptr;
       const long s = std::strtol(line.c_str(), &end, 10);
-      if (end == line.c_str() + comma && s <= step && std::count(line.begin(), line.end(), ',') > 1) kept += line + "\n";
+      if (end == line.c_str() + comma && s <= step) kept += line + "\n";
     }
     writeFileAtomically(dir / name, kept);
   }

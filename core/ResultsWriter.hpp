@@ -47,7 +47,9 @@ struct RunSummary {
 class ResultsWriter {
  public:
   // Every member function is collective (call it on all ranks). `resumeStep` >= 0 continues the run
-  // in `directory` after that step (restart); otherwise the directory is prepared for a fresh run.
+  // in `directory` after that step, reached at load factor `resumeT` (restart: steps.csv must hold
+  // the rows of steps 1 to resumeStep, the last at resumeT, or nothing is changed); otherwise the
+  // directory is prepared for a fresh run.
   struct Where {
     std::string directory;
     bool fromDeck = false;   // the deck's Output/Directory: relative, no "..", no symbolic links
@@ -55,7 +57,7 @@ class ResultsWriter {
     std::vector<std::string> notes;  // lines status.txt carries after its first (e.g. the loaded plug-ins)
   };
   ResultsWriter(const Where& where, const Model& model, Teuchos::RCP<const Comm> comm, bool writeVtk = true,
-                int resumeStep = -1);
+                int resumeStep = -1, double resumeT = 0.0);
   void writeEffective(const Teuchos::ParameterList& effective);
   void writeInitial(const State& state);
   void writeStep(const StepReport& step, const State& state, const std::vector<double>& fullResidual);
@@ -71,7 +73,7 @@ class ResultsWriter {
  private:
   void open(const Where& where);
   void prepareFresh();
-  void prepareResume(int step);
+  void prepareResume(int step, double T);
   // A file of a run's own (one of fileNames(), or vtk/step_N.vtu).
   bool ownResult(const std::string& relative) const;
   void openTables(bool append);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <climits>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -13,6 +14,7 @@
 #include "Checkpoint.hpp"
 #include "Faults.hpp"
 #include "ResultsWriter.hpp"
+#include "Version.hpp"
 
 namespace bc::core {
 
@@ -65,15 +67,37 @@ RunResult simulate(Model& model, const SolverSettings& settings, const Teuchos::
     const std::string source = (std::filesystem::path(options.outputDirectory) / "checkpoint.txt").string();
     CheckpointIn in(readCheckpointText(options.outputDirectory, *comm), source);
     in.label("beamcontact-checkpoint");
-    if (in.integer() != 2) in.fail("it has an unknown format version");
+    const long long format = in.integer();
+    if (format != kCheckpointFormat)
+      in.fail("it has format version " + std::to_string(format) + ", this BeamContact reads version " +
+              std::to_string(kCheckpointFormat));
+    in.verifyChecksum();
+    in.label("version");
+    const std::string version = in.word();
+    if (version != kVersion)
+      in.fail("it was written by BeamContact " + version + ", this is BeamContact " + kVersion +
+              " (a run continues only with the version that started it)");
     in.label("deck");
     if (in.word() != options.fingerprint)
       in.fail("it was written for another deck (the deck changed outside its Output sublist)");
     in.label("summary");
-    summary.passes = static_cast<int>(in.integer());
-    summary.maxIterationsPerStep = static_cast<int>(in.integer());
+    const long long passes = in.integer(), maxIterations = in.integer();
     earlierSeconds = in.real();
+    if (passes < 0 || passes > INT_MAX || maxIterations < 0 || maxIterations > INT_MAX || earlierSeconds < 0.0)
+      in.fail("its run summary has a negative or too large count (passes " + std::to_string(passes) +
+              ", most iterations in a step " + std::to_string(maxIterations) + ", seconds " +
+              shortest(earlierSeconds) + ")");
+    summary.passes = static_cast<int>(passes);
+    summary.maxIterationsPerStep = static_cast<int>(maxIterations);
     solver.loadCheckpoint(in);
+    in.finish();
+    // Every converged step took at least one pass, and no step more iterations than all of them.
+    const RunReport& loaded = solver.runReport();
+    if (summary.passes < loaded.steps || summary.maxIterationsPerStep > loaded.newtonIterations)
+      in.fail("its run summary (" + std::to_string(summary.passes) + " passes, at most " +
+              std::to_string(summary.maxIterationsPerStep) + " iterations in a step) does not fit its " +
+              std::to_string(loaded.steps) + " steps of " + std::to_string(loaded.newtonIterations) +
+              " Newton iterations");
     resumeStep = solver.runReport().steps;
     result.restartedAtStep = resumeStep;
   }
@@ -83,14 +107,15 @@ RunResult simulate(Model& model, const SolverSettings& settings, const Teuchos::
   where.fromDeck = options.outputFromDeck;
   where.overwrite = options.overwrite;
   where.notes = options.statusNotes;
-  ResultsWriter writer(where, model, comm, options.writeVtk, resumeStep);
+  ResultsWriter writer(where, model, comm, options.writeVtk, resumeStep, options.restart ? solver.runReport().lastT : 0.0);
   try {
     if (options.effective) writer.writeEffective(*options.effective);
     if (!options.restart) writer.writeInitial(model.initial);
 
     auto checkpoint = [&] {
       CheckpointOut out;
-      out.label("beamcontact-checkpoint").integer(2);
+      out.label("beamcontact-checkpoint").integer(kCheckpointFormat);
+      out.label("version").word(kVersion);
       out.label("deck").word(options.fingerprint);
       out.label("summary").integer(summary.passes).integer(summary.maxIterationsPerStep).real(earlierSeconds);
       solver.saveCheckpoint(out);

@@ -2,7 +2,9 @@
 
 #include "Compliance.hpp"
 
+#include <climits>
 #include <cmath>
+#include <map>
 #include <sstream>
 
 #include "Checkpoint.hpp"
@@ -240,6 +242,12 @@ void StaticSolver::saveCheckpoint(CheckpointOut& out) const {
   out.label("progress").integer(progress_.increment).real(progress_.T).integer(progress_.level).integer(progress_.converged);
   out.label("load-factors").integer(static_cast<long long>(settings_.loadFactors.size()));
   for (double t : settings_.loadFactors) out.real(t);
+  // The model's reference geometry: a restart on a model whose nodes are elsewhere is refused.
+  out.label("reference").integer(model_.initial.numNodes());
+  for (int n = 0; n < model_.initial.numNodes(); ++n) {
+    out.label("at").integer(n);
+    for (double v : model_.initial.reference[n].v) out.real(v);
+  }
   out.label("committed").real(committedT_);
   out.state(committed_);
   out.label("previous").real(previousT_);
@@ -252,23 +260,43 @@ void StaticSolver::saveCheckpoint(CheckpointOut& out) const {
 }
 
 void StaticSolver::loadCheckpoint(CheckpointIn& in) {
+  // A counter: a whole number from 0 up.
+  const auto count = [&in](const std::string& what) {
+    const long long v = in.integer();
+    if (v < 0 || v > INT_MAX) in.fail("its " + what + " is " + std::to_string(v) + " (it must be 0 or more)");
+    return static_cast<int>(v);
+  };
   in.label("run");
   run_ = RunReport{};
-  run_.steps = static_cast<int>(in.integer());
-  run_.newtonIterations = static_cast<int>(in.integer());
+  run_.steps = count("step counter");
+  run_.newtonIterations = count("Newton iteration counter");
   run_.lastT = in.real();
   in.label("progress");
-  progress_.increment = static_cast<int>(in.integer());
+  progress_.increment = count("configured increment");
   progress_.T = in.real();
-  progress_.level = static_cast<int>(in.integer());
-  progress_.converged = static_cast<int>(in.integer());
+  progress_.level = count("cut level");
+  progress_.converged = count("count of converged pieces");
   in.label("load-factors");
-  if (in.integer() != static_cast<long long>(settings_.loadFactors.size())) in.fail("the load stepping differs");
+  const int n = static_cast<int>(settings_.loadFactors.size());
+  if (in.integer() != n) in.fail("the load stepping differs");
   for (double t : settings_.loadFactors)
     if (in.real() != t) in.fail("the load stepping differs");
-  if (progress_.increment < 0 || progress_.increment > static_cast<int>(settings_.loadFactors.size()) ||
-      progress_.level < 0 || progress_.level > settings_.maxStepCuts)
-    in.fail("its load-stepping position is out of range");
+  in.label("reference");
+  const long long nodes = in.integer();
+  if (nodes != model_.initial.numNodes())
+    in.fail("it is for a model of " + std::to_string(nodes) + " nodes, the deck's has " +
+            std::to_string(model_.initial.numNodes()));
+  for (int k = 0; k < model_.initial.numNodes(); ++k) {
+    in.label("at");
+    if (in.integer() != k) in.fail("its reference nodes are out of order (it is damaged)");
+    Vec3d X;
+    for (double& v : X.v) v = in.real();
+    const Vec3d& model = model_.initial.reference[k];
+    if (X[0] != model[0] || X[1] != model[1] || X[2] != model[2])
+      in.fail("node " + std::to_string(k) + " is at (" + shortest(X[0]) + ", " + shortest(X[1]) + ", " +
+              shortest(X[2]) + ") in its reference geometry, at (" + shortest(model[0]) + ", " + shortest(model[1]) +
+              ", " + shortest(model[2]) + ") in the model's");
+  }
   in.label("committed");
   committedT_ = in.real();
   committed_ = model_.initial;
@@ -283,6 +311,73 @@ void StaticSolver::loadCheckpoint(CheckpointIn& in) {
     c->loadCommitted(in, committed_);
   }
   in.label("end");
+
+  // The load-stepping position is one that increment() reaches. In configured increment i (T_a -> T_b)
+  // at cut level L the pieces are (T_b - T_a) / 2^L; a piece that converges adds one (or ends the
+  // increment when T_b is within it), one that fails is halved. So T = T_a + k (T_b - T_a) / 2^C with
+  // 0 <= k < 2^C, C = Maximum Step Cuts (to the round-off of adding the pieces up: 1e-6 of 2^-C of the
+  // increment, or 1e-12 T_b, about 4500 additions' rounding, when that is larger), and at level 0
+  // T = T_a (its one piece ends the increment); after the last increment T = 1. Converged pieces count
+  // to 2 at most and are reset then, and at level 0 the first ends the increment.
+  const Progress& at = progress_;
+  const std::string position = "in configured increment " + std::to_string(at.increment + 1) + " of " +
+                               std::to_string(n) + " at cut level " + std::to_string(at.level);
+  if (at.increment > n)
+    in.fail("its configured increment " + std::to_string(at.increment + 1) + " is beyond the " + std::to_string(n) +
+            " of the load stepping");
+  if (at.level > settings_.maxStepCuts)
+    in.fail("its cut level " + std::to_string(at.level) + " is beyond Maximum Step Cuts (" +
+            std::to_string(settings_.maxStepCuts) + ")");
+  if (at.converged > (at.level > 0 ? 1 : 0))
+    in.fail("its count of converged pieces (" + std::to_string(at.converged) +
+            ") is not one the load stepping reaches " + position);
+  if (at.increment == n) {
+    if (at.T != 1.0 || at.level != 0)
+      in.fail("its load stepping is finished but T = " + shortest(at.T) + " (it must be 1)");
+  } else {
+    const double Ta = at.increment == 0 ? 0.0 : settings_.loadFactors[at.increment - 1];
+    const double Tb = settings_.loadFactors[at.increment];
+    const double finest = (Tb - Ta) / double(1 << settings_.maxStepCuts);
+    const double k = std::round((at.T - Ta) / finest);
+    if (!(k >= 0.0 && k < double(1 << settings_.maxStepCuts) && (at.level > 0 || k == 0.0) &&
+          std::abs(at.T - (Ta + k * finest)) <= std::max(1e-6 * finest, 1e-12 * Tb)))
+      in.fail("its load factor T = " + shortest(at.T) + " is not one the load stepping reaches " + position +
+              " (T " + shortest(Ta) + " -> " + shortest(Tb) + " in multiples of " + shortest(finest) + ")");
+  }
+  // The converged state is the position's, and the state before it the previous step's.
+  if (committedT_ != at.T || run_.lastT != at.T)
+    in.fail("its load factors disagree: the committed state's T = " + shortest(committedT_) + ", the last step's " +
+            shortest(run_.lastT) + ", the load stepping's " + shortest(at.T));
+  if (run_.steps == 0 ? (at.T != 0.0 || previousT_ != -1.0)
+                      : !(previousT_ >= 0.0 && previousT_ < committedT_ && (run_.steps > 1 || previousT_ == 0.0)))
+    in.fail("its " + std::to_string(run_.steps) + " steps do not fit its load factors (T = " + shortest(committedT_) +
+            ", the step before at T = " + shortest(previousT_) + ")");
+  // Every configured increment before the position took a step at least, and so did a piece of this one.
+  const bool inside = at.increment < n && at.T > (at.increment == 0 ? 0.0 : settings_.loadFactors[at.increment - 1]);
+  if (run_.steps < at.increment + (inside ? 1 : 0))
+    in.fail("its step counter (" + std::to_string(run_.steps) + ") is below the steps needed to reach T = " +
+            shortest(at.T) + " (" + std::to_string(at.increment + (inside ? 1 : 0)) + ")");
+  // Prescribed translations: every step moves a supported node's fixed translation by
+  // value (curve(T_b) - curve(T_a)) and nothing else does, so a state at T has it at
+  // x_0 + value (curve(T) - curve(0)) (to the round-off of the steps' sum; 1e-9 of the model's size).
+  // (node, translation) -> its support (the last one wins, as in newton()).
+  std::map<std::pair<int, int>, const Support*> prescribed;
+  for (const Support& sup : model_.supports)
+    for (int node : sup.nodes)
+      for (int k = 0; k < 3; ++k)
+        if (sup.fixed[k]) prescribed[{node, k}] = &sup;
+  const auto checkPrescribed = [&](const State& state, double T, const std::string& which) {
+    for (const auto& [dof, sup] : prescribed) {
+      const auto [node, k] = dof;
+      const double expected = model_.initial.position[node][k] + sup->value[k] * (sup->curve(T) - sup->curve(0.0));
+      if (!(std::abs(state.position[node][k] - expected) <= 1e-9 * (modelSize_ + std::abs(sup->value[k]))))
+        in.fail(which + " has supported node " + std::to_string(node) + " at " + "xyz"[k] + " = " +
+                shortest(state.position[node][k]) + ", where its support \"" + sup->name + "\" puts it at " +
+                shortest(expected) + " (T = " + shortest(T) + ")");
+    }
+  };
+  checkPrescribed(committed_, committedT_, "its converged state");
+  if (previousT_ >= 0.0) checkPrescribed(previous_, previousT_, "its previous state");
   trial_ = committed_;
   graphStale_ = true;
   if (run_.steps > 0)

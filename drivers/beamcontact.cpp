@@ -66,7 +66,8 @@ const char* kUsage =
     "0.75, 1) into a PNG, from the run's VTK files.\n"
     "--restart DIR continues the run whose results are in DIR from its checkpoint.txt (written every\n"
     "Output/Checkpoint Every steps and when SIGTERM or SIGINT stops a run); the deck must be the same\n"
-    "outside its Output sublist.\n"
+    "outside its Output sublist, and the checkpoint as written (its last line is its SHA-256) and\n"
+    "consistent with the deck's model; a checkpoint that is not is refused and nothing in DIR changes.\n"
     "Exit codes: 0 complete, 1 usage or input error, 2 run incomplete or a results file could not be\n"
     "written (a study: some case did not complete; every case is recorded), 3 unexpected error,\n"
     "128 + N stopped by signal N (status.txt says so).\n";
