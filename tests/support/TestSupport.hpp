@@ -33,6 +33,7 @@ inline core::RunResult runQuiet(input::Problem& p, Teuchos::RCP<const core::Comm
   o.outputDirectory = scratchDirectory(name + "_np" + std::to_string(comm->getSize()));
   o.writeVtk = false;
   o.progress = false;
+  o.overwrite = true;  // the tests' own scratch folder, perhaps left by a build before the manifest
   return core::simulate(p.model, p.solver, p.linearSolver, o, comm);
 }
 
