@@ -77,11 +77,11 @@ int withExitCodes(bool print, const std::function<int()>& body) {
   } catch (const bc::core::OutputError& e) {
     if (print) std::fprintf(stderr, "beamcontact: output error: %s\n", e.what());
     return 2;
-  } catch (const std::bad_alloc&) {
-    if (print) std::fprintf(stderr, "beamcontact: error: out of memory (the model is too large for this machine)\n");
-    return 3;
   } catch (const std::exception& e) {
-    if (print) std::fprintf(stderr, "beamcontact: error: %s\n", e.what());
+    // A failed allocation (std::bad_alloc, or Kokkos' report of one over several lines) in one line.
+    if (print)
+      std::fprintf(stderr, "beamcontact: error: %s\n",
+                   bc::core::isOutOfMemory(e) ? bc::core::outOfMemoryText(e).c_str() : e.what());
     return 3;
   }
 }
