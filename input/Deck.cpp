@@ -387,13 +387,20 @@ std::array<bool, 6> parseFixed(const std::string& text, const std::string& path)
   return fixed;
 }
 
+// Refuses a model whose memory estimate exceeds the machine's (below, with the measured costs).
+void checkModelSize(std::size_t elements, std::size_t points = 0, double bytesPerPoint = 0.0, double pairs = 0.0);
+
 void buildContact(Problem& p, ParameterList& c, const std::string& path) {
   contactSpec().apply(c, path);
   std::vector<constraints::ContactPairSpec> pairs;
+  const int nb0 = static_cast<int>(p.beams->beams().size());
   if (c.get<bool>("All Pairs")) {
     if (!c.isParameter("Friction Coefficient"))
       throw InputError("missing required parameter \"" + path + "/Friction Coefficient\" (needed with All Pairs)");
     const int nb = static_cast<int>(p.beams->beams().size());
+    // n beams make n (n - 1) / 2 pairs, each held in the list and the search's index.
+    checkModelSize(p.beams->elements().size(), 0, 0.0, 0.5 * double(nb) * double(nb - 1));
+    pairs.reserve(std::size_t(nb) * std::size_t(nb - 1) / 2);
     for (int a = 0; a < nb; ++a)
       for (int b = a + 1; b < nb; ++b)
         pairs.push_back({a, b, c.get<double>("Friction Coefficient"),
@@ -410,7 +417,15 @@ void buildContact(Problem& p, ParameterList& c, const std::string& path) {
               });
   if (pairs.empty())
     throw InputError("\"" + path + "\" declares no contact pair: give Pairs or set All Pairs to true");
-  {
+  if (c.get<bool>("All Pairs") && pairs.size() > std::size_t(nb0) * std::size_t(nb0 - 1) / 2) {
+    // Every pair is declared already (found without a map of all pairs: 10^4 beams make 5 x 10^7).
+    const auto& q = pairs[std::size_t(nb0) * std::size_t(nb0 - 1) / 2];
+    const auto [lo, hi] = std::minmax(q.beamA, q.beamB);
+    throw InputError("contact pairs \"" + p.beams->beams()[lo].name + "-" + p.beams->beams()[hi].name + "\" and \"" +
+                     q.name + "\" both join beams \"" + p.beams->beams()[q.beamA].name + "\" and \"" +
+                     p.beams->beams()[q.beamB].name +
+                     "\" (their contact would count twice); declare each pair once (All Pairs already declares every pair)");
+  } else if (!c.get<bool>("All Pairs")) {
     std::map<std::pair<int, int>, std::string> seen;
     for (const auto& q : pairs) {
       const auto key = std::minmax(q.beamA, q.beamB);
@@ -445,7 +460,7 @@ void buildContact(Problem& p, ParameterList& c, const std::string& path) {
   for (const auto& c : p.model.contributions)
     if (const auto* pins = dynamic_cast<const elements::PinnedJoints*>(c.get()))
       for (const auto& j : pins->joints()) options.joinedNodes.push_back({j.nodeA, j.nodeB});
-  auto manager = std::make_shared<constraints::ContactManager>(p.beams, pairs, constraints::createEnforcer(e), options);
+  auto manager = std::make_shared<constraints::ContactManager>(p.beams, std::move(pairs), constraints::createEnforcer(e), options);
   manager->initialize(p.model.initial);
   p.contact = manager;
   p.model.contributions.push_back(manager);
@@ -794,16 +809,42 @@ int joinCoincidentNodes(std::vector<elements::Beam>& beams, std::vector<Vec3d>& 
   return shared;
 }
 
-// What a model of `elements` beam elements needs, roughly (measured: about 4 kB per element for the
-// matrix, the factorization and the state), against the machine's memory.
-void checkModelSize(std::size_t elements) {
-  const double bytes = 4096.0 * double(elements);
-  const double physical = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGESIZE));
-  if (elements > 5000000 || (physical > 0 && bytes > 0.8 * physical)) {
-    char buf[200];
-    std::snprintf(buf, sizeof buf, "the beams have %zu elements in all, which needs about %.1f GB; this machine has %.1f GB",
-                  elements, bytes / 1e9, physical / 1e9);
-    throw InputError(std::string(buf) + " (the limit is 5e6 elements and 80 % of the memory)");
+// What a model needs, against the machine's memory. Measured (bench/bench_memory.py, docs/scale.md
+// "Memory per element and per contact point"): the peak resident memory of a run on one rank with the
+// default Direct solver (KLU2) grows by KB_ELEMENT kB per beam element (Example 1, 2.5e4 to 1e5 elements)
+// and, over the crossed layers' points found at the start, by KB_PENALTY kB per contact point with
+// Penalty or augmented Lagrange and KB_LAGRANGE kB with Lagrange multipliers (32 x 32 to 141 x 141),
+// above about 80 MB for the program itself. The estimate is checked before anything of the solver is
+// allocated: while the beams are read (elements only) and once the contact points at the start are
+// known.
+constexpr double kBytesPerElement = 19.0e3, kBaseBytes = 80e6;
+constexpr double kBytesPerPair = 100.0;
+constexpr double kBytesPerPointPenalty = 80.0e3, kBytesPerPointLagrange = 230.0e3;
+
+void checkModelSize(std::size_t elements, std::size_t points, double bytesPerPoint, double pairs) {
+  const double bytes =
+      kBaseBytes + kBytesPerElement * double(elements) + bytesPerPoint * double(points) + kBytesPerPair * pairs;
+  std::string limited;
+  const double usable = usableMemory(&limited), physical = physicalMemory();
+  if (elements > 5000000 || (usable > 0 && bytes > 0.8 * usable)) {
+    char buf[500];
+    if (pairs > 0)
+      std::snprintf(buf, sizeof buf,
+                    "All Pairs of the deck's beams makes %.0f contact pairs (with %zu elements), which needs about "
+                    "%.1f GB; this machine has %.1f GB (the limit is 80 %% of the memory, at %.0f bytes per pair)",
+                    pairs, elements, bytes / 1e9, physical / 1e9, kBytesPerPair);
+    else if (points > 0)
+      std::snprintf(buf, sizeof buf,
+                    "the model has %zu elements and %zu contact points at the start, which needs about %.1f GB; "
+                    "this machine has %.1f GB (the limit is 5e6 elements and 80 %% of the memory, at %.0f kB per "
+                    "element and %.0f kB per contact point)",
+                    elements, points, bytes / 1e9, physical / 1e9, kBytesPerElement / 1e3, bytesPerPoint / 1e3);
+    else
+      std::snprintf(buf, sizeof buf,
+                    "the beams have %zu elements in all, which needs about %.1f GB; this machine has %.1f GB (the "
+                    "limit is 5e6 elements and 80 %% of the memory, at %.0f kB per element)",
+                    elements, bytes / 1e9, physical / 1e9, kBytesPerElement / 1e3);
+    throw InputError(buf + limited);
   }
 }
 
@@ -978,7 +1019,13 @@ Problem buildProblem(ParameterList deck, const std::string& deckName) {
               [&](ParameterList& t, const std::string& name, const std::string& path) {
                 p.model.tracked.push_back({name, locate.nodes(t, path, false).front()});
               });
-  if (deck.isSublist("Contact")) buildContact(p, deck.sublist("Contact"), top + "/Contact");
+  if (deck.isSublist("Contact")) {
+    buildContact(p, deck.sublist("Contact"), top + "/Contact");
+    // (Lagrange multipliers, and a plug-in's strategy, at the larger cost per point.)
+    const std::string type = deck.sublist("Contact").sublist("Enforcement").get<std::string>("Type");
+    checkModelSize(p.beams->elements().size(), p.contact->points().size(),
+                   type == "Penalty" || type == "Augmented Lagrange" ? kBytesPerPointPenalty : kBytesPerPointLagrange);
+  }
   if (linear.get<std::string>("Type") == "GMRES" && linear.get<std::string>("Preconditioner") == "MueLu" &&
       deck.isSublist("Contact") &&
       deck.sublist("Contact").sublist("Enforcement").get<std::string>("Type") == "Lagrange Multiplier")

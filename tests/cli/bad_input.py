@@ -11,7 +11,9 @@ CATALOGUE lines (blank lines and # comments are skipped):
     occurrence of OLD (which must be there); "@nest:N" wraps N nested lists around the Beams list;
     "@text:..." replaces the whole deck ("\\n" for new lines). Empty: the base deck unchanged.
   - arguments: the command line after the executable, with {DECK} (the edited deck) and {OUT}
-    (WORKDIR/name); empty: "run {DECK} --output {OUT} --quiet".
+    (WORKDIR/name); empty: "run {DECK} --output {OUT} --quiet". A first word "@limit-as:BYTES" runs
+    the executable with that address-space limit (RLIMIT_AS, as prlimit --as), so that allocations
+    fail.
   - setup: a shell command run first (with {OUT}, {DECK}, {BASE} and {EXE}), e.g. to leave files in
     {OUT}.
   - check: a shell command run afterwards that must succeed (e.g. that stale files are gone).
@@ -21,6 +23,7 @@ With CASE only that case runs; otherwise all, with a count by verdict.
 """
 import os
 import re
+import resource
 import subprocess
 import sys
 
@@ -79,8 +82,12 @@ def run(name, code, pattern, edits, args, setup, post):
     if setup:
         subprocess.run(["sh", "-c", subst(setup)], check=True)
     argv = subst(args or "run {DECK} --output {OUT} --quiet").split()
+    limit = None
+    if argv and argv[0].startswith("@limit-as:"):
+        limit = int(argv.pop(0)[len("@limit-as:"):])
+    preexec = (lambda: resource.setrlimit(resource.RLIMIT_AS, (limit, limit))) if limit else None
     try:
-        r = subprocess.run([exe] + argv, capture_output=True, text=True, timeout=120, cwd=work)
+        r = subprocess.run([exe] + argv, capture_output=True, text=True, timeout=120, cwd=work, preexec_fn=preexec)
     except subprocess.TimeoutExpired:
         return "hang (no exit within 120 s)"
     text = r.stdout + r.stderr
