@@ -9,8 +9,8 @@ element and per contact point that input/Deck.cpp's size guard uses.
     from the first iteration; 2 N (N + 1) elements), with Penalty and Lagrange multipliers.
 The contact points are those `beamcontact check` counts at the start. Each run is cut short after its first increment's first Newton iterations (Maximum Iterations 3,
 Maximum Step Cuts 0): the model, the matrix and its factorization with every contact point are then
-allocated; later increments reuse them (checked at 32 x 32: the whole run's peak, 223 MB, against
-the short run's, printed). The peak is /usr/bin/time's maximum resident set size.
+allocated. Later increments can need more (a longer Penalty run of the generated 32 x 32 layers,
+gap 0.1, 2 increments cut 5 times: 223 MB against 169 MB for its short run), so the figures are a floor. The peak is /usr/bin/time's maximum resident set size.
 Fit: peak = c + a elements over the element series; then, per strategy, peak - a elements = c' + b
 points over the grid series.
 Usage: bench_memory.py BEAMCONTACT [--elements 25000,50000,100000] [--grids 32,64,100,141] [--work DIR]
