@@ -385,12 +385,28 @@ void ContactManager::forEachElementPair(const core::State& s,
   // Element pairs (pair, element of its beam A, element of its beam B) whose boxes overlap, found
   // from each element's cells (not by looping over every pair and element: with All Pairs of n
   // beams that is n^2 / 2 pairs), then visited pair by pair in element order.
+  // A cell lists its elements in increasing order, and a beam's elements are numbered one after
+  // another, so the elements of ea's own beam (never in a pair with it) are one run of each cell,
+  // skipped by bisection: where elements are short against the sections, a cell holds thousands of
+  // one beam's elements, and testing them all made the search quadratic (`check` of Example 1 with
+  // 10^4 elements on beam 1: 5.7 s, 88 % of it in these tests; 2 x 10^4: 4 times that).
+  const std::size_t numBeams = beams_->beams().size();
+  std::vector<int> beamFirst(numBeams, std::numeric_limits<int>::max()), beamLast(numBeams, -1),
+      beamCount(numBeams, 0);
+  for (const int e : boxedElements) {
+    const int b = elems[e].beam;
+    beamFirst[b] = std::min(beamFirst[b], e);
+    beamLast[b] = std::max(beamLast[b], e);
+    ++beamCount[b];
+  }
+  bool runs = true;
+  for (std::size_t b = 0; b < numBeams; ++b) runs = runs && (beamCount[b] == 0 || beamLast[b] - beamFirst[b] + 1 == beamCount[b]);
   std::vector<std::tuple<int, int, int>> found;
-  std::vector<int> seen;
+  std::vector<int> seenBy(elems.size(), -1);  // seenBy[eb] == ea: (ea, eb) found already
   for (const int ea : boxedElements) {
-    seen.clear();
     const Box& A = boxes[ea];
-    const auto visitCell = [&](const int* begin, const int* end) {
+    const int own = elems[ea].beam;
+    const auto visitRun = [&](const int* begin, const int* end) {
       for (const int* it = begin; it != end; ++it) {
         const int eb = *it;
         // The boxes first: most elements of a cell are not in a pair with ea's beam or do not reach
@@ -399,9 +415,10 @@ void ContactManager::forEachElementPair(const core::State& s,
         bool overlap = true;
         for (int c = 0; c < 3; ++c) overlap = overlap && A.lo[c] <= B.hi[c] && B.lo[c] <= A.hi[c];
         if (!overlap) continue;
+        if (seenBy[eb] == ea) continue;
         const auto pairIt = pairIndex_.find(beamPairKey(elems[ea].beam, elems[eb].beam));
-        if (pairIt == pairIndex_.end() || std::find(seen.begin(), seen.end(), eb) != seen.end()) continue;
-        seen.push_back(eb);
+        if (pairIt == pairIndex_.end()) continue;
+        seenBy[eb] = ea;
         // Elements that share a node (beams joined there) or whose nodes are pinned together do
         // not contact each other.
         const BeamElement &A0 = elems[ea], &B0 = elems[eb];
@@ -410,6 +427,13 @@ void ContactManager::forEachElementPair(const core::State& s,
           for (int nb : {B0.node1, B0.node2}) joined = joined || na == nb || joined_.count({na, nb});
         if (!joined) found.emplace_back(pairIt->second, ea, eb);
       }
+    };
+    const auto visitCell = [&](const int* begin, const int* end) {
+      if (!runs) return visitRun(begin, end);
+      const int* from = std::lower_bound(begin, end, beamFirst[own]);
+      const int* to = std::upper_bound(from, end, beamLast[own]);
+      visitRun(begin, from);
+      visitRun(to, end);
     };
     forEachCell(A, [&](long long c) {
       if (dense) {

@@ -199,8 +199,48 @@ void injectFault(const char* place) {
   throw std::runtime_error(std::string("injected fault at ") + place + " on rank " + std::to_string(rank));
 }
 
+bool isOutOfMemory(const std::exception& e) {
+  if (dynamic_cast<const std::bad_alloc*>(&e)) return true;
+  const std::string what = e.what();
+  return what.find("Kokkos failed to allocate memory") != std::string::npos ||
+         what.find("likely due to insufficient memory") != std::string::npos;
+}
+
+std::string outOfMemoryText(const std::exception& e) {
+  const std::string what = e.what();
+  // A failed allocation of ours says what ran out (OutOfMemory, LinearSolverOutOfMemory).
+  if (dynamic_cast<const std::bad_alloc*>(&e) && what != std::bad_alloc().what() && !what.empty() &&
+      what.find('\n') == std::string::npos)
+    return what.find("out of memory") != std::string::npos ? what : "out of memory: " + what;
+  const std::string kLabel = "memory for label \"", kSize = "Allocation of size ";
+  std::string detail;
+  const auto size = what.find(kSize);
+  if (size != std::string::npos) {
+    const auto from = size + kSize.size(), to = what.find(" failed", from);
+    if (to != std::string::npos && to - from < 40) detail = what.substr(from, to - from);
+  }
+  const auto label = what.find(kLabel);
+  if (label != std::string::npos) {
+    const auto from = label + kLabel.size(), to = what.find('"', from);
+    if (to != std::string::npos && to - from < 200)
+      detail = (detail.empty() ? "" : detail + " ") + "for \"" + what.substr(from, to - from) + "\"";
+  }
+  if (!detail.empty()) detail = "Kokkos could not allocate " + detail + "; ";
+  return "out of memory (" + detail + "the model is too large for this machine's or this process's memory)";
+}
+
+void rethrowIfOutOfMemory(const std::exception& e) {
+  if (isOutOfMemory(e)) throw OutOfMemory(outOfMemoryText(e));
+}
+
+std::string oneLine(const std::exception& e) {
+  if (isOutOfMemory(e)) return outOfMemoryText(e);
+  const std::string what = e.what();
+  return what.substr(0, what.find('\n'));
+}
+
 void collectively(const Comm& comm, const std::function<void()>& work) {
-  // kind: 0 none, 1 input, 2 output, 3 interrupted, 4 other.
+  // kind: 0 none, 1 input, 2 output, 3 interrupted, 4 other, 5 out of memory.
   int kind = 0, signal = 0;
   std::string message;
   try {
@@ -212,7 +252,7 @@ void collectively(const Comm& comm, const std::function<void()>& work) {
   } catch (const Interrupted& e) {
     kind = 3, message = e.what(), signal = e.signal();
   } catch (const std::exception& e) {
-    kind = 4, message = e.what();
+    kind = isOutOfMemory(e) ? 5 : 4, message = isOutOfMemory(e) ? outOfMemoryText(e) : e.what();
   } catch (...) {
     kind = 4, message = nonStandardExceptionMessage();
   }
@@ -230,6 +270,7 @@ void collectively(const Comm& comm, const std::function<void()>& work) {
     case 1: throw InputError(agreed);
     case 2: throw OutputError(agreed);
     case 3: throw Interrupted(header[1]);
+    case 5: throw OutOfMemory(agreed);
     default: throw std::runtime_error(agreed);
   }
 }

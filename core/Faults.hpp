@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <functional>
+#include <new>
 #include <stdexcept>
 #include <string>
 
@@ -40,6 +41,29 @@ class Interrupted : public std::runtime_error {
  private:
   int signal_;
 };
+
+// An allocation failed (the machine's or the process's memory is exhausted). what() is one line.
+class OutOfMemory : public std::bad_alloc {
+ public:
+  explicit OutOfMemory(std::string what) : what_(std::move(what)) {}
+  const char* what() const noexcept override { return what_.c_str(); }
+
+ private:
+  std::string what_;
+};
+
+// Whether `e` reports a failed allocation: std::bad_alloc, or Kokkos' report of one (a
+// std::runtime_error of several lines starting "Kokkos failed to allocate memory for label ...").
+bool isOutOfMemory(const std::exception& e);
+// One line for a failed allocation, "out of memory (...)": what could not be allocated when the
+// message says (Kokkos: the size and the view's label).
+std::string outOfMemoryText(const std::exception& e);
+// Throws OutOfMemory when `e` reports a failed allocation (to be called in a handler that would
+// otherwise turn the failure into another error, such as a failed linear solve).
+void rethrowIfOutOfMemory(const std::exception& e);
+// `e`'s message as one line: a failed allocation's outOfMemoryText, else the first line of what()
+// (several lines from a library: the rest is its trace).
+std::string oneLine(const std::exception& e);
 
 // A text file written in pieces (CSV rows); every piece is written and flushed at once and checked.
 class OutputFile {

@@ -1,5 +1,6 @@
 #include "LinearSolver.hpp"
 
+#include "Faults.hpp"
 #include "Krylov.hpp"
 #include "Multigrid.hpp"
 #include "MumpsLu.hpp"
@@ -53,6 +54,7 @@ SolveReport LinearSolver::attempt(const Teuchos::RCP<const Matrix>& A, const Vec
   } catch (const std::bad_alloc&) {
     throw;
   } catch (const std::exception& e) {
+    rethrowIfOutOfMemory(e);  // (Kokkos' failed allocation: a std::runtime_error)
     // Belos and MueLu report over several lines; the first names the failure.
     std::string what = e.what();
     what = what.substr(0, what.find('\n'));
@@ -185,8 +187,8 @@ class DirectSolver : public LinearSolver {
         local[0] = 2;
         what = e.what();
       } catch (const std::exception& e) {
-        local[0] = 1;
-        what = e.what();
+        local[0] = isOutOfMemory(e) ? 2 : 1;
+        what = isOutOfMemory(e) ? outOfMemoryText(e) : e.what();
       }
     }
     {

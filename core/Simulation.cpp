@@ -174,7 +174,7 @@ RunResult simulate(Model& model, const SolverSettings& settings, const Teuchos::
     result.solveSeconds = summary.solveSeconds;
     result.finalState = solver.state();
   } catch (const std::exception& e) {
-    writer.fail(e.what());
+    writer.fail(isOutOfMemory(e) ? outOfMemoryText(e) : e.what());
     throw;
   }
   return result;

@@ -390,13 +390,20 @@ std::array<bool, 6> parseFixed(const std::string& text, const std::string& path)
   return fixed;
 }
 
+// Refuses a model whose memory estimate exceeds the machine's (below, with the measured costs).
+void checkModelSize(std::size_t elements, std::size_t points = 0, double bytesPerPoint = 0.0, double pairs = 0.0);
+
 void buildContact(Problem& p, ParameterList& c, const std::string& path) {
   contactSpec().apply(c, path);
   std::vector<constraints::ContactPairSpec> pairs;
+  const int nb0 = static_cast<int>(p.beams->beams().size());
   if (c.get<bool>("All Pairs")) {
     if (!c.isParameter("Friction Coefficient"))
       throw InputError("missing required parameter \"" + path + "/Friction Coefficient\" (needed with All Pairs)");
     const int nb = static_cast<int>(p.beams->beams().size());
+    // n beams make n (n - 1) / 2 pairs, each held in the list and the search's index.
+    checkModelSize(p.beams->elements().size(), 0, 0.0, 0.5 * double(nb) * double(nb - 1));
+    pairs.reserve(std::size_t(nb) * std::size_t(nb - 1) / 2);
     for (int a = 0; a < nb; ++a)
       for (int b = a + 1; b < nb; ++b)
         pairs.push_back({a, b, c.get<double>("Friction Coefficient"),
@@ -413,7 +420,15 @@ void buildContact(Problem& p, ParameterList& c, const std::string& path) {
               });
   if (pairs.empty())
     throw InputError("\"" + path + "\" declares no contact pair: give Pairs or set All Pairs to true");
-  {
+  if (c.get<bool>("All Pairs") && pairs.size() > std::size_t(nb0) * std::size_t(nb0 - 1) / 2) {
+    // Every pair is declared already (found without a map of all pairs: 10^4 beams make 5 x 10^7).
+    const auto& q = pairs[std::size_t(nb0) * std::size_t(nb0 - 1) / 2];
+    const auto [lo, hi] = std::minmax(q.beamA, q.beamB);
+    throw InputError("contact pairs \"" + p.beams->beams()[lo].name + "-" + p.beams->beams()[hi].name + "\" and \"" +
+                     q.name + "\" both join beams \"" + p.beams->beams()[q.beamA].name + "\" and \"" +
+                     p.beams->beams()[q.beamB].name +
+                     "\" (their contact would count twice); declare each pair once (All Pairs already declares every pair)");
+  } else if (!c.get<bool>("All Pairs")) {
     std::map<std::pair<int, int>, std::string> seen;
     for (const auto& q : pairs) {
       const auto key = std::minmax(q.beamA, q.beamB);
@@ -448,7 +463,7 @@ void buildContact(Problem& p, ParameterList& c, const std::string& path) {
   for (const auto& c : p.model.contributions)
     if (const auto* pins = dynamic_cast<const elements::PinnedJoints*>(c.get()))
       for (const auto& j : pins->joints()) options.joinedNodes.push_back({j.nodeA, j.nodeB});
-  auto manager = std::make_shared<constraints::ContactManager>(p.beams, pairs, constraints::createEnforcer(e), options);
+  auto manager = std::make_shared<constraints::ContactManager>(p.beams, std::move(pairs), constraints::createEnforcer(e), options);
   manager->initialize(p.model.initial);
   p.contact = manager;
   p.model.contributions.push_back(manager);
@@ -588,18 +603,43 @@ void checkRigidBodyMotions(const Problem& p) {
 }
 
 // Two beams in the same place are a beam given twice (and would overlap along their whole length).
+// Found through the cells (of the largest tolerance) of the beams' ends, each beam against the
+// earlier beams with an end near one of its own: not every pair of beams (10^4 beams: 5 x 10^7 pairs).
 void checkDuplicateBeams(const Problem& p) {
   const auto& beams = p.beams->beams();
   const auto& X = p.model.initial.reference;
-  for (std::size_t a = 0; a < beams.size(); ++a)
-    for (std::size_t b = a + 1; b < beams.size(); ++b) {
+  double longest = 0.0;
+  for (const auto& b : beams) longest = std::max(longest, norm(X[b.nodes.back()] - X[b.nodes.front()]));
+  const double cell = longest > 0.0 && std::isfinite(longest) ? 1e-9 * longest : 1.0;
+  std::map<std::array<long long, 3>, std::vector<int>> ends;  // cell -> beams with an end in it
+  const auto cellOf = [&](const Vec3d& x) {
+    std::array<long long, 3> c{};
+    for (int k = 0; k < 3; ++k) c[k] = static_cast<long long>(std::floor(std::clamp(x[k] / cell, -1e18, 1e18)));
+    return c;
+  };
+  for (std::size_t b = 0; b < beams.size(); ++b) {
+    const Vec3d b0 = X[beams[b].nodes.front()], b1 = X[beams[b].nodes.back()];
+    const auto c = cellOf(b0);
+    std::vector<int> near;
+    for (long long i = -1; i <= 1; ++i)
+      for (long long j = -1; j <= 1; ++j)
+        for (long long k = -1; k <= 1; ++k) {
+          const auto it = ends.find({c[0] + i, c[1] + j, c[2] + k});
+          if (it != ends.end()) near.insert(near.end(), it->second.begin(), it->second.end());
+        }
+    std::sort(near.begin(), near.end());
+    near.erase(std::unique(near.begin(), near.end()), near.end());
+    for (const int a : near) {
       const Vec3d a0 = X[beams[a].nodes.front()], a1 = X[beams[a].nodes.back()];
-      const Vec3d b0 = X[beams[b].nodes.front()], b1 = X[beams[b].nodes.back()];
       const double tol = 1e-9 * std::max(norm(a1 - a0), norm(b1 - b0));
       if ((norm(a0 - b0) <= tol && norm(a1 - b1) <= tol) || (norm(a0 - b1) <= tol && norm(a1 - b0) <= tol))
         throw InputError("beams \"" + beams[a].name + "\" and \"" + beams[b].name +
                          "\" have the same Start and End: a beam given twice?");
     }
+    ends[c].push_back(static_cast<int>(b));
+    const auto c1 = cellOf(b1);
+    if (c1 != c) ends[c1].push_back(static_cast<int>(b));
+  }
 }
 
 // The nodes of a beam along its geometry (exactly one of Start and End, Points, Arc, Helix), and its
@@ -772,16 +812,46 @@ int joinCoincidentNodes(std::vector<elements::Beam>& beams, std::vector<Vec3d>& 
   return shared;
 }
 
-// What a model of `elements` beam elements needs, roughly (measured: about 4 kB per element for the
-// matrix, the factorization and the state), against the machine's memory.
-void checkModelSize(std::size_t elements) {
-  const double bytes = 4096.0 * double(elements);
-  const double physical = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGESIZE));
-  if (elements > 5000000 || (physical > 0 && bytes > 0.8 * physical)) {
-    char buf[200];
-    std::snprintf(buf, sizeof buf, "the beams have %zu elements in all, which needs about %.1f GB; this machine has %.1f GB",
-                  elements, bytes / 1e9, physical / 1e9);
-    throw InputError(std::string(buf) + " (the limit is 5e6 elements and 80 % of the memory)");
+// What a model needs, against the memory this process may use. Measured (bench/bench_memory.py,
+// docs/scale.md "Memory per element and per contact point"): the peak resident memory of a run on one
+// rank with the default Direct solver (KLU2) grows by 16.5 kB per beam element (Example 1 with 2.5e4
+// to 1e5 elements: 466 to 1646 MB) and, over the crossed layers' contact points (32 x 32 to 128 x 128,
+// every point active), by 76 kB per point with Penalty and, with Lagrange multipliers, 170 kB from
+// 32 x 32 to 64 x 64, 195 kB from 64 x 64 to 100 x 100 and at least 267 kB on average at 128 x 128
+// (4.8 GB before KLU2's first factorization of the saddle point had ended, after 18 min: its factors
+// grow faster than the points), above 74 MB for the program. Augmented Lagrange has Penalty's matrix; a plug-in's strategy is
+// counted as Lagrange. A pair of All Pairs costs 100 bytes (its entry and the search's index: a
+// network of 4000 fibres, 8e6 pairs, 791 MB above the same deck without contact). The estimate is
+// checked before anything of the solver is allocated: while the beams are read (elements only),
+// before All Pairs makes its pairs, and once the contact points at the start are known.
+constexpr double kBytesPerElement = 17e3, kBaseBytes = 80e6;
+constexpr double kBytesPerPair = 100.0;
+constexpr double kBytesPerPointPenalty = 80e3, kBytesPerPointLagrange = 300e3;
+
+void checkModelSize(std::size_t elements, std::size_t points, double bytesPerPoint, double pairs) {
+  const double bytes =
+      kBaseBytes + kBytesPerElement * double(elements) + bytesPerPoint * double(points) + kBytesPerPair * pairs;
+  std::string limited;
+  const double usable = usableMemory(&limited), physical = physicalMemory();
+  if (elements > 5000000 || (usable > 0 && bytes > 0.8 * usable)) {
+    char buf[500];
+    if (pairs > 0)
+      std::snprintf(buf, sizeof buf,
+                    "All Pairs of the deck's beams makes %.0f contact pairs (with %zu elements), which needs about "
+                    "%.1f GB; this machine has %.1f GB (the limit is 80 %% of the memory, at %.0f bytes per pair)",
+                    pairs, elements, bytes / 1e9, physical / 1e9, kBytesPerPair);
+    else if (points > 0)
+      std::snprintf(buf, sizeof buf,
+                    "the model has %zu elements and %zu contact points at the start, which needs about %.1f GB; "
+                    "this machine has %.1f GB (the limit is 5e6 elements and 80 %% of the memory, at %.0f kB per "
+                    "element and %.0f kB per contact point)",
+                    elements, points, bytes / 1e9, physical / 1e9, kBytesPerElement / 1e3, bytesPerPoint / 1e3);
+    else
+      std::snprintf(buf, sizeof buf,
+                    "the beams have %zu elements in all, which needs about %.1f GB; this machine has %.1f GB (the "
+                    "limit is 5e6 elements and 80 %% of the memory, at %.0f kB per element)",
+                    elements, bytes / 1e9, physical / 1e9, kBytesPerElement / 1e3);
+    throw InputError(buf + limited);
   }
 }
 
@@ -988,7 +1058,13 @@ Problem buildProblem(ParameterList deck, const std::string& deckName) {
               [&](ParameterList& t, const std::string& name, const std::string& path) {
                 p.model.tracked.push_back({name, locate.nodes(t, path, false).front()});
               });
-  if (deck.isSublist("Contact")) buildContact(p, deck.sublist("Contact"), top + "/Contact");
+  if (deck.isSublist("Contact")) {
+    buildContact(p, deck.sublist("Contact"), top + "/Contact");
+    // (Lagrange multipliers, and a plug-in's strategy, at the larger cost per point.)
+    const std::string type = deck.sublist("Contact").sublist("Enforcement").get<std::string>("Type");
+    checkModelSize(p.beams->elements().size(), p.contact->points().size(),
+                   type == "Penalty" || type == "Augmented Lagrange" ? kBytesPerPointPenalty : kBytesPerPointLagrange);
+  }
   if (linear.get<std::string>("Type") == "GMRES" && linear.get<std::string>("Preconditioner") == "MueLu" &&
       deck.isSublist("Contact") &&
       deck.sublist("Contact").sublist("Enforcement").get<std::string>("Type") == "Lagrange Multiplier")

@@ -49,4 +49,10 @@ void replaceAtPath(Teuchos::ParameterList& list, const std::string& path, const 
   parent.set(name, value);
 }
 
+// The machine's physical memory in bytes.
+double physicalMemory();
+// What this process may use: the machine's memory, or less under an address-space limit (ulimit -v,
+// prlimit --as); then `note`, when given, receives "; this process may use N GB (...)".
+double usableMemory(std::string* note = nullptr);
+
 }  // namespace bc::input

@@ -16,7 +16,9 @@ CATALOGUE lines (blank lines and # comments are skipped):
     run instead (e.g. BC_TEST_PLUGIN=hijack for the test plug-in).
   - {PLUGIN} and {OLD_PLUGIN} (in edits, arguments, setup and check): the test plug-in
     (tests/support/FaultPlugin.cpp) and its copy built against another version, from the environment
-    variables BC_FAULT_PLUGIN and BC_OLD_PLUGIN.
+    variables BC_FAULT_PLUGIN and BC_OLD_PLUGIN. A first word
+    "@limit-as:BYTES" runs the executable with that address-space limit (RLIMIT_AS, as prlimit
+    --as), so that allocations fail.
   - setup: a shell command run first (with {OUT}, {DECK}, {BASE} and {EXE}), e.g. to leave files in
     {OUT}.
   - check: a shell command run afterwards that must succeed (e.g. that stale files are gone).
@@ -26,6 +28,7 @@ With CASE only that case runs; otherwise all, with a count by verdict.
 """
 import os
 import re
+import resource
 import shlex
 import subprocess
 import sys
@@ -86,12 +89,17 @@ def run(name, code, pattern, edits, args, setup, post):
     if setup:
         subprocess.run(["sh", "-c", subst(setup)], check=True)
     argv = shlex.split(subst(args or "run {DECK} --output {OUT} --quiet"))
+    limit = None
+    if argv and argv[0].startswith("@limit-as:"):
+        limit = int(argv.pop(0)[len("@limit-as:"):])
+    preexec = (lambda: resource.setrlimit(resource.RLIMIT_AS, (limit, limit))) if limit else None
     env = dict(os.environ)
     while argv and re.match(r"^[A-Z_][A-Z0-9_]*=", argv[0]):
         key, value = argv.pop(0).split("=", 1)
         env[key] = value
     try:
-        r = subprocess.run([exe] + argv, capture_output=True, text=True, timeout=120, cwd=work, env=env)
+        r = subprocess.run([exe] + argv, capture_output=True, text=True, timeout=120, cwd=work, env=env,
+                           preexec_fn=preexec)
     except subprocess.TimeoutExpired:
         return "hang (no exit within 120 s)"
     text = r.stdout + r.stderr
