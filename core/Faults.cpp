@@ -56,15 +56,21 @@ void OutputFile::failLink() {
                     "a symbolic link");
 }
 
-void OutputFile::open(const fs::path& path, bool append) {
+void OutputFile::open(const fs::path& path, bool append, bool exclusive) {
   if (file_) close();
   path_ = path.string();
   errno = 0;
   // Never through a symbolic link in the last component: a link planted where a results file goes
   // would send the writes elsewhere.
-  const int fd = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_NOFOLLOW | O_CLOEXEC | (append ? O_APPEND : O_TRUNC), 0644);
+  const int fd = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_NOFOLLOW | O_CLOEXEC | (append ? O_APPEND : O_TRUNC) |
+                                           (exclusive ? O_EXCL : 0),
+                        0644);
   if (fd < 0) {
     if (errno == ELOOP) failLink();
+    if (errno == EEXIST && exclusive)
+      throw OutputError("cannot write " + path_ + ": the file exists (beamcontact writes through this name and "
+                        "never replaces a file it finds there; remove it if it is a leftover of an interrupted write)",
+                        "the file exists");
     fail("open");
   }
   file_ = fdopen(fd, append ? "a" : "w");
@@ -97,6 +103,13 @@ long OutputFile::length() const {
   return fstat(fileno(file_), &st) == 0 ? static_cast<long>(st.st_size) : -1;
 }
 
+bool OutputFile::stillAtItsPath() const {
+  if (!file_) return false;
+  struct stat open {}, named {};
+  if (fstat(fileno(file_), &open) != 0 || ::stat(path_.c_str(), &named) != 0) return false;
+  return open.st_dev == named.st_dev && open.st_ino == named.st_ino;
+}
+
 void OutputFile::truncateTo(long length) noexcept {
   if (!file_ || length < 0) return;
   __fpurge(file_);
@@ -120,13 +133,15 @@ void writeFileAtomically(const fs::path& path, const std::string& text) {
   {
     OutputFile f;
     try {
-      f.open(tmp);
+      f.open(tmp, false, true);
       f.write(text);
       f.close();
     } catch (const OutputError& e) {
-      // Named by the file the caller asked for; the reason is the one the failed call gave.
+      // Named by the file the caller asked for; the reason is the one the failed call gave. The
+      // temporary file goes only when this call created it.
       std::error_code ignored;
-      fs::remove(tmp, ignored);
+      if (e.reason() != "the file exists") fs::remove(tmp, ignored);
+      else throw;
       throw OutputError("cannot write " + path.string() + ": " + e.reason(), e.reason());
     }
   }
@@ -145,6 +160,9 @@ void installSignalHandlers(bool restartCalls) {
   action.sa_flags = restartCalls ? SA_RESTART : 0;
   for (int sig : {SIGTERM, SIGINT, SIGHUP}) sigaction(sig, &action, nullptr);
   std::signal(SIGXFSZ, SIG_IGN);
+  // Output piped into a program that ends early (| head): the run goes on and records its status
+  // instead of dying silently with "running" in status.txt.
+  std::signal(SIGPIPE, SIG_IGN);
 }
 
 int receivedSignal() { return g_signal; }
@@ -180,6 +198,23 @@ std::string nonStandardExceptionMessage() {
   std::string m = "an exception that is not a std::exception was thrown";
   if (g_foreignNote[0]) m += std::string(" (") + g_foreignNote + ")";
   return m;
+}
+
+namespace {
+char g_statusFile[4096] = {0};
+}  // namespace
+
+void setStatusFile(const std::string& path) { std::snprintf(g_statusFile, sizeof g_statusFile, "%s", path.c_str()); }
+
+void recordFailureInStatus(const std::string& text) noexcept {
+  if (!g_statusFile[0]) return;
+  const int fd = ::open(g_statusFile, O_WRONLY | O_NOFOLLOW | O_CLOEXEC);
+  if (fd < 0) return;
+  const std::string line = text + "\n";
+  if (pwrite(fd, line.data(), line.size(), 0) == static_cast<ssize_t>(line.size()) &&
+      ftruncate(fd, static_cast<off_t>(line.size())) == 0) {
+  }
+  ::close(fd);
 }
 
 void injectFault(const char* place) {

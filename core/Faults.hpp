@@ -72,14 +72,17 @@ class OutputFile {
   OutputFile(const OutputFile&) = delete;
   OutputFile& operator=(const OutputFile&) = delete;
   ~OutputFile();
-  // Opens for writing (truncating) or appending.
-  void open(const std::filesystem::path& path, bool append = false);
+  // Opens for writing (truncating) or appending; `exclusive`: the file must not exist yet.
+  void open(const std::filesystem::path& path, bool append = false, bool exclusive = false);
   void write(const std::string& text);
   void close();
   bool isOpen() const { return file_ != nullptr; }
   // The file's length now (-1 when not open), and a return to that length (best effort, never throws):
   // the rows of a step that could not be written whole in every file are taken back from all of them.
   long length() const;
+  // Whether the open file is still the one at its path (not removed, moved or replaced).
+  bool stillAtItsPath() const;
+  const std::string& path() const { return path_; }
   void truncateTo(long length) noexcept;
 
  private:
@@ -122,5 +125,11 @@ std::string nonStandardExceptionMessage();
 // std::runtime_error at `place` on that rank alone (places: "deck", "plugin", "strategy",
 // "assembly", "solve", "output"), to show that every rank stops with it.
 void injectFault(const char* place);
+
+// The status file of the run in progress (rank 0; "" when none), for a last word when the process is
+// ended from outside the normal path (an exit() in a plug-in): recordFailureInStatus rewrites it in
+// place with `text` (no allocation of new blocks, never throws).
+void setStatusFile(const std::string& path);
+void recordFailureInStatus(const std::string& text) noexcept;
 
 }  // namespace bc::core

@@ -62,8 +62,7 @@ std::string firstForeign(const fs::path& dir, const std::set<std::string>& names
       if (!inner.empty()) return readManifest(e.path()) ? rel + "/" + inner : inner;
       continue;
     }
-    const bool tmp = rel.size() > 4 && rel.compare(rel.size() - 4, 4, ".tmp") == 0;
-    if (names.count(rel) || (tmp && names.count(rel.substr(0, rel.size() - 4)))) continue;
+    if (names.count(rel)) continue;
     return rel;
   }
   return "";
@@ -92,12 +91,13 @@ void checkDeckOutputPath(const std::string& path, const std::string& parameter) 
     throw InputError("parameter \"" + parameter + "\" is the absolute path \"" + path +
                      "\"; a deck's output path is relative to the folder it is run from (give an absolute path "
                      "with --output)");
-  fs::path prefix;
-  for (const auto& part : p) {
+  for (const auto& part : p)
     if (part == "..")
       throw InputError("parameter \"" + parameter + "\" (\"" + path +
                        "\") climbs out with \"..\"; a deck's output path stays below the folder it is run from "
                        "(give such a path with --output)");
+  fs::path prefix;
+  for (const auto& part : p) {
     if (part.empty() || part == ".") continue;
     prefix /= part;
     std::error_code ec;
@@ -141,17 +141,46 @@ OutputDirectory::OutputDirectory(const fs::path& dir, const Options& options) : 
 
 void OutputDirectory::add(const std::string& relative) {
   if (names_.count(relative)) return;
-  appendLine(dir_ / kManifestName, relative);
+  // A file is written through "<name>.tmp" and a rename (Faults.hpp): both names are the program's.
+  const bool folder = !relative.empty() && relative.back() == '/';
+  appendLine(dir_ / kManifestName, folder ? relative : relative + "\n" + relative + ".tmp");
   names_.insert(relative);
+  if (!folder) names_.insert(relative + ".tmp");
+}
+
+fs::path OutputDirectory::folder(const std::string& relative) {
+  // Without the trailing '/', which would make the status below follow a link.
+  const std::string name = !relative.empty() && relative.back() == '/' ? relative.substr(0, relative.size() - 1) : relative;
+  const fs::path p = dir_ / name;
+  std::error_code ec;
+  const auto status = fs::symlink_status(p, ec);
+  if (fs::is_symlink(status) || (fs::exists(status) && !fs::is_directory(status)))
+    throw InputError("\"" + p.string() + "\" is " + (fs::is_symlink(status) ? "a symbolic link" : "not a folder") +
+                     "; beamcontact writes its " + name + "/ only into a folder of its own (remove or rename it)");
+  add(name + "/");
+  fs::create_directories(p, ec);
+  if (ec) throw InputError("cannot create " + p.string() + ": " + ec.message());
+  return p;
+}
+
+bool OutputDirectory::throughRealFolders(const std::string& relative) const {
+  fs::path at = dir_;
+  const fs::path rel(relative);
+  for (auto it = rel.begin(); it != rel.end(); ++it) {
+    if (std::next(it) == rel.end()) break;
+    if (*it == ".." || it->is_absolute()) return false;
+    at /= *it;
+    if (!isRealDirectory(at)) return false;
+  }
+  return true;
 }
 
 void OutputDirectory::removeOwn(const std::function<bool(const std::string&)>& which) {
   std::error_code ec;
   for (const auto& name : names_) {
-    if (name.empty() || name.back() == '/' || !which(name)) continue;
+    if (name.empty() || name.back() == '/' || !which(name) || !throughRealFolders(name)) continue;
     const fs::path p = dir_ / name;
     if (!isRealDirectory(p)) fs::remove(p, ec);
-    if (!isRealDirectory(p.string() + ".tmp")) fs::remove(p.string() + ".tmp", ec);
   }
 }
 
@@ -168,9 +197,13 @@ bool OutputDirectory::removeOwnFolder(const std::string& relative) {
         folders.push_back(name);
         continue;
       }
-      if (isRealDirectory(sub / name)) continue;
-      fs::remove(sub / name, ec);
-      if (!isRealDirectory(sub / (name + ".tmp"))) fs::remove(sub / (name + ".tmp"), ec);
+      if (isRealDirectory(sub / name) || name.find("..") != std::string::npos || fs::path(name).is_absolute())
+        continue;
+      bool inside = true;  // only through real folders, never through a link
+      fs::path at = sub;
+      const fs::path rel(name);
+      for (auto it = rel.begin(); inside && std::next(it) != rel.end(); ++it) inside = isRealDirectory(at /= *it);
+      if (inside) fs::remove(sub / name, ec);
     }
     std::sort(folders.begin(), folders.end(), [](const auto& a, const auto& b) { return a.size() > b.size(); });
     for (const auto& f : folders)

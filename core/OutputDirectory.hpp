@@ -39,8 +39,14 @@ class OutputDirectory {
   // Throws InputError naming the first foreign file.
   OutputDirectory(const std::filesystem::path& dir, const Options& options);
   const std::filesystem::path& path() const { return dir_; }
-  // Records `relative` (a file, or a folder when it ends in '/') before it is created. Throws OutputError.
+  // Records `relative` (a file, with the "<name>.tmp" it is written through, or a folder when it ends in
+  // '/') before it is created. Throws OutputError.
   void add(const std::string& relative);
+  // A sub-folder of the program's own: recorded and created; one that is a symbolic link or a file is
+  // refused (InputError), even with --overwrite, so nothing is written through it.
+  std::filesystem::path folder(const std::string& relative);
+  // Whether every folder on the way to `relative` is a real folder below the directory (no link, no "..").
+  bool throughRealFolders(const std::string& relative) const;
   bool lists(const std::string& relative) const { return names_.count(relative) > 0; }
   // Removes the files the manifest names for which `which` is true (and their ".tmp"), and then the
   // listed folders that became empty. Never removes anything the manifest does not name.

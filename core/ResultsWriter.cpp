@@ -69,7 +69,10 @@ long livePid(const fs::path& status) {
   if (at != 0) return 0;
   const long pid = std::atol(text.c_str() + 13);
   if (pid <= 0 || pid == static_cast<long>(getpid())) return 0;
-  return kill(static_cast<pid_t>(pid), 0) == 0 ? pid : 0;
+  if (kill(static_cast<pid_t>(pid), 0) != 0) return 0;
+  // A live process of that number that is not a beamcontact (the number was reused) writes nothing here.
+  const std::string command = readAll("/proc/" + std::to_string(pid) + "/cmdline");
+  return command.empty() || command.find("beamcontact") != std::string::npos ? pid : 0;
 }
 
 }  // namespace
@@ -89,6 +92,7 @@ ResultsWriter::ResultsWriter(const Where& where, const Model& model, Teuchos::RC
       if (resumeStep >= 0) prepareResume(resumeStep, resumeT);
       else prepareFresh();
       writeStatus("running (pid " + std::to_string(getpid()) + ")");
+      setStatusFile((fs::path(dir_) / "status.txt").string());
     } catch (const OutputError& e) {
       throw InputError(std::string("the results directory cannot be written: ") + e.what());
     } catch (const std::filesystem::filesystem_error& e) {
@@ -106,6 +110,11 @@ std::vector<std::string> ResultsWriter::fileNames() const {
   return names;
 }
 
+fs::path ResultsWriter::own(const std::string& name) {
+  out_.add(name);
+  return fs::path(dir_) / name;
+}
+
 bool ResultsWriter::ownResult(const std::string& relative) const {
   if (relative.rfind("vtk/", 0) == 0) return vtkStep(relative.substr(4)) >= 0;
   const auto names = fileNames();
@@ -120,12 +129,11 @@ void ResultsWriter::prepareFresh() {
                        std::to_string(pid) + "); choose another --output");
   // An earlier run's results go, so none of them is mistaken for this run's; only files the
   // manifest names are removed.
-  out_.removeOwn([&](const std::string& name) { return ownResult(name); });
-  for (const auto& name : fileNames()) out_.add(name);
-  out_.add("vtk/");
-  std::error_code ec;
-  fs::create_directories(dir / "vtk", ec);
-  if (ec) throw InputError("cannot create " + (dir / "vtk").string() + ": " + ec.message());
+  out_.removeOwn([&](const std::string& name) {
+    const bool tmp = name.size() > 4 && name.compare(name.size() - 4, 4, ".tmp") == 0;
+    return ownResult(tmp ? name.substr(0, name.size() - 4) : name);
+  });
+  out_.folder("vtk/");
   openTables(false);
 }
 
@@ -167,7 +175,7 @@ void ResultsWriter::prepareResume(int step, double T) {
                        " (it is not this directory's run)");
   }
   std::error_code ec;
-  fs::create_directories(dir / "vtk", ec);
+  out_.folder("vtk/");
   // Rows of steps after the checkpoint's were computed by the interrupted run past the state this
   // run continues from: they go, and this run writes them again.
   std::vector<std::string> csvs = {"steps.csv", "newton.csv", "tracked_points.csv", "reactions.csv"};
@@ -193,7 +201,7 @@ void ResultsWriter::prepareResume(int step, double T) {
       const long s = std::strtol(line.c_str(), &end, 10);
       if (end == line.c_str() + comma && s <= step) kept += line + "\n";
     }
-    writeFileAtomically(dir / name, kept);
+    writeFileAtomically(own(name), kept);
   }
   out_.removeOwn([&](const std::string& name) {
     return name.rfind("vtk/", 0) == 0 && vtkStep(name.substr(4)) > step;
@@ -207,23 +215,32 @@ void ResultsWriter::prepareResume(int step, double T) {
     const int s = vtkStep(fs::path(file).filename().string());
     if (s >= 0 && s <= step && fs::exists(dir / file)) vtkFiles_.emplace_back(std::atof(line.c_str() + t + 10), file);
   }
-  for (const char* name : {"summary.csv", "timers.txt"}) fs::remove(dir / name, ec);
+  out_.removeOwn([](const std::string& name) {
+    return name == "summary.csv" || name == "timers.txt" || name == "summary.csv.tmp" || name == "timers.txt.tmp";
+  });
   openTables(true);
 }
 
 void ResultsWriter::openTables(bool append) {
-  const fs::path dir(dir_);
-  steps_.open(dir / "steps.csv", append);
-  newton_.open(dir / "newton.csv", append);
-  tracked_.open(dir / "tracked_points.csv", append);
-  reactions_.open(dir / "reactions.csv", append);
+  // A fresh table is a new file (a file of the same name is unlinked first, so one hard-linked elsewhere
+  // keeps its content).
+  auto table = [&](OutputFile& f, const std::string& name) {
+    const fs::path p = own(name);
+    std::error_code ec;
+    if (!append) fs::remove(p, ec);
+    f.open(p, append);
+  };
+  table(steps_, "steps.csv");
+  table(newton_, "newton.csv");
+  table(tracked_, "tracked_points.csv");
+  table(reactions_, "reactions.csv");
   for (const auto& c : model_.contributions) {
     if (c->tableName().empty()) {
       tables_.emplace_back();
       continue;
     }
     tables_.push_back(std::make_unique<OutputFile>());
-    tables_.back()->open(dir / c->tableName(), append);
+    table(*tables_.back(), c->tableName());
     if (!append) tables_.back()->write("step,T," + c->tableHeader() + "\n");
   }
   if (append) return;
@@ -244,7 +261,7 @@ void ResultsWriter::writeStatus(const std::string& text) {
   for (const auto& n : notes_) all += n + "\n";
   const fs::path path = fs::path(dir_) / "status.txt";
   try {
-    writeFileAtomically(path, all);
+    writeFileAtomically(own("status.txt"), all);
   } catch (const OutputError&) {
     // A full disk has no room for a new file; the status is then rewritten in place, in the space
     // reserved for it below.
@@ -265,7 +282,7 @@ void ResultsWriter::writeEffective(const Teuchos::ParameterList& effective) {
     if (!root()) return;
     std::ostringstream xml;
     Teuchos::writeParameterListToXmlOStream(effective, xml);
-    writeFileAtomically(fs::path(dir_) / "effective_parameters.xml", xml.str());
+    writeFileAtomically(own("effective_parameters.xml"), xml.str());
   });
 }
 
@@ -349,7 +366,7 @@ void ResultsWriter::writeStepFiles(const StepReport& step, const State& state, c
 
 void ResultsWriter::writeCheckpoint(const std::string& text) {
   collectively(*comm_, [&] {
-    if (root()) writeFileAtomically(fs::path(dir_) / "checkpoint.txt", text);
+    if (root()) writeFileAtomically(own("checkpoint.txt"), text);
   });
 }
 
@@ -395,7 +412,6 @@ void ResultsWriter::writeVtk(int step, double T, const State& state) {
   for (const auto& c : model_.contributions) c->appendVtk(state, mesh);
   char name[64];
   std::snprintf(name, sizeof name, "vtk/step_%05d.vtu", step);
-  out_.add(name);
   const std::size_t n = mesh.points.size();
   // Points at their reference place, with the displacement as point data: ParaView's Warp By Vector
   // (scale 1) draws the deformed shape. (Contact points have no reference place: they are drawn where
@@ -436,7 +452,7 @@ void ResultsWriter::writeVtk(int step, double T, const State& state) {
   }
   f << "</CellData>\n</Piece>\n</UnstructuredGrid>\n<AppendedData encoding=\"raw\">\n_" << a.data()
     << "\n</AppendedData>\n</VTKFile>\n";
-  writeFileAtomically(fs::path(dir_) / name, f.str());
+  writeFileAtomically(own(name), f.str());
   vtkFiles_.emplace_back(T, name);
   writePvd();
 }
@@ -446,7 +462,7 @@ void ResultsWriter::writePvd() {
   f << std::setprecision(12) << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n";
   for (const auto& [T, file] : vtkFiles_) f << "<DataSet timestep=\"" << T << "\" part=\"0\" file=\"" << file << "\"/>\n";
   f << "</Collection>\n</VTKFile>\n";
-  writeFileAtomically(fs::path(dir_) / "results.pvd", f.str());
+  writeFileAtomically(own("results.pvd"), f.str());
 }
 
 void ResultsWriter::writeSummary(const RunSummary& summary) {
@@ -463,20 +479,27 @@ void ResultsWriter::writeSummary(const RunSummary& summary) {
       << summary.solveSeconds << ',' << usage.ru_maxrss / 1024.0;
     for (const auto& [column, seconds] : summary.stages) f << ',' << seconds;
     f << ',' << summary.run.warnings.size() << '\n';
-    writeFileAtomically(fs::path(dir_) / "summary.csv", f.str());
+    writeFileAtomically(own("summary.csv"), f.str());
   });
 }
 
 void ResultsWriter::finish(const RunReport& run, const std::string& timerReport) {
   collectively(*comm_, [&] {
     if (!root()) return;
+    // A results directory removed or moved during the run took the open tables with it: the run's
+    // results are not where it says they are.
+    for (const OutputFile* f : {&steps_, &newton_, &tracked_, &reactions_})
+      if (f->isOpen() && !f->stillAtItsPath())
+        throw OutputError("cannot write " + dir_ + ": the results directory was removed or moved during the run "
+                          "(" + f->path() + " is gone)",
+                          "the results directory was removed or moved");
     steps_.close();
     newton_.close();
     tracked_.close();
     reactions_.close();
     for (auto& t : tables_)
       if (t) t->close();
-    writeFileAtomically(fs::path(dir_) / "timers.txt", timerReport);
+    writeFileAtomically(own("timers.txt"), timerReport);
     std::ostringstream s;
     if (run.completed)
       s << "complete: " << run.steps << " steps, " << run.newtonIterations << " Newton iterations, T = " << run.lastT;
@@ -487,6 +510,7 @@ void ResultsWriter::finish(const RunReport& run, const std::string& timerReport)
       s << "incomplete: stopped at T = " << run.lastT << " after " << run.steps << " converged steps; " << run.failure;
     for (const auto& w : run.warnings) s << "\nwarning: " << w;
     writeStatus(s.str());
+    setStatusFile("");
   });
 }
 

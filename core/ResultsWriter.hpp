@@ -76,6 +76,8 @@ class ResultsWriter {
   void prepareResume(int step, double T);
   // A file of a run's own (one of fileNames(), or vtk/step_N.vtu).
   bool ownResult(const std::string& relative) const;
+  // Records `name` in the manifest (before it is created) and returns its path.
+  std::filesystem::path own(const std::string& name);
   void openTables(bool append);
   void writeStepFiles(const StepReport& step, const State& state, const std::vector<double>& fullResidual);
   void writeVtk(int step, double T, const State& state);

@@ -1,5 +1,6 @@
 #include "Generate.hpp"
 
+#include <filesystem>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -444,6 +445,16 @@ int generateDeck(const std::vector<std::string>& args) {
   if (output.empty()) {
     std::fputs(xml.str().c_str(), stdout);
   } else {
+    // A deck replaces a regular file only: a device, a pipe, a folder or a link at the path is left
+    // alone (a rename over /dev/null would replace the device itself).
+    std::error_code ec;
+    const auto status = std::filesystem::symlink_status(output, ec);
+    if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
+      throw core::InputError("generate: --output \"" + output + "\" is " +
+                             (std::filesystem::is_symlink(status)     ? "a symbolic link"
+                              : std::filesystem::is_directory(status) ? "a folder"
+                                                                      : "not a regular file (a device or a pipe)") +
+                             "; give the path of a deck file, or leave out --output to print the deck");
     core::writeFileAtomically(output, xml.str());
   }
   return 0;

@@ -546,12 +546,11 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
   where.parameter = root + "/Output Directory";
   where.what = "study directory";
   core::OutputDirectory out(dir, where);
-  out.add("cases/");
-  {
-    std::error_code ec;
-    fs::create_directories(dir / "cases", ec);
-    if (ec) throw InputError("cannot create " + (dir / "cases").string() + ": " + ec.message());
-  }
+  out.folder("cases/");
+  const auto temporary = [](const std::string& name) {
+    return name.size() > 4 && name.compare(name.size() - 4, 4, ".tmp") == 0;
+  };
+  out.removeOwn(temporary);  // what an interrupted write left
   std::vector<Case> all;
   for (const Group& g : groups) {
     std::vector<std::size_t> idx(g.variables.size(), 0);
@@ -631,11 +630,12 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
     }
     const std::string rel = "cases/" + std::string(name) + "/";
     if (out.lists(rel)) out.removeOwnFolder(rel);
-    out.add(rel);
+    out.folder(rel);  // a case folder that is a link is refused: nothing is written through it
     core::OutputDirectory::Options caseWhere;
     caseWhere.overwrite = options.overwrite;
     caseWhere.what = "case directory";
     core::OutputDirectory caseDir(c.dir, caseWhere);
+    caseDir.removeOwn(temporary);
     caseDir.add("deck.xml");
     caseDir.add("log.txt");
     core::writeFileAtomically(c.dir / "deck.xml", xml.str());
@@ -785,6 +785,8 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
                 stem.c_str(), core::signalName(stopSignal).c_str(),
                 static_cast<std::size_t>(std::count_if(all.begin(), all.end(), [](const Case& c) { return c.status == "complete"; })),
                 all.size());
+    std::fprintf(stderr, "beamcontact: study interrupted by %s; run it again to run the cases not complete\n",
+                 core::signalName(stopSignal).c_str());
     return 128 + stopSignal;
   }
 
@@ -878,6 +880,9 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
     if (code != 0)
       throw std::runtime_error("the report script " + script + " failed; the table is in " + (dir / "cases.csv").string());
   }
+  if (failed)
+    std::fprintf(stderr, "beamcontact: study incomplete: %td of %zu cases did not complete (their causes are in %s)\n",
+                 static_cast<std::ptrdiff_t>(failed), all.size(), (dir / "cases.csv").string().c_str());
   return failed == 0 ? 0 : 2;
 }
 

@@ -103,6 +103,8 @@ volatile bool g_working = false;
 extern "C" void onExitDuringWork() {
   if (!g_working) return;
   const std::string note = bc::core::foreignCodeNote();
+  bc::core::recordFailureInStatus("failed: the process was ended by a call to exit() in the middle of the run" +
+                                  (note.empty() ? std::string() : " (" + note + ")"));
   std::fprintf(stderr, "beamcontact: error: the process was ended by a call to exit() in the middle of the work%s\n",
                note.empty() ? "" : (" (" + note + ")").c_str());
   std::fflush(stderr);
@@ -149,7 +151,7 @@ int studyCommand(const std::vector<std::string>& args, const std::vector<std::st
     } else if (args[i] == "--overwrite") {
       options.overwrite = true;
     } else {
-      std::fprintf(stderr, "beamcontact: unknown option \"%s\"\n%s", args[i].c_str(), kUsage);
+      std::fprintf(stderr, "beamcontact: unknown option \"%s\"; see beamcontact --help\n", args[i].c_str());
       return 1;
     }
   }
@@ -168,7 +170,15 @@ int runDeck(const std::string& deck, const std::string& output, bool quiet, cons
   bc::core::collectively(*comm, [&] {
     bc::core::injectFault("deck");
     list = bc::input::readDeckFile(deck);
+    // The deck's Plugins (and digests) against --plugin before any library is loaded.
     bc::input::checkDeckPlugins(list, deck, plugins);
+  });
+  // Loaded on every rank; a library that fails on one rank only ends every rank with its message.
+  bc::core::collectively(*comm, [&] {
+    bc::core::injectFault("plugin");
+    for (const auto& plugin : plugins) bc::input::loadPlugin(plugin);
+  });
+  bc::core::collectively(*comm, [&] {
     bc::core::injectFault("strategy");
     // (The list handed over, not copied: a deck's lists take about 4 bytes per deck byte.)
     problem = bc::input::buildProblem(std::exchange(list, Teuchos::ParameterList()), stem);
@@ -227,19 +237,20 @@ int main(int argc, char** argv) {
   for (std::size_t i = 1; i < args.size();) {
     if (args[i] != "--plugin") { ++i; continue; }
     if (i + 1 >= args.size()) {
-      std::fprintf(stderr, "beamcontact: missing library after \"--plugin\"\n%s", kUsage);
+      std::fprintf(stderr, "beamcontact: missing library after \"--plugin\"; see beamcontact --help\n");
       return 1;
     }
     plugins.push_back(args[i + 1]);
     args.erase(args.begin() + i, args.begin() + i + 2);
   }
   if (args.empty() || args[0] == "--help" || args[0] == "-h") {
-    std::fputs(kUsage, args.empty() ? stderr : stdout);
+    if (args.empty()) std::fputs("beamcontact: a command is needed (run, check, study, render, generate); see beamcontact --help\n", stderr);
+    else std::fputs(kUsage, stdout);
     return args.empty() ? 1 : 0;
   }
   if (args[0] == "render") {
     if (args.size() < 3) {
-      std::fprintf(stderr, "beamcontact: render needs a results directory and an output file\n%s", kUsage);
+      std::fprintf(stderr, "beamcontact: render needs a results directory and an output file; see beamcontact --help\n");
       return 1;
     }
     if (!std::filesystem::is_directory(args[1])) {
@@ -255,7 +266,7 @@ int main(int argc, char** argv) {
   // A study only starts and watches case processes: no MPI in this process.
   if (args[0] == "study") {
     if (args.size() < 2) {
-      std::fprintf(stderr, "beamcontact: study needs a study deck\n%s", kUsage);
+      std::fprintf(stderr, "beamcontact: study needs a study deck; see beamcontact --help\n");
       return 1;
     }
     return studyCommand(args, plugins);
@@ -265,15 +276,15 @@ int main(int argc, char** argv) {
   // check builds the model only: no MPI in this process (so it is quick to call many times).
   if (args[0] == "check") {
     if (args.size() != 2) {
-      std::fprintf(stderr, "beamcontact: check takes one deck\n%s", kUsage);
+      std::fprintf(stderr, "beamcontact: check takes one deck; see beamcontact --help\n");
       return 1;
     }
     return withExitCodes(true, [&] {
       const Working working;
       bc::constraints::registerBuiltinEnforcers();
-      for (const auto& plugin : plugins) bc::input::loadPlugin(plugin);
       Teuchos::ParameterList list = bc::input::readDeckFile(args[1]);
-      bc::input::checkDeckPlugins(list, args[1], plugins);
+      bc::input::checkDeckPlugins(list, args[1], plugins);  // before any library is loaded
+      for (const auto& plugin : plugins) bc::input::loadPlugin(plugin);
       const auto problem = bc::input::buildProblem(std::exchange(list, Teuchos::ParameterList()),
                                                    std::filesystem::path(args[1]).stem().string());
       std::printf("ok: %s: %d nodes, %zu elements, %d joints, %zu supports, %zu loads, %zu contact points at the start\n",
@@ -291,12 +302,10 @@ int main(int argc, char** argv) {
   const bool root = comm->getRank() == 0;
   return withExitCodes(root, [&] {
     const Working working;
-    // Loaded on every rank; a library that fails on one rank only ends every rank with its message.
-    bc::core::collectively(*comm, [&] {
-      bc::core::injectFault("plugin");
-      for (const auto& plugin : plugins) bc::input::loadPlugin(plugin);
-    });
     if (args[0] == "--print-valid-parameters") {
+      bc::core::collectively(*comm, [&] {
+        for (const auto& plugin : plugins) bc::input::loadPlugin(plugin);
+      });
       if (root) {
         std::cout << "BeamContact deck reference (ParameterList \"BeamContact\"):\n";
         bc::input::referenceParameters().print(
@@ -305,11 +314,11 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (args[0] == "run" && args.size() < 2) {
-      if (root) std::fprintf(stderr, "beamcontact: run needs a deck\n%s", kUsage);
+      if (root) std::fprintf(stderr, "beamcontact: run needs a deck; see beamcontact --help\n");
       return 1;
     }
     if (args[0] != "run") {
-      if (root) std::fprintf(stderr, "beamcontact: unknown command \"%s\"\n%s", args[0].c_str(), kUsage);
+      if (root) std::fprintf(stderr, "beamcontact: unknown command \"%s\"; see beamcontact --help\n", args[0].c_str());
       return 1;
     }
     std::string output, restart;
@@ -323,9 +332,9 @@ int main(int argc, char** argv) {
       else if (args[i] == "--overwrite") overwrite = true;
       else {
         if (root)
-          std::fprintf(stderr, "beamcontact: %s \"%s\"\n%s",
+          std::fprintf(stderr, "beamcontact: %s \"%s\"; see beamcontact --help\n",
                        args[i] == "--output" || args[i] == "--restart" ? "missing directory after" : "unknown option",
-                       args[i].c_str(), kUsage);
+                       args[i].c_str());
         return 1;
       }
     }

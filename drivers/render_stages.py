@@ -61,6 +61,10 @@ def main():
     ap.add_argument("--title", default="")
     a = ap.parse_args()
     results = Path(a.results)
+    out = Path(a.out)
+    if out.is_symlink() or (out.exists() and not out.is_file()):
+        sys.exit(f"beamcontact: render: {a.out} is not a regular file (a link, a folder, a device or a pipe); "
+                 "give the path of a PNG file")
     folder = Path(a.out).parent
     if not folder.is_dir():
         sys.exit(f"beamcontact: render: cannot write {a.out}: {folder} is not a directory")
