@@ -5,6 +5,7 @@
 #include <spawn.h>
 
 #include <set>
+#include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -546,6 +547,14 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
   where.parameter = root + "/Output Directory";
   where.what = "study directory";
   core::OutputDirectory out(dir, where);
+  // One study at a time in a directory: the manifest is locked (flock) while this study runs, and the
+  // lock goes with the process, however it ends.
+  {
+    const int lock = ::open((dir / core::kManifestName).c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
+    if (lock < 0 || flock(lock, LOCK_EX | LOCK_NB) != 0)
+      throw InputError("study directory \"" + dir.string() + "\" is in use by another beamcontact study; wait for it "
+                       "or choose another --output");
+  }
   out.folder("cases/");
   const auto temporary = [](const std::string& name) {
     return name.size() > 4 && name.compare(name.size() - 4, 4, ".tmp") == 0;

@@ -80,6 +80,12 @@ error_plot = [p for p in meta["plots"] if p["name"] == "A uz error vs eps_N"][0]
 assert error_plot["published_x"] == [2e4] and error_plot["published_y"] == [-9.79], error_plot
 assert error_plot["relative_to"] == "lagrange" and error_plot["error"], error_plot
 stamps = {c: (out / "cases" / c / "summary.csv").stat().st_mtime_ns for c in ("001", "002", "003")}
+# One study at a time in a directory: a second one while the first holds it is refused.
+import fcntl  # noqa: E402
+with open(out / "beamcontact-manifest.txt") as held:
+    fcntl.flock(held, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    busy = subprocess.run([exe, "study", deck, "--output", str(out)], capture_output=True, text=True)
+assert busy.returncode == 1 and "is in use by another beamcontact study" in busy.stderr, busy.stderr
 # A file of the user's in the study directory: the rerun is refused, naming it, and nothing changes.
 (out / "cases" / "mine.txt").write_text("user data\n")
 refused = subprocess.run([exe, "study", deck, "--output", str(out), "--parallel", "2"], capture_output=True, text=True)
