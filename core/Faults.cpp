@@ -194,6 +194,18 @@ void setForeignCodeNote(const std::string& note) {
 }
 std::string foreignCodeNote() { return g_foreignNote; }
 
+void runForeignCode(const std::string& who, const std::string& failure, const std::function<void()>& work) {
+  try {
+    work();
+  } catch (const InputError& e) {
+    throw InputError(who + ": " + e.what());
+  } catch (const std::exception& e) {
+    throw InputError(who + " " + failure + ": " + e.what());
+  } catch (...) {
+    throw InputError(who + " " + failure + ": it threw an exception that is not a std::exception");
+  }
+}
+
 std::string nonStandardExceptionMessage() {
   std::string m = "an exception that is not a std::exception was thrown";
   if (g_foreignNote[0]) m += std::string(" (") + g_foreignNote + ")";
@@ -206,23 +218,33 @@ char g_statusFile[4096] = {0};
 
 void setStatusFile(const std::string& path) { std::snprintf(g_statusFile, sizeof g_statusFile, "%s", path.c_str()); }
 
-void recordFailureInStatus(const std::string& text) noexcept {
-  if (!g_statusFile[0]) return;
-  const int fd = ::open(g_statusFile, O_WRONLY | O_NOFOLLOW | O_CLOEXEC);
-  if (fd < 0) return;
-  const std::string line = text + "\n";
-  if (pwrite(fd, line.data(), line.size(), 0) == static_cast<ssize_t>(line.size()) &&
-      ftruncate(fd, static_cast<off_t>(line.size())) == 0) {
-  }
-  ::close(fd);
+bool rewriteInPlace(const fs::path& path, const std::string& text) noexcept {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_NOFOLLOW | O_CLOEXEC);
+  if (fd < 0) return false;
+  const bool ok = pwrite(fd, text.data(), text.size(), 0) == static_cast<ssize_t>(text.size()) &&
+                  ftruncate(fd, static_cast<off_t>(text.size())) == 0;
+  return ::close(fd) == 0 && ok;
 }
 
-void injectFault(const char* place) {
-  // BEAMCONTACT_INJECT_FAULT="place:rank" (tests only): an error at `place` on that rank alone.
+void recordFailureInStatus(const std::string& text) noexcept {
+  if (g_statusFile[0]) rewriteInPlace(g_statusFile, text + "\n");
+}
+
+namespace {
+// BEAMCONTACT_INJECT_FAULT="place:rank" (tests only): an error at `place` on that rank alone.
+const std::string& injectedFault() {
   static const std::string spec = [] {
     const char* v = std::getenv("BEAMCONTACT_INJECT_FAULT");
     return std::string(v ? v : "");
   }();
+  return spec;
+}
+}  // namespace
+
+bool faultInjection() { return !injectedFault().empty(); }
+
+void injectFault(const char* place) {
+  const std::string& spec = injectedFault();
   if (spec.empty()) return;
   const auto colon = spec.find(':');
   if (spec.substr(0, colon) != place) return;

@@ -120,16 +120,26 @@ void collectively(const Comm& comm, const std::function<void()>& work);
 void setForeignCodeNote(const std::string& note);
 std::string foreignCodeNote();
 std::string nonStandardExceptionMessage();
+// Runs code besides ours (a plug-in's registration, a plug-in strategy's constructor): whatever it
+// throws, of any type, becomes one InputError, "<who>: <message>" for an InputError, else
+// "<who> <failure>: <message>" ("... it threw an exception that is not a std::exception").
+void runForeignCode(const std::string& who, const std::string& failure, const std::function<void()>& work);
 
 // Tests only: with BEAMCONTACT_INJECT_FAULT="place:rank" in the environment, throws a
 // std::runtime_error at `place` on that rank alone (places: "deck", "plugin", "strategy",
 // "assembly", "solve", "output"), to show that every rank stops with it.
 void injectFault(const char* place);
+// Whether BEAMCONTACT_INJECT_FAULT is set (the same on every rank: mpirun passes the environment), so a
+// place that needs an agreement of its own only for the hook pays for it only then.
+bool faultInjection();
 
 // The status file of the run in progress (rank 0; "" when none), for a last word when the process is
 // ended from outside the normal path (an exit() in a plug-in): recordFailureInStatus rewrites it in
 // place with `text` (no allocation of new blocks, never throws).
 void setStatusFile(const std::string& path);
 void recordFailureInStatus(const std::string& text) noexcept;
+// Replaces the content of the existing file `path` by `text` in place: no new file, and no new blocks
+// while the text fits the space allocated to it (a full disk). False when that fails too.
+bool rewriteInPlace(const std::filesystem::path& path, const std::string& text) noexcept;
 
 }  // namespace bc::core

@@ -51,17 +51,6 @@ std::string readAll(const fs::path& p) {
 // Bytes kept allocated for status.txt, so that its final status can be written on a full disk.
 constexpr long kStatusReserve = 64 * 1024;
 
-// Replaces the content of the existing file `path` by `text` in place (no new file, no new blocks
-// while the text fits the space allocated to it). False when that fails too.
-bool rewriteInPlace(const fs::path& path, const std::string& text) {
-  if (static_cast<long>(text.size()) > kStatusReserve) return false;
-  const int fd = ::open(path.c_str(), O_WRONLY | O_NOFOLLOW | O_CLOEXEC);
-  if (fd < 0) return false;
-  const bool ok = pwrite(fd, text.data(), text.size(), 0) == static_cast<ssize_t>(text.size()) &&
-                  ftruncate(fd, static_cast<off_t>(text.size())) == 0;
-  return ::close(fd) == 0 && ok;
-}
-
 // The pid of a live process other than this one that status.txt says is running, else 0.
 long livePid(const fs::path& status) {
   const std::string text = readAll(status);
@@ -259,13 +248,13 @@ void ResultsWriter::openTables(bool append) {
 void ResultsWriter::writeStatus(const std::string& text) {
   std::string all = text + "\n";
   for (const auto& n : notes_) all += n + "\n";
-  const fs::path path = fs::path(dir_) / "status.txt";
+  const fs::path path = own("status.txt");
   try {
-    writeFileAtomically(own("status.txt"), all);
+    writeFileAtomically(path, all);
   } catch (const OutputError&) {
     // A full disk has no room for a new file; the status is then rewritten in place, in the space
-    // reserved for it below.
-    if (!rewriteInPlace(path, all)) throw;
+    // reserved for it below (a text beyond it could need new blocks).
+    if (static_cast<long>(all.size()) > kStatusReserve || !rewriteInPlace(path, all)) throw;
     return;
   }
   // Room for the final status: kStatusReserve bytes allocated beyond the text (the file's length stays).
@@ -318,50 +307,48 @@ void ResultsWriter::writeStep(const StepReport& step, const State& state, const 
 }
 
 void ResultsWriter::writeStepFiles(const StepReport& step, const State& state, const std::vector<double>& r) {
-  {
-    int linear = 0;
-    for (const auto& h : step.history) linear += h.linearIterations;
-    std::ostringstream row;
-    row << std::setprecision(12);
-    row << step.step << "," << step.T << "," << step.cutLevel << "," << step.iterations << "," << step.passes << ","
-        << step.history.back().residualNorm << "," << linear << "," << step.backtracks << "," << step.stalls << "\n";
-    steps_.write(row.str());
-    // Each iterate of the step's Newton solves (all passes): the residual history.
-    row.str("");
-    for (std::size_t k = 0; k < step.history.size(); ++k) {
-      const NewtonIterate& h = step.history[k];
-      row << step.step << "," << step.T << "," << k << "," << h.residualNorm << "," << h.incrementNorm << ","
-          << h.linearIterations << "," << h.linearResidual << "\n";
-    }
-    newton_.write(row.str());
-    row.str("");
-    row << step.step << "," << step.T;
-    for (const auto& p : model_.tracked) {
-      const Vec3d u = state.displacement(p.node);
-      const Vec3d& psi = state.rotationVector[p.node];
-      row << "," << u[0] << "," << u[1] << "," << u[2] << "," << psi[0] << "," << psi[1] << "," << psi[2];
-    }
-    row << "\n";
-    tracked_.write(row.str());
-    row.str("");
-    row << step.step << "," << step.T;
-    for (const auto& s : model_.supports) {
-      double sum[6] = {0, 0, 0, 0, 0, 0};
-      for (int n : s.nodes)
-        for (int k = 0; k < 6; ++k) sum[k] += r[std::size_t(kDofsPerNode) * n + k];
-      for (double v : sum) row << "," << v;
-    }
-    row << "\n";
-    reactions_.write(row.str());
-    for (std::size_t i = 0; i < model_.contributions.size(); ++i) {
-      if (!tables_[i]) continue;
-      std::string rows;
-      for (const auto& line : model_.contributions[i]->tableRows())
-        rows += std::to_string(step.step) + "," + fixed12(step.T) + "," + line + "\n";
-      tables_[i]->write(rows);
-    }
-    if (vtk_) writeVtk(step.step, step.T, state);
+  int linear = 0;
+  for (const auto& h : step.history) linear += h.linearIterations;
+  std::ostringstream row;
+  row << std::setprecision(12);
+  row << step.step << "," << step.T << "," << step.cutLevel << "," << step.iterations << "," << step.passes << ","
+      << step.history.back().residualNorm << "," << linear << "," << step.backtracks << "," << step.stalls << "\n";
+  steps_.write(row.str());
+  // Each iterate of the step's Newton solves (all passes): the residual history.
+  row.str("");
+  for (std::size_t k = 0; k < step.history.size(); ++k) {
+    const NewtonIterate& h = step.history[k];
+    row << step.step << "," << step.T << "," << k << "," << h.residualNorm << "," << h.incrementNorm << ","
+        << h.linearIterations << "," << h.linearResidual << "\n";
   }
+  newton_.write(row.str());
+  row.str("");
+  row << step.step << "," << step.T;
+  for (const auto& p : model_.tracked) {
+    const Vec3d u = state.displacement(p.node);
+    const Vec3d& psi = state.rotationVector[p.node];
+    row << "," << u[0] << "," << u[1] << "," << u[2] << "," << psi[0] << "," << psi[1] << "," << psi[2];
+  }
+  row << "\n";
+  tracked_.write(row.str());
+  row.str("");
+  row << step.step << "," << step.T;
+  for (const auto& s : model_.supports) {
+    double sum[6] = {0, 0, 0, 0, 0, 0};
+    for (int n : s.nodes)
+      for (int k = 0; k < 6; ++k) sum[k] += r[std::size_t(kDofsPerNode) * n + k];
+    for (double v : sum) row << "," << v;
+  }
+  row << "\n";
+  reactions_.write(row.str());
+  for (std::size_t i = 0; i < model_.contributions.size(); ++i) {
+    if (!tables_[i]) continue;
+    std::string rows;
+    for (const auto& line : model_.contributions[i]->tableRows())
+      rows += std::to_string(step.step) + "," + fixed12(step.T) + "," + line + "\n";
+    tables_[i]->write(rows);
+  }
+  if (vtk_) writeVtk(step.step, step.T, state);
 }
 
 void ResultsWriter::writeCheckpoint(const std::string& text) {

@@ -598,7 +598,7 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
     SolveReport lin;
     start("Linear Solve");
     try {
-      collectively(*comm_, [] { injectFault("solve"); });
+      if (faultInjection()) collectively(*comm_, [] { injectFault("solve"); });
       lin = linear_.solve(assembler_.matrix(), rhs, *x);
     } catch (const LinearSolveError& e) {
       stop("Linear Solve");
