@@ -1,6 +1,7 @@
 #include "EnforcerRegistry.hpp"
 
 #include "AugmentedLagrangeEnforcer.hpp"
+#include "core/Faults.hpp"
 #include "LagrangeMultiplierEnforcer.hpp"
 #include "PenaltyEnforcer.hpp"
 
@@ -88,16 +89,10 @@ Teuchos::ParameterList enforcementReference() { return enforcementSpec().referen
 std::unique_ptr<ConstraintEnforcer> createEnforcer(const Teuchos::ParameterList& e) {
   const EnforcerEntry& entry = findEnforcer(e.get<std::string>("Type"), "Enforcement/Type");
   if (entry.origin == "built-in") return entry.create(e.sublist(entry.name));
-  const std::string who = "strategy \"" + entry.name + "\" (" + entry.origin + ")";
-  try {
-    return entry.create(e.sublist(entry.name));
-  } catch (const core::InputError& x) {
-    throw core::InputError(who + ": " + x.what());
-  } catch (const std::exception& x) {
-    throw core::InputError(who + " failed to start: " + x.what());
-  } catch (...) {
-    throw core::InputError(who + " failed to start: it threw an exception that is not a std::exception");
-  }
+  std::unique_ptr<ConstraintEnforcer> enforcer;
+  core::runForeignCode("strategy \"" + entry.name + "\" (" + entry.origin + ")", "failed to start",
+                       [&] { enforcer = entry.create(e.sublist(entry.name)); });
+  return enforcer;
 }
 
 }  // namespace bc::constraints

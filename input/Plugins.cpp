@@ -61,16 +61,10 @@ void loadPlugin(const std::string& path) {
     throw core::InputError(name + " was built against BeamContact " + built + "; this is BeamContact " +
                            core::kVersion + ": rebuild it");
   // Whatever the registration throws, of any type, is one input error naming the library.
-  try {
+  core::runForeignCode(name, "failed while registering", [&] {
     const constraints::RegistrationOrigin origin("plug-in \"" + absolute + "\"");
     reinterpret_cast<void (*)()>(entry)();
-  } catch (const core::InputError& e) {
-    throw core::InputError(name + ": " + e.what());
-  } catch (const std::exception& e) {
-    throw core::InputError(name + " failed while registering: " + e.what());
-  } catch (...) {
-    throw core::InputError(name + " failed while registering: it threw an exception that is not a std::exception");
-  }
+  });
   loaded().push_back({absolute, digest});
   std::string note = "loaded plug-ins:";
   for (const auto& l : loaded()) note += " " + l.path;
