@@ -50,6 +50,19 @@ bool isRealDirectory(const fs::path& p) {
   return fs::is_directory(fs::symlink_status(p, ec));
 }
 
+// Whether every folder on the way from `base` to `relative` is a real folder below it (no link, no "..").
+bool throughRealFolders(const fs::path& base, const std::string& relative) {
+  fs::path at = base;
+  const fs::path rel(relative);
+  for (auto it = rel.begin(); it != rel.end(); ++it) {
+    if (std::next(it) == rel.end()) break;
+    if (*it == ".." || it->is_absolute()) return false;
+    at /= *it;
+    if (!isRealDirectory(at)) return false;
+  }
+  return true;
+}
+
 std::string firstForeign(const fs::path& dir, const std::set<std::string>& names, const std::string& prefix) {
   for (const auto& e : entries(dir)) {
     const std::string name = e.path().filename().string();
@@ -57,9 +70,10 @@ std::string firstForeign(const fs::path& dir, const std::set<std::string>& names
     const std::string rel = prefix + name;
     if (isRealDirectory(e.path())) {
       if (!names.count(rel + "/")) return rel + "/";
-      const std::string inner = readManifest(e.path()) ? firstForeignEntry(e.path())
-                                                        : firstForeign(e.path(), names, rel + "/");
-      if (!inner.empty()) return readManifest(e.path()) ? rel + "/" + inner : inner;
+      // A folder with a manifest of its own is checked by it, else by this one's names.
+      const auto own = readManifest(e.path());
+      const std::string inner = own ? firstForeign(e.path(), *own, "") : firstForeign(e.path(), names, rel + "/");
+      if (!inner.empty()) return own ? rel + "/" + inner : inner;
       continue;
     }
     if (names.count(rel)) continue;
@@ -79,11 +93,6 @@ void appendLine(const fs::path& file, const std::string& line) {
 }
 
 }  // namespace
-
-std::string firstForeignEntry(const fs::path& dir) {
-  const auto names = readManifest(dir);
-  return firstForeign(dir, names ? *names : std::set<std::string>{}, "");
-}
 
 void checkDeckOutputPath(const std::string& path, const std::string& parameter) {
   const fs::path p(path);
@@ -163,22 +172,10 @@ fs::path OutputDirectory::folder(const std::string& relative) {
   return p;
 }
 
-bool OutputDirectory::throughRealFolders(const std::string& relative) const {
-  fs::path at = dir_;
-  const fs::path rel(relative);
-  for (auto it = rel.begin(); it != rel.end(); ++it) {
-    if (std::next(it) == rel.end()) break;
-    if (*it == ".." || it->is_absolute()) return false;
-    at /= *it;
-    if (!isRealDirectory(at)) return false;
-  }
-  return true;
-}
-
 void OutputDirectory::removeOwn(const std::function<bool(const std::string&)>& which) {
   std::error_code ec;
   for (const auto& name : names_) {
-    if (name.empty() || name.back() == '/' || !which(name) || !throughRealFolders(name)) continue;
+    if (name.empty() || name.back() == '/' || !which(name) || !throughRealFolders(dir_, name)) continue;
     const fs::path p = dir_ / name;
     if (!isRealDirectory(p)) fs::remove(p, ec);
   }
@@ -197,13 +194,7 @@ bool OutputDirectory::removeOwnFolder(const std::string& relative) {
         folders.push_back(name);
         continue;
       }
-      if (isRealDirectory(sub / name) || name.find("..") != std::string::npos || fs::path(name).is_absolute())
-        continue;
-      bool inside = true;  // only through real folders, never through a link
-      fs::path at = sub;
-      const fs::path rel(name);
-      for (auto it = rel.begin(); inside && std::next(it) != rel.end(); ++it) inside = isRealDirectory(at /= *it);
-      if (inside) fs::remove(sub / name, ec);
+      if (!isRealDirectory(sub / name) && throughRealFolders(sub, name)) fs::remove(sub / name, ec);
     }
     std::sort(folders.begin(), folders.end(), [](const auto& a, const auto& b) { return a.size() > b.size(); });
     for (const auto& f : folders)

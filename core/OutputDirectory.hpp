@@ -45,8 +45,6 @@ class OutputDirectory {
   // A sub-folder of the program's own: recorded and created; one that is a symbolic link or a file is
   // refused (InputError), even with --overwrite, so nothing is written through it.
   std::filesystem::path folder(const std::string& relative);
-  // Whether every folder on the way to `relative` is a real folder below the directory (no link, no "..").
-  bool throughRealFolders(const std::string& relative) const;
   bool lists(const std::string& relative) const { return names_.count(relative) > 0; }
   // Removes the files the manifest names for which `which` is true (and their ".tmp"), and then the
   // listed folders that became empty. Never removes anything the manifest does not name.
@@ -59,9 +57,5 @@ class OutputDirectory {
   std::filesystem::path dir_;
   std::set<std::string> names_;
 };
-
-// The first entry of `dir` (relative path) that its manifest does not name, or "" when all are named;
-// used by OutputDirectory and by a study for its case folders.
-std::string firstForeignEntry(const std::filesystem::path& dir);
 
 }  // namespace bc::core
