@@ -158,13 +158,9 @@ void CheckpointIn::state(State& s) {
     // A rotation is orthonormal with determinant 1, and the rotation vector (updated at every
     // converged step) is its logarithm; both hold to round-off (about 1e-15 per update).
     const Mat3d& R = s.rotation[n];
+    const Mat3d RtR = math::transpose(R) * R, I = math::identity3<double>();
     double off = 0.0;
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) {
-        double rtr = 0.0;
-        for (int k = 0; k < 3; ++k) rtr += R(k, i) * R(k, j);
-        off = std::max(off, std::abs(rtr - (i == j ? 1.0 : 0.0)));
-      }
+    for (int k = 0; k < 9; ++k) off = std::max(off, std::abs(RtR.m[k] - I.m[k]));
     const double det = R(0, 0) * (R(1, 1) * R(2, 2) - R(1, 2) * R(2, 1)) -
                        R(0, 1) * (R(1, 0) * R(2, 2) - R(1, 2) * R(2, 0)) +
                        R(0, 2) * (R(1, 0) * R(2, 1) - R(1, 1) * R(2, 0));
