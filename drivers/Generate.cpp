@@ -9,7 +9,6 @@
 #include <map>
 #include <random>
 #include <sstream>
-#include <unordered_map>
 
 #include <Teuchos_Array.hpp>
 #include <Teuchos_ParameterList.hpp>
@@ -17,6 +16,7 @@
 
 #include "core/Faults.hpp"
 #include "core/Parameters.hpp"
+#include "core/PointGrid.hpp"
 #include "core/SmallMath.hpp"
 
 namespace bc::drivers {
@@ -205,13 +205,8 @@ ParameterList network(const Options& o) {
   // come within reach of a drawn one has its centre in the drawn one's cell or a neighbour): each draw
   // is tested against the fibres nearby, not against every fibre kept (the same fibres fail a draw,
   // so the deck is the same).
-  const double reachAll = 2 * r + gap + compress * H;
-  const double side = len + reachAll;
-  std::unordered_map<long long, std::vector<int>> cells;
-  const auto cellOf = [&](double x) { return static_cast<long long>(std::floor(x / side)); };
-  const auto cellKey = [](long long i, long long j, long long k) {
-    return ((i + 1048576) << 42) ^ ((j + 1048576) << 21) ^ (k + 1048576);
-  };
+  const double reach = 2 * r + gap + compress * H;
+  core::PointGrid centres(len + reach);
   const long attempts = 1000L * count;
   for (long tries = 0; static_cast<int>(kept.size()) < count; ++tries) {
     if (tries == attempts)
@@ -224,21 +219,12 @@ ParameterList network(const Options& o) {
     const V a{{c[0] - 0.5 * len * d[0], c[1] - 0.5 * len * d[1], c[2] - 0.5 * len * d[2]}};
     const V b{{c[0] + 0.5 * len * d[0], c[1] + 0.5 * len * d[1], c[2] + 0.5 * len * d[2]}};
     bool fits = true;
-    std::vector<int> near;
-    const long long ci = cellOf(c[0]), cj = cellOf(c[1]), ck = cellOf(c[2]);
-    for (long long i = ci - 1; i <= ci + 1; ++i)
-      for (long long j = cj - 1; j <= cj + 1; ++j)
-        for (long long k = ck - 1; k <= ck + 1; ++k) {
-          const auto it = cells.find(cellKey(i, j, k));
-          if (it != cells.end()) near.insert(near.end(), it->second.begin(), it->second.end());
-        }
-    for (const int f : near) {
+    for (const int f : centres.near(c)) {
       const auto& [p, q] = kept[f];
       const double dist = segmentDistance(a, b, p, q);
       if (dist < 2 * r + gap) { fits = false; break; }
       const V e{{q[0] - p[0], q[1] - p[1], q[2] - p[2]}};
       const double cosine = std::abs(d[0] * e[0] + d[1] * e[1] + d[2] * e[2]) / len;
-      const double reach = 2 * r + gap + compress * H;
       if (dist < reach && cosine > std::cos(minAngle)) { fits = false; break; }
       // No fibre end within reach of another fibre: contact at a beam end is not modelled.
       if (dist < reach && std::min({segmentDistance(a, a, p, q), segmentDistance(b, b, p, q), segmentDistance(p, p, a, b),
@@ -248,7 +234,7 @@ ParameterList network(const Options& o) {
       }
     }
     if (fits) {
-      cells[cellKey(ci, cj, ck)].push_back(static_cast<int>(kept.size()));
+      centres.insert(c, static_cast<int>(kept.size()));
       kept.push_back({a, b});
     }
   }

@@ -23,6 +23,7 @@
 #include "constraints/ContactManager.hpp"
 #include "elements/PinnedJoints.hpp"
 #include "core/Checkpoint.hpp"
+#include "core/PointGrid.hpp"
 #include "constraints/EnforcerRegistry.hpp"
 
 namespace bc::input {
@@ -610,35 +611,18 @@ void checkDuplicateBeams(const Problem& p) {
   const auto& X = p.model.initial.reference;
   double longest = 0.0;
   for (const auto& b : beams) longest = std::max(longest, norm(X[b.nodes.back()] - X[b.nodes.front()]));
-  const double cell = longest > 0.0 && std::isfinite(longest) ? 1e-9 * longest : 1.0;
-  std::map<std::array<long long, 3>, std::vector<int>> ends;  // cell -> beams with an end in it
-  const auto cellOf = [&](const Vec3d& x) {
-    std::array<long long, 3> c{};
-    for (int k = 0; k < 3; ++k) c[k] = static_cast<long long>(std::floor(std::clamp(x[k] / cell, -1e18, 1e18)));
-    return c;
-  };
+  core::PointGrid ends(longest > 0.0 && std::isfinite(longest) ? 1e-9 * longest : 1.0);  // the beams' ends
   for (std::size_t b = 0; b < beams.size(); ++b) {
     const Vec3d b0 = X[beams[b].nodes.front()], b1 = X[beams[b].nodes.back()];
-    const auto c = cellOf(b0);
-    std::vector<int> near;
-    for (long long i = -1; i <= 1; ++i)
-      for (long long j = -1; j <= 1; ++j)
-        for (long long k = -1; k <= 1; ++k) {
-          const auto it = ends.find({c[0] + i, c[1] + j, c[2] + k});
-          if (it != ends.end()) near.insert(near.end(), it->second.begin(), it->second.end());
-        }
-    std::sort(near.begin(), near.end());
-    near.erase(std::unique(near.begin(), near.end()), near.end());
-    for (const int a : near) {
+    for (const int a : ends.near(b0)) {
       const Vec3d a0 = X[beams[a].nodes.front()], a1 = X[beams[a].nodes.back()];
       const double tol = 1e-9 * std::max(norm(a1 - a0), norm(b1 - b0));
       if ((norm(a0 - b0) <= tol && norm(a1 - b1) <= tol) || (norm(a0 - b1) <= tol && norm(a1 - b0) <= tol))
         throw InputError("beams \"" + beams[a].name + "\" and \"" + beams[b].name +
                          "\" have the same Start and End: a beam given twice?");
     }
-    ends[c].push_back(static_cast<int>(b));
-    const auto c1 = cellOf(b1);
-    if (c1 != c) ends[c1].push_back(static_cast<int>(b));
+    ends.insert(b0, static_cast<int>(b));
+    ends.insert(b1, static_cast<int>(b));
   }
 }
 
