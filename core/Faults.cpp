@@ -265,7 +265,7 @@ bool isOutOfMemory(const std::exception& e) {
 
 std::string outOfMemoryText(const std::exception& e) {
   const std::string what = e.what();
-  // A failed allocation of ours says what ran out (OutOfMemory, LinearSolverOutOfMemory).
+  // A failed allocation of ours says what ran out (OutOfMemory, which LinearSolverOutOfMemory names).
   if (dynamic_cast<const std::bad_alloc*>(&e) && what != std::bad_alloc().what() && !what.empty() &&
       what.find('\n') == std::string::npos)
     return what.find("out of memory") != std::string::npos ? what : "out of memory: " + what;

@@ -25,6 +25,7 @@
 
 #include <Teuchos_StackedTimer.hpp>
 
+#include "Faults.hpp"
 #include "Parameters.hpp"
 #include "TpetraTypes.hpp"
 
@@ -37,14 +38,7 @@ class LinearSolveError : public std::runtime_error {
 
 // A factorization that needs more memory than it can have. Not a failure of the step (a smaller step
 // needs the same): it ends the run, its message in status.txt, exit code 3 (out of memory).
-class LinearSolverOutOfMemory : public std::bad_alloc {
- public:
-  explicit LinearSolverOutOfMemory(std::string what) : what_(std::move(what)) {}
-  const char* what() const noexcept override { return what_.c_str(); }
-
- private:
-  std::string what_;
-};
+using LinearSolverOutOfMemory = OutOfMemory;  // (Faults.hpp: a std::bad_alloc with a one-line message)
 
 struct SolveReport {
   int iterations = 0;          // Krylov iterations (0 for direct)
