@@ -181,6 +181,10 @@ void OutputDirectory::removeOwn(const std::function<bool(const std::string&)>& w
   }
 }
 
+void OutputDirectory::removeLeftovers() {
+  removeOwn([](const std::string& name) { return name.size() > 4 && name.compare(name.size() - 4, 4, ".tmp") == 0; });
+}
+
 bool OutputDirectory::removeOwnFolder(const std::string& relative) {
   const fs::path sub = dir_ / relative;
   if (!isRealDirectory(sub)) return true;

@@ -52,6 +52,9 @@ class OutputDirectory {
   // Removes a listed sub-folder with a manifest of its own: its own files, then the folder when empty.
   // Returns false when something foreign stayed (allowed by --overwrite) and the folder was kept.
   bool removeOwnFolder(const std::string& relative);
+  // Removes the listed "<name>.tmp" files an interrupted write left (they are created exclusively, so
+  // one left over would stop the next write of <name>).
+  void removeLeftovers();
 
  private:
   std::filesystem::path dir_;

@@ -164,6 +164,7 @@ void ResultsWriter::prepareResume(int step, double T) {
                        " (it is not this directory's run)");
   }
   std::error_code ec;
+  out_.removeLeftovers();  // a run killed while writing a file left its "<name>.tmp"
   out_.folder("vtk/");
   // Rows of steps after the checkpoint's were computed by the interrupted run past the state this
   // run continues from: they go, and this run writes them again.

@@ -556,10 +556,7 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
                        "or choose another --output");
   }
   out.folder("cases/");
-  const auto temporary = [](const std::string& name) {
-    return name.size() > 4 && name.compare(name.size() - 4, 4, ".tmp") == 0;
-  };
-  out.removeOwn(temporary);  // what an interrupted write left
+  out.removeLeftovers();
   std::vector<Case> all;
   for (const Group& g : groups) {
     std::vector<std::size_t> idx(g.variables.size(), 0);
@@ -644,7 +641,7 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
     caseWhere.overwrite = options.overwrite;
     caseWhere.what = "case directory";
     core::OutputDirectory caseDir(c.dir, caseWhere);
-    caseDir.removeOwn(temporary);
+    caseDir.removeLeftovers();
     caseDir.add("deck.xml");
     caseDir.add("log.txt");
     core::writeFileAtomically(c.dir / "deck.xml", xml.str());
