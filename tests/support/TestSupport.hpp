@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <string>
 
+#include <gtest/gtest.h>
 #include <Teuchos_XMLParameterListHelpers.hpp>
 #include <Tpetra_Core.hpp>
 
@@ -24,8 +25,13 @@ inline input::Problem problemFromXml(const std::string& xml, const std::string& 
   return input::buildProblem(input::parseParameterXml(xml, name + " (test deck)"), name);
 }
 
+// A scratch folder under the system's temporary directory, named after the running test case too: CTest
+// runs the cases of one program at the same time, each in its own process; every rank finds the same.
 inline std::string scratchDirectory(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / ("beamcontact_test_" + name)).string();
+  std::string owner;
+  if (const auto* t = ::testing::UnitTest::GetInstance()->current_test_info())
+    owner = std::string(t->test_suite_name()) + "." + t->name() + "_";
+  return (std::filesystem::temp_directory_path() / ("beamcontact_test_" + owner + name)).string();
 }
 
 inline core::RunResult runQuiet(input::Problem& p, Teuchos::RCP<const core::Comm> comm, const std::string& name) {

@@ -9,6 +9,7 @@
 
 #include "elements/CorotationalBeam.hpp"
 #include "elements/CrossSection.hpp"
+#include "support/CentralDifferences.hpp"
 
 using namespace bc::elements;
 
@@ -49,6 +50,23 @@ BeamElementState perturbed(BeamElementState s, int dof, double h) {
   return s;
 }
 
+// The internal force at `s` with dof j moved by h, and column j of the tangent K, for the central
+// differences.
+auto forceAt(const BeamElementData& d, const BeamElementState& s) {
+  return [&d, s](int j, double h) {
+    Vector12 f;
+    internalForce(d, perturbed(s, j, h), f);
+    return f;
+  };
+}
+auto columnOf(const Matrix12& K) {
+  return [&K](int j) {
+    Vector12 c;
+    for (int i = 0; i < 12; ++i) c[i] = K[12 * i + j];
+    return c;
+  };
+}
+
 }  // namespace
 
 TEST(BeamElement, TangentMatchesCentralDifferencesAtLargeRotations) {
@@ -59,16 +77,7 @@ TEST(BeamElement, TangentMatchesCentralDifferencesAtLargeRotations) {
     const BeamElementState s = randomState(d, g);
     Vector12 f; Matrix12 K;
     internalForceAndTangent(d, s, f, K);
-    double kmax = 0.0;
-    for (double v : K) kmax = std::max(kmax, std::abs(v));
-    const double h = 1e-6;
-    double err = 0.0;
-    for (int j = 0; j < 12; ++j) {
-      Vector12 fp, fm;
-      internalForce(d, perturbed(s, j, h), fp);
-      internalForce(d, perturbed(s, j, -h), fm);
-      for (int i = 0; i < 12; ++i) err = std::max(err, std::abs((fp[i] - fm[i]) / (2 * h) - K[12 * i + j]));
-    }
+    const auto [err, kmax] = bc::test::centralDifferences(12, 12, 1e-6, forceAt(d, s), columnOf(K));
     worst = std::max(worst, err / kmax);
   }
   std::printf("max relative error of the tangent over 20 random states: %.3e\n", worst);
@@ -216,16 +225,7 @@ TEST(BeamElement, TangentMatchesCentralDifferencesAtSmallLocalRotations) {
     s.R2 = Q * expSO3(randomVec(g, local));
     Vector12 f; Matrix12 K;
     internalForceAndTangent(d, s, f, K);
-    double kmax = 0.0;
-    for (double v : K) kmax = std::max(kmax, std::abs(v));
-    const double h = 1e-7;
-    double err = 0.0;
-    for (int j = 0; j < 12; ++j) {
-      Vector12 fp, fm;
-      internalForce(d, perturbed(s, j, h), fp);
-      internalForce(d, perturbed(s, j, -h), fm);
-      for (int i = 0; i < 12; ++i) err = std::max(err, std::abs((fp[i] - fm[i]) / (2 * h) - K[12 * i + j]));
-    }
+    const auto [err, kmax] = bc::test::centralDifferences(12, 12, 1e-7, forceAt(d, s), columnOf(K));
     std::printf("local rotations %.0e: max relative tangent error %.3e\n", local, err / kmax);
     worst = std::max(worst, err / kmax);
   }

@@ -8,6 +8,7 @@
 #include <random>
 
 #include "constraints/ContactKinematics.hpp"
+#include "support/CentralDifferences.hpp"
 
 using namespace bc::constraints;
 using namespace bc::math;
@@ -61,18 +62,24 @@ std::pair<double, double> centralDifferenceErrors(const LinePairInput& in, Kerne
   const auto k = kernel(in);
   const double h = 1e-6;
   double rmax = 0, kmax = 0, errR = 0, errK = 0;
-  for (int j = 0; j < kPairDofs; ++j) {
-    const auto kp = kernel(perturbedState(in, j, h));
-    const auto km = kernel(perturbedState(in, j, -h));
-    for (auto gap : which) {
-      const GapDerivatives &a = k.*gap, &p = kp.*gap, &m = km.*gap;
-      rmax = std::max(rmax, std::abs(a.R[j]));
-      errR = std::max(errR, std::abs((p.value - m.value) / (2 * h) - a.R[j]));
-      for (int i = 0; i < kPairDofs; ++i) {
-        kmax = std::max(kmax, std::abs(a.K[kPairDofs * i + j]));
-        errK = std::max(errK, std::abs((p.R[i] - m.R[i]) / (2 * h) - a.K[kPairDofs * i + j]));
-      }
-    }
+  for (auto gap : which) {
+    const GapDerivatives& a = k.*gap;
+    // R: one row, the gap's value; K: the rows of R.
+    const auto r = bc::test::centralDifferences(
+        1, kPairDofs, h,
+        [&](int j, double step) { return std::array<double, 1>{(kernel(perturbedState(in, j, step)).*gap).value}; },
+        [&](int j) { return std::array<double, 1>{a.R[j]}; });
+    const auto K = bc::test::centralDifferences(
+        kPairDofs, kPairDofs, h, [&](int j, double step) { return (kernel(perturbedState(in, j, step)).*gap).R; },
+        [&](int j) {
+          std::array<double, kPairDofs> c;
+          for (int i = 0; i < kPairDofs; ++i) c[i] = a.K[kPairDofs * i + j];
+          return c;
+        });
+    errR = std::max(errR, r.error);
+    rmax = std::max(rmax, r.largest);
+    errK = std::max(errK, K.error);
+    kmax = std::max(kmax, K.largest);
   }
   return {errR / rmax, errK / kmax};
 }
@@ -317,15 +324,15 @@ TEST(LineKinematics, SegmentBoundsAndTheirVariations) {
     worstR = std::max(worstR, errR);
     worstK = std::max(worstK, errK);
     const auto k = kernel(t);
-    const double h = 1e-6;
-    double xiMax = 0.0, lengthMax = 0.0, xiErr = 0.0, lengthErr = 0.0;
-    for (int j = 0; j < kPairDofs; ++j) {
-      const auto kp = kernel(perturbedState(t, j, h)), km = kernel(perturbedState(t, j, -h));
-      xiMax = std::max(xiMax, std::abs(k.xiR[j]));
-      lengthMax = std::max(lengthMax, std::abs(k.segmentR[j]));
-      xiErr = std::max(xiErr, std::abs((kp.xi - km.xi) / (2 * h) - k.xiR[j]));
-      lengthErr = std::max(lengthErr, std::abs((kp.segment - km.segment) / (2 * h) - k.segmentR[j]));
-    }
+    // The Gauss point's parameter and length: one row each.
+    const auto xi = bc::test::centralDifferences(
+        1, kPairDofs, 1e-6, [&](int j, double h) { return std::array<double, 1>{kernel(perturbedState(t, j, h)).xi}; },
+        [&](int j) { return std::array<double, 1>{k.xiR[j]}; });
+    const auto length = bc::test::centralDifferences(
+        1, kPairDofs, 1e-6,
+        [&](int j, double h) { return std::array<double, 1>{kernel(perturbedState(t, j, h)).segment}; },
+        [&](int j) { return std::array<double, 1>{k.segmentR[j]}; });
+    const double xiMax = xi.largest, lengthMax = length.largest, xiErr = xi.error, lengthErr = length.error;
     worstXi = std::max(worstXi, xiErr / xiMax);
     if (lengthMax > 0.0) worstLength = std::max(worstLength, lengthErr / lengthMax);
   }

@@ -1,0 +1,152 @@
+// The contact contribution's assembled tangent against central differences of its residual, for each
+// strategy: Example 1 in states with sliding and sticking lines (per-line and isotropic friction), and
+// line contact of parallel and slightly crossed beams.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <array>
+#include <fstream>
+#include <map>
+#include <random>
+#include <regex>
+#include <sstream>
+
+#include "constraints/ContactManager.hpp"
+#include "constraints/EnforcerRegistry.hpp"
+#include "constraints/RegularizedContactLaw.hpp"
+#include "core/Assembler.hpp"
+#include "support/ContactDecks.hpp"
+
+using namespace bc;
+using namespace bc::test;
+
+TEST(ContactTangent, PenaltySlipAndStick) {
+  checkContactTangent("Penalty", example1("Penalty", "40.0, 0.0, -20.0", 10), 0.3, true, true, 0.5);
+}
+TEST(ContactTangent, AugmentedLagrangeSlip) {
+  // Without the predictor: with these coarse increments (0.1) the extrapolated start of the step to
+  // T = 0.2 leads to the four-point contact state, where the augmentations then stall at T = 0.25;
+  // from the last converged state the path keeps two points up to T = 0.3, the state wanted here.
+  Deck deck = example1("Augmented Lagrange", "40.0, 0.0, -20.0", 10);
+  input::setAtPath(deck, "Nonlinear Solver/Predictor", std::string("None"));
+  checkContactTangent("Augmented Lagrange", deck, 0.3, true, false, 0.5);
+}
+TEST(ContactTangent, LagrangeMultiplierSlipWithMultiplierRows) {
+  // The 27-dof point elements: displacement rows, multiplier columns and the constraint rows.
+  checkContactTangent("Lagrange Multiplier", example1("Lagrange Multiplier", "40.0, 0.0, -20.0", 10), 0.3, true, false, 0.5);
+}
+TEST(ContactTangent, LagrangeMultiplierStick) {
+  Deck deck = circles("Lagrange Multiplier", 3.0, 1e4);
+  input::replaceAtPath(deck, "Contact/Pairs/crossing/Friction Coefficient", 5.0);
+  checkContactTangent("Lagrange Multiplier", deck, 1e-3, false, true, 5.0);
+}
+TEST(ContactTangent, AugmentedLagrangeStick) {
+  // One pressed point (circular sections) with mu = 5: both lines stick well inside the Coulomb cone.
+  Deck deck = circles("Augmented Lagrange", 3.0, 1e4);
+  input::replaceAtPath(deck, "Contact/Pairs/crossing/Friction Coefficient", 5.0);
+  checkContactTangent("Augmented Lagrange", deck, 1e-3, false, true, 5.0);
+}
+
+// The isotropic Coulomb tangents against central differences of the residual: slip on Example 1
+// (penalty, augmented Lagrange, Lagrange multiplier rows from the complementarity function), stick
+// with one pressed circular point and mu = 5.
+TEST(ContactTangent, IsotropicSlip) {
+  checkContactTangent("Penalty", withLaw(example1("Penalty", "40.0, 0.0, -20.0", 10), "Isotropic Coulomb"), 0.3, true,
+                      false, 0.5);
+  checkContactTangent("Lagrange Multiplier",
+                      withLaw(example1("Lagrange Multiplier", "40.0, 0.0, -20.0", 10), "Isotropic Coulomb"), 0.3, true,
+                      false, 0.5);
+  Deck deck = withLaw(example1("Augmented Lagrange", "40.0, 0.0, -20.0", 10), "Isotropic Coulomb");
+  input::setAtPath(deck, "Nonlinear Solver/Predictor", std::string("None"));
+  checkContactTangent("Augmented Lagrange", deck, 0.3, true, false, 0.5);
+}
+TEST(ContactTangent, IsotropicStick) {
+  for (const std::string type : {"Penalty", "Lagrange Multiplier", "Augmented Lagrange"}) {
+    Deck deck = withLaw(circles(type, 3.0, 1e4), "Isotropic Coulomb");
+    input::replaceAtPath(deck, "Contact/Pairs/crossing/Friction Coefficient", 5.0);
+    checkContactTangent(type, deck, 1e-3, false, true, 5.0);
+  }
+}
+
+// The assembled line-contact tangent against central differences of the residual, for Penalty and
+// Augmented Lagrange: non-matching meshes (ground 6 elements, rod 5 shifted by 2, 4 Gauss points, so
+// projections cross the rod's element boundaries), both beams clamped at their ends and touching, the
+// rod's inner nodes then pushed 0.05 into the ground with finite rotations and sideways motion.
+TEST(LineContact, TangentMatchesCentralDifferences) {
+  // Parallel, and turned by 10 degrees (inside the blend of point and line contact, whose weight
+  // depends on the angle: its gradient enters the tangent).
+  // Rectangular sections too (face to face: A's upper edges on B's lower face).
+  struct Case {
+    std::string type;
+    double degrees;
+    bool rectangles;
+  };
+  for (const Case& c : std::vector<Case>{{"Penalty", 0.0, false}, {"Augmented Lagrange", 0.0, false},
+                                         {"Lagrange Multiplier", 0.0, false}, {"Penalty", 10.0, false},
+                                         {"Augmented Lagrange", 10.0, false}, {"Lagrange Multiplier", 10.0, false},
+                                         {"Penalty", 0.0, true}, {"Lagrange Multiplier", 0.0, true}}) {
+    const std::string& type = c.type;
+    const double degrees = c.degrees;
+    // (Lifted by 1e-6: touching at exactly zero gap, the crossing's point carries a round-off force
+    // in an unloaded step, which Newton's relative tolerance cannot accept.)
+    // (Lagrange multipliers act on line nodes' weighted gaps: at 10 degrees shorter elements and a
+    // deeper push make some of them negative.)
+    const bool lm = type == "Lagrange Multiplier" && degrees > 0;
+    const int nGround = lm ? 30 : 6, nRod = lm ? 25 : 5;
+    auto deck = parallelBeams(type, nGround, nRod, 2.0, 1e5, 4, degrees, 1e-6);
+    if (c.rectangles) deck = toRectangles(deck);
+    // Friction along the axes (Penalty and Augmented Lagrange; Lagrange's line field is frictionless).
+    input::replaceAtPath(deck, "Contact/Pairs/line/Friction Coefficient", 0.3);
+    for (int i = 0; i <= nGround; ++i) support(deck, "ground", i, i == 0 || i == nGround ? "all" : "ux uy rx");
+    support(deck, "rod", 0, "all");
+    support(deck, "rod", nRod, "all");
+    auto p = input::buildProblem(deck, "line_tangent");
+    const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "line_tangent");
+    ASSERT_TRUE(r.report.completed) << r.report.failure;
+    core::State s = r.finalState;
+    const auto& rod = p.beams->beams()[1].nodes;
+    for (std::size_t i = 1; i + 1 < rod.size(); ++i) {
+      const double a = 0.01 * static_cast<double>(i);
+      const double dz = lm ? -0.4 : -0.05;
+      s.applyNodeIncrement(rod[i], std::array<double, 6>{0.3 * a, -0.2 * a, dz, 2 * a, -a, 3 * a}.data());
+    // At 10 degrees the rod's inner nodes go further down, so the crossing and its neighbourhood
+    // penetrate (point contact and line points at once).
+    }
+    if (type == "Lagrange Multiplier") {
+      // The active set of the pushed state (penetrating points and line nodes), with multipliers
+      // of either sign so that every term of the tangent counts.
+      p.contact->prepareIteration(s);
+      EXPECT_FALSE(p.contact->acceptSolution(s));
+      p.contact->prepareIteration(s);
+      ASSERT_GT(s.extra.size(), 0u);
+      for (std::size_t i = 0; i < s.extra.size(); ++i) s.extra[i] = -0.1 * (1.0 + 0.37 * i) * (i % 4 == 3 ? -1 : 1);
+    }
+    int active = 0, points = 0, slipping = 0;
+    for (const auto& [key, q] : p.contact->points()) {
+      if (q.node()) continue;
+      const auto* acting = p.contact->actingState(q);
+      const auto k = p.contact->kinematics(q, s);
+      const bool on = acting && p.contact->enforcer().contributes(k.normal.value, *acting);
+      active += on;
+      points += on && !q.line();
+      if (on && q.line() && type != "Lagrange Multiplier") {
+        std::vector<double> f(constraints::kPairDofs, 0.0);
+        slipping += p.contact->enforcer().evaluate(p.contact->strategyView(q, k, s), *acting, f.data(), nullptr).slip[1];
+      }
+    }
+    double kmax = 0.0;
+    const double err = assembledContactTangentError(p, s, kmax);
+    std::printf("%s, %s, %.0f degrees: line contact tangent vs central differences: max error / max |K| = %.2e (%d "
+                "points active, %d of them point contacts, %d line points slipping)\n",
+                type.c_str(), c.rectangles ? "rectangles" : "circles", degrees, err / kmax, active, points, slipping);
+    if (type != "Lagrange Multiplier" && degrees == 0) {
+      EXPECT_GT(slipping, 0);           // friction along the axes, slipping ...
+      EXPECT_LT(slipping, active);      // ... and sticking
+    }
+    EXPECT_GT(active - points, degrees > 0 ? 0 : 10);  // line points
+    if (degrees > 0) {
+      EXPECT_GT(points, 0);  // and, in the blend, a point contact
+    }
+    EXPECT_LT(err / kmax, 1e-6);
+  }
+}
