@@ -10,6 +10,7 @@
 #include <Tpetra_Assembly_Helpers.hpp>
 
 #include "Faults.hpp"
+#include "ScopedTimer.hpp"
 
 namespace bc::core {
 
@@ -118,10 +119,32 @@ std::vector<int> coordinatePartition(const std::vector<Vec3d>& X, int ranks) {
   return owner;
 }
 
+// The rows of the graph being built: this rank's owned dofs, the overlapped rows (the owned ones, then
+// the others ascending), and each row's columns (rowColumns[rowIndex[g]] for row g; rowIds in the
+// order the rows were met).
+struct Assembler::RowPattern {
+  std::vector<GO> owned, overlap, rowIds;
+  std::unordered_map<GO, std::size_t> rowIndex;
+  std::vector<std::vector<GO>> rowColumns;
+};
+
 void Assembler::rebuild(const State& state) {
+  RowPattern rows;
+  {
+    ScopedTimer timer(timer_, "Rows");
+    rows = rowPattern(assignOwners(state));
+  }
+  {
+    ScopedTimer timer(timer_, "Maps and Transfers");
+    makeMaps(rows);
+  }
+  ScopedTimer timer(timer_, "Graph");
+  makeGraph(rows);
+}
+
+std::vector<std::vector<GlobalDof>> Assembler::assignOwners(const State& state) {
   const int P = comm_->getSize(), r = comm_->getRank();
   const int N = state.numNodes();
-  if (!timer_.is_null()) timer_->start("Rows");
   // The nodes are split in space once, from their reference positions: crossing beams near each
   // other then sit on one rank, and so do the contact points between them.
   if (!nodeOwner_ || static_cast<int>(nodeOwner_->size()) != N)
@@ -159,78 +182,76 @@ void Assembler::rebuild(const State& state) {
     if (g >= nodeDofs) return (*extraOwner)[g - nodeDofs] == r;
     return (*nodeOwner)[g / kDofsPerNode] == r;
   };
+  return blocks;
+}
 
-  std::vector<GO> owned;
-  for (int n = 0; n < N; ++n)
-    if ((*nodeOwner_)[n] == r)
-      for (int k = 0; k < kDofsPerNode; ++k) owned.push_back(GO(kDofsPerNode) * n + k);
-  for (GlobalDof g = nodeDofs; g < numDofs_; ++g)
-    if ((*extraOwner)[g - nodeDofs] == r) owned.push_back(g);
-
+Assembler::RowPattern Assembler::rowPattern(const std::vector<std::vector<GlobalDof>>& blocks) const {
+  RowPattern p;
+  for (GlobalDof g = 0; g < numDofs_; ++g)
+    if (owns_(g)) p.owned.push_back(g);
   // Row -> columns over the overlapped rows; owned rows always hold their diagonal. Each row's
   // columns are gathered with repeats, then sorted once (a set per row took 1.4 s at 10^4 contact
   // points and 23 s at 10^5, allocating a node per entry).
-  std::unordered_map<GO, std::size_t> rowIndex;
-  std::vector<GO> rowIds;
-  std::vector<std::vector<GO>> rowColumns;
   const auto rowOf = [&](GO g) -> std::vector<GO>& {
-    const auto [it, inserted] = rowIndex.try_emplace(g, rowColumns.size());
+    const auto [it, inserted] = p.rowIndex.try_emplace(g, p.rowColumns.size());
     if (inserted) {
-      rowIds.push_back(g);
-      rowColumns.emplace_back();
+      p.rowIds.push_back(g);
+      p.rowColumns.emplace_back();
     }
-    return rowColumns[it->second];
+    return p.rowColumns[it->second];
   };
-  for (GO g : owned) rowOf(g).push_back(g);
+  for (GO g : p.owned) rowOf(g).push_back(g);
   for (const auto& blk : blocks)
     for (GlobalDof i : blk) {
       auto& row = rowOf(i);
       row.insert(row.end(), blk.begin(), blk.end());
     }
-  for (auto& row : rowColumns) {
+  for (auto& row : p.rowColumns) {
     std::sort(row.begin(), row.end());
     row.erase(std::unique(row.begin(), row.end()), row.end());
   }
   // The overlapped rows: the owned ones, then the others ascending.
   std::vector<GO> ghosts;
-  for (GO g : rowIds)
+  for (GO g : p.rowIds)
     if (!owns_(g)) ghosts.push_back(g);
   std::sort(ghosts.begin(), ghosts.end());
-  std::vector<GO> overlap = owned;
-  overlap.insert(overlap.end(), ghosts.begin(), ghosts.end());
+  p.overlap = p.owned;
+  p.overlap.insert(p.overlap.end(), ghosts.begin(), ghosts.end());
+  return p;
+}
 
-  if (!timer_.is_null()) timer_->stop("Rows");
-  if (!timer_.is_null()) timer_->start("Maps and Transfers");
+void Assembler::makeMaps(const RowPattern& rows) {
   const auto invalid = Teuchos::OrdinalTraits<Tpetra::global_size_t>::invalid();
-  ownedMap_ = Teuchos::rcp(new Map(invalid, Teuchos::ArrayView<const GO>(owned), 0, comm_));
-  overlapMap_ = Teuchos::rcp(new Map(invalid, Teuchos::ArrayView<const GO>(overlap), 0, comm_));
+  ownedMap_ = Teuchos::rcp(new Map(invalid, Teuchos::ArrayView<const GO>(rows.owned), 0, comm_));
+  overlapMap_ = Teuchos::rcp(new Map(invalid, Teuchos::ArrayView<const GO>(rows.overlap), 0, comm_));
   std::vector<GO> all(numDofs_);
   for (GlobalDof g = 0; g < numDofs_; ++g) all[g] = g;
   replicatedMap_ = Teuchos::rcp(new Map(invalid, Teuchos::ArrayView<const GO>(all), 0, comm_));
   overlapToOwned_ = Teuchos::rcp(new Tpetra::Export<LO, GO, Node>(overlapMap_, ownedMap_));
   ownedToReplicated_ = Teuchos::rcp(new Tpetra::Import<LO, GO, Node>(ownedMap_, replicatedMap_));
-  if (!timer_.is_null()) timer_->stop("Maps and Transfers");
+}
 
-  if (!timer_.is_null()) timer_->start("Graph");
+void Assembler::makeGraph(const RowPattern& rows) {
+  const auto& overlap = rows.overlap;
   // Each overlapped row's own entry count. One bound for all rows (the longest row's, at a node
   // where many contact points meet) allocated that many entries for each of them: at 10^5 contact
   // points with Lagrange multipliers on 2 ranks the graph fill took 7.2 s over two rebuilds, 5.1 s
   // with the counts.
   Kokkos::DualView<std::size_t*, FEGraph::device_type> counts("row entry counts", overlap.size());
-  for (std::size_t l = 0; l < overlap.size(); ++l) counts.h_view(l) = rowColumns[rowIndex.at(overlap[l])].size();
+  for (std::size_t l = 0; l < overlap.size(); ++l)
+    counts.h_view(l) = rows.rowColumns[rows.rowIndex.at(overlap[l])].size();
   counts.modify_host();
   counts.sync_device();
   graph_ = Teuchos::rcp(new FEGraph(ownedMap_, overlapMap_, Kokkos::DualView<const std::size_t*, FEGraph::device_type>(counts)));
   Tpetra::beginAssembly(*graph_);
-  for (std::size_t k = 0; k < rowIds.size(); ++k)
-    graph_->insertGlobalIndices(rowIds[k], Teuchos::ArrayView<const GO>(rowColumns[k]));
+  for (std::size_t k = 0; k < rows.rowIds.size(); ++k)
+    graph_->insertGlobalIndices(rows.rowIds[k], Teuchos::ArrayView<const GO>(rows.rowColumns[k]));
   Tpetra::endAssembly(*graph_);
   matrix_ = Teuchos::rcp(new FEMatrix(graph_));
 
   overlapResidual_ = Teuchos::rcp(new Vector(overlapMap_));
   residual_ = Teuchos::rcp(new Vector(ownedMap_));
   externalLoad_ = Teuchos::rcp(new Vector(ownedMap_));
-  if (!timer_.is_null()) timer_->stop("Graph");
 }
 
 void Assembler::assemble(const State& state, double loadFactor, bool tangent) {
@@ -246,14 +267,8 @@ void Assembler::assemble(const State& state, double loadFactor, bool tangent) {
   collectively(*comm_, [&] {
     injectFault("assembly");
     for (const auto& c : model_.contributions) {
-      if (!timer_.is_null()) timer_->start("Evaluate " + c->name());
-      try {
-        c->evaluate(state, owns_, sink, tangent);
-      } catch (...) {
-        if (!timer_.is_null()) timer_->stop("Evaluate " + c->name());
-        throw;
-      }
-      if (!timer_.is_null()) timer_->stop("Evaluate " + c->name());
+      ScopedTimer timer(timer_, "Evaluate " + c->name());
+      c->evaluate(state, owns_, sink, tangent);
     }
   });
   if (tangent) {

@@ -53,6 +53,14 @@ class Assembler {
  private:
   using FEGraph = Tpetra::FECrsGraph<LO, GO, Node>;
   using FEMatrix = Tpetra::FECrsMatrix<Scalar, LO, GO, Node>;
+  struct RowPattern;
+  // rebuild's parts: each dof's rank (owns_; the nodes split in space, an extra unknown with the
+  // blocks that hold it), returning the contributions' blocks; the rows and their columns; the maps
+  // and transfers; the graph, matrix and vectors.
+  std::vector<std::vector<GlobalDof>> assignOwners(const State& state);
+  RowPattern rowPattern(const std::vector<std::vector<GlobalDof>>& blocks) const;
+  void makeMaps(const RowPattern& rows);
+  void makeGraph(const RowPattern& rows);
 
   Teuchos::RCP<const Comm> comm_;
   const Model& model_;

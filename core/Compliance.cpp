@@ -8,7 +8,7 @@
 
 #include "Assembler.hpp"
 #include "LinearSolver.hpp"
-#include "SerialKlu.hpp"
+#include "linalg/SerialKlu.hpp"
 
 namespace bc::core {
 

@@ -17,6 +17,7 @@
 #include <string>
 
 #include "TpetraTypes.hpp"
+#include "linalg/Errors.hpp"
 
 namespace bc::core {
 
@@ -42,25 +43,8 @@ class Interrupted : public std::runtime_error {
   int signal_;
 };
 
-// An allocation failed (the machine's or the process's memory is exhausted). what() is one line.
-class OutOfMemory : public std::bad_alloc {
- public:
-  explicit OutOfMemory(std::string what) : what_(std::move(what)) {}
-  const char* what() const noexcept override { return what_.c_str(); }
+// OutOfMemory, isOutOfMemory, outOfMemoryText and rethrowIfOutOfMemory: linalg/Errors.hpp.
 
- private:
-  std::string what_;
-};
-
-// Whether `e` reports a failed allocation: std::bad_alloc, or Kokkos' report of one (a
-// std::runtime_error of several lines starting "Kokkos failed to allocate memory for label ...").
-bool isOutOfMemory(const std::exception& e);
-// One line for a failed allocation, "out of memory (...)": what could not be allocated when the
-// message says (Kokkos: the size and the view's label).
-std::string outOfMemoryText(const std::exception& e);
-// Throws OutOfMemory when `e` reports a failed allocation (to be called in a handler that would
-// otherwise turn the failure into another error, such as a failed linear solve).
-void rethrowIfOutOfMemory(const std::exception& e);
 // `e`'s message as one line: a failed allocation's outOfMemoryText, else the first line of what()
 // (several lines from a library: the rest is its trace).
 std::string oneLine(const std::exception& e);

@@ -134,40 +134,56 @@ void ResultsWriter::prepareResume(int step, double T) {
   if (const long pid = livePid(dir / "status.txt"))
     throw InputError("results directory \"" + dir_ + "\" is in use by a running beamcontact (pid " +
                      std::to_string(pid) + ")");
-  // The checkpoint belongs to this directory's run: steps.csv holds the rows of its steps 1 to `step`
-  // (each converged step's row is written before its checkpoint), the last at its load factor (to the
-  // 12 digits written). Checked before anything here changes.
-  {
-    const std::string checkpoint = (dir / "checkpoint.txt").string();
-    std::ifstream in(dir / "steps.csv");
-    std::string line;
-    int rows = 0;
-    double lastT = 0.0;
-    for (bool header = true; std::getline(in, line); header = false) {
-      if (header || std::count(line.begin(), line.end(), ',') < 2) continue;  // a row cut short stays out
-      char* end = nullptr;
-      const long s = std::strtol(line.c_str(), &end, 10);
-      if (*end != ',' || s > step) continue;
-      if (s != rows + 1)
-        throw InputError("checkpoint " + checkpoint + " cannot be used: steps.csv has step " + std::to_string(s) +
-                         " where step " + std::to_string(rows + 1) + " belongs (it is not this directory's run)");
-      ++rows;
-      lastT = std::strtod(end + 1, nullptr);
-    }
-    if (in.is_open() && rows != step)
-      throw InputError("checkpoint " + checkpoint + " cannot be used: it is at step " + std::to_string(step) +
-                       ", steps.csv has " + std::to_string(rows) +
-                       " steps up to there (it is not this directory's run)");
-    if (rows > 0 && !(std::abs(lastT - T) <= 1e-11 * std::max(1.0, std::abs(T))))
-      throw InputError("checkpoint " + checkpoint + " cannot be used: its step " + std::to_string(step) +
-                       " is at T = " + shortest(T) + ", steps.csv's at T = " + shortest(lastT) +
-                       " (it is not this directory's run)");
-  }
-  std::error_code ec;
+  checkStepsFitCheckpoint(step, T);
   out_.removeLeftovers();  // a run killed while writing a file left its "<name>.tmp"
   out_.folder("vtk/");
   // Rows of steps after the checkpoint's were computed by the interrupted run past the state this
   // run continues from: they go, and this run writes them again.
+  truncateTablesAfter(step);
+  out_.removeOwn([&](const std::string& name) {
+    return name.rfind("vtk/", 0) == 0 && vtkStep(name.substr(4)) > step;
+  });
+  keepVtkEntriesUpTo(step);
+  out_.removeOwn([](const std::string& name) {
+    return name == "summary.csv" || name == "timers.txt" || name == "summary.csv.tmp" || name == "timers.txt.tmp";
+  });
+  openTables(true);
+}
+
+// The checkpoint belongs to this directory's run: steps.csv holds the rows of its steps 1 to `step`
+// (each converged step's row is written before its checkpoint), the last at its load factor (to the
+// 12 digits written). Checked before anything here changes.
+void ResultsWriter::checkStepsFitCheckpoint(int step, double T) const {
+  const fs::path dir(dir_);
+  const std::string checkpoint = (dir / "checkpoint.txt").string();
+  std::ifstream in(dir / "steps.csv");
+  std::string line;
+  int rows = 0;
+  double lastT = 0.0;
+  for (bool header = true; std::getline(in, line); header = false) {
+    if (header || std::count(line.begin(), line.end(), ',') < 2) continue;  // a row cut short stays out
+    char* end = nullptr;
+    const long s = std::strtol(line.c_str(), &end, 10);
+    if (*end != ',' || s > step) continue;
+    if (s != rows + 1)
+      throw InputError("checkpoint " + checkpoint + " cannot be used: steps.csv has step " + std::to_string(s) +
+                       " where step " + std::to_string(rows + 1) + " belongs (it is not this directory's run)");
+    ++rows;
+    lastT = std::strtod(end + 1, nullptr);
+  }
+  if (in.is_open() && rows != step)
+    throw InputError("checkpoint " + checkpoint + " cannot be used: it is at step " + std::to_string(step) +
+                     ", steps.csv has " + std::to_string(rows) +
+                     " steps up to there (it is not this directory's run)");
+  if (rows > 0 && !(std::abs(lastT - T) <= 1e-11 * std::max(1.0, std::abs(T))))
+    throw InputError("checkpoint " + checkpoint + " cannot be used: its step " + std::to_string(step) +
+                     " is at T = " + shortest(T) + ", steps.csv's at T = " + shortest(lastT) +
+                     " (it is not this directory's run)");
+}
+
+// Each table keeps its header and its whole rows of steps up to `step`.
+void ResultsWriter::truncateTablesAfter(int step) {
+  const fs::path dir(dir_);
   std::vector<std::string> csvs = {"steps.csv", "newton.csv", "tracked_points.csv", "reactions.csv"};
   for (const auto& c : model_.contributions)
     if (!c->tableName().empty()) csvs.push_back(c->tableName());
@@ -193,10 +209,11 @@ void ResultsWriter::prepareResume(int step, double T) {
     }
     writeFileAtomically(own(name), kept);
   }
-  out_.removeOwn([&](const std::string& name) {
-    return name.rfind("vtk/", 0) == 0 && vtkStep(name.substr(4)) > step;
-  });
-  // results.pvd: the entries of the kept files.
+}
+
+// results.pvd: the entries of the kept files.
+void ResultsWriter::keepVtkEntriesUpTo(int step) {
+  const fs::path dir(dir_);
   std::istringstream pvd(readAll(dir / "results.pvd"));
   for (std::string line; std::getline(pvd, line);) {
     const auto t = line.find("timestep=\""), f = line.find("file=\"");
@@ -205,10 +222,6 @@ void ResultsWriter::prepareResume(int step, double T) {
     const int s = vtkStep(fs::path(file).filename().string());
     if (s >= 0 && s <= step && fs::exists(dir / file)) vtkFiles_.emplace_back(std::atof(line.c_str() + t + 10), file);
   }
-  out_.removeOwn([](const std::string& name) {
-    return name == "summary.csv" || name == "timers.txt" || name == "summary.csv.tmp" || name == "timers.txt.tmp";
-  });
-  openTables(true);
 }
 
 void ResultsWriter::openTables(bool append) {

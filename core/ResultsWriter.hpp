@@ -74,6 +74,11 @@ class ResultsWriter {
   void open(const Where& where);
   void prepareFresh();
   void prepareResume(int step, double T);
+  // prepareResume's parts: steps.csv checked against the checkpoint (step, T); the tables cut to the
+  // rows up to `step`; the VTK files' entries of results.pvd kept up to `step`.
+  void checkStepsFitCheckpoint(int step, double T) const;
+  void truncateTablesAfter(int step);
+  void keepVtkEntriesUpTo(int step);
   // A file of a run's own (one of fileNames(), or vtk/step_N.vtu).
   bool ownResult(const std::string& relative) const;
   // Records `name` in the manifest (before it is created) and returns its path.

@@ -39,75 +39,124 @@ std::string readCheckpointText(const std::string& dir, const Comm& comm) {
   return text;
 }
 
+// The Trilinos solvers' own timers (Belos, MueLu: Teuchos::TimeMonitor) land in this run's timer,
+// nested where they run; the global one is put back when the run ends.
+struct TimeMonitorTarget {
+  Teuchos::RCP<Teuchos::StackedTimer> previous = Teuchos::TimeMonitor::getStackedTimer();
+  explicit TimeMonitorTarget(const Teuchos::RCP<Teuchos::StackedTimer>& t) { Teuchos::TimeMonitor::setStackedTimer(t); }
+  ~TimeMonitorTarget() { Teuchos::TimeMonitor::setStackedTimer(previous); }
+};
+
+// A restart: the solver and the contributions take the checkpoint's state (before the results
+// directory is touched, so a checkpoint that does not fit the deck changes nothing), and the run
+// summary its counts; returns the earlier run's solve time.
+double resume(StaticSolver& solver, RunSummary& summary, const RunOptions& options, const Comm& comm) {
+  const std::string source = (std::filesystem::path(options.outputDirectory) / "checkpoint.txt").string();
+  CheckpointIn in(readCheckpointText(options.outputDirectory, comm), source);
+  in.label("beamcontact-checkpoint");
+  const long long format = in.integer();
+  if (format != kCheckpointFormat)
+    in.fail("it has format version " + std::to_string(format) + ", this BeamContact reads version " +
+            std::to_string(kCheckpointFormat));
+  in.verifyChecksum();
+  in.label("version");
+  const std::string version = in.word();
+  if (version != kVersion)
+    in.fail("it was written by BeamContact " + version + ", this is BeamContact " + kVersion +
+            " (a run continues only with the version that started it)");
+  in.label("deck");
+  if (in.word() != options.fingerprint)
+    in.fail("it was written for another deck (the deck changed outside its Output sublist)");
+  in.label("summary");
+  const long long passes = in.integer(), maxIterations = in.integer();
+  const double earlierSeconds = in.real();
+  if (passes < 0 || passes > INT_MAX || maxIterations < 0 || maxIterations > INT_MAX || earlierSeconds < 0.0)
+    in.fail("its run summary has a negative or too large count (passes " + std::to_string(passes) +
+            ", most iterations in a step " + std::to_string(maxIterations) + ", seconds " +
+            shortest(earlierSeconds) + ")");
+  summary.passes = static_cast<int>(passes);
+  summary.maxIterationsPerStep = static_cast<int>(maxIterations);
+  solver.loadCheckpoint(in);
+  in.finish();
+  // Every converged step took at least one pass, and no step more iterations than all of them.
+  const RunReport& loaded = solver.runReport();
+  if (summary.passes < loaded.steps || summary.maxIterationsPerStep > loaded.newtonIterations)
+    in.fail("its run summary (" + std::to_string(summary.passes) + " passes, at most " +
+            std::to_string(summary.maxIterationsPerStep) + " iterations in a step) does not fit its " +
+            std::to_string(loaded.steps) + " steps of " + std::to_string(loaded.newtonIterations) +
+            " Newton iterations");
+  return earlierSeconds;
+}
+
+// One line per converged step on rank 0.
+void printProgress(const StepReport& step, const Model& model) {
+  std::printf("step %4d  T = %.6f  Newton %2d  |r| %.3e", step.step, step.T, step.iterations,
+              step.history.back().residualNorm);
+  for (const auto& c : model.contributions) {
+    const std::string text = c->progressSummary();
+    if (!text.empty()) std::printf("  %s", text.c_str());
+  }
+  if (step.cutLevel) std::printf("  (cut level %d)", step.cutLevel);
+  std::printf("\n");
+  std::fflush(stdout);
+}
+
+// Where the results go, and what status.txt says beside its first line.
+ResultsWriter::Where where(const RunOptions& options) {
+  ResultsWriter::Where w;
+  w.directory = options.outputDirectory;
+  w.fromDeck = options.outputFromDeck;
+  w.overwrite = options.overwrite;
+  w.notes = options.statusNotes;
+  return w;
+}
+
+// The run closed: the run's timer stopped, its summary (timers.txt, printed when `print`), what the
+// contributions could not model among the run's warnings, the main stages' times in summary.csv
+// (this process's times; a restart counts its own part only), the status.
+void finish(ResultsWriter& writer, RunSummary& summary, const Model& model, Teuchos::StackedTimer& timer,
+            const Teuchos::RCP<const Comm>& comm, bool print) {
+  timer.stopBaseTimer();
+  std::ostringstream report;
+  Teuchos::StackedTimer::OutputOptions opts;
+  opts.output_fraction = true;
+  opts.output_minmax = comm->getSize() > 1;
+  timer.report(report, comm, opts);
+  for (const auto& c : model.contributions)
+    for (const auto& w : c->warnings()) summary.run.warnings.push_back(w);
+  for (const auto& [column, path] : std::vector<std::pair<std::string, std::string>>{
+           {"search_seconds", "Contact Search"},
+           {"assembly_seconds", "Assembly"},
+           {"contact_evaluation_seconds", "Assembly@Evaluate contact"},
+           {"linear_solve_seconds", "Linear Solve"},
+           {"active_set_seconds", "Active Set"},
+           {"output_seconds", "Output"}})
+    summary.stages.emplace_back(column, timer.accumulatedTime(path));
+  writer.writeSummary(summary);
+  writer.finish(summary.run, report.str());
+  if (print) std::printf("%s", report.str().c_str());
+}
+
 }  // namespace
 
 RunResult simulate(Model& model, const SolverSettings& settings, const Teuchos::ParameterList& linearSolver,
                    const RunOptions& options, Teuchos::RCP<const Comm> comm) {
   auto timer = Teuchos::rcp(new Teuchos::StackedTimer("BeamContact"));
-  // The Trilinos solvers' own timers (Belos, MueLu: Teuchos::TimeMonitor) land in this run's timer,
-  // nested where they run; the global one is put back when the run ends.
-  struct TimeMonitorTarget {
-    Teuchos::RCP<Teuchos::StackedTimer> previous = Teuchos::TimeMonitor::getStackedTimer();
-    explicit TimeMonitorTarget(const Teuchos::RCP<Teuchos::StackedTimer>& t) {
-      Teuchos::TimeMonitor::setStackedTimer(t);
-    }
-    ~TimeMonitorTarget() { Teuchos::TimeMonitor::setStackedTimer(previous); }
-  } timeMonitorTarget(timer);
+  TimeMonitorTarget timeMonitorTarget(timer);
   const bool root = comm->getRank() == 0;
   auto linear = makeLinearSolver(linearSolver);
   StaticSolver solver(comm, model, settings, *linear, timer);
   RunResult result;
   RunSummary summary;
   double earlierSeconds = 0.0;  // solve time of the run before the restart
-
-  // A restart: the solver and the contributions take the checkpoint's state before the results
-  // directory is touched, so a checkpoint that does not fit the deck changes nothing.
   int resumeStep = -1;
   if (options.restart) {
-    const std::string source = (std::filesystem::path(options.outputDirectory) / "checkpoint.txt").string();
-    CheckpointIn in(readCheckpointText(options.outputDirectory, *comm), source);
-    in.label("beamcontact-checkpoint");
-    const long long format = in.integer();
-    if (format != kCheckpointFormat)
-      in.fail("it has format version " + std::to_string(format) + ", this BeamContact reads version " +
-              std::to_string(kCheckpointFormat));
-    in.verifyChecksum();
-    in.label("version");
-    const std::string version = in.word();
-    if (version != kVersion)
-      in.fail("it was written by BeamContact " + version + ", this is BeamContact " + kVersion +
-              " (a run continues only with the version that started it)");
-    in.label("deck");
-    if (in.word() != options.fingerprint)
-      in.fail("it was written for another deck (the deck changed outside its Output sublist)");
-    in.label("summary");
-    const long long passes = in.integer(), maxIterations = in.integer();
-    earlierSeconds = in.real();
-    if (passes < 0 || passes > INT_MAX || maxIterations < 0 || maxIterations > INT_MAX || earlierSeconds < 0.0)
-      in.fail("its run summary has a negative or too large count (passes " + std::to_string(passes) +
-              ", most iterations in a step " + std::to_string(maxIterations) + ", seconds " +
-              shortest(earlierSeconds) + ")");
-    summary.passes = static_cast<int>(passes);
-    summary.maxIterationsPerStep = static_cast<int>(maxIterations);
-    solver.loadCheckpoint(in);
-    in.finish();
-    // Every converged step took at least one pass, and no step more iterations than all of them.
-    const RunReport& loaded = solver.runReport();
-    if (summary.passes < loaded.steps || summary.maxIterationsPerStep > loaded.newtonIterations)
-      in.fail("its run summary (" + std::to_string(summary.passes) + " passes, at most " +
-              std::to_string(summary.maxIterationsPerStep) + " iterations in a step) does not fit its " +
-              std::to_string(loaded.steps) + " steps of " + std::to_string(loaded.newtonIterations) +
-              " Newton iterations");
-    resumeStep = solver.runReport().steps;
-    result.restartedAtStep = resumeStep;
+    earlierSeconds = resume(solver, summary, options, *comm);
+    resumeStep = result.restartedAtStep = solver.runReport().steps;
   }
 
-  ResultsWriter::Where where;
-  where.directory = options.outputDirectory;
-  where.fromDeck = options.outputFromDeck;
-  where.overwrite = options.overwrite;
-  where.notes = options.statusNotes;
-  ResultsWriter writer(where, model, comm, options.writeVtk, resumeStep, options.restart ? solver.runReport().lastT : 0.0);
+  ResultsWriter writer(where(options), model, comm, options.writeVtk, resumeStep,
+                       options.restart ? solver.runReport().lastT : 0.0);
   try {
     if (options.effective) writer.writeEffective(*options.effective);
     if (!options.restart) writer.writeInitial(model.initial);
@@ -129,48 +178,18 @@ RunResult simulate(Model& model, const SolverSettings& settings, const Teuchos::
       summary.maxIterationsPerStep = std::max(summary.maxIterationsPerStep, step.iterations);
       summary.passes += step.passes;
       if (options.checkpointEvery > 0 && step.step % options.checkpointEvery == 0) checkpoint();
-      if (root && options.progress) {
-        std::printf("step %4d  T = %.6f  Newton %2d  |r| %.3e", step.step, step.T, step.iterations,
-                    step.history.back().residualNorm);
-        for (const auto& c : model.contributions) {
-          const std::string text = c->progressSummary();
-          if (!text.empty()) std::printf("  %s", text.c_str());
-        }
-        if (step.cutLevel) std::printf("  (cut level %d)", step.cutLevel);
-        std::printf("\n");
-        std::fflush(stdout);
-      }
+      if (root && options.progress) printProgress(step, model);
     });
-    const auto t1 = std::chrono::steady_clock::now();
-    const double seconds = std::chrono::duration<double>(t1 - t0).count();
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     // A run stopped by a signal keeps its last converged step for --restart.
     if (run.interrupted) {
       earlierSeconds += seconds;
       checkpoint();
     }
-    timer->stopBaseTimer();
-    std::ostringstream report;
-    Teuchos::StackedTimer::OutputOptions opts;
-    opts.output_fraction = true;
-    opts.output_minmax = comm->getSize() > 1;
-    timer->report(report, comm, opts);
-    for (const auto& c : model.contributions)
-      for (const auto& w : c->warnings()) run.warnings.push_back(w);
     summary.run = run;
     summary.solveSeconds = earlierSeconds + (run.interrupted ? 0.0 : seconds);
-    // The main stages for summary.csv (this process's times; a restart counts its own part only).
-    for (const auto& [column, path] : std::vector<std::pair<std::string, std::string>>{
-             {"search_seconds", "Contact Search"},
-             {"assembly_seconds", "Assembly"},
-             {"contact_evaluation_seconds", "Assembly@Evaluate contact"},
-             {"linear_solve_seconds", "Linear Solve"},
-             {"active_set_seconds", "Active Set"},
-             {"output_seconds", "Output"}})
-      summary.stages.emplace_back(column, timer->accumulatedTime(path));
-    writer.writeSummary(summary);
-    writer.finish(run, report.str());
-    if (root && options.progress) std::printf("%s", report.str().c_str());
-    result.report = run;
+    finish(writer, summary, model, *timer, comm, root && options.progress);
+    result.report = summary.run;
     result.solveSeconds = summary.solveSeconds;
     result.finalState = solver.state();
   } catch (const std::exception& e) {

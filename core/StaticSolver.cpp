@@ -9,6 +9,7 @@
 
 #include "Checkpoint.hpp"
 #include "Faults.hpp"
+#include "ScopedTimer.hpp"
 
 #include <Teuchos_Array.hpp>
 
@@ -149,13 +150,6 @@ Teuchos::RCP<MultiVector> rigidBodyModes(const State& s, const Teuchos::RCP<cons
 }
 }  // namespace
 
-void StaticSolver::start(const std::string& name) {
-  if (!timer_.is_null()) timer_->start(name);
-}
-void StaticSolver::stop(const std::string& name) {
-  if (!timer_.is_null()) timer_->stop(name);
-}
-
 RunReport StaticSolver::run(const StepCallback& onStep) {
   const int n = static_cast<int>(settings_.loadFactors.size());
   try {
@@ -194,9 +188,10 @@ bool StaticSolver::increment(const StepCallback& onStep) {
         at.converged = 0;
       }
       if (Tn == Tb) at = Progress{i + 1, Tb, 0, 0};
-      start("Output");
-      onStep(report, committed_, assembler_);
-      stop("Output");
+      {
+        ScopedTimer output(timer_, "Output");
+        onStep(report, committed_, assembler_);
+      }
       if (Tn == Tb) return true;
       continue;
     }
@@ -259,28 +254,47 @@ void StaticSolver::saveCheckpoint(CheckpointOut& out) const {
   out.label("end");
 }
 
+namespace {
+// A counter of a checkpoint: a whole number from 0 up.
+int readCount(CheckpointIn& in, const std::string& what) {
+  const long long v = in.integer();
+  if (v < 0 || v > INT_MAX) in.fail("its " + what + " is " + std::to_string(v) + " (it must be 0 or more)");
+  return static_cast<int>(v);
+}
+}  // namespace
+
 void StaticSolver::loadCheckpoint(CheckpointIn& in) {
-  // A counter: a whole number from 0 up.
-  const auto count = [&in](const std::string& what) {
-    const long long v = in.integer();
-    if (v < 0 || v > INT_MAX) in.fail("its " + what + " is " + std::to_string(v) + " (it must be 0 or more)");
-    return static_cast<int>(v);
-  };
+  readProgress(in);
+  readReference(in);
+  readStates(in);
+  checkProgress(in);
+  checkPrescribed(in);
+  trial_ = committed_;
+  graphStale_ = true;
+  if (run_.steps > 0)
+    for (auto& c : model_.contributions) c->stepConverged(committed_, committedT_);
+}
+
+void StaticSolver::readProgress(CheckpointIn& in) {
   in.label("run");
   run_ = RunReport{};
-  run_.steps = count("step counter");
-  run_.newtonIterations = count("Newton iteration counter");
+  run_.steps = readCount(in, "step counter");
+  run_.newtonIterations = readCount(in, "Newton iteration counter");
   run_.lastT = in.real();
   in.label("progress");
-  progress_.increment = count("configured increment");
+  progress_.increment = readCount(in, "configured increment");
   progress_.T = in.real();
-  progress_.level = count("cut level");
-  progress_.converged = count("count of converged pieces");
+  progress_.level = readCount(in, "cut level");
+  progress_.converged = readCount(in, "count of converged pieces");
   in.label("load-factors");
   const int n = static_cast<int>(settings_.loadFactors.size());
   if (in.integer() != n) in.fail("the load stepping differs");
   for (double t : settings_.loadFactors)
     if (in.real() != t) in.fail("the load stepping differs");
+}
+
+// The model's reference geometry: a restart on a model whose nodes are elsewhere is refused.
+void StaticSolver::readReference(CheckpointIn& in) const {
   in.label("reference");
   const long long nodes = in.integer();
   if (nodes != model_.initial.numNodes())
@@ -297,6 +311,10 @@ void StaticSolver::loadCheckpoint(CheckpointIn& in) {
               shortest(X[2]) + ") in its reference geometry, at (" + shortest(model[0]) + ", " + shortest(model[1]) +
               ", " + shortest(model[2]) + ") in the model's");
   }
+}
+
+// The committed and previous states, and every contribution's history.
+void StaticSolver::readStates(CheckpointIn& in) {
   in.label("committed");
   committedT_ = in.real();
   committed_ = model_.initial;
@@ -311,7 +329,9 @@ void StaticSolver::loadCheckpoint(CheckpointIn& in) {
     c->loadCommitted(in, committed_);
   }
   in.label("end");
+}
 
+void StaticSolver::checkProgress(CheckpointIn& in) const {
   // The load-stepping position is one that increment() reaches. In configured increment i (T_a -> T_b)
   // at cut level L the pieces are (T_b - T_a) / 2^L; a piece that converges adds one (or ends the
   // increment when T_b is within it), one that fails is halved. So T = T_a + k (T_b - T_a) / 2^C with
@@ -319,6 +339,7 @@ void StaticSolver::loadCheckpoint(CheckpointIn& in) {
   // increment, or 1e-12 T_b, about 4500 additions' rounding, when that is larger), and at level 0
   // T = T_a (its one piece ends the increment); after the last increment T = 1. Converged pieces count
   // to 2 at most and are reset then, and at level 0 the first ends the increment.
+  const int n = static_cast<int>(settings_.loadFactors.size());
   const Progress& at = progress_;
   const std::string position = "in configured increment " + std::to_string(at.increment + 1) + " of " +
                                std::to_string(n) + " at cut level " + std::to_string(at.level);
@@ -357,6 +378,9 @@ void StaticSolver::loadCheckpoint(CheckpointIn& in) {
   if (run_.steps < at.increment + (inside ? 1 : 0))
     in.fail("its step counter (" + std::to_string(run_.steps) + ") is below the steps needed to reach T = " +
             shortest(at.T) + " (" + std::to_string(at.increment + (inside ? 1 : 0)) + ")");
+}
+
+void StaticSolver::checkPrescribed(CheckpointIn& in) const {
   // Prescribed translations: every step moves a supported node's fixed translation by
   // value (curve(T_b) - curve(T_a)) and nothing else does, so a state at T has it at
   // x_0 + value (curve(T) - curve(0)) (to the round-off of the steps' sum; 1e-9 of the model's size).
@@ -366,7 +390,7 @@ void StaticSolver::loadCheckpoint(CheckpointIn& in) {
     for (int node : sup.nodes)
       for (int k = 0; k < 3; ++k)
         if (sup.fixed[k]) prescribed[{node, k}] = &sup;
-  const auto checkPrescribed = [&](const State& state, double T, const std::string& which) {
+  const auto check = [&](const State& state, double T, const std::string& which) {
     for (const auto& [dof, sup] : prescribed) {
       const auto [node, k] = dof;
       const double expected = model_.initial.position[node][k] + sup->value[k] * (sup->curve(T) - sup->curve(0.0));
@@ -376,12 +400,8 @@ void StaticSolver::loadCheckpoint(CheckpointIn& in) {
                 shortest(expected) + " (T = " + shortest(T) + ")");
     }
   };
-  checkPrescribed(committed_, committedT_, "its converged state");
-  if (previousT_ >= 0.0) checkPrescribed(previous_, previousT_, "its previous state");
-  trial_ = committed_;
-  graphStale_ = true;
-  if (run_.steps > 0)
-    for (auto& c : model_.contributions) c->stepConverged(committed_, committedT_);
+  check(committed_, committedT_, "its converged state");
+  if (previousT_ >= 0.0) check(previous_, previousT_, "its previous state");
 }
 
 StepReport StaticSolver::iterateFrom(const State& start, double Ta, double Tb, State& result) {
@@ -395,36 +415,26 @@ StepReport StaticSolver::iterateFrom(const State& start, double Ta, double Tb, S
   return report;
 }
 
-bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string& failure, bool predict) {
+// One Newton solve of the increment Ta -> Tb on trial_: the state the iterations carry and their named
+// steps (StaticSolver::newton is the loop over them).
+struct StaticSolver::Newton {
+  enum class Verdict { Iterate, Converged, NextPass, Failed };
+
+  Newton(StaticSolver& solver, double ta, double tb, StepReport& r, std::string& f)
+      : s(solver), settings(solver.settings_), Ta(ta), Tb(tb), report(r), failure(f),
+        ndof(GlobalDof(kDofsPerNode) * solver.trial_.numNodes()),
+        searching(settings.lineSearch == LineSearch::Backtracking) {}
+
+  StaticSolver& s;
+  const SolverSettings& settings;
+  const double Ta, Tb;
+  StepReport& report;
+  std::string& failure;
   // Increments are measured on the nodal dofs only: extra unknowns (multipliers) are forces, and their
   // number may change from one iteration to the next.
-  const GlobalDof ndof = GlobalDof(kDofsPerNode) * trial_.numNodes();
-  std::vector<double> du(trial_.numDofs(), 0.0);
-  // Predictor: the nodal dofs continue the last converged increment, scaled to this one (the
-  // rotations as the spin that took the previous rotation to the current one); the supports then
-  // overwrite their prescribed dofs.
-  if (predict && settings_.extrapolate && previousT_ >= 0.0 && committedT_ > previousT_ && Ta == committedT_ &&
-      previous_.numNodes() == trial_.numNodes()) {
-    const double ratio = (Tb - Ta) / (committedT_ - previousT_);
-    for (int n = 0; n < trial_.numNodes(); ++n) {
-      const Vec3d du_n = committed_.position[n] - previous_.position[n];
-      const Vec3d w = math::logSO3(committed_.rotation[n] * math::transpose(previous_.rotation[n]));
-      for (int k = 0; k < 3; ++k) {
-        du[std::size_t(kDofsPerNode) * n + k] = ratio * du_n[k];
-        du[std::size_t(kDofsPerNode) * n + 3 + k] = ratio * w[k];
-      }
-    }
-  }
-  // Prescribed motions over the increment.
-  for (const Support& s : model_.supports)
-    for (int n : s.nodes)
-      for (int k = 0; k < 6; ++k)
-        if (s.fixed[k]) du[std::size_t(kDofsPerNode) * n + k] = s.value[k] * (s.curve(Tb) - s.curve(Ta));
-  double stepNorm2 = 0.0;
-  for (double v : du) stepNorm2 += v * v;
-  std::vector<double> accumulated(du.begin(), du.begin() + ndof);
-  trial_.applyIncrement(du);
-
+  const GlobalDof ndof;
+  std::vector<double> accumulated;  // the step's motion so far (nodal dofs)
+  double stepNorm2 = 0.0;           // its squared norm
   Teuchos::RCP<Vector> x;
   double firstResidual = 0.0;
   int pass = 0, passStart = 0;  // a pass is one Newton solve of the increment
@@ -436,87 +446,131 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
   int backtracks = 0;
   // Whether this Newton solve backtracks (always, never, or from when it stalls: its lowest residual
   // `best` last halved at iteration `progressAt`).
-  bool searching = settings_.lineSearch == LineSearch::Backtracking;
+  bool searching;
   double best = 0.0;
   int progressAt = 0;
-  constexpr int kStallIterations = 4;
-  for (int k = 0;; ++k) {
-    if (const int sig = receivedSignalOnAnyRank(*comm_)) throw Interrupted(sig);
-    const int kp = k - passStart;
-    bool rebuild = graphStale_ || assembler_.ownedMap().is_null() ||
-                   static_cast<Tpetra::global_size_t>(trial_.numDofs()) != assembler_.ownedMap()->getGlobalNumElements();
-    graphStale_ = false;
-    start("Contact Search");
-    try {
-      for (auto& c : model_.contributions) rebuild = c->prepareIteration(trial_) || rebuild;
-    } catch (...) {
-      stop("Contact Search");
-      throw;
+  static constexpr int kStallIterations = 4;
+  // The iterate at hand: its number (overall and within the pass), whether its graph was rebuilt,
+  // and its measures.
+  int k = 0, kp = 0;
+  bool rebuilt = false, likelyConverged = false;
+  double incrementScale = 0.0, rn = 0.0, reactionNorm = 0.0, loadNorm = 0.0, reference = 0.0;
+
+  // Predictor: the nodal dofs continue the last converged increment, scaled to this one (the
+  // rotations as the spin that took the previous rotation to the current one).
+  std::vector<double> predict(bool wanted) const {
+    std::vector<double> du(s.trial_.numDofs(), 0.0);
+    if (!(wanted && settings.extrapolate && s.previousT_ >= 0.0 && s.committedT_ > s.previousT_ &&
+          Ta == s.committedT_ && s.previous_.numNodes() == s.trial_.numNodes()))
+      return du;
+    const double ratio = (Tb - Ta) / (s.committedT_ - s.previousT_);
+    for (int n = 0; n < s.trial_.numNodes(); ++n) {
+      const Vec3d du_n = s.committed_.position[n] - s.previous_.position[n];
+      const Vec3d w = math::logSO3(s.committed_.rotation[n] * math::transpose(s.previous_.rotation[n]));
+      for (int d = 0; d < 3; ++d) {
+        du[std::size_t(kDofsPerNode) * n + d] = ratio * du_n[d];
+        du[std::size_t(kDofsPerNode) * n + 3 + d] = ratio * w[d];
+      }
     }
-    stop("Contact Search");
+    return du;
+  }
+
+  // The supports overwrite their prescribed dofs with their motion over the increment; the first
+  // iterate is the predicted one.
+  void prescribe(std::vector<double> du) {
+    for (const Support& sup : s.model_.supports)
+      for (int n : sup.nodes)
+        for (int c = 0; c < 6; ++c)
+          if (sup.fixed[c]) du[std::size_t(kDofsPerNode) * n + c] = sup.value[c] * (sup.curve(Tb) - sup.curve(Ta));
+    for (double v : du) stepNorm2 += v * v;
+    accumulated.assign(du.begin(), du.begin() + ndof);
+    s.trial_.applyIncrement(du);
+  }
+
+  // The contact search of the contributions, and the graph rebuilt when they or the dofs ask.
+  void prepare() {
+    bool rebuild = s.graphStale_ || s.assembler_.ownedMap().is_null() ||
+                   static_cast<Tpetra::global_size_t>(s.trial_.numDofs()) !=
+                       s.assembler_.ownedMap()->getGlobalNumElements();
+    s.graphStale_ = false;
+    {
+      ScopedTimer search(s.timer_, "Contact Search");
+      for (auto& c : s.model_.contributions) rebuild = c->prepareIteration(s.trial_) || rebuild;
+    }
     if (rebuild) {
-      start("Graph Rebuild");
-      assembler_.rebuild(trial_);
-      stop("Graph Rebuild");
+      ScopedTimer graph(s.timer_, "Graph Rebuild");
+      s.assembler_.rebuild(s.trial_);
     }
-    if (x.is_null() || !x->getMap()->isSameAs(*assembler_.ownedMap())) x = Teuchos::rcp(new Vector(assembler_.ownedMap()));
-    // When the last increment was already below its tolerance this iterate is probably the
-    // solution: its residual alone decides, and the tangent is formed only if another solve follows.
-    // The increment is judged against the step's accumulated motion, or, in a step that barely moves
-    // anything (an unloaded step), against round-off of the model's size: there a rotated beam's
-    // residual sits at its round-off floor (about 1e-14) from the start, and no relative test passes.
-    const double incrementScale = std::max(std::sqrt(stepNorm2), 1e-6 * modelSize_);
-    const bool likelyConverged =
-        kp > 0 && report.history[k - 1].incrementNorm <= settings_.incrementTolerance * incrementScale;
-    start("Assembly");
-    assembler_.assemble(trial_, Tb, !likelyConverged);
-    stop("Assembly");
-    const double rn = scaledNorm2(*assembler_.residual());
+    rebuilt = rebuild;
+    if (x.is_null() || !x->getMap()->isSameAs(*s.assembler_.ownedMap()))
+      x = Teuchos::rcp(new Vector(s.assembler_.ownedMap()));
+  }
+
+  // The residual (and the tangent unless this iterate is likely the solution) and its measures.
+  // When the last increment was already below its tolerance this iterate is probably the solution:
+  // its residual alone decides, and the tangent is formed only if another solve follows. The
+  // increment is judged against the step's accumulated motion, or, in a step that barely moves
+  // anything (an unloaded step), against round-off of the model's size: there a rotated beam's
+  // residual sits at its round-off floor (about 1e-14) from the start, and no relative test passes.
+  void assembleAndMeasure() {
+    incrementScale = std::max(std::sqrt(stepNorm2), 1e-6 * s.modelSize_);
+    likelyConverged = kp > 0 && report.history[k - 1].incrementNorm <= settings.incrementTolerance * incrementScale;
+    {
+      ScopedTimer assembly(s.timer_, "Assembly");
+      s.assembler_.assemble(s.trial_, Tb, !likelyConverged);
+    }
+    rn = scaledNorm2(*s.assembler_.residual());
     std::vector<double> entries;
-    for (GlobalDof g : assembler_.constrainedDofs()) entries.push_back(assembler_.fullResidual()[g]);
-    const double reactionNorm = safeNorm2(entries);
+    for (GlobalDof g : s.assembler_.constrainedDofs()) entries.push_back(s.assembler_.fullResidual()[g]);
+    reactionNorm = safeNorm2(entries);
     entries.clear();
-    for (const NodalLoad& l : model_.loads)
+    for (const NodalLoad& l : s.model_.loads)
       for (double v : l.value) entries.push_back(l.curve(Tb) * v);
-    const double loadNorm = safeNorm2(entries);
+    loadNorm = safeNorm2(entries);
     if (kp == 0) {
       firstResidual = rn;
       best = rn;
       progressAt = 0;
-      searching = settings_.lineSearch == LineSearch::Backtracking;
+      searching = settings.lineSearch == LineSearch::Backtracking;
     } else if (rn < 0.5 * best) {
       best = rn;
       progressAt = kp;
     }
-    const double reference = std::max({firstResidual, reactionNorm, loadNorm});
-    // Backtracking: the residual did not fall (by 1e-4 of the step fraction), so go back to the last
-    // iterate and take half the step. Not once the Newton step was already below its tolerance (the
-    // residual may then sit at its round-off floor). The recorded increment norm stays the full
-    // Newton step's, so a short step never passes for convergence.
-    if (searching && kp > 0 && !likelyConverged && !lastStep.empty() &&
-        backtracks < settings_.maxBacktracks && std::isfinite(lastResidual) &&
-        !(rn <= (1.0 - 1e-4 * alpha) * lastResidual) && rn > settings_.residualTolerance * reference) {
-      const double shorter = 0.5 * alpha;
-      trial_ = lastIterate;
-      for (auto& c : model_.contributions) c->returnToIterate();
-      graphStale_ = graphStale_ || rebuild;  // the graph may belong to the rejected iterate
-      std::vector<double> step(lastStep.size());
-      for (std::size_t i = 0; i < step.size(); ++i) step[i] = shorter * lastStep[i];
-      stepNorm2 = 0.0;
-      for (GlobalDof g = 0; g < ndof; ++g) {
-        accumulated[g] -= (alpha - shorter) * lastStep[g];
-        stepNorm2 += accumulated[g] * accumulated[g];
-      }
-      trial_.applyIncrement(step);
-      if (settings_.printIterations && comm_->getRank() == 0)
-        std::printf("    T %.6g  iteration %2d  ||r|| %.3e  rejected, step x %.4g\n", Tb, k, rn, shorter);
-      alpha = shorter;
-      ++backtracks;
-      ++report.backtracks;
-      --k;
-      continue;
+    reference = std::max({firstResidual, reactionNorm, loadNorm});
+  }
+
+  // Backtracking: the residual did not fall (by 1e-4 of the step fraction), so go back to the last
+  // iterate and take half the step. Not once the Newton step was already below its tolerance (the
+  // residual may then sit at its round-off floor). The recorded increment norm stays the full Newton
+  // step's, so a short step never passes for convergence. Returns whether it backtracked.
+  bool lineSearch() {
+    if (!(searching && kp > 0 && !likelyConverged && !lastStep.empty() && backtracks < settings.maxBacktracks &&
+          std::isfinite(lastResidual) && !(rn <= (1.0 - 1e-4 * alpha) * lastResidual) &&
+          rn > settings.residualTolerance * reference))
+      return false;
+    const double shorter = 0.5 * alpha;
+    s.trial_ = lastIterate;
+    for (auto& c : s.model_.contributions) c->returnToIterate();
+    s.graphStale_ = s.graphStale_ || rebuilt;  // the graph may belong to the rejected iterate
+    std::vector<double> step(lastStep.size());
+    for (std::size_t i = 0; i < step.size(); ++i) step[i] = shorter * lastStep[i];
+    stepNorm2 = 0.0;
+    for (GlobalDof g = 0; g < ndof; ++g) {
+      accumulated[g] -= (alpha - shorter) * lastStep[g];
+      stepNorm2 += accumulated[g] * accumulated[g];
     }
-    if (settings_.printIterations && comm_->getRank() == 0) {
+    s.trial_.applyIncrement(step);
+    if (settings.printIterations && s.comm_->getRank() == 0)
+      std::printf("    T %.6g  iteration %2d  ||r|| %.3e  rejected, step x %.4g\n", Tb, k, rn, shorter);
+    alpha = shorter;
+    ++backtracks;
+    ++report.backtracks;
+    return true;
+  }
+
+  // The iterate in the history (and printed).
+  void record() {
+    if (settings.printIterations && s.comm_->getRank() == 0) {
       std::printf("    T %.6g  iteration %2d  ||r|| %.3e", Tb, k, rn);
       if (k > 0) std::printf("  ||du|| %.3e", report.history[k - 1].incrementNorm);
       std::printf("\n");
@@ -524,123 +578,161 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
     NewtonIterate it;
     it.residualNorm = rn;
     report.history.push_back(it);
-    if (!std::isfinite(rn)) {
-      failure = "the residual is not finite";
-      return false;
-    }
-    if (kp > 0 && rn > settings_.divergenceFactor * std::max(reference, 1e-300)) {
-      failure = "Newton diverged (residual above Divergence Factor times its reference)";
-      return false;
-    }
-    // At k = 0 nothing has been solved yet: accept only a state already in equilibrium with
-    // respect to the loads and reactions (e.g. an increment that changes nothing).
-    const double forceScale = std::max(reactionNorm, loadNorm);
-    bool converged;
-    if (kp == 0) {
-      converged = rn == 0.0 || rn <= settings_.residualTolerance * forceScale;
-    } else {
-      // The residual cannot fall below its round-off floor (about eps * EA per element): once the
-      // increments are negligible, a residual that stopped decreasing has reached that floor.
-      const double duLast = report.history[k - 1].incrementNorm;
-      const bool incrementOk = duLast <= settings_.incrementTolerance * incrementScale;
-      const bool stagnated = kp >= 2 && rn > 0.5 * report.history[k - 1].residualNorm;
-      converged = incrementOk && (rn <= settings_.residualTolerance * reference || stagnated);
-    }
-    if (converged) {
-      // The contributions may ask for another solve of the increment (augmentation, active set).
+  }
+
+  // Whether the iterate has converged. At k = 0 nothing has been solved yet: accept only a state
+  // already in equilibrium with respect to the loads and reactions (e.g. an increment that changes
+  // nothing). After that the residual cannot fall below its round-off floor (about eps * EA per
+  // element): once the increments are negligible, a residual that stopped decreasing has reached
+  // that floor.
+  bool converged() const {
+    if (kp == 0) return rn == 0.0 || rn <= settings.residualTolerance * std::max(reactionNorm, loadNorm);
+    const double duLast = report.history[k - 1].incrementNorm;
+    const bool incrementOk = duLast <= settings.incrementTolerance * incrementScale;
+    const bool stagnated = kp >= 2 && rn > 0.5 * report.history[k - 1].residualNorm;
+    return incrementOk && (rn <= settings.residualTolerance * reference || stagnated);
+  }
+
+  // What the iterate means: a failure (a residual not finite, divergence, the iteration limit), the
+  // increment converged, another pass (the contributions ask for another solve of the increment:
+  // augmentation, active set), or another iteration.
+  Verdict verdict() {
+    if (!std::isfinite(rn)) return fail("the residual is not finite");
+    if (kp > 0 && rn > settings.divergenceFactor * std::max(reference, 1e-300))
+      return fail("Newton diverged (residual above Divergence Factor times its reference)");
+    if (converged()) {
       bool accepted = true;
       try {
-        start("Active Set");
-        for (auto& c : model_.contributions) accepted = c->acceptSolution(trial_) && accepted;
-        stop("Active Set");
+        ScopedTimer activeSet(s.timer_, "Active Set");
+        for (auto& c : s.model_.contributions) accepted = c->acceptSolution(s.trial_) && accepted;
       } catch (const std::runtime_error& e) {
-        stop("Active Set");
-        failure = e.what();
-        return false;
+        return fail(e.what());
       }
       ++pass;
-      if (accepted) {
-        report.iterations = k;
-        report.passes = pass;
-        return true;
-      }
+      if (accepted) return Verdict::Converged;
       passStart = k + 1;
-      continue;
+      return Verdict::NextPass;
     }
-    if (kp >= settings_.maxIterations) {
-      std::ostringstream s;
-      s << "no convergence in " << settings_.maxIterations << " Newton iterations (Maximum Iterations), last ||r|| = "
-        << rn;
-      for (auto& c : model_.contributions) {
-        const std::string hint = c->failureHint(*comm_);
-        if (!hint.empty()) s << "; " << hint;
-      }
-      failure = s.str();
-      return false;
+    if (kp < settings.maxIterations) return Verdict::Iterate;
+    std::ostringstream m;
+    m << "no convergence in " << settings.maxIterations << " Newton iterations (Maximum Iterations), last ||r|| = "
+      << rn;
+    for (auto& c : s.model_.contributions) {
+      const std::string hint = c->failureHint(*s.comm_);
+      if (!hint.empty()) m << "; " << hint;
     }
+    return fail(m.str());
+  }
+  Verdict fail(const std::string& why) {
+    failure = why;
+    return Verdict::Failed;
+  }
+
+  // The Newton step: the tangent (when the iterate was taken as likely converged it was not formed),
+  // the linear solve, and the step shortened to the contributions' bound; false (with `failure`)
+  // when the solve fails. Returns the step in `inc` and the full step's norm in the history.
+  bool solve(std::vector<double>& inc, double& bound) {
     if (likelyConverged) {
-      start("Assembly");
-      assembler_.assemble(trial_, Tb, true);
-      stop("Assembly");
+      ScopedTimer assembly(s.timer_, "Assembly");
+      s.assembler_.assemble(s.trial_, Tb, true);
     }
-    Vector rhs(assembler_.ownedMap());
-    rhs.update(-1.0, *assembler_.residual(), 0.0);
-    if (linear_.wantsNearNullSpace()) {
-      if (!trial_.extra.empty()) {
-        failure = linear_.name() + " preconditions matrices of nodal dofs only; this one has " +
-                  std::to_string(trial_.extra.size()) +
+    Vector rhs(s.assembler_.ownedMap());
+    rhs.update(-1.0, *s.assembler_.residual(), 0.0);
+    if (s.linear_.wantsNearNullSpace()) {
+      if (!s.trial_.extra.empty()) {
+        failure = s.linear_.name() + " preconditions matrices of nodal dofs only; this one has " +
+                  std::to_string(s.trial_.extra.size()) +
                   " multiplier rows (Lagrange Multiplier): use Penalty or Augmented Lagrange with it, or Linear "
                   "Solver/Type = Direct";
         return false;
       }
-      linear_.setNearNullSpace(rigidBodyModes(trial_, assembler_.ownedMap()));
+      s.linear_.setNearNullSpace(rigidBodyModes(s.trial_, s.assembler_.ownedMap()));
     }
     SolveReport lin;
-    start("Linear Solve");
-    try {
-      if (faultInjection()) collectively(*comm_, [] { injectFault("solve"); });
-      lin = linear_.solve(assembler_.matrix(), rhs, *x);
-    } catch (const LinearSolveError& e) {
-      stop("Linear Solve");
-      failure = e.what();
-      return false;
+    {
+      ScopedTimer linearSolve(s.timer_, "Linear Solve");
+      try {
+        if (faultInjection()) collectively(*s.comm_, [] { injectFault("solve"); });
+        lin = s.linear_.solve(s.assembler_.matrix(), rhs, *x);
+      } catch (const LinearSolveError& e) {
+        failure = e.what();
+        return false;
+      }
     }
-    stop("Linear Solve");
-    std::vector<double> inc = assembler_.gatherToAll(*x);
-    double bound = 1.0;
-    start("Step Bound");
-    for (auto& c : model_.contributions) bound = std::min(bound, c->stepBound(trial_, inc));
-    stop("Step Bound");
+    inc = s.assembler_.gatherToAll(*x);
+    bound = 1.0;
+    {
+      ScopedTimer stepBound(s.timer_, "Step Bound");
+      for (auto& c : s.model_.contributions) bound = std::min(bound, c->stepBound(s.trial_, inc));
+    }
     double n2 = 0.0;
     for (GlobalDof g = 0; g < ndof; ++g) n2 += inc[g] * inc[g];  // the full Newton step decides convergence
     if (bound < 1.0) {
       for (double& v : inc) v *= bound;
       ++report.boundedSteps;
     }
+    report.history[k].incrementNorm = std::sqrt(n2);
+    report.history[k].linearIterations = lin.iterations;
+    report.history[k].linearResidual = lin.relativeResidual;
+    return true;
+  }
+
+  // The step taken: added to the step's motion, line search switched on when Newton stalls (When
+  // Stalled), the iterate kept for backtracking, and the state moved.
+  void advance(const std::vector<double>& inc, double bound) {
     stepNorm2 = 0.0;
     for (GlobalDof g = 0; g < ndof; ++g) {
       accumulated[g] += inc[g];
       stepNorm2 += accumulated[g] * accumulated[g];
     }
-    report.history[k].incrementNorm = std::sqrt(n2);
-    report.history[k].linearIterations = lin.iterations;
-    report.history[k].linearResidual = lin.relativeResidual;
     lastStep.clear();  // a step shortened to close a contact is taken as it is
-    if (!searching && settings_.lineSearch == LineSearch::WhenStalled && kp - progressAt >= kStallIterations) {
+    if (!searching && settings.lineSearch == LineSearch::WhenStalled && kp - progressAt >= kStallIterations) {
       searching = true;
       ++report.stalls;
-      if (settings_.printIterations && comm_->getRank() == 0)
+      if (settings.printIterations && s.comm_->getRank() == 0)
         std::printf("    T %.6g  iteration %2d  stalled: backtracking from here\n", Tb, k);
     }
     if (searching && bound >= 1.0) {
-      lastIterate = trial_;
-      for (auto& c : model_.contributions) c->markIterate();
+      lastIterate = s.trial_;
+      for (auto& c : s.model_.contributions) c->markIterate();
       lastStep = inc;
       alpha = 1.0;
       backtracks = 0;
       lastResidual = rn;
     }
-    trial_.applyIncrement(inc);
+    s.trial_.applyIncrement(inc);
+  }
+};
+
+bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string& failure, bool predict) {
+  Newton n(*this, Ta, Tb, report, failure);
+  n.prescribe(n.predict(predict));
+  for (n.k = 0;; ++n.k) {
+    if (const int sig = receivedSignalOnAnyRank(*comm_)) throw Interrupted(sig);
+    n.kp = n.k - n.passStart;
+    n.prepare();
+    n.assembleAndMeasure();
+    if (n.lineSearch()) {
+      --n.k;
+      continue;
+    }
+    n.record();
+    switch (n.verdict()) {
+      case Newton::Verdict::Failed:
+        return false;
+      case Newton::Verdict::Converged:
+        report.iterations = n.k;
+        report.passes = n.pass;
+        return true;
+      case Newton::Verdict::NextPass:
+        continue;
+      case Newton::Verdict::Iterate:
+        break;
+    }
+    std::vector<double> inc;
+    double bound = 1.0;
+    if (!n.solve(inc, bound)) return false;
+    n.advance(inc, bound);
   }
 }
 

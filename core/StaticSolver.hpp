@@ -110,8 +110,16 @@ class StaticSolver {
   bool attempt(double Ta, double Tb, int cutLevel, StepReport& report, std::string& failure);
   bool increment(const StepCallback& onStep);
   bool newton(double Ta, double Tb, StepReport& report, std::string& failure, bool predict = false);
-  void start(const std::string& name);
-  void stop(const std::string& name);
+  // loadCheckpoint's parts: the counters and load-stepping position (and the load factors, which
+  // must be the deck's); the reference geometry; the states and contributions; the checks that the
+  // position is one the load stepping reaches, and that the states hold the prescribed motions.
+  void readProgress(CheckpointIn& in);
+  void readReference(CheckpointIn& in) const;
+  void readStates(CheckpointIn& in);
+  void checkProgress(CheckpointIn& in) const;
+  void checkPrescribed(CheckpointIn& in) const;
+  // One Newton solve's state and steps (StaticSolver.cpp).
+  struct Newton;
 
   Teuchos::RCP<const Comm> comm_;
   Model& model_;

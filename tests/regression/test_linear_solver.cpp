@@ -20,7 +20,7 @@
 #include <Tpetra_Core.hpp>
 
 #include "core/LinearSolver.hpp"
-#include "core/SerialUmfpack.hpp"
+#include "core/linalg/SerialUmfpack.hpp"
 
 using namespace bc::core;
 

@@ -5,8 +5,6 @@
 #include <stdexcept>
 
 #include "Krylov.hpp"
-#include "SerialKlu.hpp"
-#include "SerialUmfpack.hpp"
 
 namespace bc::core {
 
@@ -70,12 +68,6 @@ int SerialLu::solvePreconditioned(const Matrix& A, const double* b, double* x, i
   double frobenius = 0.0;
   for (std::size_t k = 0; k < entries.extent(0); ++k) frobenius += values[k] * values[k];
   return gmres(space, b, x, maxIterations, backwardError, std::sqrt(frobenius));
-}
-
-std::unique_ptr<SerialLu> makeSerialLu(const std::string& name) {
-  if (name == "KLU2") return std::make_unique<SerialKlu>();
-  if (name == "UMFPACK") return std::make_unique<SerialUmfpack>();
-  throw std::invalid_argument("no sparse LU factorization named \"" + name + "\"");
 }
 
 }  // namespace bc::core

@@ -1,6 +1,6 @@
 #include "SerialUmfpack.hpp"
 
-#include "LinearSolver.hpp"
+#include "Errors.hpp"
 
 #include <algorithm>
 #include <numeric>

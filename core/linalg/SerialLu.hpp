@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "TpetraTypes.hpp"
+#include "core/TpetraTypes.hpp"
 
 namespace bc::core {
 
@@ -69,8 +69,5 @@ class SerialLu {
 // Each entry of A's compressed rows: its column's index in A's row map (A on one process: every
 // column is a row; -1 where a column is not).
 std::vector<int> rowMapColumns(const Matrix& A);
-
-// "KLU2" or "UMFPACK".
-std::unique_ptr<SerialLu> makeSerialLu(const std::string& name);
 
 }  // namespace bc::core

@@ -14,7 +14,7 @@
 
 #include <Teuchos_Comm.hpp>
 
-#include "TpetraTypes.hpp"
+#include "core/TpetraTypes.hpp"
 
 namespace bc::core {
 

@@ -3,7 +3,7 @@
 // modes per node (three translations, three rotations about the model's centre), given by the
 // caller; aggregation groups whole nodes (6 dofs). Only for matrices of nodal dofs: no multiplier rows.
 #pragma once
-#include "TpetraTypes.hpp"
+#include "core/TpetraTypes.hpp"
 
 namespace bc::core {
 

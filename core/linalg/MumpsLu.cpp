@@ -1,7 +1,7 @@
 #include "MumpsLu.hpp"
 
 #include "Krylov.hpp"
-#include "LinearSolver.hpp"
+#include "Errors.hpp"
 
 #include <cmath>
 #include <stdexcept>
