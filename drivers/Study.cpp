@@ -35,6 +35,7 @@ using study::StudyDeck;
 using study::StudyResults;
 
 namespace {
+
 std::string selfExecutable() {
   std::error_code ec;
   const auto p = fs::read_symlink("/proc/self/exe", ec);
@@ -76,6 +77,27 @@ int exitCode(int status) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
 }
 
+// Starts case `c` as `beamcontact run` of its deck into its folder (log.txt), in a process group of its own.
+pid_t launch(const std::string& exe, const Case& c, const std::vector<std::string>& plugins, bool overwrite) {
+  std::vector<std::string> command = {exe, "run", (c.dir / "deck.xml").string(), "--output", c.dir.string(), "--quiet"};
+  if (overwrite) command.push_back("--overwrite");
+  for (const auto& p : plugins) {
+    command.push_back("--plugin");
+    command.push_back(p);
+  }
+  return spawn(command, (c.dir / "log.txt").string(), true);
+}
+
+// A case in a progress line: its group and values (up to about 70 characters).
+std::string describe(const Case& c, const std::vector<std::string>& columns) {
+  std::string s = c.group;
+  for (const auto& name : columns) {
+    const auto it = c.values.find(name);
+    if (it != c.values.end() && s.size() < 70) s += " " + name + "=" + it->second;
+  }
+  return s;
+}
+
 }  // namespace
 
 std::string scriptPath(const std::string& name) {
@@ -87,29 +109,6 @@ std::string scriptPath(const std::string& name) {
     throw std::runtime_error("the helper script " + script.string() + " is missing (install or build BeamContact again)");
   return script.string();
 }
-
-namespace {
-
-pid_t launch(const std::string& exe, const Case& c, const std::vector<std::string>& plugins, bool overwrite) {
-  std::vector<std::string> command = {exe, "run", (c.dir / "deck.xml").string(), "--output", c.dir.string(), "--quiet"};
-  if (overwrite) command.push_back("--overwrite");
-  for (const auto& p : plugins) {
-    command.push_back("--plugin");
-    command.push_back(p);
-  }
-  return spawn(command, (c.dir / "log.txt").string(), true);
-}
-
-std::string describe(const Case& c, const std::vector<std::string>& columns) {
-  std::string s = c.group;
-  for (const auto& name : columns) {
-    const auto it = c.values.find(name);
-    if (it != c.values.end() && s.size() < 70) s += " " + name + "=" + it->second;
-  }
-  return s;
-}
-
-}  // namespace
 
 int runProgram(const std::vector<std::string>& command) {
   const pid_t pid = spawn(command);
