@@ -172,6 +172,70 @@ ParameterList weave(const Options& o) {
 }
 
 
+using V = math::Vec3d;
+
+// The box a fibre network's centres are drawn in and the rules a drawn fibre keeps (above).
+struct FibreBox {
+  int count;
+  double L, H, len, tilt, minAngle;  // box side and height, fibre length, angles [rad]
+  double r, gap, reach;              // radius, least gap, the distance within which fibres may touch
+};
+
+double segmentDistance(const V& a, const V& b, const V& c, const V& d) {
+  return math::segmentClosest(a, b, c, d).distance;
+}
+
+// Whether the drawn fibre a-b (direction d) may be kept beside the kept fibre p-q.
+bool keepsClear(const FibreBox& box, const V& a, const V& b, const V& d, const V& p, const V& q) {
+  const double dist = segmentDistance(a, b, p, q);
+  if (dist < 2 * box.r + box.gap) return false;
+  const V e{{q[0] - p[0], q[1] - p[1], q[2] - p[2]}};
+  const double cosine = std::abs(d[0] * e[0] + d[1] * e[1] + d[2] * e[2]) / box.len;
+  if (dist < box.reach && cosine > std::cos(box.minAngle)) return false;
+  // No fibre end within reach of another fibre: contact at a beam end is not modelled.
+  if (dist < box.reach && std::min({segmentDistance(a, a, p, q), segmentDistance(b, b, p, q), segmentDistance(p, p, a, b),
+                                    segmentDistance(q, q, a, b)}) < box.reach)
+    return false;
+  return true;
+}
+
+// The fibres (start, end) drawn from the sequence of `seed` and kept, in the order kept.
+std::vector<std::pair<V, V>> placeFibres(const FibreBox& box, std::uint64_t seed) {
+  const double pi = std::acos(-1.0), L = box.L, H = box.H, len = box.len;
+  std::mt19937_64 random(seed);
+  auto uniform = [&](double lo, double hi) { return lo + (hi - lo) * static_cast<double>(random() >> 11) * 0x1.0p-53; };
+  std::vector<std::pair<V, V>> kept;
+  // The kept fibres by the cell of their centre (cells of side length + reach, so every fibre that can
+  // come within reach of a drawn one has its centre in the drawn one's cell or a neighbour): each draw
+  // is tested against the fibres nearby, not against every fibre kept (the same fibres fail a draw,
+  // so the deck is the same).
+  core::PointGrid centres(len + box.reach);
+  const long attempts = 1000L * box.count;
+  for (long tries = 0; static_cast<int>(kept.size()) < box.count; ++tries) {
+    if (tries == attempts)
+      throw InputError("generate network: placed only " + std::to_string(kept.size()) + " of " +
+                       std::to_string(box.count) + " fibres in " + std::to_string(attempts) +
+                       " draws; give fewer --fibres, a smaller --radius, --gap or --min-angle, or a larger --box or --height");
+    const V c{{uniform(0, L), uniform(0, L), uniform(0, H)}};
+    const double phi = uniform(0, pi), theta = uniform(-box.tilt, box.tilt);
+    const V d{{std::cos(theta) * std::cos(phi), std::cos(theta) * std::sin(phi), std::sin(theta)}};
+    const V a{{c[0] - 0.5 * len * d[0], c[1] - 0.5 * len * d[1], c[2] - 0.5 * len * d[2]}};
+    const V b{{c[0] + 0.5 * len * d[0], c[1] + 0.5 * len * d[1], c[2] + 0.5 * len * d[2]}};
+    bool fits = true;
+    for (const int f : centres.near(c)) {
+      if (!keepsClear(box, a, b, d, kept[f].first, kept[f].second)) {
+        fits = false;
+        break;
+      }
+    }
+    if (fits) {
+      centres.insert(c, static_cast<int>(kept.size()));
+      kept.push_back({a, b});
+    }
+  }
+  return kept;
+}
+
 // A random fibre network: straight circular fibres of one length with centres uniform in the box
 // [0, box]^2 x [0, height], in-plane angles uniform, out-of-plane angles uniform within +-tilt. A drawn
 // fibre is kept only if its surface stays --gap clear of every fibre kept before, and, where the two
@@ -185,10 +249,6 @@ ParameterList weave(const Options& o) {
 // compression brings their crossings together. Reproducible: the sequence
 // comes from std::mt19937_64, whose output the C++ standard fixes, seeded with --seed.
 ParameterList network(const Options& o) {
-  using V = math::Vec3d;
-  const auto segmentDistance = [](const V& a, const V& b, const V& c, const V& d) {
-    return math::segmentClosest(a, b, c, d).distance;
-  };
   const int count = o.whole("fibres", 1, 100000), ne = o.whole("elements", 1, 100000);
   const double L = o["box"], H = o["height"], len = o["length"], r = o["radius"], gap = o["gap"];
   const double pi = std::acos(-1.0), tilt = o["tilt"] * pi / 180, minAngle = o["min-angle"] * pi / 180;
@@ -198,46 +258,8 @@ ParameterList network(const Options& o) {
   if (!(tilt >= 0 && tilt <= pi / 2) || !(minAngle >= 0 && minAngle < pi / 2))
     throw InputError("generate network: need 0 <= tilt <= 90 and 0 <= min-angle < 90 (degrees)");
   if (!(compress >= 0 && compress < 1)) throw InputError("generate network: need 0 <= compress < 1");
-  std::mt19937_64 random(static_cast<std::uint64_t>(o.whole("seed", 0, 2000000000)));
-  auto uniform = [&](double lo, double hi) { return lo + (hi - lo) * static_cast<double>(random() >> 11) * 0x1.0p-53; };
-  std::vector<std::pair<V, V>> kept;
-  // The kept fibres by the cell of their centre (cells of side length + reach, so every fibre that can
-  // come within reach of a drawn one has its centre in the drawn one's cell or a neighbour): each draw
-  // is tested against the fibres nearby, not against every fibre kept (the same fibres fail a draw,
-  // so the deck is the same).
-  const double reach = 2 * r + gap + compress * H;
-  core::PointGrid centres(len + reach);
-  const long attempts = 1000L * count;
-  for (long tries = 0; static_cast<int>(kept.size()) < count; ++tries) {
-    if (tries == attempts)
-      throw InputError("generate network: placed only " + std::to_string(kept.size()) + " of " + std::to_string(count) +
-                       " fibres in " + std::to_string(attempts) +
-                       " draws; give fewer --fibres, a smaller --radius, --gap or --min-angle, or a larger --box or --height");
-    const V c{{uniform(0, L), uniform(0, L), uniform(0, H)}};
-    const double phi = uniform(0, pi), theta = uniform(-tilt, tilt);
-    const V d{{std::cos(theta) * std::cos(phi), std::cos(theta) * std::sin(phi), std::sin(theta)}};
-    const V a{{c[0] - 0.5 * len * d[0], c[1] - 0.5 * len * d[1], c[2] - 0.5 * len * d[2]}};
-    const V b{{c[0] + 0.5 * len * d[0], c[1] + 0.5 * len * d[1], c[2] + 0.5 * len * d[2]}};
-    bool fits = true;
-    for (const int f : centres.near(c)) {
-      const auto& [p, q] = kept[f];
-      const double dist = segmentDistance(a, b, p, q);
-      if (dist < 2 * r + gap) { fits = false; break; }
-      const V e{{q[0] - p[0], q[1] - p[1], q[2] - p[2]}};
-      const double cosine = std::abs(d[0] * e[0] + d[1] * e[1] + d[2] * e[2]) / len;
-      if (dist < reach && cosine > std::cos(minAngle)) { fits = false; break; }
-      // No fibre end within reach of another fibre: contact at a beam end is not modelled.
-      if (dist < reach && std::min({segmentDistance(a, a, p, q), segmentDistance(b, b, p, q), segmentDistance(p, p, a, b),
-                                    segmentDistance(q, q, a, b)}) < reach) {
-        fits = false;
-        break;
-      }
-    }
-    if (fits) {
-      centres.insert(c, static_cast<int>(kept.size()));
-      kept.push_back({a, b});
-    }
-  }
+  const FibreBox box{count, L, H, len, tilt, minAngle, r, gap, 2 * r + gap + compress * H};
+  const auto kept = placeFibres(box, static_cast<std::uint64_t>(o.whole("seed", 0, 2000000000)));
   ParameterList deck("BeamContact");
   ParameterList& beams = deck.sublist("Beams");
   ParameterList& supports = deck.sublist("Supports");
@@ -253,28 +275,16 @@ ParameterList network(const Options& o) {
   return deck;
 }
 
-// A strand: --wires helical wires of radius r around the Z axis (lay length, turns), around a straight
-// core wire (--core 1, radius core-radius) or none (--core 0). The helix radius puts each wire
-// --gap clear of its neighbours and of the core (below). Every wire is clamped at both ends; the
-// ends at the top are pulled along the axis by --stretch at T = 1, so the helices tighten onto the
-// core or onto each other. Neighbouring helices, and a helix on the core, touch along a line: the
-// deck puts them in line contact (the contact angles at the end; Penalty with --regularization as
-// its Regularization Gap).
-ParameterList strand(const Options& o) {
-  const int wires = o.whole("wires", 2, 36), core = o.whole("core", 0, 1), per = o.whole("elements", 4, 10000);
-  const double r = o["radius"], rc = o["core-radius"] > 0 ? o["core-radius"] : 1.05 * r, lay = o["lay-length"];
-  const double turns = o["turns"], gap = o["gap"], pi = std::acos(-1.0);
-  if (!(r > 0) || !(lay > 0) || !(turns > 0) || !(gap >= 0))
-    throw InputError("generate strand: need radius > 0, lay-length > 0, turns > 0, gap >= 0");
-  const int elements = std::max(1, static_cast<int>(std::lround(per * turns)));
-  // The helix radius: the smallest R at which the wires' polylines (the elements the contact sees:
-  // chords, inside the helix) keep gap between neighbouring surfaces and, with a core, between each
-  // wire and the core. Neighbouring helices are closest along a line tilted by the lay angle, so
-  // r / sin(pi / wires) is not enough; found by bisection on the chords' closest distances.
-  // The screw motion that carries node q of every wire to node q + 1 carries chord i of a wire to
-  // chord i + 1, so the distance of chord i of wire 1 and chord j of wire 2 depends on j - i only:
-  // one chord against all of the other wire's gives every distance (2 n chord pairs per evaluation,
-  // not n^2: --elements 10000 took 467 s, now 0.1 s), and every chord is as far from the core.
+// The helix radius of a strand: the smallest R at which the wires' polylines (the elements the contact
+// sees: chords, inside the helix) keep gap between neighbouring surfaces and, with a core, between each
+// wire and the core. Neighbouring helices are closest along a line tilted by the lay angle, so
+// r / sin(pi / wires) is not enough; found by bisection on the chords' closest distances.
+// The screw motion that carries node q of every wire to node q + 1 carries chord i of a wire to
+// chord i + 1, so the distance of chord i of wire 1 and chord j of wire 2 depends on j - i only:
+// one chord against all of the other wire's gives every distance (2 n chord pairs per evaluation,
+// not n^2: --elements 10000 took 467 s, now 0.1 s), and every chord is as far from the core.
+double helixRadius(int wires, int core, int elements, double r, double rc, double lay, double turns, double gap) {
+  const double pi = std::acos(-1.0);
   auto polyline = [&](double R, int k) {
     std::vector<math::Vec3d> p;
     for (int q = 0; q <= elements; ++q) {
@@ -300,7 +310,42 @@ ParameterList strand(const Options& o) {
     const double mid = 0.5 * (lo + hi);
     (clearance(mid) < gap ? lo : hi) = mid;
   }
-  const double R = hi;
+  return hi;
+}
+
+// The contact angles of a strand of `wires` helices of radius R and lay length `lay` (with a core or
+// not). Neighbouring helices keep the same distance all along (a screw motion maps each onto the next),
+// so they touch along a line, although their tangents at the closest points differ by
+// beta = 2 asin(sin(alpha) sin(pi / wires)) (alpha the lay angle; a helix and the core: alpha).
+// The all-angle blend must see these pairs as line contact: Line Contact Angle above the larger
+// angle by half of it plus a degree, Point Contact Angle 5 degrees above that. (In point contact,
+// which the default angles gave at 18 degrees, Lagrange multipliers and Augmented Lagrange stopped
+// at T = 0.37 and 0.26, and Penalty's forces jumped between steps.)
+void strandContactAngles(ParameterList& deck, double R, double lay, int wires, int core) {
+  const double pi = std::acos(-1.0);
+  const double alpha = std::atan(2 * pi * R / lay);
+  const double beta = 2 * std::asin(std::sin(alpha) * std::sin(pi / wires));
+  const double widest = std::max(beta, core ? alpha : 0.0) * 180.0 / pi;
+  const double lineAngle = std::min(1.5 * widest + 1.0, 40.0);  // (the deck allows up to 45)
+  deck.sublist("Contact").set("Line Contact Angle", lineAngle);
+  deck.sublist("Contact").set("Point Contact Angle", lineAngle + 5.0);
+}
+
+// A strand: --wires helical wires of radius r around the Z axis (lay length, turns), around a straight
+// core wire (--core 1, radius core-radius) or none (--core 0). The helix radius puts each wire
+// --gap clear of its neighbours and of the core (helixRadius). Every wire is clamped at both ends; the
+// ends at the top are pulled along the axis by --stretch at T = 1, so the helices tighten onto the
+// core or onto each other. Neighbouring helices, and a helix on the core, touch along a line: the
+// deck puts them in line contact (the contact angles, strandContactAngles; Penalty with
+// --regularization as its Regularization Gap).
+ParameterList strand(const Options& o) {
+  const int wires = o.whole("wires", 2, 36), core = o.whole("core", 0, 1), per = o.whole("elements", 4, 10000);
+  const double r = o["radius"], rc = o["core-radius"] > 0 ? o["core-radius"] : 1.05 * r, lay = o["lay-length"];
+  const double turns = o["turns"], gap = o["gap"];
+  if (!(r > 0) || !(lay > 0) || !(turns > 0) || !(gap >= 0))
+    throw InputError("generate strand: need radius > 0, lay-length > 0, turns > 0, gap >= 0");
+  const int elements = std::max(1, static_cast<int>(std::lround(per * turns)));
+  const double R = helixRadius(wires, core, elements, r, rc, lay, turns, gap);
   ParameterList deck("BeamContact");
   ParameterList& beams = deck.sublist("Beams");
   ParameterList& supports = deck.sublist("Supports");
@@ -330,30 +375,14 @@ ParameterList strand(const Options& o) {
   }
   contactAndStepping(deck, o);
   deck.sublist("Contact").sublist("Enforcement").sublist("Penalty").set("Regularization Gap", o["regularization"]);
-  // Neighbouring helices keep the same distance all along (a screw motion maps each onto the next),
-  // so they touch along a line, although their tangents at the closest points differ by
-  // beta = 2 asin(sin(alpha) sin(pi / wires)) (alpha the lay angle; a helix and the core: alpha).
-  // The all-angle blend must see these pairs as line contact: Line Contact Angle above the larger
-  // angle by half of it plus a degree, Point Contact Angle 5 degrees above that. (In point contact,
-  // which the default angles gave at 18 degrees, Lagrange multipliers and Augmented Lagrange stopped
-  // at T = 0.37 and 0.26, and Penalty's forces jumped between steps.)
-  const double alpha = std::atan(2 * pi * R / lay);
-  const double beta = 2 * std::asin(std::sin(alpha) * std::sin(pi / wires));
-  const double widest = std::max(beta, core ? alpha : 0.0) * 180.0 / pi;
-  const double lineAngle = std::min(1.5 * widest + 1.0, 40.0);  // (the deck allows up to 45)
-  deck.sublist("Contact").set("Line Contact Angle", lineAngle);
-  deck.sublist("Contact").set("Point Contact Angle", lineAngle + 5.0);
+  strandContactAngles(deck, R, lay, wires, core);
   return deck;
 }
 
-}  // namespace
-
-int generateDeck(const std::vector<std::string>& args) {
-  if (args.size() < 2) throw InputError("generate needs a kind: grid, weave, network or strand");
-  const std::string kind = args[1];
+// Options every generator has, then those of `kind`, with their defaults and meaning. Throws on an
+// unknown kind.
+Options optionsOf(const std::string& kind) {
   Options o;
-  std::string output;
-  // Options every generator has, then its own.
   o.values = {{"radius", {1.0, "radius of every beam [length]"}},
               {"youngs-modulus", {1e5, "E [force/length^2]"}},
               {"friction", {0.2, "Coulomb coefficient of every pair"}},
@@ -399,6 +428,12 @@ int generateDeck(const std::vector<std::string>& args) {
   } else {
     throw InputError("generate: unknown kind \"" + kind + "\"; kinds are \"grid\", \"weave\", \"network\", \"strand\"");
   }
+  return o;
+}
+
+// Reads the --option value pairs of `args` (after the kind) into `o`; returns --output (empty: none).
+std::string readOptions(const std::vector<std::string>& args, const std::string& kind, Options& o) {
+  std::string output;
   for (std::size_t i = 2; i < args.size(); i += 2) {
     const std::string key = args[i].rfind("--", 0) == 0 ? args[i].substr(2) : "";
     if (key == "output" && i + 1 < args.size()) {
@@ -419,17 +454,23 @@ int generateDeck(const std::vector<std::string>& args) {
       throw InputError("generate " + kind + ": --" + key + " takes a number, got \"" + args[i + 1] + "\"");
     it->second.first = v;
   }
-  const ParameterList deck = kind == "grid"    ? grid(o)
-                             : kind == "weave" ? weave(o)
-                             : kind == "strand" ? strand(o)
-                                                : network(o);
+  return output;
+}
+
+// The deck as XML, headed by the options it was generated with.
+std::string deckXml(const std::string& kind, const Options& o, const ParameterList& deck) {
   std::ostringstream xml;
   xml << "<!-- Generated by: beamcontact generate " << kind;
   for (const auto& [k, v] : o.values) xml << " " << k << "=" << v.first;
   xml << "\n     Units are those of the options (consistent length and force). -->\n";
   Teuchos::writeParameterListToXmlOStream(deck, xml);
+  return xml.str();
+}
+
+// Writes a deck to `output`, or prints it when empty.
+void writeDeck(const std::string& xml, const std::string& output) {
   if (output.empty()) {
-    std::fputs(xml.str().c_str(), stdout);
+    std::fputs(xml.c_str(), stdout);
   } else {
     // A deck replaces a regular file only: a device, a pipe, a folder or a link at the path is left
     // alone (a rename over /dev/null would replace the device itself).
@@ -441,8 +482,22 @@ int generateDeck(const std::vector<std::string>& args) {
                               : std::filesystem::is_directory(status) ? "a folder"
                                                                       : "not a regular file (a device or a pipe)") +
                              "; give the path of a deck file, or leave out --output to print the deck");
-    core::writeFileAtomically(output, xml.str());
+    core::writeFileAtomically(output, xml);
   }
+}
+
+}  // namespace
+
+int generateDeck(const std::vector<std::string>& args) {
+  if (args.size() < 2) throw InputError("generate needs a kind: grid, weave, network or strand");
+  const std::string kind = args[1];
+  Options o = optionsOf(kind);
+  const std::string output = readOptions(args, kind, o);
+  const ParameterList deck = kind == "grid"    ? grid(o)
+                             : kind == "weave" ? weave(o)
+                             : kind == "strand" ? strand(o)
+                                                : network(o);
+  writeDeck(deckXml(kind, o, deck), output);
   return 0;
 }
 

@@ -11,7 +11,8 @@
 //                       iterations (total, largest per step), passes, solve time (with --timing:
 //                       the median and spread of several runs)
 //   report.md, *.png    the table and the plots (drivers/study_report.py, matplotlib)
-// The study deck format is in docs/studies.md.
+// The study deck format is in docs/studies.md. StudyDeck.hpp reads the study deck and expands its
+// cases; StudyReport.hpp writes the table, study.json and the report; Study.cpp runs the cases.
 #pragma once
 #include <string>
 #include <vector>

@@ -117,7 +117,12 @@ struct Working {
   ~Working() { g_working = false; }
 };
 
+// beamcontact study STUDY.xml [options]: the options, then the study.
 int studyCommand(const std::vector<std::string>& args, const std::vector<std::string>& plugins) {
+  if (args.size() < 2) {
+    std::fprintf(stderr, "beamcontact: study needs a study deck; see beamcontact --help\n");
+    return 1;
+  }
   bc::drivers::StudyOptions options;
   options.plugins = plugins;
   for (std::size_t i = 2; i < args.size(); ++i) {
@@ -156,6 +161,24 @@ int studyCommand(const std::vector<std::string>& args, const std::vector<std::st
     }
   }
   return withExitCodes(true, [&] { return bc::drivers::runStudy(args[1], options); });
+}
+
+// The closing lines of a run (on rank 0): complete, interrupted (how to continue), or incomplete, and
+// the run's warnings.
+void printRunResult(const bc::core::RunResult& result, const std::string& deck, const std::string& directory) {
+  if (result.restartedAtStep >= 0)
+    std::printf("restarted after step %d from %s/checkpoint.txt\n", result.restartedAtStep, directory.c_str());
+  if (result.report.completed)
+    std::printf("complete: %d steps, %d Newton iterations, solve %.3f s; results in %s\n", result.report.steps,
+                result.report.newtonIterations, result.solveSeconds, directory.c_str());
+  else if (result.report.interrupted)
+    std::fprintf(stderr, "beamcontact: interrupted by %s at T = %g; continue with: beamcontact run %s --restart %s\n",
+                 bc::core::signalName(result.report.interrupted).c_str(), result.report.lastT, deck.c_str(),
+                 directory.c_str());
+  else
+    std::fprintf(stderr, "beamcontact: run incomplete: stopped at T = %g: %s (converged steps are in %s)\n",
+                 result.report.lastT, result.report.failure.c_str(), directory.c_str());
+  for (const auto& w : result.report.warnings) std::fprintf(stderr, "beamcontact: warning: %s\n", w.c_str());
 }
 
 int runDeck(const std::string& deck, const std::string& output, bool quiet, const std::string& restart, bool overwrite,
@@ -201,24 +224,138 @@ int runDeck(const std::string& deck, const std::string& output, bool quiet, cons
     std::printf("BeamContact: %s, %d nodes, %zu elements, %d ranks\n", deck.c_str(),
                 problem.model.initial.numNodes(), problem.beams->elements().size(), comm->getSize());
   const auto result = bc::core::simulate(problem.model, problem.solver, problem.linearSolver, options, comm);
-  if (root) {
-    if (result.restartedAtStep >= 0)
-      std::printf("restarted after step %d from %s/checkpoint.txt\n", result.restartedAtStep,
-                  problem.outputDirectory.c_str());
-    if (result.report.completed)
-      std::printf("complete: %d steps, %d Newton iterations, solve %.3f s; results in %s\n", result.report.steps,
-                  result.report.newtonIterations, result.solveSeconds, problem.outputDirectory.c_str());
-    else if (result.report.interrupted)
-      std::fprintf(stderr, "beamcontact: interrupted by %s at T = %g; continue with: beamcontact run %s --restart %s\n",
-                   bc::core::signalName(result.report.interrupted).c_str(), result.report.lastT, deck.c_str(),
-                   problem.outputDirectory.c_str());
-    else
-      std::fprintf(stderr, "beamcontact: run incomplete: stopped at T = %g: %s (converged steps are in %s)\n",
-                   result.report.lastT, result.report.failure.c_str(), problem.outputDirectory.c_str());
-    for (const auto& w : result.report.warnings) std::fprintf(stderr, "beamcontact: warning: %s\n", w.c_str());
-  }
+  if (root) printRunResult(result, deck, problem.outputDirectory);
   if (result.report.interrupted) return 128 + result.report.interrupted;
   return result.report.completed ? 0 : 2;
+}
+
+// The --plugin LIB pairs (any number, after the command), taken out of `args` into `plugins`; false
+// (with the message) when one lacks its library.
+bool takePlugins(std::vector<std::string>& args, std::vector<std::string>& plugins) {
+  for (std::size_t i = 1; i < args.size();) {
+    if (args[i] != "--plugin") { ++i; continue; }
+    if (i + 1 >= args.size()) {
+      std::fprintf(stderr, "beamcontact: missing library after \"--plugin\"; see beamcontact --help\n");
+      return false;
+    }
+    plugins.push_back(args[i + 1]);
+    args.erase(args.begin() + i, args.begin() + i + 2);
+  }
+  return true;
+}
+
+// No command (an error) or --help.
+int helpCommand(const std::vector<std::string>& args) {
+  if (args.empty()) std::fputs("beamcontact: a command is needed (run, check, study, render, generate); see beamcontact --help\n", stderr);
+  else std::fputs(kUsage, stdout);
+  return args.empty() ? 1 : 0;
+}
+
+// beamcontact render RESULTS_DIR OUT.png [options]: the render script draws it.
+int renderCommand(const std::vector<std::string>& args) {
+  if (args.size() < 3) {
+    std::fprintf(stderr, "beamcontact: render needs a results directory and an output file; see beamcontact --help\n");
+    return 1;
+  }
+  if (!std::filesystem::is_directory(args[1])) {
+    std::fprintf(stderr, "beamcontact: render: \"%s\" is not a results directory\n", args[1].c_str());
+    return 1;
+  }
+  std::vector<std::string> command = {"/usr/bin/python3", bc::drivers::scriptPath("render_stages.py")};
+  command.insert(command.end(), args.begin() + 1, args.end());
+  // The script exits 1 (2 from its argument parser) on a usage error, 3 otherwise.
+  const int code = bc::drivers::runProgram(command);
+  return code == 0 ? 0 : (code == 1 || code == 2) ? 1 : 3;
+}
+
+// beamcontact check DECK.xml: reads the deck and builds the model without running it.
+int checkCommand(const std::vector<std::string>& args, const std::vector<std::string>& plugins) {
+  if (args.size() != 2) {
+    std::fprintf(stderr, "beamcontact: check takes one deck; see beamcontact --help\n");
+    return 1;
+  }
+  return withExitCodes(true, [&] {
+    const Working working;
+    bc::constraints::registerBuiltinEnforcers();
+    Teuchos::ParameterList list = bc::input::readDeckFile(args[1]);
+    bc::input::checkDeckPlugins(list, args[1], plugins);  // before any library is loaded
+    for (const auto& plugin : plugins) bc::input::loadPlugin(plugin);
+    const auto problem = bc::input::buildProblem(std::exchange(list, Teuchos::ParameterList()),
+                                                 std::filesystem::path(args[1]).stem().string());
+    std::printf("ok: %s: %d nodes, %zu elements, %d joints, %zu supports, %zu loads, %zu contact points at the start\n",
+                args[1].c_str(), problem.model.initial.numNodes(), problem.beams->elements().size(), problem.joints,
+                problem.model.supports.size(), problem.model.loads.size(),
+                problem.contact ? problem.contact->points().size() : std::size_t(0));
+    return 0;
+  });
+}
+
+// beamcontact --print-valid-parameters: the deck reference, with the plug-ins' strategies (printed on rank 0).
+int printValidParameters(const bc::core::Comm& comm, const std::vector<std::string>& plugins, bool root) {
+  bc::core::collectively(comm, [&] {
+    for (const auto& plugin : plugins) bc::input::loadPlugin(plugin);
+  });
+  if (root) {
+    std::cout << "BeamContact deck reference (ParameterList \"BeamContact\"):\n";
+    bc::input::referenceParameters().print(
+        std::cout, Teuchos::ParameterList::PrintOptions().showDoc(true).indent(2).showTypes(true));
+  }
+  return 0;
+}
+
+// beamcontact run DECK.xml [options]: the options (messages on rank 0), then the run.
+int runCommand(const std::vector<std::string>& args, const std::vector<std::string>& plugins, bool root) {
+  std::string output, restart;
+  bool quiet = false, overwrite = false, outputGiven = false;
+  for (std::size_t i = 2; i < args.size(); ++i) {
+    if (args[i] == "--output" && i + 1 < args.size()) {
+      output = args[++i];
+      outputGiven = true;
+    } else if (args[i] == "--restart" && i + 1 < args.size()) restart = args[++i];
+    else if (args[i] == "--quiet") quiet = true;
+    else if (args[i] == "--overwrite") overwrite = true;
+    else {
+      if (root)
+        std::fprintf(stderr, "beamcontact: %s \"%s\"; see beamcontact --help\n",
+                     args[i] == "--output" || args[i] == "--restart" ? "missing directory after" : "unknown option",
+                     args[i].c_str());
+      return 1;
+    }
+  }
+  if (!restart.empty() && !output.empty() &&
+      std::filesystem::path(restart).lexically_normal() != std::filesystem::path(output).lexically_normal()) {
+    if (root) std::fprintf(stderr, "beamcontact: --restart continues in its own directory; leave out --output\n");
+    return 1;
+  }
+  if (outputGiven && output.find_first_not_of(' ') == std::string::npos) {
+    if (root) std::fprintf(stderr, "beamcontact: --output names no directory\n");
+    return 1;
+  }
+  return runDeck(args[1], output, quiet, restart, overwrite, plugins);
+}
+
+// The commands that run under MPI (run, --print-valid-parameters; any other is unknown), with MPI and
+// Kokkos initialized, the signal handlers and the built-in strategies.
+int mpiCommand(int& argc, char**& argv, const std::vector<std::string>& args, const std::vector<std::string>& plugins) {
+  Tpetra::ScopeGuard scope(&argc, &argv);
+  guardExit();
+  bc::core::installSignalHandlers();
+  bc::constraints::registerBuiltinEnforcers();
+  const auto comm = Tpetra::getDefaultComm();
+  const bool root = comm->getRank() == 0;
+  return withExitCodes(root, [&] {
+    const Working working;
+    if (args[0] == "--print-valid-parameters") return printValidParameters(*comm, plugins, root);
+    if (args[0] == "run" && args.size() < 2) {
+      if (root) std::fprintf(stderr, "beamcontact: run needs a deck; see beamcontact --help\n");
+      return 1;
+    }
+    if (args[0] != "run") {
+      if (root) std::fprintf(stderr, "beamcontact: unknown command \"%s\"; see beamcontact --help\n", args[0].c_str());
+      return 1;
+    }
+    return runCommand(args, plugins, root);
+  });
 }
 
 }  // namespace
@@ -232,121 +369,15 @@ int main(int argc, char** argv) {
   mallopt(M_TRIM_THRESHOLD, -1);
   std::vector<std::string> args(argv + 1, argv + argc);
   guardExit();
-  // --plugin LIB (any number, after the command): shared libraries with strategies of their own.
   std::vector<std::string> plugins;
-  for (std::size_t i = 1; i < args.size();) {
-    if (args[i] != "--plugin") { ++i; continue; }
-    if (i + 1 >= args.size()) {
-      std::fprintf(stderr, "beamcontact: missing library after \"--plugin\"; see beamcontact --help\n");
-      return 1;
-    }
-    plugins.push_back(args[i + 1]);
-    args.erase(args.begin() + i, args.begin() + i + 2);
-  }
-  if (args.empty() || args[0] == "--help" || args[0] == "-h") {
-    if (args.empty()) std::fputs("beamcontact: a command is needed (run, check, study, render, generate); see beamcontact --help\n", stderr);
-    else std::fputs(kUsage, stdout);
-    return args.empty() ? 1 : 0;
-  }
-  if (args[0] == "render") {
-    if (args.size() < 3) {
-      std::fprintf(stderr, "beamcontact: render needs a results directory and an output file; see beamcontact --help\n");
-      return 1;
-    }
-    if (!std::filesystem::is_directory(args[1])) {
-      std::fprintf(stderr, "beamcontact: render: \"%s\" is not a results directory\n", args[1].c_str());
-      return 1;
-    }
-    std::vector<std::string> command = {"/usr/bin/python3", bc::drivers::scriptPath("render_stages.py")};
-    command.insert(command.end(), args.begin() + 1, args.end());
-    // The script exits 1 (2 from its argument parser) on a usage error, 3 otherwise.
-    const int code = bc::drivers::runProgram(command);
-    return code == 0 ? 0 : (code == 1 || code == 2) ? 1 : 3;
-  }
+  if (!takePlugins(args, plugins)) return 1;
+  if (args.empty() || args[0] == "--help" || args[0] == "-h") return helpCommand(args);
+  if (args[0] == "render") return renderCommand(args);
   // A study only starts and watches case processes: no MPI in this process.
-  if (args[0] == "study") {
-    if (args.size() < 2) {
-      std::fprintf(stderr, "beamcontact: study needs a study deck; see beamcontact --help\n");
-      return 1;
-    }
-    return studyCommand(args, plugins);
-  }
+  if (args[0] == "study") return studyCommand(args, plugins);
   // generate writes a deck from a few parameters: no MPI in this process.
   if (args[0] == "generate") return withExitCodes(true, [&] { return bc::drivers::generateDeck(args); });
   // check builds the model only: no MPI in this process (so it is quick to call many times).
-  if (args[0] == "check") {
-    if (args.size() != 2) {
-      std::fprintf(stderr, "beamcontact: check takes one deck; see beamcontact --help\n");
-      return 1;
-    }
-    return withExitCodes(true, [&] {
-      const Working working;
-      bc::constraints::registerBuiltinEnforcers();
-      Teuchos::ParameterList list = bc::input::readDeckFile(args[1]);
-      bc::input::checkDeckPlugins(list, args[1], plugins);  // before any library is loaded
-      for (const auto& plugin : plugins) bc::input::loadPlugin(plugin);
-      const auto problem = bc::input::buildProblem(std::exchange(list, Teuchos::ParameterList()),
-                                                   std::filesystem::path(args[1]).stem().string());
-      std::printf("ok: %s: %d nodes, %zu elements, %d joints, %zu supports, %zu loads, %zu contact points at the start\n",
-                  args[1].c_str(), problem.model.initial.numNodes(), problem.beams->elements().size(), problem.joints,
-                  problem.model.supports.size(), problem.model.loads.size(),
-                  problem.contact ? problem.contact->points().size() : std::size_t(0));
-      return 0;
-    });
-  }
-  Tpetra::ScopeGuard scope(&argc, &argv);
-  guardExit();
-  bc::core::installSignalHandlers();
-  bc::constraints::registerBuiltinEnforcers();
-  const auto comm = Tpetra::getDefaultComm();
-  const bool root = comm->getRank() == 0;
-  return withExitCodes(root, [&] {
-    const Working working;
-    if (args[0] == "--print-valid-parameters") {
-      bc::core::collectively(*comm, [&] {
-        for (const auto& plugin : plugins) bc::input::loadPlugin(plugin);
-      });
-      if (root) {
-        std::cout << "BeamContact deck reference (ParameterList \"BeamContact\"):\n";
-        bc::input::referenceParameters().print(
-            std::cout, Teuchos::ParameterList::PrintOptions().showDoc(true).indent(2).showTypes(true));
-      }
-      return 0;
-    }
-    if (args[0] == "run" && args.size() < 2) {
-      if (root) std::fprintf(stderr, "beamcontact: run needs a deck; see beamcontact --help\n");
-      return 1;
-    }
-    if (args[0] != "run") {
-      if (root) std::fprintf(stderr, "beamcontact: unknown command \"%s\"; see beamcontact --help\n", args[0].c_str());
-      return 1;
-    }
-    std::string output, restart;
-    bool quiet = false, overwrite = false, outputGiven = false;
-    for (std::size_t i = 2; i < args.size(); ++i) {
-      if (args[i] == "--output" && i + 1 < args.size()) {
-        output = args[++i];
-        outputGiven = true;
-      } else if (args[i] == "--restart" && i + 1 < args.size()) restart = args[++i];
-      else if (args[i] == "--quiet") quiet = true;
-      else if (args[i] == "--overwrite") overwrite = true;
-      else {
-        if (root)
-          std::fprintf(stderr, "beamcontact: %s \"%s\"; see beamcontact --help\n",
-                       args[i] == "--output" || args[i] == "--restart" ? "missing directory after" : "unknown option",
-                       args[i].c_str());
-        return 1;
-      }
-    }
-    if (!restart.empty() && !output.empty() &&
-        std::filesystem::path(restart).lexically_normal() != std::filesystem::path(output).lexically_normal()) {
-      if (root) std::fprintf(stderr, "beamcontact: --restart continues in its own directory; leave out --output\n");
-      return 1;
-    }
-    if (outputGiven && output.find_first_not_of(' ') == std::string::npos) {
-      if (root) std::fprintf(stderr, "beamcontact: --output names no directory\n");
-      return 1;
-    }
-    return runDeck(args[1], output, quiet, restart, overwrite, plugins);
-  });
+  if (args[0] == "check") return checkCommand(args, plugins);
+  return mpiCommand(argc, argv, args, plugins);
 }

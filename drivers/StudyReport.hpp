@@ -1,0 +1,47 @@
+// What a study reads from its cases' results and writes from them (drivers/Study.hpp): the table
+// cases.csv, study.json for the report script, and report.md with its figures.
+#pragma once
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "StudyDeck.hpp"
+#include "core/OutputDirectory.hpp"
+
+namespace bc::drivers::study {
+
+// A case's summary.csv as column name -> value text; empty when it has none.
+std::map<std::string, std::string> readSummary(const std::filesystem::path& dir);
+
+// A run's status: the first line of its status.txt (warnings and notes follow it).
+std::string runStatusLine(const std::filesystem::path& dir);
+
+// The last non-empty line of a file that starts with `prefix` (any line when empty).
+std::string lastLine(const std::filesystem::path& file, const std::string& prefix = "");
+
+// A file's whole text; empty when it cannot be read.
+std::string readText(const std::filesystem::path& file);
+
+// The study's cases and the directory the table and the report go to.
+struct StudyResults {
+  const StudyDeck& deck;
+  const std::vector<Case>& all;
+  const Case* reference;  // the reference case, or null
+  int timing;             // --timing: runs of each case
+  std::filesystem::path dir;
+  core::OutputDirectory& out;
+};
+
+// (Re)writes cases.csv (atomically): one row per case with its status, outputs, errors against the
+// reference and run figures.
+void writeCaseTable(const StudyResults& r);
+
+// Writes study.json: what the report script needs to know (with a few facts of the base deck).
+void writeStudyJson(const StudyResults& r, int parallel);
+
+// Runs the report script (report.md and the figures), recording every file it writes in the
+// manifest. Throws when the script fails.
+void writeReport(const StudyResults& r);
+
+}  // namespace bc::drivers::study
