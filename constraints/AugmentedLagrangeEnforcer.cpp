@@ -41,27 +41,33 @@ void AugmentedLagrangeEnforcer::setCompliance(PointState& s, const double compli
   choice_.choose(compliance, stateOf<State>(s).penalties.eps);
 }
 
+void AugmentedLagrangeEnforcer::relaxTangential(PointState& s, const double compliance[3], int relaxations) const {
+  choice_.choose(compliance, stateOf<State>(s).penalties.eps, relaxations);
+}
+
 bool AugmentedLagrangeEnforcer::contributes(double gapN, const PointState& s) const {
   const State& h = stateOf<State>(s);
   h.penalties.require();
-  return h.lambdaN + h.penalties.eps[0] * (gapN - 0.5 * regularization_) <= 0.0;
+  return h.lambdaN + choice_.at(h.penalties)[0] * (gapN - 0.5 * regularization_) <= 0.0;
 }
 
 PointResult AugmentedLagrangeEnforcer::evaluate(const ContactPoint& p, const PointState& s, double* f,
                                                 double* K) const {
   const State& h = stateOf<State>(s);
   h.penalties.require();
-  const FrictionRegularization friction{{h.lambdaT[0], h.lambdaT[1]}, h.penalties.eps[1]};
-  return h.penalties.reported(
-      regularizedEvaluate(p, smoothedAugmentedLaw(h.lambdaN, h.penalties.eps[0], regularization_), friction, f, K));
+  const double* eps = choice_.at(h.penalties);
+  const FrictionRegularization friction{{h.lambdaT[0], h.lambdaT[1]}, eps[1]};
+  return reportedPenalties(
+      regularizedEvaluate(p, smoothedAugmentedLaw(h.lambdaN, eps[0], regularization_), friction, f, K), eps);
 }
 
 bool AugmentedLagrangeEnforcer::acceptPoint(const ContactPoint& p, PointState& s, double& worstViolation) const {
   State& h = stateOf<State>(s);
   const ContactKinematics& k = p.kinematics;
   h.penalties.require();
-  const double epsN = h.penalties.eps[0];
-  const FrictionRegularization friction{{h.lambdaT[0], h.lambdaT[1]}, h.penalties.eps[1]};
+  const double* eps = choice_.at(h.penalties);
+  const double epsN = eps[0];
+  const FrictionRegularization friction{{h.lambdaT[0], h.lambdaT[1]}, eps[1]};
   const PointResult r = regularizedForces(p, smoothedAugmentedLaw(h.lambdaN, epsN, regularization_), friction);
   double violation = 0.0;
   // With a Regularization Gap, a point whose force is within the smooth onset (below eps_N g0 / 2)
@@ -88,7 +94,7 @@ bool AugmentedLagrangeEnforcer::acceptPoint(const ContactPoint& p, PointState& s
 
 PointResult AugmentedLagrangeEnforcer::reportedForces(const ContactPoint& p, const PointState& s) const {
   const State& h = stateOf<State>(s);
-  PointResult r = h.penalties.reported(PointResult{});
+  PointResult r = reportedPenalties(PointResult{}, choice_.at(h.penalties));
   r.active = h.lambdaN < 0.0;
   if (!r.active) return r;
   r.lambdaN = h.lambdaN;

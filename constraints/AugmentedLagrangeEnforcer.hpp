@@ -24,7 +24,7 @@ class AugmentedLagrangeEnforcer : public ConstraintEnforcer {
   explicit AugmentedLagrangeEnforcer(const Teuchos::ParameterList& validated);
 
   // The multiplier estimates lambda_hat (normal and friction), updated at each augmentation, and the
-  // point's penalty parameters.
+  // point's penalty parameters when they are chosen automatically.
   struct State : PointStateOf<State> {
     double lambdaN = 0.0;
     double lambdaT[2] = {0.0, 0.0};
@@ -41,11 +41,13 @@ class AugmentedLagrangeEnforcer : public ConstraintEnforcer {
   std::unique_ptr<PointState> newPointState() const override;
   bool wantsCompliance(const PointState& s) const override { return stateOf<State>(s).penalties.waiting(); }
   void setCompliance(PointState& s, const double compliance[3]) const override;
+  // Automatic eps_T: chosen again from the tangential compliances times 10^relaxations.
+  void relaxTangential(PointState& s, const double compliance[3], int relaxations) const override;
   bool contributes(double gapN, const PointState& s) const override;
   double activationGap(const PointState& s) const override {
     const State& h = stateOf<State>(s);
     h.penalties.require();
-    return 0.5 * regularization_ - h.lambdaN / h.penalties.eps[0];
+    return 0.5 * regularization_ - h.lambdaN / choice_.at(h.penalties)[0];
   }
   PointResult evaluate(const ContactPoint& p, const PointState& s, double* f, double* K) const override;
   bool acceptPoint(const ContactPoint& p, PointState& s, double& worstViolation) const override;
@@ -53,8 +55,13 @@ class AugmentedLagrangeEnforcer : public ConstraintEnforcer {
   // acceptPoint has already set the estimates to the converged forces: report and keep those
   // (recomputing lambda_hat + eps g would count the last augmentation twice).
   PointResult reportedForces(const ContactPoint& p, const PointState& s) const override;
+  // The point's (eps_N, eps_T), open or not.
+  std::vector<double> outputValues(const ContactPoint&, const PointState& s) const override {
+    return choice_.outputValues(stateOf<State>(s).penalties);
+  }
 
  private:
+  // The law's parameters: eps_N, eps_T (given once here, or chosen per point), the tolerance and g0.
   PenaltyChoice choice_;
   double tolerance_;
   double regularization_;  // "Regularization Gap" g0 (smoothedAugmentedLaw)

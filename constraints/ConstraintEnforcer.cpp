@@ -10,4 +10,11 @@ PointResult ConstraintEnforcer::reportedForces(const ContactPoint& p, const Poin
   return evaluate(p, s, f.data(), nullptr);
 }
 
+void ConstraintEnforcer::relaxTangential(PointState& s, const double compliance[3], int relaxations) const {
+  double factor = 1.0;
+  for (int k = 0; k < relaxations; ++k) factor *= 10.0;
+  const double c[3] = {compliance[0], factor * compliance[1], factor * compliance[2]};
+  setCompliance(s, c);
+}
+
 }  // namespace bc::constraints

@@ -31,6 +31,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "ContactKinematics.hpp"
 
@@ -88,7 +89,9 @@ struct PointResult {
   double lambdaN = 0.0;
   double lambdaT[2] = {0.0, 0.0};
   bool slip[2] = {false, false};
-  double penalty[2] = {0.0, 0.0};  // the penalty parameters (eps_N, eps_T) the point used, if any (output)
+  // The penalty parameters (eps_N, eps_T) the point used, if any (output). To be removed when the
+  // contact manager writes ConstraintEnforcer::outputValues() into contact_points.csv instead.
+  double penalty[2] = {0.0, 0.0};
 };
 
 class ConstraintEnforcer {
@@ -124,6 +127,13 @@ class ConstraintEnforcer {
   // before the point is evaluated.
   virtual bool wantsCompliance(const PointState& s) const { return false; }
   virtual void setCompliance(PointState& s, const double compliance[3]) const {}
+  // When Newton solves fail with slip directions cycling, the manager relaxes the tangential law of
+  // the points it handed a compliance, for the retry: it counts the relaxations of the run
+  // (`relaxations` = 1, 2, ..., at most 6; kept in checkpoints) and calls this for each such point
+  // with its compliance as handed to setCompliance (and for a point found later, with the run's count
+  // when it is > 0). The strategy decides what relaxing means. By default the tangential compliances
+  // times 10^relaxations go to setCompliance: automatic tangential parameters tenfold lower each time.
+  virtual void relaxTangential(PointState& s, const double compliance[3], int relaxations) const;
 
   // --- when Newton has converged for an increment ---------------------------------------------------
   // Here (acceptNormal, acceptPoint, reportedForces, commitPoint) a point's kinematics carry the gaps'
@@ -163,6 +173,18 @@ class ConstraintEnforcer {
   virtual PointResult reportedForces(const ContactPoint& p, const PointState& s) const;
   // The increment is accepted: keep what the next increment needs (e.g. the friction forces).
   virtual void commitPoint(const ContactPoint& p, PointState& s) const {}
+
+  // --- output and capabilities -------------------------------------------------------------------------
+  // The columns the strategy adds to contact_points.csv after the common ones (names, one word each),
+  // and their values at a converged point (as many; the same p and s as reportedForces, before
+  // commitPoint). By default the penalty parameters (eps_N, eps_T), 0 for a strategy without them, so
+  // that every strategy's table has the same columns.
+  virtual std::vector<std::string> outputColumns() const { return {"normal_penalty", "tangential_penalty"}; }
+  virtual std::vector<double> outputValues(const ContactPoint& p, const PointState& s) const { return {0.0, 0.0}; }
+  // Whether multipliers(state) can be > 0: the strategy adds rows of multipliers to the global system
+  // (a preconditioner built for nodal dofs only, such as MueLu's, cannot take them). Input and the
+  // solvers ask this instead of the strategy's name; a strategy with multipliers says so.
+  virtual bool addsMultiplierRows() const { return false; }
 };
 
 }  // namespace bc::constraints

@@ -69,7 +69,7 @@ core::ParameterSpec enforcementSpec() {
 }
 }  // namespace
 
-const EnforcerEntry& validateEnforcement(Teuchos::ParameterList& e, const std::string& path) {
+std::unique_ptr<ConstraintEnforcer> enforcerFromDeck(Teuchos::ParameterList& e, const std::string& path) {
   if (!e.isParameter("Type"))
     throw core::InputError("missing required parameter \"" + path + "/Type\"; valid strategies are " +
                            core::joinNames(enforcerNames()));
@@ -81,18 +81,14 @@ const EnforcerEntry& validateEnforcement(Teuchos::ParameterList& e, const std::s
   e.sublist(chosen.name);
   for (const auto& other : registry())
     if (e.isSublist(other.name)) other.spec->apply(e.sublist(other.name), path + "/" + other.name);
-  return chosen;
+  const Teuchos::ParameterList& own = e.sublist(chosen.name);
+  if (chosen.origin == "built-in") return chosen.create(own);
+  std::unique_ptr<ConstraintEnforcer> enforcer;
+  core::runForeignCode("strategy \"" + chosen.name + "\" (" + chosen.origin + ")", "failed to start",
+                       [&] { enforcer = chosen.create(own); });
+  return enforcer;
 }
 
 Teuchos::ParameterList enforcementReference() { return enforcementSpec().reference(); }
-
-std::unique_ptr<ConstraintEnforcer> createEnforcer(const Teuchos::ParameterList& e) {
-  const EnforcerEntry& entry = findEnforcer(e.get<std::string>("Type"), "Enforcement/Type");
-  if (entry.origin == "built-in") return entry.create(e.sublist(entry.name));
-  std::unique_ptr<ConstraintEnforcer> enforcer;
-  core::runForeignCode("strategy \"" + entry.name + "\" (" + entry.origin + ")", "failed to start",
-                       [&] { enforcer = entry.create(e.sublist(entry.name)); });
-  return enforcer;
-}
 
 }  // namespace bc::constraints

@@ -52,15 +52,13 @@ std::vector<std::string> enforcerNames();
 // The strategy named `name`; an input error naming `path` and the valid names if there is none.
 const EnforcerEntry& findEnforcer(const std::string& name, const std::string& path);
 
-// Validates a deck's Enforcement sublist `e` (at `path`) and fills in defaults: Type is required, the
-// chosen strategy's sublist is created when absent (so its defaults apply and each missing required
-// value is named), and the sublists of other registered strategies may stay (switching Type is one
-// edit) and are validated too. Returns the chosen strategy.
-const EnforcerEntry& validateEnforcement(Teuchos::ParameterList& e, const std::string& path);
+// The strategy a deck's Enforcement sublist `e` (at `path`) chooses, checked and constructed in one
+// call. Type is required; the chosen strategy's sublist is created when absent (so its defaults apply
+// and each missing required value is named) and filled in with its defaults; the sublists of other
+// registered strategies may stay (switching Type is one edit) and are validated too. Anything a
+// plug-in's constructor throws, of any type, becomes an InputError naming the strategy and its plug-in.
+std::unique_ptr<ConstraintEnforcer> enforcerFromDeck(Teuchos::ParameterList& e, const std::string& path);
 // The documented reference of the Enforcement sublist.
 Teuchos::ParameterList enforcementReference();
-// The chosen strategy, constructed from a validated Enforcement sublist. Anything a plug-in's
-// constructor throws, of any type, becomes an InputError naming the strategy and its plug-in.
-std::unique_ptr<ConstraintEnforcer> createEnforcer(const Teuchos::ParameterList& validatedEnforcement);
 
 }  // namespace bc::constraints

@@ -57,6 +57,7 @@ class LagrangeMultiplierEnforcer : public ConstraintEnforcer {
   std::string type() const override { return name(); }
   std::unique_ptr<PointState> newPointState() const override { return std::make_unique<State>(); }
   int multipliers(const PointState& s) const override { return stateOf<State>(s).active ? 3 : 0; }
+  bool addsMultiplierRows() const override { return true; }
   bool contributes(double, const PointState& s) const override { return stateOf<State>(s).active; }
   PointResult evaluate(const ContactPoint& p, const PointState& s, double* f, double* K) const override;
   bool acceptNormal(const ContactPoint& p, PointState& s) const override;

@@ -43,7 +43,10 @@ PenaltyChoice::PenaltyChoice(const Teuchos::ParameterList& v) {
   }
 }
 
-void PenaltyChoice::choose(const double c[3], double eps[2]) const {
+void PenaltyChoice::choose(const double compliance[3], double eps[2], int relaxations) const {
+  double factor = 1.0;
+  for (int k = 0; k < relaxations; ++k) factor *= 10.0;
+  const double c[3] = {compliance[0], factor * compliance[1], factor * compliance[2]};
   // Tangential: the stiffer slip direction (smaller compliance) that is measured at all.
   double cT = 0.0;
   for (int i : {1, 2})
@@ -59,6 +62,11 @@ void PenaltyChoice::choose(const double c[3], double eps[2]) const {
                                "compliance: both beams held there); give the penalty parameters");
     eps[i] = (1.0 - target_[i]) / (target_[i] * cs[i]);
   }
+}
+
+std::vector<double> PenaltyChoice::outputValues(const PointPenalties& point) const {
+  const double* eps = at(point);
+  return {eps[0], eps[1]};
 }
 
 void PointPenalties::require() const {

@@ -19,11 +19,14 @@
 // rotations change c after the point was found (it is computed once, when the point appears).
 #pragma once
 #include <string>
+#include <vector>
 
 #include "ConstraintEnforcer.hpp"
 #include "core/Parameters.hpp"
 
 namespace bc::constraints {
+
+struct PointPenalties;
 
 class PenaltyChoice {
  public:
@@ -35,9 +38,16 @@ class PenaltyChoice {
   explicit PenaltyChoice(const Teuchos::ParameterList& validated);
 
   bool automatic() const { return automatic_[0] || automatic_[1]; }
-  // The point's (eps_N, eps_T): the given values, or from its compliance c = (c_N, c_T1, c_T2).
-  void choose(const double compliance[3], double eps[2]) const;
+  // The point's (eps_N, eps_T): the given values, or from its compliance c = (c_N, c_T1, c_T2). After
+  // `relaxations` tangential relaxations (ConstraintEnforcer::relaxTangential) the tangential
+  // compliances count 10^relaxations times: an automatic eps_T is that much lower.
+  void choose(const double compliance[3], double eps[2], int relaxations = 0) const;
   const double* given() const { return given_; }
+  // The (eps_N, eps_T) a point uses: the given values, kept here once for every point, or the point's
+  // own when they are chosen automatically.
+  const double* at(const PointPenalties& point) const;
+  // The output columns of a strategy with penalty parameters (ConstraintEnforcer::outputValues).
+  std::vector<double> outputValues(const PointPenalties& point) const;
 
  private:
   bool automatic_[2] = {false, false};
@@ -45,16 +55,13 @@ class PenaltyChoice {
   double target_[2] = {0.0, 0.0};
 };
 
-// A point's penalty parameters, part of the strategy's point state (written to checkpoints when
-// they were chosen automatically).
+// A point's penalty parameters when they are chosen automatically, part of the strategy's point state
+// (written to checkpoints then); with given parameters the point keeps nothing (PenaltyChoice::at).
 struct PointPenalties {
   double eps[2] = {0.0, 0.0};  // eps_N, eps_T; 0 until chosen
   bool automatic = false;
 
-  void start(const PenaltyChoice& choice) {
-    automatic = choice.automatic();
-    if (!automatic) eps[0] = choice.given()[0], eps[1] = choice.given()[1];
-  }
+  void start(const PenaltyChoice& choice) { automatic = choice.automatic(); }
   bool waiting() const { return automatic && !(eps[0] > 0.0); }
   void fields(StateFields& v) {
     if (!automatic) return;
@@ -63,12 +70,18 @@ struct PointPenalties {
   }
   // Throws when a point is evaluated before its parameters were chosen (no compliance given).
   void require() const;
-  // Puts the point's parameters into its forces for output.
-  PointResult reported(PointResult r) const {
-    r.penalty[0] = eps[0];
-    r.penalty[1] = eps[1];
-    return r;
-  }
 };
+
+inline const double* PenaltyChoice::at(const PointPenalties& point) const {
+  return point.automatic ? point.eps : given_;
+}
+
+// Puts the point's parameters into its forces for output (PointResult::penalty; to be removed with
+// that field, when the contact manager writes outputValues()).
+inline PointResult reportedPenalties(PointResult r, const double eps[2]) {
+  r.penalty[0] = eps[0];
+  r.penalty[1] = eps[1];
+  return r;
+}
 
 }  // namespace bc::constraints

@@ -33,12 +33,21 @@ void PenaltyEnforcer::setCompliance(PointState& s, const double compliance[3]) c
   choice_.choose(compliance, stateOf<State>(s).penalties.eps);
 }
 
+void PenaltyEnforcer::relaxTangential(PointState& s, const double compliance[3], int relaxations) const {
+  choice_.choose(compliance, stateOf<State>(s).penalties.eps, relaxations);
+}
+
 PointResult PenaltyEnforcer::evaluate(const ContactPoint& p, const PointState& s, double* f, double* K) const {
   const State& h = stateOf<State>(s);
   h.penalties.require();
-  const FrictionRegularization friction{{h.lambdaT[0], h.lambdaT[1]}, h.penalties.eps[1]};
-  return h.penalties.reported(
-      regularizedEvaluate(p, smoothedPenaltyLaw(h.penalties.eps[0], regularization_), friction, f, K));
+  const double* eps = choice_.at(h.penalties);
+  const FrictionRegularization friction{{h.lambdaT[0], h.lambdaT[1]}, eps[1]};
+  return reportedPenalties(regularizedEvaluate(p, smoothedPenaltyLaw(eps[0], regularization_), friction, f, K), eps);
+}
+
+std::vector<double> PenaltyEnforcer::outputValues(const ContactPoint& p, const PointState& s) const {
+  if (!contributes(p.kinematics.normal.value, s)) return {0.0, 0.0};
+  return choice_.outputValues(stateOf<State>(s).penalties);
 }
 
 bool PenaltyEnforcer::acceptPoint(const ContactPoint& p, PointState&, double& worstViolation) const {
@@ -49,8 +58,9 @@ bool PenaltyEnforcer::acceptPoint(const ContactPoint& p, PointState&, double& wo
 void PenaltyEnforcer::commitPoint(const ContactPoint& p, PointState& s) const {
   State& state = stateOf<State>(s);
   state.penalties.require();
-  const FrictionRegularization friction{{state.lambdaT[0], state.lambdaT[1]}, state.penalties.eps[1]};
-  const PointResult r = regularizedForces(p, smoothedPenaltyLaw(state.penalties.eps[0], regularization_), friction);
+  const double* eps = choice_.at(state.penalties);
+  const FrictionRegularization friction{{state.lambdaT[0], state.lambdaT[1]}, eps[1]};
+  const PointResult r = regularizedForces(p, smoothedPenaltyLaw(eps[0], regularization_), friction);
   for (int i = 0; i < 2; ++i) state.lambdaT[i] = r.lambdaT[i];
 }
 

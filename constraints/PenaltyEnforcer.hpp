@@ -20,7 +20,7 @@ class PenaltyEnforcer : public ConstraintEnforcer {
   explicit PenaltyEnforcer(const Teuchos::ParameterList& validated);
 
   // The friction forces of the last converged step (the trial force starts from them) and the
-  // point's penalty parameters.
+  // point's penalty parameters when they are chosen automatically.
   struct State : PointStateOf<State> {
     double lambdaT[2] = {0.0, 0.0};
     PointPenalties penalties;
@@ -35,13 +35,18 @@ class PenaltyEnforcer : public ConstraintEnforcer {
   std::unique_ptr<PointState> newPointState() const override;
   bool wantsCompliance(const PointState& s) const override { return stateOf<State>(s).penalties.waiting(); }
   void setCompliance(PointState& s, const double compliance[3]) const override;
+  // Automatic eps_T: chosen again from the tangential compliances times 10^relaxations.
+  void relaxTangential(PointState& s, const double compliance[3], int relaxations) const override;
   bool contributes(double gapN, const PointState&) const override { return gapN <= 0.0; }
   double activationGap(const PointState&) const override { return 0.0; }
   PointResult evaluate(const ContactPoint& p, const PointState& s, double* f, double* K) const override;
   bool acceptPoint(const ContactPoint& p, PointState& s, double& worstViolation) const override;
   void commitPoint(const ContactPoint& p, PointState& s) const override;
+  // The point's (eps_N, eps_T) while it penetrates, else 0.
+  std::vector<double> outputValues(const ContactPoint& p, const PointState& s) const override;
 
  private:
+  // The law's parameters: eps_N, eps_T (given once here, or chosen per point) and g0.
   PenaltyChoice choice_;
   double regularization_;  // "Regularization Gap" g0 (smoothedPenaltyLaw)
 };

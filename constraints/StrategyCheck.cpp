@@ -50,77 +50,108 @@ LinePairInput perturbed(const LinePairInput& in, int dof, double h) {
 
 }  // namespace
 
+namespace {
+
+// One situation (friction law and coefficient) of the crossing `in` with the last converged point at
+// (xiPrev, etaPrev): the strategy settles its active set, then its tangent is compared column by column
+// with central differences of its residual.
+class SituationCheck {
+ public:
+  SituationCheck(const ConstraintEnforcer& strategy, const LinePairInput& in, const ClosestPoints& cp, double xiPrev,
+                 double etaPrev, FrictionLaw law, double mu)
+      : strategy_(strategy), in_(in), cp_(cp), xiPrev_(xiPrev), etaPrev_(etaPrev), law_(law), mu_(mu),
+        k_(contactKinematics(in, cp.sigma, xiPrev, etaPrev)), state_(strategy.newPointState()) {}
+
+  TangentCheck run(const std::string& situation) {
+    TangentCheck c;
+    c.situation = situation;
+    settle();
+    c.acts = strategy_.contributes(k_.normal.value, *state_);
+    const int n = kPairDofs + static_cast<int>(lambda_.size());
+    c.size = n;
+    if (!c.acts) return c;
+    std::vector<double> f(n, 0.0), K(std::size_t(n) * n, 0.0);
+    const PointResult r = strategy_.evaluate(view(k_), *state_, f.data(), K.data());
+    c.slipping = int(r.slip[0]) + int(r.slip[1]);
+    for (double v : K) c.maxEntry = std::max(c.maxEntry, std::abs(v));
+    for (int j = 0; j < n; ++j) c.maxError = std::max(c.maxError, columnError(j, n, K));
+    // The residual-only evaluation is the same residual.
+    std::vector<double> f0(n, 0.0);
+    strategy_.evaluate(view(k_), *state_, f0.data(), nullptr);
+    for (int i = 0; i < n; ++i) c.maxError = std::max(c.maxError, std::abs(f0[i] - f[i]));
+    return c;
+  }
+
+ private:
+  ContactPoint view(const ContactKinematics& kin) const {
+    return ContactPoint{kin, mu_, law_, lambda_.empty() ? nullptr : lambda_.data()};
+  }
+  void sizeMultipliers() {
+    const int m = strategy_.multipliers(*state_);
+    // A compressive normal multiplier and friction forces of both signs; further ones small.
+    const double values[3] = {-20.0, 1.5, -0.7};
+    lambda_.resize(m);
+    for (int i = 0; i < m; ++i) lambda_[i] = i < 3 ? values[i] : 0.1 * (i + 1);
+  }
+  // Lets the strategy settle its active set on this configuration, as after a converged solve.
+  void settle() {
+    for (int round = 0; round < 6; ++round) {
+      sizeMultipliers();
+      if (!strategy_.acceptNormal(view(k_), *state_)) continue;
+      sizeMultipliers();
+      double violation = 0.0;
+      if (strategy_.acceptPoint(view(k_), *state_, violation)) break;
+    }
+    sizeMultipliers();
+  }
+  // max |K e_j - (f(u + h e_j) - f(u - h e_j)) / 2h| over the rows.
+  double columnError(int j, int n, const std::vector<double>& K) {
+    std::vector<double> fp(n, 0.0), fm(n, 0.0);
+    double h = 1e-6;
+    if (j < kPairDofs) {
+      const ContactKinematics kp = contactKinematics(perturbed(in_, j, h), cp_.sigma, xiPrev_, etaPrev_);
+      const ContactKinematics km = contactKinematics(perturbed(in_, j, -h), cp_.sigma, xiPrev_, etaPrev_);
+      strategy_.evaluate(view(kp), *state_, fp.data(), nullptr);
+      strategy_.evaluate(view(km), *state_, fm.data(), nullptr);
+    } else {
+      double& l = lambda_[j - kPairDofs];
+      const double saved = l;
+      h *= std::max(1.0, std::abs(saved));
+      l = saved + h;
+      strategy_.evaluate(view(k_), *state_, fp.data(), nullptr);
+      l = saved - h;
+      strategy_.evaluate(view(k_), *state_, fm.data(), nullptr);
+      l = saved;
+    }
+    double error = 0.0;
+    for (int i = 0; i < n; ++i) error = std::max(error, std::abs((fp[i] - fm[i]) / (2 * h) - K[std::size_t(n) * i + j]));
+    return error;
+  }
+
+  const ConstraintEnforcer& strategy_;
+  const LinePairInput& in_;
+  const ClosestPoints& cp_;
+  const double xiPrev_, etaPrev_;
+  const FrictionLaw law_;
+  const double mu_;
+  const ContactKinematics k_;
+  std::unique_ptr<PointState> state_;
+  std::vector<double> lambda_;
+};
+
+}  // namespace
+
 std::vector<TangentCheck> checkTangent(const ConstraintEnforcer& strategy) {
   std::vector<TangentCheck> checks;
   const LinePairInput in = crossing();
   const ClosestPoints cp = closestPoints(in);
   // The last converged point: slid by about 0.1 along each line since then.
   const double xiPrev = cp.xi - 0.01, etaPrev = cp.eta + 0.01;
-  const ContactKinematics k = contactKinematics(in, cp.sigma, xiPrev, etaPrev);
   for (FrictionLaw law : {FrictionLaw::IsotropicCoulomb, FrictionLaw::PerLine})
     for (double mu : {0.0, 0.01, 50.0}) {
-      TangentCheck c;
-      c.situation = std::string(law == FrictionLaw::IsotropicCoulomb ? "Isotropic Coulomb" : "Per Line") +
-                    ", mu = " + (mu == 0.0 ? "0" : mu < 1.0 ? "0.01" : "50");
-      auto state = strategy.newPointState();
-      std::vector<double> lambda;
-      auto view = [&](const ContactKinematics& kin) {
-        return ContactPoint{kin, mu, law, lambda.empty() ? nullptr : lambda.data()};
-      };
-      auto sizeMultipliers = [&] {
-        const int m = strategy.multipliers(*state);
-        // A compressive normal multiplier and friction forces of both signs; further ones small.
-        const double values[3] = {-20.0, 1.5, -0.7};
-        lambda.resize(m);
-        for (int i = 0; i < m; ++i) lambda[i] = i < 3 ? values[i] : 0.1 * (i + 1);
-      };
-      // Let the strategy settle its active set on this configuration, as after a converged solve.
-      for (int round = 0; round < 6; ++round) {
-        sizeMultipliers();
-        if (!strategy.acceptNormal(view(k), *state)) continue;
-        sizeMultipliers();
-        double violation = 0.0;
-        if (strategy.acceptPoint(view(k), *state, violation)) break;
-      }
-      sizeMultipliers();
-      c.acts = strategy.contributes(k.normal.value, *state);
-      const int n = kPairDofs + static_cast<int>(lambda.size());
-      c.size = n;
-      if (!c.acts) {
-        checks.push_back(c);
-        continue;
-      }
-      std::vector<double> f(n, 0.0), K(std::size_t(n) * n, 0.0), fp(n), fm(n);
-      const PointResult r = strategy.evaluate(view(k), *state, f.data(), K.data());
-      c.slipping = int(r.slip[0]) + int(r.slip[1]);
-      for (double v : K) c.maxEntry = std::max(c.maxEntry, std::abs(v));
-      for (int j = 0; j < n; ++j) {
-        std::fill(fp.begin(), fp.end(), 0.0);
-        std::fill(fm.begin(), fm.end(), 0.0);
-        double h = 1e-6;
-        if (j < kPairDofs) {
-          const ContactKinematics kp = contactKinematics(perturbed(in, j, h), cp.sigma, xiPrev, etaPrev);
-          const ContactKinematics km = contactKinematics(perturbed(in, j, -h), cp.sigma, xiPrev, etaPrev);
-          strategy.evaluate(view(kp), *state, fp.data(), nullptr);
-          strategy.evaluate(view(km), *state, fm.data(), nullptr);
-        } else {
-          double& l = lambda[j - kPairDofs];
-          const double saved = l;
-          h *= std::max(1.0, std::abs(saved));
-          l = saved + h;
-          strategy.evaluate(view(k), *state, fp.data(), nullptr);
-          l = saved - h;
-          strategy.evaluate(view(k), *state, fm.data(), nullptr);
-          l = saved;
-        }
-        for (int i = 0; i < n; ++i)
-          c.maxError = std::max(c.maxError, std::abs((fp[i] - fm[i]) / (2 * h) - K[std::size_t(n) * i + j]));
-      }
-      // The residual-only evaluation is the same residual.
-      std::vector<double> f0(n, 0.0);
-      strategy.evaluate(view(k), *state, f0.data(), nullptr);
-      for (int i = 0; i < n; ++i) c.maxError = std::max(c.maxError, std::abs(f0[i] - f[i]));
-      checks.push_back(c);
+      const std::string situation = std::string(law == FrictionLaw::IsotropicCoulomb ? "Isotropic Coulomb" : "Per Line") +
+                                    ", mu = " + (mu == 0.0 ? "0" : mu < 1.0 ? "0.01" : "50");
+      checks.push_back(SituationCheck(strategy, in, cp, xiPrev, etaPrev, law, mu).run(situation));
     }
   return checks;
 }

@@ -18,6 +18,8 @@
 #include <Teuchos_Array.hpp>
 #include <Teuchos_XMLParameterListHelpers.hpp>
 
+#include "BeamGeometry.hpp"
+#include "ModelChecks.hpp"
 #include "XmlDeck.hpp"
 
 #include "constraints/ContactManager.hpp"
@@ -59,38 +61,6 @@ const ParameterSpec& materialSpec() {
     p.addRequired("Young's Modulus", 1.0, "E [force/length^2]", core::positive(), "> 0");
     p.addRequired("Poisson's Ratio", 0.3, "nu; the shear modulus is E / (2 (1 + nu))", core::inRange(-1.0, 0.5),
                   "in (-1, 0.5]");
-    return p;
-  }();
-  return s;
-}
-
-const ParameterSpec& arcSpec() {
-  static const ParameterSpec s = [] {
-    ParameterSpec p;
-    p.addRequired("Centre", zero3(), "centre of the circle [length]", core::vector3());
-    p.addRequired("Radius", 1.0, "radius [length]", core::positive(), "> 0");
-    p.addRequired("Normal", zero3(), "normal of the arc's plane; angles turn about it (right hand)", core::vector3());
-    p.addRequired("Reference Direction", zero3(), "direction of angle 0 (projected on the plane)", core::vector3());
-    p.addRequired("Start Angle", 0.0, "angle of the first node [degrees]");
-    p.addRequired("End Angle", 90.0, "angle of the last node [degrees]; |End - Start| <= 360");
-    return p;
-  }();
-  return s;
-}
-
-const ParameterSpec& helixSpec() {
-  static const ParameterSpec s = [] {
-    ParameterSpec p;
-    p.addRequired("Axis Point", zero3(), "a point of the helix axis, where the first node's height is 0 [length]",
-                  core::vector3());
-    p.addRequired("Axis Direction", zero3(), "direction of the axis; the helix turns about it (right hand)",
-                  core::vector3());
-    p.addRequired("Radius", 1.0, "radius [length]", core::positive(), "> 0");
-    p.addRequired("Pitch", 1.0, "rise along the axis per turn [length]", core::positive(), "> 0");
-    p.addRequired("Turns", 1.0, "number of turns (any positive real)", core::positive(), "> 0");
-    p.addRequired("Reference Direction", zero3(), "direction of the first node from the axis (projected)",
-                  core::vector3());
-    p.add("Start Angle", 0.0, "angle of the first node from the reference direction [degrees]");
     return p;
   }();
   return s;
@@ -267,8 +237,6 @@ const ParameterSpec& topSpec() {
   return s;
 }
 
-Vec3d toVec(const Array<double>& a) { return {{a[0], a[1], a[2]}}; }
-
 // Item names appear in CSV headers and rows: they must be plain text without commas or quotes.
 void checkName(const std::string& name, const std::string& path) {
   std::string why;
@@ -391,11 +359,10 @@ std::array<bool, 6> parseFixed(const std::string& text, const std::string& path)
   return fixed;
 }
 
-// Refuses a model whose memory estimate exceeds the machine's (below, with the measured costs).
-void checkModelSize(std::size_t elements, std::size_t points = 0, double bytesPerPoint = 0.0, double pairs = 0.0);
 
-void buildContact(Problem& p, ParameterList& c, const std::string& path) {
-  contactSpec().apply(c, path);
+// The contact pairs of a validated Contact sublist `c`: All Pairs and the listed Pairs, each pair of
+// beams once.
+std::vector<constraints::ContactPairSpec> contactPairs(const Problem& p, ParameterList& c, const std::string& path) {
   std::vector<constraints::ContactPairSpec> pairs;
   const int nb0 = static_cast<int>(p.beams->beams().size());
   if (c.get<bool>("All Pairs")) {
@@ -441,10 +408,11 @@ void buildContact(Problem& p, ParameterList& c, const std::string& path) {
                          (c.get<bool>("All Pairs") ? " (All Pairs already declares every pair)" : ""));
     }
   }
+  return pairs;
+}
 
-  ParameterList& e = c.sublist("Enforcement");
-  constraints::validateEnforcement(e, path + "/Enforcement");
-
+// The options of a validated Contact sublist `c`.
+constraints::ContactOptions contactOptions(const Problem& p, const ParameterList& c, const std::string& path) {
   constraints::ContactOptions options;
   double largest = 0.0;
   for (const auto& b : p.beams->beams())
@@ -464,246 +432,20 @@ void buildContact(Problem& p, ParameterList& c, const std::string& path) {
   for (const auto& c : p.model.contributions)
     if (const auto* pins = dynamic_cast<const elements::PinnedJoints*>(c.get()))
       for (const auto& j : pins->joints()) options.joinedNodes.push_back({j.nodeA, j.nodeB});
-  auto manager = std::make_shared<constraints::ContactManager>(p.beams, std::move(pairs), constraints::createEnforcer(e), options);
+  return options;
+}
+
+void buildContact(Problem& p, ParameterList& c, const std::string& path) {
+  contactSpec().apply(c, path);
+  std::vector<constraints::ContactPairSpec> pairs = contactPairs(p, c, path);
+  auto enforcer = constraints::enforcerFromDeck(c.sublist("Enforcement"), path + "/Enforcement");
+  const constraints::ContactOptions options = contactOptions(p, c, path);
+  auto manager = std::make_shared<constraints::ContactManager>(p.beams, std::move(pairs), std::move(enforcer), options);
   manager->initialize(p.model.initial);
   p.contact = manager;
   p.model.contributions.push_back(manager);
 }
 
-// Eigenvalues (ascending) and eigenvectors (columns of V) of a symmetric 6 x 6 matrix, by cyclic
-// Jacobi rotations.
-void symmetricEigen6(std::array<std::array<double, 6>, 6> A, std::array<double, 6>& lambda,
-                     std::array<std::array<double, 6>, 6>& V) {
-  for (int i = 0; i < 6; ++i)
-    for (int j = 0; j < 6; ++j) V[i][j] = i == j ? 1.0 : 0.0;
-  for (int sweep = 0; sweep < 100; ++sweep) {
-    double off = 0.0;
-    for (int i = 0; i < 6; ++i)
-      for (int j = i + 1; j < 6; ++j) off += A[i][j] * A[i][j];
-    if (off < 1e-30) break;
-    for (int p = 0; p < 6; ++p)
-      for (int q = p + 1; q < 6; ++q) {
-        if (std::abs(A[p][q]) < 1e-300) continue;
-        const double theta = 0.5 * (A[q][q] - A[p][p]) / A[p][q];
-        const double t = (theta >= 0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1.0));
-        const double c = 1.0 / std::sqrt(t * t + 1.0), sn = t * c;
-        for (int k = 0; k < 6; ++k) {
-          const double akp = A[k][p], akq = A[k][q];
-          A[k][p] = c * akp - sn * akq;
-          A[k][q] = sn * akp + c * akq;
-        }
-        for (int k = 0; k < 6; ++k) {
-          const double apk = A[p][k], aqk = A[q][k];
-          A[p][k] = c * apk - sn * aqk;
-          A[q][k] = sn * apk + c * aqk;
-        }
-        for (int k = 0; k < 6; ++k) {
-          const double vkp = V[k][p], vkq = V[k][q];
-          V[k][p] = c * vkp - sn * vkq;
-          V[k][q] = sn * vkp + c * vkq;
-        }
-      }
-  }
-  std::array<int, 6> order{0, 1, 2, 3, 4, 5};
-  std::sort(order.begin(), order.end(), [&](int a, int b) { return A[a][a] < A[b][b]; });
-  const auto W = V;
-  for (int k = 0; k < 6; ++k) {
-    lambda[k] = A[order[k]][order[k]];
-    for (int i = 0; i < 6; ++i) V[i][k] = W[i][order[k]];
-  }
-}
-
-std::string vectorText(const Vec3d& v) {
-  char buf[96];
-  std::snprintf(buf, sizeof buf, "(%.3g, %.3g, %.3g)", std::abs(v[0]) < 5e-7 ? 0.0 : v[0],
-                std::abs(v[1]) < 5e-7 ? 0.0 : v[1], std::abs(v[2]) < 5e-7 ? 0.0 : v[2]);
-  return buf;
-}
-
-// Each structure (a beam, or beams rigidly joined at shared nodes) must be held against all six
-// rigid-body motions by the supports on its own nodes (contact, which acts only once beams touch,
-// holds nothing at the start). The rigid motions of a structure, u = t + w x (X - c) and spin w,
-// restricted to its fixed dofs form a matrix C (fixed dofs x 6); a motion in the null space of C^T C
-// is free. Reports the first free motion found, as a translation direction or a rotation axis
-// through a point.
-void checkRigidBodyMotions(const Problem& p) {
-  const core::State& s = p.model.initial;
-  std::vector<std::array<bool, 6>> fixed(s.numNodes(), std::array<bool, 6>{});
-  for (const auto& sup : p.model.supports)
-    for (int n : sup.nodes)
-      for (int k = 0; k < 6; ++k) fixed[n][k] = fixed[n][k] || sup.fixed[k];
-  // A pinned joint holds the translations of its two nodes (each structure is checked on its own: a
-  // beam pinned to another must be held against turning about the pin by its own supports).
-  for (const auto& [a, b] : p.pins)
-    for (int k = 0; k < 3; ++k) fixed[a][k] = fixed[b][k] = true;
-  // Structures: beams connected through shared nodes (union-find over the beams).
-  const auto& beams = p.beams->beams();
-  std::vector<int> parent(beams.size()), nodeBeam(s.numNodes(), -1);
-  std::iota(parent.begin(), parent.end(), 0);
-  std::function<int(int)> root = [&](int b) { return parent[b] == b ? b : parent[b] = root(parent[b]); };
-  for (std::size_t b = 0; b < beams.size(); ++b)
-    for (int n : beams[b].nodes) {
-      if (nodeBeam[n] >= 0) parent[root(static_cast<int>(b))] = root(nodeBeam[n]);
-      nodeBeam[n] = static_cast<int>(b);
-    }
-  std::map<int, std::vector<int>> structures;  // root -> beams, in deck order
-  for (std::size_t b = 0; b < beams.size(); ++b) structures[root(static_cast<int>(b))].push_back(static_cast<int>(b));
-  for (const auto& [r, members] : structures) {
-    std::vector<int> nodes;
-    for (int b : members) nodes.insert(nodes.end(), beams[b].nodes.begin(), beams[b].nodes.end());
-    std::sort(nodes.begin(), nodes.end());
-    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
-    Vec3d c{};
-    for (int n : nodes) c = c + (1.0 / nodes.size()) * s.reference[n];
-    double L = 0.0;
-    for (int n : nodes) L = std::max(L, norm(s.reference[n] - c));
-    std::array<std::array<double, 6>, 6> G{};
-    for (int n : nodes) {
-      const Vec3d r = (1.0 / L) * (s.reference[n] - c);
-      for (int k = 0; k < 6; ++k) {
-        if (!fixed[n][k]) continue;
-        std::array<double, 6> row{};
-        if (k < 3) {
-          row[k] = 1.0;
-          for (int a = 0; a < 3; ++a) {
-            Vec3d e{};
-            e[a] = 1.0;
-            row[3 + a] = cross(e, r)[k];
-          }
-        } else {
-          row[k] = 1.0;
-        }
-        for (int i = 0; i < 6; ++i)
-          for (int j = 0; j < 6; ++j) G[i][j] += row[i] * row[j];
-      }
-    }
-    std::array<double, 6> lambda;
-    std::array<std::array<double, 6>, 6> V;
-    symmetricEigen6(G, lambda, V);
-    if (lambda[0] > 1e-9) continue;
-    const Vec3d t{{V[0][0], V[1][0], V[2][0]}}, w{{V[3][0], V[4][0], V[5][0]}};
-    std::string motion;
-    if (norm(w) < 1e-6) {
-      motion = "it can translate along " + vectorText((1.0 / norm(t)) * t);
-    } else {
-      // u(X) = t + w x (X - c) / L vanishes on the axis through c + L (w x t) / |w|^2.
-      const Vec3d through = c + (L / dot(w, w)) * cross(w, t);
-      motion = "it can rotate about the axis " + vectorText((1.0 / norm(w)) * w) + " through " + vectorText(through);
-    }
-    int free = 0;
-    for (double l : lambda) free += l <= 1e-9;
-    std::string who = "beam \"" + beams[members[0]].name + "\"";
-    if (members.size() > 1) {
-      who = "the beams joined to \"" + beams[members[0]].name + "\" (" + std::to_string(members.size()) +
-            " beams sharing nodes)";
-    }
-    throw InputError(who + " is not held by its supports: " + motion +
-                     (free > 1 ? " (and " + std::to_string(free - 1) + " more free rigid motions)" : "") +
-                     "; fix more components (Supports/.../Fixed) on its nodes");
-  }
-}
-
-// Two beams in the same place are a beam given twice (and would overlap along their whole length).
-// Found through the cells (of the largest tolerance) of the beams' ends, each beam against the
-// earlier beams with an end near one of its own: not every pair of beams (10^4 beams: 5 x 10^7 pairs).
-void checkDuplicateBeams(const Problem& p) {
-  const auto& beams = p.beams->beams();
-  const auto& X = p.model.initial.reference;
-  double longest = 0.0;
-  for (const auto& b : beams) longest = std::max(longest, norm(X[b.nodes.back()] - X[b.nodes.front()]));
-  core::PointGrid ends(longest > 0.0 && std::isfinite(longest) ? 1e-9 * longest : 1.0);  // the beams' ends
-  for (std::size_t b = 0; b < beams.size(); ++b) {
-    const Vec3d b0 = X[beams[b].nodes.front()], b1 = X[beams[b].nodes.back()];
-    for (const int a : ends.near(b0)) {
-      const Vec3d a0 = X[beams[a].nodes.front()], a1 = X[beams[a].nodes.back()];
-      const double tol = 1e-9 * std::max(norm(a1 - a0), norm(b1 - b0));
-      if ((norm(a0 - b0) <= tol && norm(a1 - b1) <= tol) || (norm(a0 - b1) <= tol && norm(a1 - b0) <= tol))
-        throw InputError("beams \"" + beams[a].name + "\" and \"" + beams[b].name +
-                         "\" have the same Start and End: a beam given twice?");
-    }
-    ends.insert(b0, static_cast<int>(b));
-    ends.insert(b1, static_cast<int>(b));
-  }
-}
-
-// The nodes of a beam along its geometry (exactly one of Start and End, Points, Arc, Helix), and its
-// section orientation: given, or by default normal to the axis and global Z for straight beams and
-// polylines, the plane's normal for an arc and the axis for a helix (both stay across the curve, so
-// the section follows it: its local y axis is that vector projected on each element's normal plane).
-std::vector<Vec3d> beamPoints(ParameterList& b, const std::string& path, int ne, Vec3d& sectionY) {
-  const bool straight = b.isParameter("Start") || b.isParameter("End");
-  const int kinds = int(straight) + int(b.isParameter("Points")) + int(b.isSublist("Arc")) + int(b.isSublist("Helix"));
-  if (kinds != 1)
-    throw InputError("beam \"" + path + "\" needs exactly one geometry: Start and End, Points, Arc or Helix" +
-                     (kinds ? " (it has " + std::to_string(kinds) + ")" : ""));
-  const bool given = b.isParameter("Section Orientation");
-  if (given) sectionY = toVec(b.get<Array<double>>("Section Orientation"));
-  auto unit = [&](const Vec3d& v, const std::string& what) {
-    if (!(norm(v) > 0.0)) throw InputError("parameter \"" + path + "/" + what + "\" is zero");
-    return (1.0 / norm(v)) * v;
-  };
-  std::vector<Vec3d> pts;
-  std::vector<Vec3d> corners;
-  if (straight) {
-    for (const char* k : {"Start", "End"})
-      if (!b.isParameter(k)) throw InputError("missing required parameter \"" + path + "/" + k + "\" (a straight beam)");
-    corners = {toVec(b.get<Array<double>>("Start")), toVec(b.get<Array<double>>("End"))};
-    if (!(norm(corners[1] - corners[0]) > 0.0)) throw InputError("beam \"" + path + "\" has zero length (Start equals End)");
-  } else if (b.isParameter("Points")) {
-    const auto& a = b.get<Array<double>>("Points");
-    if (a.size() < 6 || a.size() % 3 != 0)
-      throw InputError("parameter \"" + path + "/Points\" must hold x, y, z of at least two points, got " +
-                       std::to_string(a.size()) + " numbers");
-    for (std::size_t i = 0; i < std::size_t(a.size()); i += 3) {
-      if (!std::isfinite(a[i]) || !std::isfinite(a[i + 1]) || !std::isfinite(a[i + 2]))
-        throw InputError("parameter \"" + path + "/Points\" must be finite");
-      corners.push_back(Vec3d{{a[i], a[i + 1], a[i + 2]}});
-    }
-  }
-  if (!corners.empty()) {
-    for (std::size_t c = 0; c + 1 < corners.size(); ++c)
-      for (int k = 0; k < ne; ++k) pts.push_back(corners[c] + (double(k) / ne) * (corners[c + 1] - corners[c]));
-    pts.push_back(corners.back());
-    if (!given) {
-      const Vec3d Z{{0, 0, 1}};
-      const Vec3d c = cross(Z, corners[1] - corners[0]);
-      sectionY = norm(c) > 1e-8 * norm(corners[1] - corners[0]) ? (1.0 / norm(c)) * c : Vec3d{{0, 1, 0}};
-    }
-    return pts;
-  }
-  const double pi = std::acos(-1.0);
-  const bool arc = b.isSublist("Arc");
-  ParameterList& g = b.sublist(arc ? "Arc" : "Helix");
-  const std::string gpath = path + (arc ? "/Arc" : "/Helix");
-  (arc ? arcSpec() : helixSpec()).apply(g, gpath);
-  const Vec3d n = unit(toVec(g.get<Array<double>>(arc ? "Normal" : "Axis Direction")), arc ? "Arc/Normal" : "Helix/Axis Direction");
-  const Vec3d r = toVec(g.get<Array<double>>("Reference Direction"));
-  const Vec3d rp = r - dot(r, n) * n;
-  if (!(norm(rp) > 1e-8 * std::max(norm(r), 1e-300)))
-    throw InputError("parameter \"" + gpath + "/Reference Direction\" is zero or along the " + (arc ? "normal" : "axis"));
-  const Vec3d e1 = (1.0 / norm(rp)) * rp, e2 = cross(n, e1);
-  const double R = g.get<double>("Radius");
-  const Vec3d c = toVec(g.get<Array<double>>(arc ? "Centre" : "Axis Point"));
-  double t0 = 0.0, t1 = 0.0, rise = 0.0;
-  if (arc) {
-    t0 = g.get<double>("Start Angle") * pi / 180.0;
-    t1 = g.get<double>("End Angle") * pi / 180.0;
-    if (!(std::abs(t1 - t0) > 0.0) || std::abs(t1 - t0) > 2 * pi * (1 + 1e-12))
-      throw InputError("parameters \"" + gpath + "/Start Angle\" and \"End Angle\" must differ by more than 0 and at most 360 degrees");
-  } else {
-    t0 = g.get<double>("Start Angle") * pi / 180.0;
-    t1 = t0 + 2 * pi * g.get<double>("Turns");
-    rise = g.get<double>("Pitch") / (2 * pi);
-  }
-  for (int k = 0; k <= ne; ++k) {
-    const double t = t0 + (double(k) / ne) * (t1 - t0);
-    pts.push_back(c + (R * std::cos(t)) * e1 + (R * std::sin(t)) * e2 + (rise * (t - t0)) * n);
-  }
-  if (!given) sectionY = n;
-  return pts;
-}
-
-// A support's or load's "Load Curve": pairs (T, f) with T from 0 to 1, strictly increasing, finite.
 core::LoadCurve loadCurve(const ParameterList& item, const std::string& path) {
   core::LoadCurve c;
   if (!item.isParameter("Load Curve")) return c;
@@ -796,47 +538,256 @@ int joinCoincidentNodes(std::vector<elements::Beam>& beams, std::vector<Vec3d>& 
   return shared;
 }
 
-// What a model needs, against the memory this process may use. Measured (bench/bench_memory.py,
-// docs/scale.md "Memory per element and per contact point"): the peak resident memory of a run on one
-// rank with the default Direct solver (KLU2) grows by 16.5 kB per beam element (Example 1 with 2.5e4
-// to 1e5 elements: 466 to 1646 MB) and, over the crossed layers' contact points (32 x 32 to 128 x 128,
-// every point active), by 76 kB per point with Penalty and, with Lagrange multipliers, 170 kB from
-// 32 x 32 to 64 x 64, 195 kB from 64 x 64 to 100 x 100 and at least 267 kB on average at 128 x 128
-// (4.8 GB before KLU2's first factorization of the saddle point had ended, after 18 min: its factors
-// grow faster than the points), above 74 MB for the program. Augmented Lagrange has Penalty's matrix; a plug-in's strategy is
-// counted as Lagrange. A pair of All Pairs costs 100 bytes (its entry and the search's index: a
-// network of 4000 fibres, 8e6 pairs, 791 MB above the same deck without contact). The estimate is
-// checked before anything of the solver is allocated: while the beams are read (elements only),
-// before All Pairs makes its pairs, and once the contact points at the start are known.
-constexpr double kBytesPerElement = 17e3, kBaseBytes = 80e6;
-constexpr double kBytesPerPair = 100.0;
-constexpr double kBytesPerPointPenalty = 80e3, kBytesPerPointLagrange = 300e3;
-
-void checkModelSize(std::size_t elements, std::size_t points, double bytesPerPoint, double pairs) {
-  const double bytes =
-      kBaseBytes + kBytesPerElement * double(elements) + bytesPerPoint * double(points) + kBytesPerPair * pairs;
-  std::string limited;
-  const double usable = usableMemory(&limited), physical = physicalMemory();
-  if (elements > 5000000 || (usable > 0 && bytes > 0.8 * usable)) {
-    char buf[500];
-    if (pairs > 0)
-      std::snprintf(buf, sizeof buf,
-                    "All Pairs of the deck's beams makes %.0f contact pairs (with %zu elements), which needs about "
-                    "%.1f GB; this machine has %.1f GB (the limit is 80 %% of the memory, at %.0f bytes per pair)",
-                    pairs, elements, bytes / 1e9, physical / 1e9, kBytesPerPair);
-    else if (points > 0)
-      std::snprintf(buf, sizeof buf,
-                    "the model has %zu elements and %zu contact points at the start, which needs about %.1f GB; "
-                    "this machine has %.1f GB (the limit is 5e6 elements and 80 %% of the memory, at %.0f kB per "
-                    "element and %.0f kB per contact point)",
-                    elements, points, bytes / 1e9, physical / 1e9, kBytesPerElement / 1e3, bytesPerPoint / 1e3);
-    else
-      std::snprintf(buf, sizeof buf,
-                    "the beams have %zu elements in all, which needs about %.1f GB; this machine has %.1f GB (the "
-                    "limit is 5e6 elements and 80 %% of the memory, at %.0f kB per element)",
-                    elements, bytes / 1e9, physical / 1e9, kBytesPerElement / 1e3);
-    throw InputError(buf + limited);
+// A beam's section and material (sublists Section and Material of item `b`).
+elements::Beam beamSectionAndMaterial(ParameterList& b, const std::string& name, const std::string& path) {
+  sectionSpec().apply(b.sublist("Section"), path + "/Section");
+  if (!b.isSublist("Material")) throw InputError("missing required sublist \"" + path + "/Material\"");
+  materialSpec().apply(b.sublist("Material"), path + "/Material");
+  const ParameterList& sec = b.sublist("Section");
+  elements::Beam beam;
+  beam.name = name;
+  if (sec.get<std::string>("Shape") == "Rectangle") {
+    for (const char* k : {"Width", "Height"})
+      if (!sec.isParameter(k))
+        throw InputError("missing required parameter \"" + path + "/Section/" + k + "\" for a Rectangle");
+    if (sec.isParameter("Radius"))
+      throw InputError("parameter \"" + path + "/Section/Radius\" does not apply to a Rectangle");
+    beam.section = elements::CrossSection::rectangle(sec.get<double>("Width"), sec.get<double>("Height"));
+  } else {
+    if (!sec.isParameter("Radius"))
+      throw InputError("missing required parameter \"" + path + "/Section/Radius\" for a Circle");
+    if (sec.isParameter("Width") || sec.isParameter("Height"))
+      throw InputError("parameters Width/Height in \"" + path + "/Section\" do not apply to a Circle");
+    beam.section = elements::CrossSection::circle(sec.get<double>("Radius"));
   }
+  beam.material.youngsModulus = b.sublist("Material").get<double>("Young's Modulus");
+  beam.material.poissonsRatio = b.sublist("Material").get<double>("Poisson's Ratio");
+  if (sec.isParameter("Torsion Constant")) beam.section.givenTorsionConstant = sec.get<double>("Torsion Constant");
+  return beam;
+}
+
+// A beam's elements have a length and a section orientation across them.
+void checkElements(const elements::Beam& beam, const std::vector<Vec3d>& points, const std::string& path) {
+  for (std::size_t k = 0; k + 1 < points.size(); ++k) {
+    const Vec3d axis = points[k + 1] - points[k];
+    const double L = norm(axis);
+    if (!(L > 0.0)) throw InputError("beam \"" + path + "\" has an element of zero length (coincident points)");
+    if (norm(cross(beam.sectionY, (1.0 / L) * axis)) <= 1e-8 * norm(beam.sectionY))
+      throw InputError("parameter \"" + path + "/Section Orientation\" is zero or parallel to element " + std::to_string(k) +
+                       " of the beam (give a direction across the beam)");
+  }
+}
+
+// A beam is slender and its stiffness representable.
+void checkBeamScale(const elements::Beam& beam, const std::vector<Vec3d>& points, const std::string& path) {
+  // A section wider than its beam is no beam (the model is a slender beam: sections much smaller than
+  // the length). Measured: Width 1e6 on Example 1's 100 long cantilever made the tangent's condition
+  // bound 4e17, and the run stopped with a failed linear solve blaming a free motion.
+  double length = 0.0;
+  for (std::size_t k = 0; k + 1 < points.size(); ++k) length += norm(points[k + 1] - points[k]);
+  {
+    const bool circle = beam.section.shape == elements::CrossSection::Shape::Circle;
+    const double extent = circle ? 2.0 * beam.section.radius : std::max(beam.section.width, beam.section.height);
+    const char* what = circle ? "Radius" : beam.section.width >= beam.section.height ? "Width" : "Height";
+    if (extent > length) {
+      std::ostringstream m;
+      m << "parameter \"" << path << "/Section/" << what << "\": " << (circle ? "a diameter of " : "") << extent
+        << " exceeds the beam's length " << length
+        << "; a section larger than its beam is not a beam (the model is a slender beam, its section much "
+           "smaller than its length)";
+      throw InputError(m.str());
+    }
+  }
+  // The forces of a beam scale with E A: outside 1e-100 .. 1e100 they underflow or overflow when the
+  // solver squares them for its norms (measured: E = 1e-300 on Example 1 gave forces of 1e-298, whose
+  // norm was 0, and every step passed as converged without a solve).
+  const double EA = beam.material.youngsModulus * beam.section.area();
+  if (!(EA >= 1e-100 && EA <= 1e100)) {
+    std::ostringstream m;
+    m << "parameter \"" << path << "/Material/Young's Modulus\": " << beam.material.youngsModulus
+      << " makes the beam's axial stiffness E A = " << EA
+      << ", outside 1e-100 to 1e100: forces on that scale underflow or overflow in double precision; choose "
+         "units in which E A is nearer 1";
+    throw InputError(m.str());
+  }
+}
+
+// The beams as read, before joints: their nodes numbered beam after beam.
+struct BeamsRead {
+  std::vector<elements::Beam> beams;
+  std::vector<Vec3d> reference;
+};
+
+BeamsRead readBeams(Problem& p, ParameterList& deck, const std::string& top) {
+  BeamsRead read;
+  ParameterList& beamList = deck.sublist("Beams");
+  if (beamList.numParams() == 0) throw InputError("\"" + top + "/Beams\" holds no beam");
+  forEachItem(beamList, top + "/Beams", beamSpec(), [&](ParameterList& b, const std::string& name, const std::string& path) {
+    elements::Beam beam = beamSectionAndMaterial(b, name, path);
+    const int ne = b.get<int>("Elements");
+    const std::vector<Vec3d> points = beamPoints(b, path, ne, beam.sectionY);
+    checkElements(beam, points, path);
+    checkBeamScale(beam, points, path);
+    checkModelSize(read.reference.size() + points.size());
+    const int first = static_cast<int>(read.reference.size());
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      read.reference.push_back(points[k]);
+      beam.nodes.push_back(first + static_cast<int>(k));
+    }
+    p.beamIndex[name] = static_cast<int>(read.beams.size());
+    read.beams.push_back(beam);
+  });
+  return read;
+}
+
+// Explicit joints: (beam, node) pairs that must coincide; Rigid ones are merged even between interior
+// nodes, Pinned ones are kept apart and tied by the PinnedJoints contribution.
+struct JointsRead {
+  std::set<std::pair<int, int>> forced, kept;
+  std::vector<elements::PinnedJoint> pins;
+};
+
+// The two nodes (before joining) a joint item `j` names.
+std::array<int, 2> jointNodes(const Problem& p, const BeamsRead& read, const ParameterList& j, const std::string& path) {
+  std::array<int, 2> ends{0, 0};
+  for (int s = 0; s < 2; ++s) {
+    const std::string key = s == 0 ? "A" : "B";
+    const std::string beam = j.get<std::string>("Beam " + key);
+    const auto& nodes = read.beams[beamNamed(p.beamIndex, beam, path + "/Beam " + key)].nodes;
+    const std::string node = j.get<std::string>("Node " + key);
+    if (s == 0 && node != "start" && node != "end")
+      throw InputError("parameter \"" + path + "/Node A\": a joint starts at a beam end, \"start\" or "
+                       "\"end\", not \"" + node + "\"");
+    ends[s] = nodes[nodeIndexOnBeam(node, static_cast<int>(nodes.size()) - 1, path + "/Node " + key, beam)];
+  }
+  return ends;
+}
+
+JointsRead readJoints(const Problem& p, const BeamsRead& read, ParameterList& deck, const std::string& top) {
+  JointsRead joints;
+  if (!deck.isSublist("Joints")) return joints;
+  const double tolerance = coincidenceTolerance(read.reference);
+  forEachItem(deck.sublist("Joints"), top + "/Joints", jointSpec(),
+              [&](ParameterList& j, const std::string& name, const std::string& path) {
+                const std::array<int, 2> ends = jointNodes(p, read, j, path);
+                if (j.get<std::string>("Beam A") == j.get<std::string>("Beam B"))
+                  throw InputError("\"" + path + "\" joins beam \"" + j.get<std::string>("Beam A") + "\" to itself");
+                const double d = norm(read.reference[ends[0]] - read.reference[ends[1]]);
+                if (d > tolerance)
+                  throw InputError("\"" + path + "\" joins nodes " + std::to_string(d) +
+                                   " apart; a joint's two nodes must be at the same place");
+                const auto pair = std::make_pair(std::min(ends[0], ends[1]), std::max(ends[0], ends[1]));
+                if (j.get<std::string>("Type") == "Pinned") {
+                  joints.kept.insert(pair);
+                  joints.pins.push_back({name, ends[0], ends[1]});
+                } else {
+                  joints.forced.insert(pair);
+                }
+              });
+  return joints;
+}
+
+// Joins the beams' coincident nodes and ties the pinned joints; the model's beams and initial state.
+void joinBeams(Problem& p, BeamsRead& read, JointsRead& joints) {
+  std::vector<int> newId;
+  p.joints = joinCoincidentNodes(read.beams, read.reference, joints.forced, joints.kept, newId);
+  for (auto& pin : joints.pins) {
+    pin.nodeA = newId[pin.nodeA];
+    pin.nodeB = newId[pin.nodeB];
+    if (pin.nodeA == pin.nodeB)
+      throw InputError("pinned joint \"" + pin.name + "\": its nodes are also rigidly joined (through a third beam "
+                       "or another joint)");
+    p.pins.emplace_back(pin.nodeA, pin.nodeB);
+  }
+  core::State& state = p.model.initial;
+  state.resize(static_cast<int>(read.reference.size()));
+  state.reference = read.reference;
+  state.position = read.reference;
+  for (const auto& beam : read.beams) p.beams->addBeam(beam, read.reference);
+  p.model.contributions.push_back(p.beams);
+  p.joints += static_cast<int>(joints.pins.size());
+  if (!joints.pins.empty()) p.model.contributions.push_back(std::make_shared<elements::PinnedJoints>(joints.pins));
+}
+
+void readSupports(Problem& p, ParameterList& deck, const std::string& top, const Locator& locate) {
+  forEachItem(deck.sublist("Supports"), top + "/Supports", supportSpec(),
+              [&](ParameterList& s, const std::string& name, const std::string& path) {
+                core::Support sup;
+                sup.name = name;
+                sup.nodes = locate.nodes(s, path, true);
+                sup.fixed = parseFixed(s.get<std::string>("Fixed"), path);
+                const auto d = s.get<Array<double>>("Displacement"), r = s.get<Array<double>>("Rotation");
+                static const char* comp[6] = {"ux", "uy", "uz", "rx", "ry", "rz"};
+                for (int k = 0; k < 6; ++k) {
+                  sup.value[k] = k < 3 ? d[k] : r[k - 3];
+                  if (sup.value[k] != 0.0 && !sup.fixed[k])
+                    throw InputError("parameter \"" + path + (k < 3 ? "/Displacement" : "/Rotation") +
+                                     "\": a nonzero value is given for " + comp[k] + ", which is not in Fixed");
+                }
+                sup.curve = loadCurve(s, path);
+                p.model.supports.push_back(sup);
+              });
+}
+
+void readLoads(Problem& p, ParameterList& deck, const std::string& top, const Locator& locate) {
+  forEachItem(deck.sublist("Loads"), top + "/Loads", loadSpec(),
+              [&](ParameterList& l, const std::string& name, const std::string& path) {
+                core::NodalLoad load;
+                load.name = name;
+                load.node = locate.nodes(l, path, false).front();
+                const auto f = l.get<Array<double>>("Force"), m = l.get<Array<double>>("Moment");
+                for (int k = 0; k < 3; ++k) { load.value[k] = f[k]; load.value[3 + k] = m[k]; }
+                load.curve = loadCurve(l, path);
+                p.model.loads.push_back(load);
+              });
+}
+
+// Load Stepping, Nonlinear Solver and Linear Solver.
+void readSolvers(Problem& p, ParameterList& deck, const std::string& top) {
+  ParameterList& stepping = deck.sublist("Load Stepping");
+  core::loadSteppingSpec().apply(stepping, top + "/Load Stepping");
+  ParameterList& newton = deck.sublist("Nonlinear Solver");
+  core::newtonSpec().apply(newton, top + "/Nonlinear Solver");
+  p.solver = core::readSolverSettings(stepping, newton);
+  ParameterList& linear = deck.sublist("Linear Solver");
+  core::linearSolverSpec().apply(linear, top + "/Linear Solver");
+  p.linearSolver = linear;
+}
+
+void readOutput(Problem& p, ParameterList& deck, const std::string& top, const std::string& deckName,
+                const Locator& locate) {
+  ParameterList& out = deck.sublist("Output");
+  outputSpec().apply(out, top + "/Output");
+  p.writeVtk = out.get<bool>("Write VTK");
+  p.outputDirectory = out.isParameter("Directory") ? out.get<std::string>("Directory") : "results/" + deckName;
+  if (p.outputDirectory.find_first_not_of(" \t") == std::string::npos)
+    throw InputError("parameter \"" + top + "/Output/Directory\" is empty; name a directory (or leave the "
+                     "parameter out for results/" + deckName + ")");
+  p.checkpointEvery = out.get<int>("Checkpoint Every");
+  forEachItem(out.sublist("Tracked Points"), top + "/Output/Tracked Points", trackedSpec(),
+              [&](ParameterList& t, const std::string& name, const std::string& path) {
+                p.model.tracked.push_back({name, locate.nodes(t, path, false).front()});
+              });
+}
+
+// Contact (when the deck has it), its memory estimate, and the linear solver it needs.
+void readContact(Problem& p, ParameterList& deck, const std::string& top) {
+  if (deck.isSublist("Contact")) {
+    buildContact(p, deck.sublist("Contact"), top + "/Contact");
+    // (Multipliers, and a plug-in's strategy, at the larger cost per point.)
+    const std::string type = deck.sublist("Contact").sublist("Enforcement").get<std::string>("Type");
+    const bool builtIn = constraints::findEnforcer(type, top + "/Contact/Enforcement/Type").origin == "built-in";
+    checkModelSize(p.beams->elements().size(), p.contact->points().size(),
+                   builtIn && !p.contact->enforcer().addsMultiplierRows() ? kBytesPerPointPenalty
+                                                                          : kBytesPerPointLagrange);
+  }
+  const ParameterList& linear = p.linearSolver;
+  if (linear.get<std::string>("Type") == "GMRES" && linear.get<std::string>("Preconditioner") == "MueLu" &&
+      p.contact && p.contact->enforcer().addsMultiplierRows())
+    throw InputError("parameter \"" + top + "/Linear Solver/Preconditioner\" = \"MueLu\" preconditions matrices of "
+                     "nodal dofs only, and \"" + top + "/Contact/Enforcement/Type\" = \"" +
+                     deck.sublist("Contact").sublist("Enforcement").get<std::string>("Type") +
+                     "\" adds multiplier rows: use Penalty or Augmented Lagrange with it, or Linear Solver/Type = Direct");
 }
 
 }  // namespace
@@ -857,204 +808,16 @@ Problem buildProblem(ParameterList deck, const std::string& deckName) {
   for (const char* sub : {"Supports", "Loads", "Load Stepping", "Nonlinear Solver", "Linear Solver", "Output"})
     deck.sublist(sub);
 
-  // Beams: nodes numbered beam after beam.
   p.beams = std::make_shared<elements::BeamSet>();
-  core::State& state = p.model.initial;
-  std::vector<elements::Beam> beams;
-  std::vector<std::pair<Vec3d, Vec3d>> ends;
-  ParameterList& beamList = deck.sublist("Beams");
-  if (beamList.numParams() == 0) throw InputError("\"" + top + "/Beams\" holds no beam");
-  std::vector<Vec3d> reference;
-  forEachItem(beamList, top + "/Beams", beamSpec(), [&](ParameterList& b, const std::string& name, const std::string& path) {
-    sectionSpec().apply(b.sublist("Section"), path + "/Section");
-    if (!b.isSublist("Material")) throw InputError("missing required sublist \"" + path + "/Material\"");
-    materialSpec().apply(b.sublist("Material"), path + "/Material");
-    const ParameterList& sec = b.sublist("Section");
-    elements::Beam beam;
-    beam.name = name;
-    if (sec.get<std::string>("Shape") == "Rectangle") {
-      for (const char* k : {"Width", "Height"})
-        if (!sec.isParameter(k))
-          throw InputError("missing required parameter \"" + path + "/Section/" + k + "\" for a Rectangle");
-      if (sec.isParameter("Radius"))
-        throw InputError("parameter \"" + path + "/Section/Radius\" does not apply to a Rectangle");
-      beam.section = elements::CrossSection::rectangle(sec.get<double>("Width"), sec.get<double>("Height"));
-    } else {
-      if (!sec.isParameter("Radius"))
-        throw InputError("missing required parameter \"" + path + "/Section/Radius\" for a Circle");
-      if (sec.isParameter("Width") || sec.isParameter("Height"))
-        throw InputError("parameters Width/Height in \"" + path + "/Section\" do not apply to a Circle");
-      beam.section = elements::CrossSection::circle(sec.get<double>("Radius"));
-    }
-    beam.material.youngsModulus = b.sublist("Material").get<double>("Young's Modulus");
-    beam.material.poissonsRatio = b.sublist("Material").get<double>("Poisson's Ratio");
-    if (sec.isParameter("Torsion Constant")) beam.section.givenTorsionConstant = sec.get<double>("Torsion Constant");
-    const int ne = b.get<int>("Elements");
-    const std::vector<Vec3d> points = beamPoints(b, path, ne, beam.sectionY);
-    for (std::size_t k = 0; k + 1 < points.size(); ++k) {
-      const Vec3d axis = points[k + 1] - points[k];
-      const double L = norm(axis);
-      if (!(L > 0.0)) throw InputError("beam \"" + path + "\" has an element of zero length (coincident points)");
-      if (norm(cross(beam.sectionY, (1.0 / L) * axis)) <= 1e-8 * norm(beam.sectionY))
-        throw InputError("parameter \"" + path + "/Section Orientation\" is zero or parallel to element " + std::to_string(k) +
-                         " of the beam (give a direction across the beam)");
-    }
-    // A section wider than its beam is no beam (the model is a slender beam: sections much smaller than
-    // the length). Measured: Width 1e6 on Example 1's 100 long cantilever made the tangent's condition
-    // bound 4e17, and the run stopped with a failed linear solve blaming a free motion.
-    double length = 0.0;
-    for (std::size_t k = 0; k + 1 < points.size(); ++k) length += norm(points[k + 1] - points[k]);
-    {
-      const bool circle = beam.section.shape == elements::CrossSection::Shape::Circle;
-      const double extent = circle ? 2.0 * beam.section.radius : std::max(beam.section.width, beam.section.height);
-      const char* what = circle ? "Radius" : beam.section.width >= beam.section.height ? "Width" : "Height";
-      if (extent > length) {
-        std::ostringstream m;
-        m << "parameter \"" << path << "/Section/" << what << "\": " << (circle ? "a diameter of " : "") << extent
-          << " exceeds the beam's length " << length
-          << "; a section larger than its beam is not a beam (the model is a slender beam, its section much "
-             "smaller than its length)";
-        throw InputError(m.str());
-      }
-    }
-    // The forces of a beam scale with E A: outside 1e-100 .. 1e100 they underflow or overflow when the
-    // solver squares them for its norms (measured: E = 1e-300 on Example 1 gave forces of 1e-298, whose
-    // norm was 0, and every step passed as converged without a solve).
-    {
-      const double EA = beam.material.youngsModulus * beam.section.area();
-      if (!(EA >= 1e-100 && EA <= 1e100)) {
-        std::ostringstream m;
-        m << "parameter \"" << path << "/Material/Young's Modulus\": " << beam.material.youngsModulus
-          << " makes the beam's axial stiffness E A = " << EA
-          << ", outside 1e-100 to 1e100: forces on that scale underflow or overflow in double precision; choose "
-             "units in which E A is nearer 1";
-        throw InputError(m.str());
-      }
-    }
-    checkModelSize(reference.size() + points.size());
-    const int first = static_cast<int>(reference.size());
-    for (std::size_t k = 0; k < points.size(); ++k) {
-      reference.push_back(points[k]);
-      beam.nodes.push_back(first + static_cast<int>(k));
-    }
-    p.beamIndex[name] = static_cast<int>(beams.size());
-    beams.push_back(beam);
-  });
-  // Explicit joints: (beam, node) pairs that must coincide; Rigid ones are merged even between interior
-  // nodes, Pinned ones are kept apart and tied by the PinnedJoints contribution.
-  std::set<std::pair<int, int>> forced, kept;
-  std::vector<elements::PinnedJoint> pins;
-  if (deck.isSublist("Joints")) {
-    const double tolerance = coincidenceTolerance(reference);
-    forEachItem(deck.sublist("Joints"), top + "/Joints", jointSpec(),
-                [&](ParameterList& j, const std::string& name, const std::string& path) {
-                  int ends[2] = {0, 0};
-                  for (int s = 0; s < 2; ++s) {
-                    const std::string key = s == 0 ? "A" : "B";
-                    const std::string beam = j.get<std::string>("Beam " + key);
-                    const auto& nodes = beams[beamNamed(p.beamIndex, beam, path + "/Beam " + key)].nodes;
-                    const std::string node = j.get<std::string>("Node " + key);
-                    if (s == 0 && node != "start" && node != "end")
-                      throw InputError("parameter \"" + path + "/Node A\": a joint starts at a beam end, \"start\" or "
-                                       "\"end\", not \"" + node + "\"");
-                    ends[s] = nodes[nodeIndexOnBeam(node, static_cast<int>(nodes.size()) - 1, path + "/Node " + key, beam)];
-                  }
-                  if (j.get<std::string>("Beam A") == j.get<std::string>("Beam B"))
-                    throw InputError("\"" + path + "\" joins beam \"" + j.get<std::string>("Beam A") + "\" to itself");
-                  const double d = norm(reference[ends[0]] - reference[ends[1]]);
-                  if (d > tolerance)
-                    throw InputError("\"" + path + "\" joins nodes " + std::to_string(d) +
-                                     " apart; a joint's two nodes must be at the same place");
-                  const auto pair = std::make_pair(std::min(ends[0], ends[1]), std::max(ends[0], ends[1]));
-                  if (j.get<std::string>("Type") == "Pinned") {
-                    kept.insert(pair);
-                    pins.push_back({name, ends[0], ends[1]});
-                  } else {
-                    forced.insert(pair);
-                  }
-                });
-  }
-  std::vector<int> newId;
-  p.joints = joinCoincidentNodes(beams, reference, forced, kept, newId);
-  for (auto& pin : pins) {
-    pin.nodeA = newId[pin.nodeA];
-    pin.nodeB = newId[pin.nodeB];
-    if (pin.nodeA == pin.nodeB)
-      throw InputError("pinned joint \"" + pin.name + "\": its nodes are also rigidly joined (through a third beam "
-                       "or another joint)");
-    p.pins.emplace_back(pin.nodeA, pin.nodeB);
-  }
-  state.resize(static_cast<int>(reference.size()));
-  state.reference = reference;
-  state.position = reference;
-  for (const auto& beam : beams) p.beams->addBeam(beam, reference);
-  p.model.contributions.push_back(p.beams);
-  p.joints += static_cast<int>(pins.size());
-  if (!pins.empty()) p.model.contributions.push_back(std::make_shared<elements::PinnedJoints>(pins));
-
-  Locator locate(p, state);
-  forEachItem(deck.sublist("Supports"), top + "/Supports", supportSpec(),
-              [&](ParameterList& s, const std::string& name, const std::string& path) {
-                core::Support sup;
-                sup.name = name;
-                sup.nodes = locate.nodes(s, path, true);
-                sup.fixed = parseFixed(s.get<std::string>("Fixed"), path);
-                const auto d = s.get<Array<double>>("Displacement"), r = s.get<Array<double>>("Rotation");
-                static const char* comp[6] = {"ux", "uy", "uz", "rx", "ry", "rz"};
-                for (int k = 0; k < 6; ++k) {
-                  sup.value[k] = k < 3 ? d[k] : r[k - 3];
-                  if (sup.value[k] != 0.0 && !sup.fixed[k])
-                    throw InputError("parameter \"" + path + (k < 3 ? "/Displacement" : "/Rotation") +
-                                     "\": a nonzero value is given for " + comp[k] + ", which is not in Fixed");
-                }
-                sup.curve = loadCurve(s, path);
-                p.model.supports.push_back(sup);
-              });
-  forEachItem(deck.sublist("Loads"), top + "/Loads", loadSpec(),
-              [&](ParameterList& l, const std::string& name, const std::string& path) {
-                core::NodalLoad load;
-                load.name = name;
-                load.node = locate.nodes(l, path, false).front();
-                const auto f = l.get<Array<double>>("Force"), m = l.get<Array<double>>("Moment");
-                for (int k = 0; k < 3; ++k) { load.value[k] = f[k]; load.value[3 + k] = m[k]; }
-                load.curve = loadCurve(l, path);
-                p.model.loads.push_back(load);
-              });
-
-  ParameterList& stepping = deck.sublist("Load Stepping");
-  core::loadSteppingSpec().apply(stepping, top + "/Load Stepping");
-  ParameterList& newton = deck.sublist("Nonlinear Solver");
-  core::newtonSpec().apply(newton, top + "/Nonlinear Solver");
-  p.solver = core::readSolverSettings(stepping, newton);
-  ParameterList& linear = deck.sublist("Linear Solver");
-  core::linearSolverSpec().apply(linear, top + "/Linear Solver");
-  p.linearSolver = linear;
-
-  ParameterList& out = deck.sublist("Output");
-  outputSpec().apply(out, top + "/Output");
-  p.writeVtk = out.get<bool>("Write VTK");
-  p.outputDirectory = out.isParameter("Directory") ? out.get<std::string>("Directory") : "results/" + deckName;
-  if (p.outputDirectory.find_first_not_of(" \t") == std::string::npos)
-    throw InputError("parameter \"" + top + "/Output/Directory\" is empty; name a directory (or leave the "
-                     "parameter out for results/" + deckName + ")");
-  p.checkpointEvery = out.get<int>("Checkpoint Every");
-  forEachItem(out.sublist("Tracked Points"), top + "/Output/Tracked Points", trackedSpec(),
-              [&](ParameterList& t, const std::string& name, const std::string& path) {
-                p.model.tracked.push_back({name, locate.nodes(t, path, false).front()});
-              });
-  if (deck.isSublist("Contact")) {
-    buildContact(p, deck.sublist("Contact"), top + "/Contact");
-    // (Lagrange multipliers, and a plug-in's strategy, at the larger cost per point.)
-    const std::string type = deck.sublist("Contact").sublist("Enforcement").get<std::string>("Type");
-    checkModelSize(p.beams->elements().size(), p.contact->points().size(),
-                   type == "Penalty" || type == "Augmented Lagrange" ? kBytesPerPointPenalty : kBytesPerPointLagrange);
-  }
-  if (linear.get<std::string>("Type") == "GMRES" && linear.get<std::string>("Preconditioner") == "MueLu" &&
-      deck.isSublist("Contact") &&
-      deck.sublist("Contact").sublist("Enforcement").get<std::string>("Type") == "Lagrange Multiplier")
-    throw InputError("parameter \"" + top + "/Linear Solver/Preconditioner\" = \"MueLu\" preconditions matrices of "
-                     "nodal dofs only, and \"" + top + "/Contact/Enforcement/Type\" = \"Lagrange Multiplier\" adds "
-                     "multiplier rows: use Penalty or Augmented Lagrange with it, or Linear Solver/Type = Direct");
+  BeamsRead beams = readBeams(p, deck, top);
+  JointsRead joints = readJoints(p, beams, deck, top);
+  joinBeams(p, beams, joints);
+  const Locator locate(p, p.model.initial);
+  readSupports(p, deck, top, locate);
+  readLoads(p, deck, top, locate);
+  readSolvers(p, deck, top);
+  readOutput(p, deck, top, deckName, locate);
+  readContact(p, deck, top);
 
   if (p.model.supports.empty())
     throw InputError("\"" + top + "/Supports\" is empty: the structure would be free to move as a rigid body");

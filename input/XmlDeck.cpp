@@ -77,11 +77,36 @@ class Parser {
   // Skips text, comments and declarations up to the next element tag; false at the end of input.
   bool nextTag();
 
+  // The steps of parse(): the text's encoding; a closing tag; an opening tag's attributes (up to its
+  // '>' or '/>'); a <ParameterList>; a <Parameter>.
+  void checkEncoding();
+  void closeTag(const std::string& tag);
+  std::vector<Attribute> attributes(const std::string& tag, bool& selfClosing);
+  void openList(const std::vector<Attribute>& attrs, bool selfClosing, int line);
+  void parameter(const std::vector<Attribute>& attrs, bool selfClosing, int line);
+  // Records the name `n` (on `line`) in the open list; a name given twice there fails.
+  void claim(const std::string& n, int line);
+
   const std::string& s_;
   std::string source_;
   std::size_t i_ = 0;
   int line_ = 1;
+  // The lists open at the parser's position, outermost first.
+  struct Open {
+    ParameterList* list;
+    std::string path;
+    std::map<std::string, int> names;  // name -> line
+  };
+  ParameterList root_;
+  std::vector<Open> stack_;
+  bool done_ = false;  // the top-level list has ended
 };
+
+const std::string* attributeNamed(const std::vector<Attribute>& attrs, const std::string& key) {
+  for (const auto& a : attrs)
+    if (a.name == key) return &a.value;
+  return nullptr;
+}
 
 std::string Parser::attributeValue() {
   const char quote = peek();
@@ -263,7 +288,7 @@ void setValue(ParameterList& list, const std::string& name, const std::string& t
   if (!err.empty()) fail("parameter \"" + name + "\" (" + type + "): " + err);
 }
 
-ParameterList Parser::parse() {
+void Parser::checkEncoding() {
   if (s_.size() > kMaxBytes) fail(std::string("the file is ") + kTooLarge);
   // UTF-16 (a byte order mark, or ASCII characters each followed or preceded by a NUL byte) is what
   // some Windows editors save; its NUL bytes would otherwise end the first name read.
@@ -277,111 +302,121 @@ ParameterList Parser::parse() {
   }
   // A UTF-8 byte order mark is valid UTF-8 and is skipped.
   if (startsWith("\xEF\xBB\xBF")) advance(3);
-  struct Open {
-    ParameterList* list;
-    std::string path;
-    std::map<std::string, int> names;  // name -> line
-  };
-  ParameterList root;
-  std::vector<Open> stack;
-  bool done = false;
+}
+
+void Parser::closeTag(const std::string& tag) {
+  skipSpace();
+  if (peek() != '>') fail("expected '>' to close </" + tag + ">");
+  advance();
+  if (tag != "ParameterList" || stack_.empty()) fail("unexpected </" + tag + ">");
+  stack_.pop_back();
+  if (stack_.empty()) done_ = true;
+}
+
+std::vector<Attribute> Parser::attributes(const std::string& tag, bool& selfClosing) {
+  std::vector<Attribute> attrs;
+  selfClosing = false;
+  const int tagLine = line_;
+  while (true) {
+    skipSpace();
+    if (atEnd() || peek() == '<')
+      fail("the <" + tag + "> tag opened on line " + std::to_string(tagLine) + " is not closed (missing '/>' or '>')");
+    if (peek() == '/' && peek(1) == '>') {
+      advance(2);
+      selfClosing = true;
+      return attrs;
+    }
+    if (peek() == '>') {
+      advance();
+      return attrs;
+    }
+    Attribute a;
+    a.name = name();
+    skipSpace();
+    if (peek() != '=') fail("attribute " + a.name + " of <" + tag + "> has no value");
+    advance();
+    skipSpace();
+    a.value = attributeValue();
+    for (const auto& b : attrs)
+      if (b.name == a.name) fail("attribute " + a.name + " given twice in <" + tag + ">");
+    attrs.push_back(a);
+  }
+}
+
+void Parser::claim(const std::string& n, int line) {
+  Open& parent = stack_.back();
+  const auto [it, fresh] = parent.names.emplace(n, line);
+  if (!fresh)
+    fail("\"" + n + "\" is given twice in \"" + parent.path + "\" (first on line " + std::to_string(it->second) +
+         ")");
+}
+
+void Parser::openList(const std::vector<Attribute>& attrs, bool selfClosing, int line) {
+  const std::string* n = attributeNamed(attrs, "name");
+  if (stack_.empty()) {
+    root_.setName(n ? *n : "ANONYMOUS");
+    stack_.push_back({&root_, n ? *n : "ANONYMOUS", {}});
+  } else {
+    if (!n) fail("a nested <ParameterList> needs a name attribute");
+    if (static_cast<int>(stack_.size()) >= kMaxDepth)
+      fail("lists nested deeper than " + std::to_string(kMaxDepth) + " levels");
+    claim(*n, line);
+    ParameterList& sub = stack_.back().list->sublist(*n);
+    stack_.push_back({&sub, stack_.back().path + "/" + *n, {}});
+  }
+  if (selfClosing) {
+    stack_.pop_back();
+    if (stack_.empty()) done_ = true;
+  }
+}
+
+void Parser::parameter(const std::vector<Attribute>& attrs, bool selfClosing, int line) {
+  if (stack_.empty()) fail("a <Parameter> outside any <ParameterList>");
+  if (!selfClosing) fail("<Parameter> must be closed in its own tag: <Parameter name=... type=... value=.../>");
+  const std::string *n = attributeNamed(attrs, "name"), *type = attributeNamed(attrs, "type"),
+                    *value = attributeNamed(attrs, "value");
+  if (!n) fail("a <Parameter> without a name attribute");
+  if (!type) fail("parameter \"" + *n + "\" has no type attribute (int, double, bool, string, Array(...))");
+  if (!value) fail("parameter \"" + *n + "\" has no value attribute");
+  for (const auto& a : attrs)
+    if (a.name != "name" && a.name != "type" && a.name != "value" && a.name != "id" && a.name != "docString" &&
+        a.name != "isDefault" && a.name != "isUsed" && a.name != "validatorId")
+      fail("parameter \"" + *n + "\" has an unknown attribute " + a.name);
+  claim(*n, line);
+  setValue(*stack_.back().list, *n, *type, *value, [&](const std::string& m) { fail(m); });
+}
+
+ParameterList Parser::parse() {
+  checkEncoding();
   while (nextTag()) {
-    if (done) fail("content after the top-level ParameterList has ended");
+    if (done_) fail("content after the top-level ParameterList has ended");
     advance();  // '<'
     const bool closing = peek() == '/';
     if (closing) advance();
     const std::string tag = name();
     if (closing) {
-      skipSpace();
-      if (peek() != '>') fail("expected '>' to close </" + tag + ">");
-      advance();
-      if (tag != "ParameterList" || stack.empty()) fail("unexpected </" + tag + ">");
-      stack.pop_back();
-      if (stack.empty()) done = true;
+      closeTag(tag);
       continue;
     }
-    std::vector<Attribute> attrs;
     bool selfClosing = false;
-    const int tagLine = line_;
-    while (true) {
-      skipSpace();
-      if (atEnd() || peek() == '<')
-        fail("the <" + tag + "> tag opened on line " + std::to_string(tagLine) + " is not closed (missing '/>' or '>')");
-      if (peek() == '/' && peek(1) == '>') {
-        advance(2);
-        selfClosing = true;
-        break;
-      }
-      if (peek() == '>') {
-        advance();
-        break;
-      }
-      Attribute a;
-      a.name = name();
-      skipSpace();
-      if (peek() != '=') fail("attribute " + a.name + " of <" + tag + "> has no value");
-      advance();
-      skipSpace();
-      a.value = attributeValue();
-      for (const auto& b : attrs)
-        if (b.name == a.name) fail("attribute " + a.name + " given twice in <" + tag + ">");
-      attrs.push_back(a);
-    }
-    auto attr = [&](const std::string& key) -> const std::string* {
-      for (const auto& a : attrs)
-        if (a.name == key) return &a.value;
-      return nullptr;
-    };
+    const std::vector<Attribute> attrs = attributes(tag, selfClosing);
     const int line = line_;
-    auto claim = [&](const std::string& n) {
-      Open& parent = stack.back();
-      const auto [it, fresh] = parent.names.emplace(n, line);
-      if (!fresh)
-        fail("\"" + n + "\" is given twice in \"" + parent.path + "\" (first on line " + std::to_string(it->second) +
-             ")");
-    };
     if (tag == "ParameterList") {
-      const std::string* n = attr("name");
-      if (stack.empty()) {
-        root.setName(n ? *n : "ANONYMOUS");
-        stack.push_back({&root, n ? *n : "ANONYMOUS", {}});
-      } else {
-        if (!n) fail("a nested <ParameterList> needs a name attribute");
-        if (static_cast<int>(stack.size()) >= kMaxDepth)
-          fail("lists nested deeper than " + std::to_string(kMaxDepth) + " levels");
-        claim(*n);
-        ParameterList& sub = stack.back().list->sublist(*n);
-        stack.push_back({&sub, stack.back().path + "/" + *n, {}});
-      }
-      if (selfClosing) {
-        stack.pop_back();
-        if (stack.empty()) done = true;
-      }
+      openList(attrs, selfClosing, line);
     } else if (tag == "Parameter") {
-      if (stack.empty()) fail("a <Parameter> outside any <ParameterList>");
-      if (!selfClosing) fail("<Parameter> must be closed in its own tag: <Parameter name=... type=... value=.../>");
-      const std::string *n = attr("name"), *type = attr("type"), *value = attr("value");
-      if (!n) fail("a <Parameter> without a name attribute");
-      if (!type) fail("parameter \"" + *n + "\" has no type attribute (int, double, bool, string, Array(...))");
-      if (!value) fail("parameter \"" + *n + "\" has no value attribute");
-      for (const auto& a : attrs)
-        if (a.name != "name" && a.name != "type" && a.name != "value" && a.name != "id" && a.name != "docString" &&
-            a.name != "isDefault" && a.name != "isUsed" && a.name != "validatorId")
-          fail("parameter \"" + *n + "\" has an unknown attribute " + a.name);
-      claim(*n);
-      setValue(*stack.back().list, *n, *type, *value, [&](const std::string& m) { fail(m); });
-    } else if (tag == "Validators" && !stack.empty() && stack.size() == 1) {
+      parameter(attrs, selfClosing, line);
+    } else if (tag == "Validators" && !stack_.empty() && stack_.size() == 1) {
       // Written by Teuchos after the top-level list's entries; nothing in a deck uses validators.
       if (!selfClosing) skipUntil("</Validators>", "<Validators>");
     } else {
       fail("unknown element <" + tag + ">; a deck holds <ParameterList> and <Parameter> elements");
     }
   }
-  if (!done) {
-    if (stack.empty()) fail("no <ParameterList> found");
-    fail("the file ends inside <ParameterList name=\"" + stack.back().path + "\"> (a closing tag is missing)");
+  if (!done_) {
+    if (stack_.empty()) fail("no <ParameterList> found");
+    fail("the file ends inside <ParameterList name=\"" + stack_.back().path + "\"> (a closing tag is missing)");
   }
-  return root;
+  return root_;
 }
 
 }  // namespace

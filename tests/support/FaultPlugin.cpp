@@ -8,12 +8,15 @@
 //     construct-fail   the strategy "Test Penalty"'s constructor throws
 //     evaluate-fail    its evaluation throws (inside Newton)
 //     evaluate-exit    its evaluation calls exit(0)
+//     multipliers      also registers "Test Lagrange Multiplier", the built-in Lagrange Multiplier
+//                      strategy under another name (a plug-in that adds multiplier rows)
 // Otherwise it registers "Test Penalty", the built-in Penalty strategy under another name.
 #include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
 
+#include "constraints/LagrangeMultiplierEnforcer.hpp"
 #include "constraints/PenaltyEnforcer.hpp"
 #include "constraints/Plugin.hpp"
 
@@ -53,6 +56,15 @@ class Hijack : public TestPenalty {
   using TestPenalty::TestPenalty;
 };
 
+class TestLagrange : public bc::constraints::LagrangeMultiplierEnforcer {
+ public:
+  static const char* name() { return "Test Lagrange Multiplier"; }
+  static const char* description() { return "the Lagrange Multiplier strategy under another name (fault tests)"; }
+  static const bc::core::ParameterSpec& spec() { return LagrangeMultiplierEnforcer::spec(); }
+  using LagrangeMultiplierEnforcer::LagrangeMultiplierEnforcer;
+  std::string type() const override { return name(); }
+};
+
 void registerAll() {
   if (const char* marker = std::getenv("BC_TEST_PLUGIN_MARKER")) {
     if (std::FILE* f = std::fopen(marker, "w")) {
@@ -64,6 +76,7 @@ void registerAll() {
   if (mode("register-odd")) throw 42;
   if (mode("hijack")) bc::constraints::registerEnforcer<Hijack>();
   else bc::constraints::registerEnforcer<TestPenalty>();
+  if (mode("multipliers")) bc::constraints::registerEnforcer<TestLagrange>();
 }
 
 }  // namespace
