@@ -38,7 +38,7 @@ constexpr double kDeep = 0.05;
 using core::GlobalDof;
 using elements::BeamElement;
 using elements::CrossSection;
-using Key = std::tuple<int, int, int>;
+using Key = PointKey;
 
 ContactManager::ContactManager(std::shared_ptr<const elements::BeamSet> beams, std::vector<ContactPairSpec> pairs,
                                std::unique_ptr<ConstraintEnforcer> enforcer, ContactOptions options)
@@ -95,9 +95,6 @@ ContactManager::ContactManager(std::shared_ptr<const elements::BeamSet> beams, s
   // Segment planes: at a node between two elements of a beam the mean of their unit axes, at an end
   // the end element's axis.
   const auto& elems = beams_->elements();
-  if (elems.size() >= std::size_t(-(Point::kLineNode + 4)) / Point::kSegmentSlots)
-    throw core::InputError("contact: " + std::to_string(elems.size()) +
-                           " elements are more than line contact's point keys can number");
   std::map<std::pair<int, int>, int> byIndex;  // (beam, index) -> element
   for (std::size_t e = 0; e < elems.size(); ++e) byIndex[{elems[e].beam, elems[e].index}] = static_cast<int>(e);
   segmentPlanes_.resize(elems.size());
@@ -186,7 +183,7 @@ LinePairInput ContactManager::faceInput(int eA, int edgeA, int eB, int faceB, co
 }
 
 LinePairInput ContactManager::lineContactInput(const Point& p, const core::State& s) const {
-  return segmentInput(p.pair, p.elementA, p.elementB, p.edge(), p.face(), s);
+  return segmentInput(p.key.pair, p.elementA, p.elementB, p.edge(), p.face(), s);
 }
 
 LinePairInput ContactManager::segmentInput(int pair, int eA, int eB, int edge, int face, const core::State& s) const {
@@ -229,8 +226,8 @@ double ContactManager::blendWeight(const Point& p, double cosine, const double* 
   // zeta(alpha) = (1 - cos(pi (alpha - alpha_l) / (alpha_p - alpha_l))) / 2 between the two angles,
   // 0 below alpha_l, 1 above alpha_p: C1 in alpha. A point contact carries zeta, a line point 1 - zeta.
   if (gradient) gradient->fill(0.0);
-  if (!blends(p.pair)) return 1.0;
-  const auto [lo, hi] = blendAngles(p.pair);
+  if (!blends(p.key.pair)) return 1.0;
+  const auto [lo, hi] = blendAngles(p.key.pair);
   const double c = std::min(1.0, std::abs(cosine));
   const double alpha = std::acos(c);
   double zeta = 1.0, dzeta = 0.0;  // zeta and d zeta / d alpha
@@ -512,7 +509,7 @@ std::map<Key, ContactManager::Candidate> ContactManager::detect(const core::Stat
     const MPI_Comm raw = core::rawMpiComm(*comm_);
     // Every rank's choices to every rank, merged by the same rule.
     struct Record {
-      int key[3];
+      Key key;
       int elementA, elementB;
       double outside;
       long long visit;
@@ -522,7 +519,7 @@ std::map<Key, ContactManager::Candidate> ContactManager::detect(const core::Stat
     std::vector<Record> mine;
     mine.reserve(chosen.size());
     for (const auto& [key, o] : chosen)
-      mine.push_back(Record{{std::get<0>(key), std::get<1>(key), std::get<2>(key)}, o.candidate.elementA,
+      mine.push_back(Record{key, o.candidate.elementA,
                             o.candidate.elementB, o.outside, o.visit, o.candidate.cp});
     // The byte counts as 64-bit integers, so that every rank takes the same decision on their total.
     const long long bytes = static_cast<long long>(mine.size() * sizeof(Record));
@@ -540,7 +537,7 @@ std::map<Key, ContactManager::Candidate> ContactManager::detect(const core::Stat
                    MPI_BYTE, raw);
     chosen.clear();
     for (const Record& r : all)
-      offer(Key{r.key[0], r.key[1], r.key[2]}, Candidate{r.elementA, r.elementB, r.cp}, r.outside, r.visit);
+      offer(r.key, Candidate{r.elementA, r.elementB, r.cp}, r.outside, r.visit);
   }
   std::map<Key, Candidate> found;
   for (auto& [key, o] : chosen) found.emplace_hint(found.end(), key, std::move(o.candidate));
@@ -576,7 +573,7 @@ void ContactManager::narrowPhase(int pi, int ea, int eb, long long visit, const 
       if (!(mid > -0.5 && mid < 1.5)) continue;
       for (int q = 0; q < (int)gaussXi_.size(); ++q) {
         const ClosestPoints cp = lineProjection(in, seg.lo + seg.length() * gaussXi_[q]);
-        const Key key{pi, -1 - (q + Point::kGaussSlots * (edge + 4 * face) + Point::kSegmentSlots * eb), ea};
+        const Key key = Key::gaussPoint(pi, ea, eb, edge, face, q);
         // Across B's face: a new point within 1e-3 of its width beyond the face's edge, a known one
         // while within 5 % (equal widths put A's edges exactly on B's face edges, where a sharp
         // bound would drop and take up points from one iterate to the next).
@@ -592,7 +589,7 @@ void ContactManager::narrowPhase(int pi, int ea, int eb, long long visit, const 
       ClosestPoints cp = closestPoints(in);
       if (cp.sinAngle < options_.minimumSinAngle) continue;
       if (!withinElement(ea, cp.xi) || !withinElement(eb, cp.eta)) continue;
-      const Key key{pi, la, lb};
+      const Key key = Key::contact(pi, la, lb);
       // The normal's orientation: carried by a known point, else from the last converged state.
       const auto known = points_.find(key);
       orient(cp, known != points_.end() ? known->second.sigma : referenceSigma(ea, la, eb, lb, cp),
@@ -621,7 +618,7 @@ void ContactManager::initialize(core::State& state) {
   points_.clear();
   for (const auto& [key, c] : cands) {
     if (c.cp.gap < -1e-9 * std::max(1.0, c.cp.distance) && !options_.allowInitialPenetration) {
-      const auto& pair = pairs_[std::get<0>(key)];
+      const auto& pair = pairs_[key.pair];
       std::ostringstream s;
       s << "beams \"" << beams_->beams()[pair.beamA].name << "\" and \"" << beams_->beams()[pair.beamB].name
         << "\" overlap at the start: gap " << c.cp.gap << " at (" << c.cp.pA[0] << ", " << c.cp.pA[1] << ", "
@@ -650,7 +647,7 @@ bool ContactManager::prepareIteration(core::State& state) {
       changed = changed || p.elementA != c.elementA || p.elementB != c.elementB;
     } else {
       changed = true;
-      p.pair = std::get<0>(key); p.lineA = std::get<1>(key); p.lineB = std::get<2>(key);
+      p.key = key;
       p.state = PointStateHolder(enforcer_->newPointState());
       p.sigma = c.cp.sigma;
       p.xiPrev = beamCoordinate(c.elementA, c.cp.xi);
@@ -663,10 +660,10 @@ bool ContactManager::prepareIteration(core::State& state) {
         // state and normal, and its projection then, extrapolated along B by the donor's d eta / d xi.
         if (!donorsFound) {
           for (const auto& [k, d] : committed_)
-            if (d.line()) donors[{d.pair, d.lineB, d.edge(), d.face()}].push_back(&d);
+            if (d.line()) donors[{d.key.pair, d.key.elementA, d.edge(), d.face()}].push_back(&d);
           donorsFound = true;
         }
-        const auto list = donors.find({p.pair, p.lineB, p.edge(), p.face()});
+        const auto list = donors.find({p.key.pair, p.key.elementA, p.edge(), p.face()});
         const Point* donor = nullptr;
         if (list != donors.end())
           for (const Point* d : list->second)
@@ -693,15 +690,15 @@ bool ContactManager::prepareIteration(core::State& state) {
     for (const auto& [key, p] : next)
       if (p.line())
         for (int n : {fieldNode(p.elementA, 0), fieldNode(p.elementA, 1)})
-          if (!next.count(Key{p.pair, Point::kLineNode - p.edge(), n})) {
-            const Key nk{p.pair, Point::kLineNode - p.edge(), n};
+          if (!next.count(Key::lineNode(p.key.pair, p.edge(), n))) {
+            const Key nk = Key::lineNode(p.key.pair, p.edge(), n);
             const auto it = points_.find(nk);
             Point q;
             if (it != points_.end()) {
               q = it->second;
             } else {
               changed = true;
-              q.pair = p.pair; q.lineA = Point::kLineNode - p.edge(); q.lineB = n;
+              q.key = nk;
               q.elementA = q.elementB = p.elementA;
               q.state = PointStateHolder(enforcer_->newPointState());
             }
@@ -721,7 +718,7 @@ bool ContactManager::prepareIteration(core::State& state) {
     if (p.node()) {
       const auto g = gaps.find(key);
       idle = g == gaps.end() || !(g->second.weight > 0.0);
-    } else if (blends(p.pair)) {
+    } else if (blends(p.key.pair)) {
       idle = !(blendWeight(p, std::cos(axisAngle(p.elementA, p.elementB, state)), nullptr, nullptr) > 0.0);
     }
     if (idle) p.state = PointStateHolder(enforcer_->newPointState());
@@ -766,7 +763,10 @@ void ContactManager::handCompliance(Point& p) const {
 }
 
 namespace {
-core::ExtraUnknowns::Key extraKey(const ContactManager::Point& p) { return {p.pair, p.lineA, p.lineB}; }
+core::ExtraUnknowns::Key extraKey(const ContactManager::Point& p) {
+  const auto c = p.key.code();
+  return {c.begin(), c.end()};
+}
 }  // namespace
 
 bool ContactManager::layoutMultipliers(core::State& state) {
@@ -790,7 +790,7 @@ const double* ContactManager::multipliers(const Point& p, const core::State& sta
 
 ContactPoint ContactManager::strategyView(const Point& p, const ContactKinematics& k, const core::State& state) const {
   // Line points have friction along the axes (their g_T2); across the axes no slip is measured.
-  ContactPoint view{k, pairs_[p.pair].friction, options_.frictionLaw, multipliers(p, state),
+  ContactPoint view{k, pairs_[p.key.pair].friction, options_.frictionLaw, multipliers(p, state),
                     blendWeight(p, k.axesCosine, nullptr, nullptr)};
   if (p.line()) view.measured[0] = false;
   return view;
@@ -833,7 +833,7 @@ std::vector<ContactManager::FieldShare> ContactManager::fieldShares(const Point&
     f.node = node;
     f.N = N;
     f.slope = slope;
-    const auto it = points_.find(Key{p.pair, Point::kLineNode - p.edge(), node});
+    const auto it = points_.find(Key::lineNode(p.key.pair, p.edge(), node));
     if (it != points_.end()) f.record = &it->second;
     shares.push_back(f);
   }
@@ -851,7 +851,7 @@ std::map<Key, ContactManager::NodeGap> ContactManager::nodeGaps(const core::Stat
     const double gap = w > 0.0 ? cp.gap : 0.0;
     const double slip = w > 0.0 ? lineSlip(p, cp, s) : 0.0;
     for (const FieldShare& f : fieldShares(p, cp.xi)) {
-      NodeGap& g = gaps[Key{p.pair, Point::kLineNode - p.edge(), f.node}];
+      NodeGap& g = gaps[Key::lineNode(p.key.pair, p.edge(), f.node)];
       g.weighted += w * f.N * gap;
       g.weightedSlip += w * f.N * slip;
       g.weight += w * f.N;
@@ -867,7 +867,7 @@ std::map<Key, ContactManager::NodeGap> ContactManager::nodeGaps(const core::Stat
 }
 
 ContactPoint ContactManager::nodeView(const Point& node, const ContactKinematics& k, const core::State& s) const {
-  ContactPoint view{k, pairs_[node.pair].friction, options_.frictionLaw, multipliers(node, s), 1.0};
+  ContactPoint view{k, pairs_[node.key.pair].friction, options_.frictionLaw, multipliers(node, s), 1.0};
   view.measured[0] = false;  // as its Gauss points: slip along the axes only
   return view;
 }
@@ -961,7 +961,7 @@ ContactKinematics ContactManager::kinematics(const Point& p, const core::State& 
     const LinePairInput in = lineContactInput(p, state);
     return segmentKinematics(in, lineSegment(in), gaussXi_[p.gauss()], lineHistory(p), p.normal, order);
   }
-  const LinePairInput in = lineInput(p.elementA, p.lineA, p.elementB, p.lineB, state);
+  const LinePairInput in = lineInput(p.elementA, p.key.lineA, p.elementB, p.key.lineB, state);
   const double xiPrev = p.xiPrev - beams_->elements()[p.elementA].index;
   const double etaPrev = p.etaPrev - beams_->elements()[p.elementB].index;
   return contactKinematics(in, p.sigma, xiPrev, etaPrev, order);
@@ -1021,7 +1021,7 @@ void ContactManager::evaluate(const core::State& state, const OwnsDof& owns, cor
     const PointState* acting = actingState(p);
     if (!acting || !enforcer_->contributes(pointGeometry(p, state).gap, *acting)) continue;
     // A point of a blended pair whose weight is zero now carries nothing (the angle, cheap, first).
-    if (blends(p.pair) &&
+    if (blends(p.key.pair) &&
         blendWeight(p, std::cos(axisAngle(p.elementA, p.elementB, state)), nullptr, nullptr) == 0.0)
       continue;
     const ContactKinematics k = kinematics(p, state);
@@ -1145,7 +1145,7 @@ void ContactManager::checkNoPassThrough(const core::State& state) const {
     if (sideRef * sideCur > 0.0 || (sideRef == 0.0 && sideCur == 0.0)) return;
     const auto& elems = beams_->elements();
     for (const auto& [key, p] : points_) {
-      if (p.pair != pi || std::abs(elems[p.elementA].index - elems[ea].index) > 1 ||
+      if (p.key.pair != pi || std::abs(elems[p.elementA].index - elems[ea].index) > 1 ||
           std::abs(elems[p.elementB].index - elems[eb].index) > 1)
         continue;
       if (p.node()) continue;
@@ -1255,7 +1255,7 @@ void ContactManager::commitStep(const core::State& state) {
       p.result = enforcer_->reportedForces(view, *p.state);
       enforcer_->commitPoint(view, *p.state);
       p.gap = k.normal.value;
-      p.position = state.position[p.lineB];
+      p.position = state.position[p.key.node];
       continue;
     }
     const ContactKinematics k = judgedKinematics(p, state);
@@ -1274,14 +1274,14 @@ void ContactManager::commitStep(const core::State& state) {
       p.result.lambdaN *= w;
       for (double& t : p.result.lambdaT) t *= w;
       if (w == 0.0) p.result.active = false;
-      if (p.line() && p.result.active && pairs_[p.pair].friction > 0.0) frictionlessLines_.insert(p.pair);
+      if (p.line() && p.result.active && pairs_[p.key.pair].friction > 0.0) frictionlessLines_.insert(p.key.pair);
       if (nodalLines_ && p.line() && p.result.active) {
         // The field enforces gaps weighted over beam A's elements: between its nodes the beams may
         // penetrate. Beyond kUnresolved of the thinner section's inscribed radius the contact zone is not resolved.
-        const auto& pair = pairs_[p.pair];
+        const auto& pair = pairs_[p.key.pair];
         const double radius = std::min(inscribed_[pair.beamA], inscribed_[pair.beamB]);
         if (-k.normal.value > kUnresolved * radius) {
-          auto& worst = unresolvedLines_[p.pair];
+          auto& worst = unresolvedLines_[p.key.pair];
           if (-k.normal.value > worst.first) {
             const ClosestPoints at = pointGeometry(p, state);
             worst = {-k.normal.value, 0.5 * (at.pA + at.pB)};
@@ -1292,10 +1292,10 @@ void ContactManager::commitStep(const core::State& state) {
     p.gap = k.normal.value;
     const ClosestPoints cp = pointGeometry(p, state);
     if (p.result.active) {
-      const auto& pair = pairs_[p.pair];
+      const auto& pair = pairs_[p.key.pair];
       const double depth = -cp.gap, inscribed = std::min(inscribed_[pair.beamA], inscribed_[pair.beamB]);
       if (depth > kDeep * inscribed) {
-        auto& worst = deepPoints_[p.pair];
+        auto& worst = deepPoints_[p.key.pair];
         if (depth > worst.first) worst = {depth, 0.5 * (cp.pA + cp.pB)};
       }
     }
@@ -1333,7 +1333,8 @@ void ContactManager::saveCommitted(core::CheckpointOut& out) const {
     void flag(const char* name, bool& v) override { out.word(name).integer(v ? 1 : 0); }
   } writer(out);
   for (const auto& [key, p] : committed_) {
-    out.label("point").integer(p.pair).integer(p.lineA).integer(p.lineB).integer(p.elementA).integer(p.elementB);
+    const auto code = p.key.code();
+    out.label("point").integer(code[0]).integer(code[1]).integer(code[2]).integer(p.elementA).integer(p.elementB);
     out.real(p.sigma).real(p.xiPrev).real(p.etaPrev).real(p.etaRate).real(p.length);
     for (int a = 0; a < 3; ++a) out.real(p.normal[a]);
     for (int a = 0; a < 3; ++a) out.real(p.compliance[a]);
@@ -1374,27 +1375,27 @@ void ContactManager::loadCommitted(core::CheckpointIn& in, const core::State& co
   for (long long i = 0; i < n; ++i) {
     in.label("point");
     Point p;
-    p.pair = static_cast<int>(in.integer());
-    p.lineA = static_cast<int>(in.integer());
-    p.lineB = static_cast<int>(in.integer());
+    const int pair = static_cast<int>(in.integer());
+    const long long lineA = in.integer();
+    p.key = PointKey::fromCode(pair, lineA, static_cast<int>(in.integer()));
     p.elementA = static_cast<int>(in.integer());
     p.elementB = static_cast<int>(in.integer());
-    if (p.pair < 0 || p.pair >= static_cast<int>(pairs_.size()) || p.elementA < 0 || p.elementA >= elements ||
+    if (p.key.pair < 0 || p.key.pair >= static_cast<int>(pairs_.size()) || p.elementA < 0 || p.elementA >= elements ||
         p.elementB < 0 || p.elementB >= elements)
       in.fail("contact point " + std::to_string(i + 1) + " refers to a pair or element the deck does not have (pair " +
-              std::to_string(p.pair) + " of " + std::to_string(pairs_.size()) + ", elements " +
+              std::to_string(p.key.pair) + " of " + std::to_string(pairs_.size()) + ", elements " +
               std::to_string(p.elementA) + " and " + std::to_string(p.elementB) + " of " + std::to_string(elements) +
               ")");
     // Its elements belong to the beams of its pair.
     const auto onPair = [&](int e) {
       const int beam = beams_->elements()[e].beam;
-      return beam == pairs_[p.pair].beamA || beam == pairs_[p.pair].beamB;
+      return beam == pairs_[p.key.pair].beamA || beam == pairs_[p.key.pair].beamB;
     };
     if (!onPair(p.elementA) || !onPair(p.elementB))
       in.fail("contact point " + std::to_string(i + 1) + " joins elements " + std::to_string(p.elementA) + " and " +
               std::to_string(p.elementB) + ", which are not on the beams of its contact pair \"" +
-              pairs_[p.pair].name + "\"");
-    if (committed_.count({p.pair, p.lineA, p.lineB}))
+              pairs_[p.key.pair].name + "\"");
+    if (committed_.count(p.key))
       in.fail("contact point " + std::to_string(i + 1) + " is there twice (it is damaged)");
     p.sigma = in.real();
     if (p.sigma != 1.0 && p.sigma != -1.0)
@@ -1414,7 +1415,7 @@ void ContactManager::loadCommitted(core::CheckpointIn& in, const core::State& co
     p.extraCount = block ? block->size : 0;
     if (p.extraCount != enforcer_->multipliers(*p.state))
       in.fail("a contact point's multipliers do not match its state");
-    committed_[{p.pair, p.lineA, p.lineB}] = p;
+    committed_[p.key] = p;
   }
   // Every contact multiplier in the state belongs to one of these points.
   std::size_t blocks = 0, withBlock = 0;
@@ -1429,7 +1430,7 @@ void ContactManager::loadCommitted(core::CheckpointIn& in, const core::State& co
   // (The line-contact warnings are not in the checkpoint: they are renewed from the steps that
   // follow, and the frictionless one also from the restored points.)
   for (const auto& [key, p] : committed_)
-    if (p.line() && pairs_[p.pair].friction > 0.0) frictionlessLines_.insert(p.pair);
+    if (p.line() && pairs_[p.key.pair].friction > 0.0) frictionlessLines_.insert(p.key.pair);
   passes_ = 0;
 }
 
@@ -1447,7 +1448,7 @@ ClosestPoints ContactManager::pointGeometry(const Point& p, const core::State& s
     }
     return cp;
   }
-  const LinePairInput in = lineInput(p.elementA, p.lineA, p.elementB, p.lineB, s);
+  const LinePairInput in = lineInput(p.elementA, p.key.lineA, p.elementB, p.key.lineB, s);
   ClosestPoints cp = closestPoints(in);
   orient(cp, p.sigma, in.radiusSum);
   return cp;
@@ -1511,7 +1512,8 @@ std::vector<std::string> ContactManager::tableRows() const {
     std::ostringstream s;
     s.precision(12);
     const auto state = [&](int i) { return !p.result.active ? "open" : (p.result.slip[i] ? "slip" : "stick"); };
-    s << pairs_[p.pair].name << "," << p.lineA << "," << p.lineB << "," << p.xiPrev << "," << p.etaPrev << ","
+    const auto code = p.key.code();
+    s << pairs_[p.key.pair].name << "," << code[1] << "," << code[2] << "," << p.xiPrev << "," << p.etaPrev << ","
       << p.position[0] << "," << p.position[1] << "," << p.position[2] << "," << p.gap << ","
       << -p.result.lambdaN << "," << p.result.lambdaT[0] << "," << p.result.lambdaT[1] << "," << state(0) << ","
       << state(1) << "," << (p.result.active ? 1 : 0);
@@ -1551,7 +1553,7 @@ void ContactManager::appendVtk(const core::State&, core::VtkMesh& mesh) const {
     mesh.setPointVector("contact tangential force", point, p.tangentialForce);
     mesh.setPointVector("contact normal", point, p.normal);
     mesh.setPointScalar("contact gap", point, p.gap);
-    mesh.setPointScalar("contact pair", point, p.pair);
+    mesh.setPointScalar("contact pair", point, p.key.pair);
     // 0: both lines stick, 1 or 2: that many slip.
     mesh.setPointScalar("contact slip lines", point, (p.result.slip[0] ? 1 : 0) + (p.result.slip[1] ? 1 : 0));
     mesh.setPointScalar("line traction", point, p.line() && p.length > 0.0 ? -p.result.lambdaN / p.length : 0.0);
@@ -1576,7 +1578,7 @@ void ContactManager::checkLineResolution(const core::State& state) {
   for (const auto& [key, p] : points_) {
     if (!p.line()) continue;
     if (!(blendWeight(p, std::cos(axisAngle(p.elementA, p.elementB, state)), nullptr, nullptr) > kCarries)) continue;
-    const auto k = std::make_tuple(p.pair, p.elementA, p.elementB, p.edge(), p.face());
+    const auto k = std::make_tuple(p.key.pair, p.elementA, p.elementB, p.edge(), p.face());
     const double gap = pointGeometry(p, state).gap;
     const auto it = deepest.find(k);
     deepest[k] = it == deepest.end() ? gap : std::min(it->second, gap);

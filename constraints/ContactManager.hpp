@@ -15,7 +15,7 @@
 // History per point: the contact coordinates of the last converged step (the tangential gaps are
 // measured from them, mapped on the current configuration), the normal orientation, and the
 // strategy's own point state (opaque here). A strategy's multipliers are extra unknowns of the state
-// (core::ExtraUnknowns, owner "contact", key (pair, line A, line B)), as many as it asks for.
+// (core::ExtraUnknowns, owner "contact", key the point's code, PointKey::code), as many as it asks for.
 // When a point moves to a neighbouring element within a step, its tangential gap is the parameter
 // difference times the current element's line length (exact within one element).
 #pragma once
@@ -32,6 +32,7 @@
 
 #include "ConstraintEnforcer.hpp"
 #include "ContactKinematics.hpp"
+#include "PointKey.hpp"
 #include "core/Contribution.hpp"
 #include "elements/BeamSet.hpp"
 
@@ -111,22 +112,15 @@ class ContactManager : public core::Contribution {
 
   // For tests: the current points and their results of the last commit.
   struct Point {
-    // A point contact has its two lines (lineA, lineB >= 0). A Gauss point of line contact lies on
-    // the segment of its element of beam A (lineB) that projects onto an element of beam B
-    // (elementB): lineA = -1 - (gauss + kGaussSlots (edge + 4 face + 16 elementB)), so the key is
-    // unique; between rectangular sections it lies on one of A's edges against one of B's faces
-    // (circles: edge = face = 0). A line node (the node of a strategy's multiplier field on line A,
-    // ConstraintEnforcer::LineField::Nodal) has lineA = kLineNode - edge and lineB = its node; its
-    // elements are one element of beam A at that node.
-    static constexpr int kLineNode = -2000000000;
-    static constexpr int kGaussSlots = 64;
-    static constexpr int kSegmentSlots = 16 * kGaussSlots;  // per element of B
-    int pair = 0, lineA = 0, lineB = 0;
-    bool node() const { return lineA <= kLineNode && lineA > kLineNode - 4; }
-    bool line() const { return lineA < 0 && !node(); }
-    int gauss() const { return (-1 - lineA) % kGaussSlots; }
-    int edge() const { return node() ? kLineNode - lineA : ((-1 - lineA) / kGaussSlots) % 4; }
-    int face() const { return ((-1 - lineA) / (4 * kGaussSlots)) % 4; }
+    // A point contact joins two lines, a Gauss point of line contact lies on a segment of line A, a
+    // line node carries a strategy's multiplier field on line A (PointKey). A line node's elements
+    // are one element of beam A at its node.
+    PointKey key;
+    bool node() const { return key.kind == PointKey::Kind::LineNode; }
+    bool line() const { return key.kind == PointKey::Kind::Gauss; }
+    int gauss() const { return key.gauss; }
+    int edge() const { return key.edge; }
+    int face() const { return key.face; }
     int elementA = 0, elementB = 0;  // indices into the beam set's element list
     double sigma = 1.0;
     double xiPrev = 0.0, etaPrev = 0.0;  // previous converged point, as beam coordinates (element + xi)
@@ -146,7 +140,7 @@ class ContactManager : public core::Contribution {
     Vec3d normalForce{};     // the force the point applies on beam B: its normal part ...
     Vec3d tangentialForce{};  // ... and its tangential part (global components)
   };
-  const std::map<std::tuple<int, int, int>, Point>& points() const { return points_; }
+  const std::map<PointKey, Point>& points() const { return points_; }
   const ConstraintEnforcer& enforcer() const { return *enforcer_; }
   const std::vector<ContactPairSpec>& pairs() const { return pairs_; }
   // The contact search's candidates at `s` (swept from the last converged state): (pair, element of
@@ -186,11 +180,11 @@ class ContactManager : public core::Contribution {
   // (the narrow phase) for the pairs of the broad phase (forEachElementPair). With a communicator of
   // several ranks each rank evaluates a contiguous share of the pairs and the ranks exchange their
   // choices; the result is the same on every rank and the same as the whole search's on one.
-  std::map<std::tuple<int, int, int>, Candidate> detect(const core::State& s) const;
+  std::map<PointKey, Candidate> detect(const core::State& s) const;
   // The narrow phase of one element pair, the broad phase's `visit`-th: offers each candidate it
   // finds with how far outside its elements' centres it lies and an order (see detect).
   void narrowPhase(int pair, int elementA, int elementB, long long visit, const core::State& s,
-                   const std::function<void(const std::tuple<int, int, int>&, const Candidate&, double, long long)>&
+                   const std::function<void(const PointKey&, const Candidate&, double, long long)>&
                        offer) const;
   // Calls visit(pair, elementA, elementB) for the element pairs of the contact pairs whose bounding
   // boxes, swept from the last converged state to `s`, overlap.
@@ -284,7 +278,7 @@ class ContactManager : public core::Contribution {
     double weighted = 0.0, weight = 0.0, full = 0.0;  // full: the weight without the blend
     double weightedSlip = 0.0;                          // int N_a g_T2 ds / int N_a ds
   };
-  std::map<std::tuple<int, int, int>, NodeGap> nodeGaps(const core::State& s) const;
+  std::map<PointKey, NodeGap> nodeGaps(const core::State& s) const;
   // The view a strategy gets of a line node (its weighted gap, its multipliers).
   ContactPoint nodeView(const Point& node, const ContactKinematics& k, const core::State& s) const;
   // Evaluates a Gauss point of a nodal line field: residual and tangent over blockDofs(p).
@@ -309,14 +303,14 @@ class ContactManager : public core::Contribution {
   double blendWeight(const Point& p, double cosine, const double* cosineR, Vector24* gradient) const;
   // The length of line A a Gauss point stands for (its weight times its segment's reference length).
   double lineWeight(const Point& p, double segment) const;
-  std::map<std::tuple<int, int, int>, Point> points_, committed_, marked_;
+  std::map<PointKey, Point> points_, committed_, marked_;
   // This rank's slipping points in the present Newton solve of the increment: the friction force at
   // the last tangent assembly and how often it reversed against the one before (failureHint).
   struct FrictionWatch {
     std::array<double, 2> force{};
     int reversals = 0;
   };
-  mutable std::map<std::tuple<int, int, int>, FrictionWatch> frictionWatch_;
+  mutable std::map<PointKey, FrictionWatch> frictionWatch_;
   core::State reference_;  // the last converged state (orientation of new points, swept search)
   int numNodes_ = 0;
   int passes_ = 0;
