@@ -1,0 +1,110 @@
+#include "AutomaticPenalty.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include <Teuchos_CommHelpers.hpp>
+
+#include "core/Faults.hpp"
+#include "core/Parameters.hpp"
+
+namespace bc::constraints {
+
+void AutomaticPenalty::giveCompliance(PointMap& points, const ContactGeometry& geometry, const Kinematics& kinematics) {
+  if (!compliance_) return;
+  std::vector<ContactPointRecord*> waiting;
+  std::vector<core::SparseLoad> loads;
+  std::vector<double> weights;
+  for (auto& [key, p] : points) {
+    if (p.node() || !enforcer_.wantsCompliance(*p.state)) continue;
+    const ContactKinematics k = kinematics(p);
+    const auto d = geometry.pointDofs(p);
+    for (const GapDerivatives* g : {&k.normal, &k.tangent1, &k.tangent2})
+      loads.push_back({std::vector<core::GlobalDof>(d.begin(), d.end()), std::vector<double>(g->R.begin(), g->R.end())});
+    // The manager weights a line point's force by the length it stands for (a whole segment's share here).
+    weights.push_back(p.line() ? lines_.weight(p, 1.0) : 1.0);
+    waiting.push_back(&p);
+  }
+  if (waiting.empty()) return;
+  std::vector<double> c;
+  try {
+    c = compliance_(geometry.reference(), loads);
+  } catch (const std::runtime_error& e) {
+    throw core::InputError(enforcer_.type() + ": automatic penalty parameters need the beams' compliance at the "
+                           "contact points, but " + e.what() + "; give the penalty parameters as numbers");
+  }
+  for (std::size_t i = 0; i < waiting.size(); ++i) {
+    for (int k = 0; k < 3; ++k) waiting[i]->compliance[k] = weights[i] * c[3 * i + k];
+    handCompliance(*waiting[i]);
+  }
+}
+
+void AutomaticPenalty::handCompliance(ContactPointRecord& p) const {
+  const double c[3] = {p.compliance[0], tangentialRelaxation_ * p.compliance[1],
+                       tangentialRelaxation_ * p.compliance[2]};
+  enforcer_.setCompliance(*p.state, c);
+}
+
+void AutomaticPenalty::watchFriction(const PointKey& key, const PointResult& r, bool tangent) const {
+  if (!tangent || !r.active || !(r.slip[0] || r.slip[1])) return;
+  FrictionWatch& w = frictionWatch_[key];
+  if (w.force[0] * r.lambdaT[0] + w.force[1] * r.lambdaT[1] < 0.0) ++w.reversals;
+  w.force = {r.lambdaT[0], r.lambdaT[1]};
+}
+
+std::string AutomaticPenalty::failureHint(const Teuchos::Comm<int>& comm, const PointMap& points) const {
+  // Slip directions that flip back and forth at many points: the friction force's jump across zero
+  // slip is steeper than the beams can follow, and Newton cycles between mirror images.
+  int local[2] = {static_cast<int>(frictionWatch_.size()), 0}, global[2] = {0, 0};
+  for (const auto& [key, w] : frictionWatch_) local[1] += w.reversals >= kCyclingReversals;
+  Teuchos::reduceAll(comm, Teuchos::REDUCE_SUM, 2, local, global);
+  if (global[1] < 2 || global[1] < global[0] / 4) return "";
+  std::ostringstream s;
+  s << global[1] << " of " << global[0] << " slipping contact points reversed their friction force "
+    << kCyclingReversals << " times or more in this Newton solve (slip directions cycling): the strategy's "
+    << "tangential stiffness (Tangential Penalty Parameter, or Friction Complementarity Parameter with Lagrange "
+       "multipliers) may be too stiff for these beams; a smaller value helps";
+  // Points with parameters chosen from the compliance: relaxAfterFailure lowers them for the retry.
+  const bool automatic =
+      std::any_of(points.begin(), points.end(), [](const auto& kv) { return kv.second.compliance[0] > 0.0; });
+  if (automatic && relaxations_ < kMaxRelaxations) {
+    cycling_ = true;
+    s << "; the automatic Tangential Penalty Parameters are lowered tenfold for the retry";
+  }
+  return s.str();
+}
+
+void AutomaticPenalty::relaxAfterFailure(PointMap& committed) {
+  if (cycling_) {
+    tangentialRelaxation_ *= 10.0;
+    ++relaxations_;
+    for (auto& [key, p] : committed)
+      if (p.compliance[0] > 0.0) handCompliance(p);
+  }
+  cycling_ = false;
+}
+
+void AutomaticPenalty::restore(core::CheckpointIn& in, double factor, int relaxations) {
+  tangentialRelaxation_ = factor;
+  relaxations_ = relaxations;
+  // The tangential penalties are relaxed by a factor 10 each time (relaxAfterFailure), from 1.
+  double relaxation = 1.0;
+  for (int k = 0; k < relaxations_ && std::isfinite(relaxation); ++k) relaxation *= 10.0;
+  if (tangentialRelaxation_ != relaxation)
+    in.fail("its tangential relaxation factor " + core::shortest(tangentialRelaxation_) + " is not 10^" +
+            std::to_string(relaxations_) + " (its count of relaxations)");
+}
+
+std::string AutomaticPenalty::warning() const {
+  if (relaxations_ == 0) return "";
+  std::ostringstream s;
+  s << "the automatic Tangential Penalty Parameters were lowered by a factor " << tangentialRelaxation_
+    << " after Newton solves failed with slip directions cycling: a sticking friction force may be off by more "
+       "than the Tangential Target Error (by 1 / (1 + eps_T c_T) of it with the lowered eps_T, contact_points.csv "
+       "gives each point's eps_T)";
+  return s.str();
+}
+
+}  // namespace bc::constraints

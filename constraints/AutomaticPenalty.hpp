@@ -1,0 +1,68 @@
+// Automatic penalty parameters: the points whose strategy state asks for it are handed the beams'
+// compliance at the point (ConstraintEnforcer::setCompliance), from which the strategy chooses its
+// parameters. When a Newton solve fails with slip directions cycling (friction forces reversing at
+// many points, failureHint), the automatic tangential parameters are lowered tenfold for the retry
+// (their compliances handed on times the relaxation factor), at most kMaxRelaxations times; the
+// run then warns.
+#pragma once
+#include <array>
+#include <functional>
+#include <map>
+#include <string>
+
+#include <Teuchos_Comm.hpp>
+
+#include "ContactGeometry.hpp"
+#include "LineContact.hpp"
+#include "core/Checkpoint.hpp"
+#include "core/Contribution.hpp"
+
+namespace bc::constraints {
+
+class AutomaticPenalty {
+ public:
+  AutomaticPenalty(const ConstraintEnforcer& enforcer, const LineContact& lines) : enforcer_(enforcer), lines_(lines) {}
+  void useCompliance(core::ComplianceFunction compliance) { compliance_ = std::move(compliance); }
+
+  // Hands the points whose strategy state waits for it the structure's compliance there (at the last
+  // converged state `reference`, along the gaps' variations of `kinematics`); nothing before the
+  // solver gave the compliance function.
+  using Kinematics = std::function<ContactKinematics(const ContactPointRecord&)>;
+  void giveCompliance(PointMap& points, const ContactGeometry& geometry, const Kinematics& kinematics);
+  // Hands a point its compliance, the tangential part times the relaxation factor.
+  void handCompliance(ContactPointRecord& p) const;
+
+  // This rank's slipping points in the present Newton solve: compares a point's friction force at a
+  // tangent assembly with the one before (a reversal counts); forgotten after a step or a failure.
+  void watchFriction(const PointKey& key, const PointResult& r, bool tangent) const;
+  void forgetFriction() { frictionWatch_.clear(); }
+  // After a failed Newton solve: what the slip directions say, and whether the retry relaxes.
+  std::string failureHint(const Teuchos::Comm<int>& comm, const PointMap& points) const;
+  // Before the retry of a failed increment: lowers the automatic tangential parameters of the
+  // committed points if failureHint found them cycling.
+  void relaxAfterFailure(PointMap& committed);
+
+  // The relaxation in checkpoints: its factor and count, and both read back (checked against each
+  // other).
+  void save(core::CheckpointOut& out) const { out.real(tangentialRelaxation_).integer(relaxations_); }
+  void restore(core::CheckpointIn& in, double factor, int relaxations);
+  // The warning of a run whose parameters were lowered (empty: none).
+  std::string warning() const;
+
+ private:
+  static constexpr int kMaxRelaxations = 6;
+  static constexpr int kCyclingReversals = 3;  // reversals of a point's friction force within a Newton solve
+  struct FrictionWatch {
+    std::array<double, 2> force{};
+    int reversals = 0;
+  };
+  const ConstraintEnforcer& enforcer_;
+  const LineContact& lines_;
+  core::ComplianceFunction compliance_;
+  double tangentialRelaxation_ = 1.0;
+  int relaxations_ = 0;
+  mutable bool cycling_ = false;
+  mutable std::map<PointKey, FrictionWatch> frictionWatch_;
+};
+
+}  // namespace bc::constraints

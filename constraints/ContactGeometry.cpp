@@ -1,0 +1,187 @@
+#include "ContactGeometry.hpp"
+
+#include <algorithm>
+#include <map>
+
+#include "core/Faults.hpp"
+#include "core/Parameters.hpp"
+
+namespace bc::constraints {
+
+using elements::BeamElement;
+using elements::CrossSection;
+
+ContactGeometry::ContactGeometry(std::shared_ptr<const elements::BeamSet> beams, std::vector<ContactPairSpec> pairs,
+                                 ContactOptions options, bool lineContact)
+    : beams_(std::move(beams)), pairs_(std::move(pairs)), options_(std::move(options)), lineContact_(lineContact) {
+  for (std::size_t i = 0; i < pairs_.size(); ++i) pairIndex_[beamPairKey(pairs_[i].beamA, pairs_[i].beamB)] = static_cast<int>(i);
+  for (const auto& [a, b] : options_.joinedNodes) {
+    joined_.insert({a, b});
+    joined_.insert({b, a});
+  }
+  std::map<int, int> uses;  // elements per node (a free end has one, and no pin)
+  for (const auto& e : beams_->elements()) {
+    ++uses[e.node1];
+    ++uses[e.node2];
+  }
+  for (const auto& [node, n] : uses)
+    if (n == 1 && std::none_of(joined_.begin(), joined_.end(), [&](const auto& j) { return j.first == node; }))
+      freeEnd_.insert(node);
+  for (const auto& b : beams_->beams()) {
+    inscribed_.push_back(b.section.shape == CrossSection::Shape::Rectangle
+                             ? 0.5 * std::min(b.section.width, b.section.height)
+                             : b.section.radius);
+    std::vector<Line> lines;
+    if (b.section.shape == CrossSection::Shape::Rectangle) {
+      const double y = 0.5 * b.section.width, z = 0.5 * b.section.height;
+      lines = {{y, z, 0.0}, {-y, z, 0.0}, {-y, -z, 0.0}, {y, -z, 0.0}};
+    } else {
+      lines = {{0.0, 0.0, b.section.radius}};
+    }
+    lines_.push_back(lines);
+  }
+  for (const auto& p : pairs_) {
+    const bool rA = beams_->beams()[p.beamA].section.shape == CrossSection::Shape::Rectangle;
+    const bool rB = beams_->beams()[p.beamB].section.shape == CrossSection::Shape::Rectangle;
+    if (rA != rB)
+      throw core::InputError("contact pair \"" + p.name +
+                             "\": contact between a rectangular and a circular section is not supported");
+  }
+}
+
+double ContactGeometry::beamCoordinate(int element, double xi) const {
+  return beams_->elements()[element].index + xi;
+}
+
+bool ContactGeometry::blends(int pair) const {
+  // Both circular, or both rectangular (a mixed pair is refused at construction).
+  return lineContact_;
+}
+
+std::pair<double, double> ContactGeometry::blendAngles(int pair) const {
+  // Circular sections: the deck's angles. Rectangular ones: their edges' point contact holds down to
+  // small angles (crossings at 0.1 .. 12 degrees complete), while the face contact's edges, which see
+  // only B's face, miss B's edges on A's face at a crossing (crossings at 4 .. 12 degrees failed at
+  // first contact with the deck's angles): line contact only where the edges are parallel within
+  // Parallel Line Tolerance, and the blend up to twice that angle.
+  if (!rectangles(pair)) return {options_.lineAngle, options_.pointAngle};
+  const double parallel = std::asin(std::min(1.0, options_.minimumSinAngle));
+  return {parallel, 2.0 * parallel};
+}
+
+bool ContactGeometry::rectangles(int pair) const {
+  return beams_->beams()[pairs_[pair].beamA].section.shape == CrossSection::Shape::Rectangle;
+}
+
+double ContactGeometry::axisAngle(int elementA, int elementB, const core::State& s) const {
+  const BeamElement &a = beams_->elements()[elementA], &b = beams_->elements()[elementB];
+  const Vec3d tA = s.position[a.node2] - s.position[a.node1], tB = s.position[b.node2] - s.position[b.node1];
+  return std::acos(std::min(1.0, std::abs(dot(tA, tB)) / (norm(tA) * norm(tB))));
+}
+
+bool ContactGeometry::inLineContact(int pair, int elementA, int elementB) const {
+  // Line points exist up to a margin beyond the point-contact angle (their weight is 0 there), so a
+  // pair whose angle closes within an increment finds them.
+  if (!blends(pair)) return false;
+  const auto [lo, hi] = blendAngles(pair);
+  return axisAngle(elementA, elementB, reference_) < hi + 0.5 * (hi - lo);
+}
+
+bool ContactGeometry::inPointContact(int pair, int elementA, int elementB) const {
+  if (!blends(pair)) return true;
+  return axisAngle(elementA, elementB, reference_) > 0.5 * blendAngles(pair).first;
+}
+
+double ContactGeometry::blendWeight(const ContactPointRecord& p, double cosine, const double* cosineR,
+                                    Vector24* gradient) const {
+  // zeta(alpha) = (1 - cos(pi (alpha - alpha_l) / (alpha_p - alpha_l))) / 2 between the two angles,
+  // 0 below alpha_l, 1 above alpha_p: C1 in alpha. A point contact carries zeta, a line point 1 - zeta.
+  if (gradient) gradient->fill(0.0);
+  if (!blends(p.key.pair)) return 1.0;
+  const auto [lo, hi] = blendAngles(p.key.pair);
+  const double c = std::min(1.0, std::abs(cosine));
+  const double alpha = std::acos(c);
+  double zeta = 1.0, dzeta = 0.0;  // zeta and d zeta / d alpha
+  if (alpha <= lo) {
+    zeta = 0.0;
+  } else if (alpha < hi) {
+    const double k = M_PI / (hi - lo);
+    zeta = 0.5 * (1.0 - std::cos(k * (alpha - lo)));
+    dzeta = 0.5 * k * std::sin(k * (alpha - lo));
+  }
+  const double sign = p.line() ? -1.0 : 1.0;
+  if (gradient && dzeta != 0.0 && c < 1.0) {
+    // d alpha / d cosine = -sign(cosine) / sqrt(1 - cosine^2)
+    const double dAlpha = -(cosine >= 0.0 ? 1.0 : -1.0) / std::sqrt(1.0 - c * c);
+    for (int i = 0; i < kPairDofs; ++i) (*gradient)[i] = sign * dzeta * dAlpha * cosineR[i];
+  }
+  return p.line() ? 1.0 - zeta : zeta;
+}
+
+bool ContactGeometry::withinElement(int element, double xi) const {
+  // At a node shared with a neighbour the closest point may fall just outside both elements when
+  // the beam is bent there with its convex side towards the other line (the projections onto the
+  // two straight elements miss each other). Up to kKinkReach of an element length beyond a shared
+  // node is accepted; the candidate most inside its element wins, so no point is counted twice.
+  // At the beam's own ends the point must lie on the element.
+  constexpr double kExact = 1e-9, kKinkReach = 0.05;
+  const BeamElement& e = beams_->elements()[element];
+  const int last = static_cast<int>(beams_->beams()[e.beam].nodes.size()) - 2;
+  const double below = e.index > 0 ? kKinkReach : kExact;
+  const double above = e.index < last ? kKinkReach : kExact;
+  return xi >= -below && xi <= 1.0 + above;
+}
+
+bool ContactGeometry::nearElement(int element, double xi) const {
+  // Within one element length of the element and not beyond its beam's ends.
+  const BeamElement& e = beams_->elements()[element];
+  const int count = static_cast<int>(beams_->beams()[e.beam].nodes.size()) - 1;
+  const double b = e.index + xi;
+  return xi >= -1.0 && xi <= 2.0 && b >= -1e-9 && b <= count + 1e-9;
+}
+
+LinePairInput ContactGeometry::lineInput(int eA, int lA, int eB, int lB, const core::State& s) const {
+  const BeamElement& a = beams_->elements()[eA];
+  const BeamElement& b = beams_->elements()[eB];
+  const Line& la = lines_[a.beam][lA];
+  const Line& lb = lines_[b.beam][lB];
+  LinePairInput in;
+  in.xA1 = s.position[a.node1]; in.xA2 = s.position[a.node2];
+  in.xB1 = s.position[b.node1]; in.xB2 = s.position[b.node2];
+  in.RA1 = s.rotation[a.node1]; in.RA2 = s.rotation[a.node2];
+  in.RB1 = s.rotation[b.node1]; in.RB2 = s.rotation[b.node2];
+  in.oA = la.cy * column(a.data.T0, 1) + la.cz * column(a.data.T0, 2);
+  in.oB = lb.cy * column(b.data.T0, 1) + lb.cz * column(b.data.T0, 2);
+  in.radiusSum = la.radius + lb.radius;
+  in.dA = a.data.L0 * column(a.data.T0, 0);
+  in.dB = b.data.L0 * column(b.data.T0, 0);
+  return in;
+}
+
+LinePairInput ContactGeometry::axisInput(int eA, int eB, const core::State& s) const {
+  LinePairInput in = lineInput(eA, 0, eB, 0, s);
+  in.oA = in.oB = Vec3d{};
+  in.radiusSum = 0.0;
+  return in;
+}
+
+std::array<core::GlobalDof, kPairDofs> ContactGeometry::pointDofs(const ContactPointRecord& p) const {
+  const auto& a = beams_->elements()[p.elementA];
+  const auto& b = beams_->elements()[p.elementB];
+  const int nodes[4] = {a.node1, a.node2, b.node1, b.node2};
+  std::array<core::GlobalDof, kPairDofs> d;
+  for (int n = 0; n < 4; ++n)
+    for (int k = 0; k < 6; ++k) d[6 * n + k] = core::GlobalDof(core::kDofsPerNode) * nodes[n] + k;
+  return d;
+}
+
+ContactPoint ContactGeometry::strategyView(const ContactPointRecord& p, const ContactKinematics& k,
+                                           const core::State& state) const {
+  // Line points have friction along the axes (their g_T2); across the axes no slip is measured.
+  ContactPoint view{k, pairs_[p.key.pair].friction, options_.frictionLaw, pointMultipliers(p, state),
+                    blendWeight(p, k.axesCosine, nullptr, nullptr)};
+  if (p.line()) view.measured[0] = false;
+  return view;
+}
+
+}  // namespace bc::constraints

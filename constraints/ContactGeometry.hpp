@@ -1,0 +1,150 @@
+// The beams and contact pairs as the contact sees them: each beam's contact lines (the four edges of
+// a rectangular section, offsets +-b/2 e2 +-h/2 e3 from the axis, or the axis of a circular one,
+// whose radius enters the gap), the elements' neighbourhoods (shared and pinned nodes, free ends),
+// the last converged state, and the all-angle blend of point and line contact. The search, point
+// contact, line contact and the points' life cycle all read it.
+#pragma once
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <set>
+#include <string>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "ConstraintEnforcer.hpp"
+#include "ContactKinematics.hpp"
+#include "ContactPointRecord.hpp"
+#include "core/State.hpp"
+#include "elements/BeamSet.hpp"
+
+namespace bc::constraints {
+
+struct ContactPairSpec {
+  int beamA = 0, beamB = 0;
+  double friction = 0.0;
+  std::string name;
+};
+
+struct ContactOptions {
+  double searchMargin = 0.0;           // added to the bounding boxes [length]
+  double minimumSinAngle = 1e-3;       // lines closer to parallel are skipped (point contact undefined)
+  bool allowInitialPenetration = false;
+  FrictionLaw frictionLaw = FrictionLaw::IsotropicCoulomb;
+  // All-angle contact of two circular beams (radians): line contact (Gauss points along the line,
+  // frictionless) below lineAngle, point contact above pointAngle, a C1 blend of the two between;
+  // lineAngle 0 switches line contact off. Gauss points per element of beam A.
+  double lineAngle = 5.0 * M_PI / 180.0;
+  double pointAngle = 15.0 * M_PI / 180.0;
+  int lineGaussPoints = 6;
+  // Pairs of distinct nodes joined without sharing a node (pinned joints): elements meeting there
+  // are no contact candidates, like elements that share a node.
+  std::vector<std::pair<int, int>> joinedNodes;
+};
+
+// A candidate of the narrow phase for a point key: the element pair it lies on and the closest
+// points of its lines there.
+struct Candidate {
+  int elementA, elementB;
+  ClosestPoints cp;
+};
+// How the narrow phase offers a candidate: with how far outside its elements' centres it lies and
+// an order (ContactSearch::detect keeps, per key, the lowest (outside, order)).
+using CandidateOffer = std::function<void(const PointKey&, const Candidate&, double, long long)>;
+
+// Gives closest points the normal orientation `sigma` (n = sigma t_B x t_A / |t_B x t_A|) and the gap
+// that goes with it.
+inline void orient(ClosestPoints& cp, double sigma, double radiusSum) {
+  if (sigma == cp.sigma) return;
+  cp.normal = -1.0 * cp.normal;
+  cp.sigma = sigma;
+  cp.gap = dot(cp.pB - cp.pA, cp.normal) - radiusSum;
+}
+// The unit vector t_B x t_A / |t_B x t_A| (the normal before its orientation sigma).
+inline Vec3d lineCross(const ClosestPoints& cp) { return cp.sigma * cp.normal; }
+
+class ContactGeometry {
+ public:
+  // `lineContact`: the strategy enforces lines (and the options switch line contact on).
+  ContactGeometry(std::shared_ptr<const elements::BeamSet> beams, std::vector<ContactPairSpec> pairs,
+                  ContactOptions options, bool lineContact);
+
+  const elements::BeamSet& beams() const { return *beams_; }
+  const std::vector<ContactPairSpec>& pairs() const { return pairs_; }
+  const ContactOptions& options() const { return options_; }
+  // The last converged state (orientation of new points, swept search, blend of element pairs).
+  const core::State& reference() const { return reference_; }
+  void setReference(const core::State& s) { reference_ = s; }
+
+  // The contact pair of beams (a, b), in this order, or -1.
+  int pairOf(int a, int b) const {
+    const auto it = pairIndex_.find(beamPairKey(a, b));
+    return it == pairIndex_.end() ? -1 : it->second;
+  }
+  // Nodes pinned together (options().joinedNodes, either order).
+  bool joined(int a, int b) const { return joined_.count({a, b}) > 0; }
+  // A node at a beam end that no other element or pin uses.
+  bool freeEnd(int node) const { return freeEnd_.count(node) > 0; }
+  // The radius of the largest circle in a beam's section, and the smaller of a pair's two.
+  double inscribed(int beam) const { return inscribed_[beam]; }
+  double thinner(int pair) const { return std::min(inscribed_[pairs_[pair].beamA], inscribed_[pairs_[pair].beamB]); }
+  int lineCount(int beam) const { return static_cast<int>(lines_[beam].size()); }
+  bool rectangles(int pair) const;
+
+  // The input of closest points of line lA of element eA and line lB of element eB in `s`, and that
+  // of the two elements' axes.
+  LinePairInput lineInput(int eA, int lA, int eB, int lB, const core::State& s) const;
+  LinePairInput axisInput(int eA, int eB, const core::State& s) const;
+  double beamCoordinate(int element, double xi) const;
+  // Whether xi lies on the element (beyond a shared node: within a little of it), and within one
+  // element length of it (not beyond its beam's ends).
+  bool withinElement(int element, double xi) const;
+  bool nearElement(int element, double xi) const;
+  std::array<core::GlobalDof, kPairDofs> pointDofs(const ContactPointRecord& p) const;
+
+  // All-angle contact: whether the pair blends point and line contact (the strategy enforces lines;
+  // both sections circular or both rectangular); the angles (radians) below which a pair is in line
+  // contact and above which in point contact; the angle of two elements' axes in `s`; whether an
+  // element pair has line points / point contacts (by its angle at the last converged state, with
+  // margins beyond the blend so a pair that turns within an increment has both); and the blend
+  // weight of a point at its axes' cosine (point contact zeta, line point 1 - zeta), with its
+  // gradient in the 24 dofs from the cosine's first variation.
+  bool lineContact() const { return lineContact_; }
+  bool blends(int pair) const;
+  std::pair<double, double> blendAngles(int pair) const;
+  double axisAngle(int elementA, int elementB, const core::State& s) const;
+  bool inLineContact(int pair, int elementA, int elementB) const;
+  bool inPointContact(int pair, int elementA, int elementB) const;
+  double blendWeight(const ContactPointRecord& p, double cosine, const double* cosineR, Vector24* gradient) const;
+  // The blend weight at the axes' angle in `s` (without variations).
+  double blendWeightAt(const ContactPointRecord& p, const core::State& s) const {
+    return blendWeight(p, std::cos(axisAngle(p.elementA, p.elementB, s)), nullptr, nullptr);
+  }
+
+  // The point as its strategy sees it, with kinematics `k` in `state`.
+  ContactPoint strategyView(const ContactPointRecord& p, const ContactKinematics& k, const core::State& state) const;
+
+ private:
+  struct Line {
+    double cy = 0.0, cz = 0.0;  // offset in the section's (y, z)
+    double radius = 0.0;
+  };
+  std::shared_ptr<const elements::BeamSet> beams_;
+  std::vector<ContactPairSpec> pairs_;
+  ContactOptions options_;
+  bool lineContact_ = false;
+  core::State reference_;
+  std::vector<std::vector<Line>> lines_;  // per beam
+  std::set<std::pair<int, int>> joined_;  // options_.joinedNodes, both orders
+  // (beam A, beam B) -> index into pairs_ (hashed: the search looks a pair up for every two
+  // elements whose boxes overlap, 10^5 pairs on the 316 x 316 crossed layers).
+  static std::uint64_t beamPairKey(int a, int b) { return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b); }
+  std::unordered_map<std::uint64_t, int> pairIndex_;
+  std::set<int> freeEnd_;          // nodes at a beam end that no other element or pin uses
+  std::vector<double> inscribed_;  // per beam: radius of the largest circle in its section
+};
+
+}  // namespace bc::constraints

@@ -1,0 +1,149 @@
+#include "ContactReport.hpp"
+
+#include <sstream>
+
+namespace bc::constraints {
+
+namespace {
+// An active point penetrating by more than this fraction of the thinner section's inscribed radius
+// is reported: at that depth the sections overlap visibly, and a penalty law is far from contact.
+constexpr double kDeep = 0.05;
+}  // namespace
+
+void ContactReport::noteDepth(const ContactPointRecord& p, const ClosestPoints& cp) {
+  const double depth = -cp.gap, inscribed = geometry_.thinner(p.key.pair);
+  if (depth > kDeep * inscribed) {
+    auto& worst = deepPoints_[p.key.pair];
+    if (depth > worst.first) worst = {depth, 0.5 * (cp.pA + cp.pB)};
+  }
+}
+
+std::string ContactReport::tableHeader() {
+  return "pair,line_A,line_B,beam_A_coordinate,beam_B_coordinate,x,y,z,gap,normal_force,tangential_force_1,"
+         "tangential_force_2,state_1,state_2,active,normal_x,normal_y,normal_z,normal_force_x,normal_force_y,"
+         "normal_force_z,tangential_force_x,tangential_force_y,tangential_force_z,tangential_force,element_A,element_B,"
+         "line_traction,normal_penalty,tangential_penalty";
+}
+
+std::vector<std::string> ContactReport::tableRows(const PointMap& committed) const {
+  std::vector<std::string> rows;
+  for (const auto& [key, p] : committed) {
+    if (p.node()) continue;
+    std::ostringstream s;
+    s.precision(12);
+    const auto state = [&](int i) { return !p.result.active ? "open" : (p.result.slip[i] ? "slip" : "stick"); };
+    const auto code = p.key.code();
+    s << geometry_.pairs()[p.key.pair].name << "," << code[1] << "," << code[2] << "," << p.xiPrev << ","
+      << p.etaPrev << "," << p.position[0] << "," << p.position[1] << "," << p.position[2] << "," << p.gap << ","
+      << -p.result.lambdaN << "," << p.result.lambdaT[0] << "," << p.result.lambdaT[1] << "," << state(0) << ","
+      << state(1) << "," << (p.result.active ? 1 : 0);
+    for (const Vec3d* v : {&p.normal, &p.normalForce, &p.tangentialForce})
+      for (int a = 0; a < 3; ++a) s << "," << (*v)[a];
+    s << "," << norm(p.tangentialForce);
+    // The segment (the elements, within their beams, the point lies on) and, for a line point, its
+    // normal force per unit length of line A (0 for point contacts).
+    const auto& elems = geometry_.beams().elements();
+    s << "," << elems[p.elementA].index << "," << elems[p.elementB].index << ","
+      << (p.line() && p.length > 0.0 ? -p.result.lambdaN / p.length : 0.0);
+    // The penalty parameters the strategy used at the point (0: none, or the point carried no force).
+    s << "," << p.result.penalty[0] << "," << p.result.penalty[1];
+    rows.push_back(s.str());
+  }
+  return rows;
+}
+
+void ContactReport::appendVtk(const PointMap& committed, core::VtkMesh& mesh) const {
+  // In every step's file, also without contact.
+  mesh.pointVectors["contact force"];
+  mesh.pointScalars["line traction"];
+  mesh.pointScalars["segment element A"];
+  mesh.pointScalars["segment element B"];
+  mesh.pointVectors["contact normal force"];
+  mesh.pointVectors["contact tangential force"];
+  mesh.pointVectors["contact normal"];
+  mesh.pointScalars["contact gap"];
+  mesh.pointScalars["contact pair"];
+  mesh.pointScalars["contact slip lines"];
+  const auto& elems = geometry_.beams().elements();
+  for (const auto& [key, p] : committed) {
+    if (!p.result.active || p.node()) continue;
+    const int point = mesh.addPoint(p.position, Vec3d{});
+    mesh.setPointVector("contact force", point, p.normalForce + p.tangentialForce);
+    mesh.setPointVector("contact normal force", point, p.normalForce);
+    mesh.setPointVector("contact tangential force", point, p.tangentialForce);
+    mesh.setPointVector("contact normal", point, p.normal);
+    mesh.setPointScalar("contact gap", point, p.gap);
+    mesh.setPointScalar("contact pair", point, p.key.pair);
+    // 0: both lines stick, 1 or 2: that many slip.
+    mesh.setPointScalar("contact slip lines", point, (p.result.slip[0] ? 1 : 0) + (p.result.slip[1] ? 1 : 0));
+    mesh.setPointScalar("line traction", point, p.line() && p.length > 0.0 ? -p.result.lambdaN / p.length : 0.0);
+    mesh.setPointScalar("segment element A", point, elems[p.elementA].index);
+    mesh.setPointScalar("segment element B", point, elems[p.elementB].index);
+    mesh.cellTypes.push_back(1);  // VTK_VERTEX
+    mesh.cells.push_back({point});
+    mesh.cellBeam.push_back(-1);
+    mesh.cellElement.push_back(-1);
+  }
+}
+
+std::vector<std::string> ContactReport::warnings() const {
+  std::vector<std::string> w;
+  const auto& pairs = geometry_.pairs();
+  const auto& beams = geometry_.beams().beams();
+  if (const std::string relaxed = penalty_.warning(); !relaxed.empty()) w.push_back(relaxed);
+  for (const auto& [pair, worst] : deepPoints_) {
+    const auto& pr = pairs[pair];
+    const double inscribed = geometry_.thinner(pair);
+    std::ostringstream s;
+    s << "contact pair \"" << pr.name << "\": the beams penetrated each other by up to " << worst.first << " ("
+      << 100.0 * worst.first / inscribed << " % of the thinner section's inscribed radius) near (" << worst.second[0]
+      << ", " << worst.second[1] << ", " << worst.second[2] << "), more than " << 100.0 * kDeep
+      << " %: the sections overlap visibly there, so the forces are those of a soft contact law, not of contact; "
+         "raise the Normal Penalty Parameter (or use Augmented Lagrange or Lagrange Multiplier)";
+    w.push_back(s.str());
+  }
+  for (const auto& [pair, worst] : lines_.unseenBetween()) {
+    std::ostringstream s;
+    s << "contact pair \"" << pairs[pair].name << "\": between the Gauss points of line contact the beams "
+      << "overlapped by up to " << worst.first << " more than at any Gauss point, near (" << worst.second[0] << ", "
+      << worst.second[1] << ", " << worst.second[2] << ") (more than " << kUnresolvedLine
+      << " of the thinner section's inscribed radius): the contact zone there is shorter than the Gauss points' spacing (axes "
+         "crossing at a small angle), so part of the contact was not seen; raise Contact/Line Gauss Points or "
+         "refine beam \"" << beams[pairs[pair].beamA].name << "\"";
+    w.push_back(s.str());
+  }
+  for (const auto& [pair, worst] : lines_.unresolved()) {
+    std::ostringstream s;
+    s << "contact pair \"" << pairs[pair].name << "\": " << enforcer_.type()
+      << " enforces line contact on gaps weighted over the elements of beam \"" << beams[pairs[pair].beamA].name
+      << "\", and between its nodes the beams penetrated by up to " << worst.first << " near (" << worst.second[0]
+      << ", " << worst.second[1] << ", " << worst.second[2] << "), more than " << kUnresolvedLine
+      << " of the thinner section's inscribed radius: the contact zone there is short against the elements (beams crossing at a "
+         "small angle, or a beam end on the other beam), so the contact force is not resolved; refine beam \""
+      << beams[pairs[pair].beamA].name << "\" or use Penalty or Augmented Lagrange";
+    w.push_back(s.str());
+  }
+  for (int pair : lines_.frictionless()) {
+    std::ostringstream s;
+    s << "contact pair \"" << pairs[pair].name << "\" has friction coefficient " << pairs[pair].friction
+      << ", and its beams were in line contact (nearly parallel): ";
+    s << "friction acted along the axes only; sliding across them (perpendicular to both axes) is frictionless";
+    w.push_back(s.str());
+  }
+  return w;
+}
+
+std::string ContactReport::progressSummary(const PointMap& committed, int lastPasses) const {
+  int active = 0, stick = 0, slip = 0;
+  for (const auto& [key, p] : committed) {
+    if (!p.result.active || p.node()) continue;
+    ++active;
+    for (int i = 0; i < 2; ++i) (p.result.slip[i] ? slip : stick)++;
+  }
+  std::ostringstream s;
+  s << "contact " << active << " (stick " << stick << ", slip " << slip << " lines)";
+  if (enforcer_.maximumPasses() > 1) s << ", passes " << lastPasses;
+  return s.str();
+}
+
+}  // namespace bc::constraints

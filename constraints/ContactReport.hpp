@@ -1,0 +1,41 @@
+// What the contact reports of the committed points: the rows of contact_points.csv, the VTK arrays
+// of the active points, the progress line, and the warnings of the run (penetrations deeper than
+// the sections allow, line contact that did not resolve its zone, frictionless line contact,
+// lowered automatic parameters).
+#pragma once
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "AutomaticPenalty.hpp"
+#include "ContactGeometry.hpp"
+#include "LineContact.hpp"
+#include "core/Contribution.hpp"
+
+namespace bc::constraints {
+
+class ContactReport {
+ public:
+  ContactReport(const ContactGeometry& geometry, const ConstraintEnforcer& enforcer, const LineContact& lines,
+                const AutomaticPenalty& penalty)
+      : geometry_(geometry), enforcer_(enforcer), lines_(lines), penalty_(penalty) {}
+
+  static std::string tableHeader();
+  std::vector<std::string> tableRows(const PointMap& committed) const;
+  void appendVtk(const PointMap& committed, core::VtkMesh& mesh) const;
+  // `lastPasses`: the passes of the increment solved last.
+  std::string progressSummary(const PointMap& committed, int lastPasses) const;
+  std::vector<std::string> warnings() const;
+  // Notes a committed active point at its closest points `cp` (penetrations beyond kDeep).
+  void noteDepth(const ContactPointRecord& p, const ClosestPoints& cp);
+
+ private:
+  const ContactGeometry& geometry_;
+  const ConstraintEnforcer& enforcer_;
+  const LineContact& lines_;
+  const AutomaticPenalty& penalty_;
+  std::map<int, std::pair<double, Vec3d>> deepPoints_;  // pair -> deepest active point beyond kDeep, where
+};
+
+}  // namespace bc::constraints

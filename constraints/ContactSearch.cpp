@@ -1,0 +1,373 @@
+#include "ContactSearch.hpp"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <type_traits>
+#include <unordered_map>
+
+#include "core/Faults.hpp"
+#include "core/Parameters.hpp"
+
+namespace bc::constraints {
+
+using elements::BeamElement;
+using elements::CrossSection;
+
+namespace {
+
+struct Box {
+  Vec3d lo, hi;
+};
+
+// Uniform grid of cell size = largest box extent: a box overlaps at most 2 x 2 x 2 cells. Over the
+// boxes' bounding box it is stored densely (each cell's elements one after another) when that takes
+// at most 8 cells per element, else hashed (sparse fibre sets): at 4 x 10^4 contact points of the
+// crossed layers the hashed cells' lookups were the search's own hot spot. A cell lists its
+// elements in increasing order.
+class BoxGrid {
+ public:
+  BoxGrid(const std::vector<Box>& boxes, const std::vector<int>& elements, double cell) : cell_(cell) {
+    constexpr double kHuge = std::numeric_limits<double>::max();
+    lo_ = Vec3d{{kHuge, kHuge, kHuge}};
+    Vec3d hi{{-kHuge, -kHuge, -kHuge}};
+    bool finite = std::isfinite(cell) && cell > 0.0;
+    for (const int e : elements) {
+      for (int k = 0; k < 3; ++k) {
+        finite = finite && std::isfinite(boxes[e].lo[k]) && std::isfinite(boxes[e].hi[k]);
+        lo_[k] = std::min(lo_[k], boxes[e].lo[k]);
+        hi[k] = std::max(hi[k], boxes[e].hi[k]);
+      }
+    }
+    // (Not finite: a diverged state, its boxes' cells hashed as before and no index out of the grid.)
+    double cells = 1.0;
+    for (int k = 0; k < 3 && finite; ++k) {
+      dims_[k] = static_cast<long long>(std::floor((hi[k] - lo_[k]) / cell)) + 1;
+      cells *= double(dims_[k]);
+    }
+    dense_ = finite && cells <= 8.0 * double(elements.size()) + 64.0;
+    if (!finite) lo_ = Vec3d{};
+    if (dense_) {
+      cellStart_.assign(static_cast<std::size_t>(cells) + 1, 0);
+      for (const int e : elements) forEachCell(boxes[e], [&](long long c) { ++cellStart_[c + 1]; });
+      for (std::size_t c = 1; c < cellStart_.size(); ++c) cellStart_[c] += cellStart_[c - 1];
+      cellElements_.resize(cellStart_.back());
+      std::vector<int> next(cellStart_.begin(), cellStart_.end() - 1);
+      for (const int e : elements) forEachCell(boxes[e], [&](long long c) { cellElements_[next[c]++] = e; });
+    } else {
+      for (const int e : elements) forEachCell(boxes[e], [&](long long c) { hashed_[c].push_back(e); });
+    }
+  }
+  // Calls fn(cell) for each cell of a box.
+  template <class Fn>
+  void forEachCell(const Box& b, const Fn& fn) const {
+    const auto [i0, i1] = range(b, 0);
+    const auto [j0, j1] = range(b, 1);
+    const auto [k0, k1] = range(b, 2);
+    for (long long i = i0; i <= i1; ++i)
+      for (long long j = j0; j <= j1; ++j)
+        for (long long k = k0; k <= k1; ++k) fn(cellKey(i, j, k));
+  }
+  // The elements of a cell, as [first, second).
+  std::pair<const int*, const int*> elements(long long c) const {
+    if (dense_) return {cellElements_.data() + cellStart_[c], cellElements_.data() + cellStart_[c + 1]};
+    const auto it = hashed_.find(c);
+    if (it == hashed_.end()) return {nullptr, nullptr};
+    return {it->second.data(), it->second.data() + it->second.size()};
+  }
+
+ private:
+  std::pair<long long, long long> range(const Box& b, int k) const {
+    return {(long long)std::floor((b.lo[k] - lo_[k]) / cell_), (long long)std::floor((b.hi[k] - lo_[k]) / cell_)};
+  }
+  long long cellKey(long long i, long long j, long long k) const {
+    return dense_ ? (i * dims_[1] + j) * dims_[2] + k : (i * 73856093LL) ^ (j * 19349663LL) ^ (k * 83492791LL);
+  }
+  double cell_;
+  Vec3d lo_;
+  long long dims_[3] = {1, 1, 1};
+  bool dense_ = false;
+  std::vector<int> cellStart_, cellElements_;  // dense: cell c's elements at [cellStart[c], cellStart[c + 1])
+  std::unordered_map<long long, std::vector<int>> hashed_;
+};
+
+// The narrow phase's choice for a key (see detect).
+struct Offer {
+  Candidate candidate;
+  double outside;
+  long long visit;
+};
+
+// Every rank's choices to every rank, merged by `offer` (the rule that made them).
+void exchangeChoices(const Teuchos::Comm<int>& comm, std::map<PointKey, Offer>& chosen, const CandidateOffer& offer) {
+  const int ranks = comm.getSize();
+  const MPI_Comm raw = core::rawMpiComm(comm);
+  struct Record {
+    PointKey key;
+    int elementA, elementB;
+    double outside;
+    long long visit;
+    ClosestPoints cp;
+  };
+  static_assert(std::is_trivially_copyable_v<Record>, "records travel as bytes");
+  std::vector<Record> mine;
+  mine.reserve(chosen.size());
+  for (const auto& [key, o] : chosen)
+    mine.push_back(Record{key, o.candidate.elementA, o.candidate.elementB, o.outside, o.visit, o.candidate.cp});
+  // The byte counts as 64-bit integers, so that every rank takes the same decision on their total.
+  const long long bytes = static_cast<long long>(mine.size() * sizeof(Record));
+  std::vector<long long> sizes(ranks);
+  MPI_Allgather(&bytes, 1, MPI_LONG_LONG, sizes.data(), 1, MPI_LONG_LONG, raw);
+  std::vector<int> counts(ranks), offsets(ranks);
+  long long total = 0;
+  for (int r = 0; r < ranks; ++r) total += sizes[r];
+  if (total > std::numeric_limits<int>::max())
+    throw std::runtime_error("contact search: the candidates (" + std::to_string(total) +
+                             " bytes) exceed what one exchange between the ranks carries (2 GB)");
+  for (int r = 0, at = 0; r < ranks; ++r) offsets[r] = at, counts[r] = static_cast<int>(sizes[r]), at += counts[r];
+  std::vector<Record> all(static_cast<std::size_t>(total) / sizeof(Record));
+  MPI_Allgatherv(mine.data(), static_cast<int>(bytes), MPI_BYTE, all.data(), counts.data(), offsets.data(), MPI_BYTE,
+                 raw);
+  chosen.clear();
+  for (const Record& r : all) offer(r.key, Candidate{r.elementA, r.elementB, r.cp}, r.outside, r.visit);
+}
+
+}  // namespace
+
+namespace {
+
+// Bounding boxes of the elements `boxed` (of beams in contact pairs), swept from the last converged
+// state to `s`: a pair that one increment carries through each other is still a candidate, with no
+// search margin tuned to the increment. `cell`: the largest extent of a box.
+std::vector<Box> sweptBoxes(const ContactGeometry& geometry, const core::State& s, const std::vector<int>& boxed,
+                            double& cell) {
+  const auto& elems = geometry.beams().elements();
+  const core::State& reference = geometry.reference();
+  std::vector<Box> boxes(elems.size());
+  cell = 0.0;
+  for (const int e : boxed) {
+    const BeamElement& el = elems[e];
+    const auto& sec = geometry.beams().beams()[el.beam].section;
+    const double reach = (sec.shape == CrossSection::Shape::Rectangle ? 0.5 * std::hypot(sec.width, sec.height)
+                                                                       : sec.radius) +
+                         geometry.options().searchMargin;
+    Box b;
+    for (int k = 0; k < 3; ++k) {
+      b.lo[k] = std::min({s.position[el.node1][k], s.position[el.node2][k], reference.position[el.node1][k],
+                          reference.position[el.node2][k]}) - reach;
+      b.hi[k] = std::max({s.position[el.node1][k], s.position[el.node2][k], reference.position[el.node1][k],
+                          reference.position[el.node2][k]}) + reach;
+      cell = std::max(cell, b.hi[k] - b.lo[k]);
+    }
+    boxes[e] = b;
+  }
+  return boxes;
+}
+
+// Per beam, the first and last of its elements among `boxed`; `runs`: every beam's elements are
+// numbered one after another (then a cell's elements of one beam are one run of the cell).
+struct BeamRuns {
+  std::vector<int> first, last;
+  bool runs = true;
+};
+BeamRuns beamRuns(const std::vector<BeamElement>& elems, const std::vector<int>& boxed, std::size_t numBeams) {
+  BeamRuns r;
+  r.first.assign(numBeams, std::numeric_limits<int>::max());
+  r.last.assign(numBeams, -1);
+  std::vector<int> count(numBeams, 0);
+  for (const int e : boxed) {
+    const int b = elems[e].beam;
+    r.first[b] = std::min(r.first[b], e);
+    r.last[b] = std::max(r.last[b], e);
+    ++count[b];
+  }
+  for (std::size_t b = 0; b < numBeams; ++b) r.runs = r.runs && (count[b] == 0 || r.last[b] - r.first[b] + 1 == count[b]);
+  return r;
+}
+
+}  // namespace
+
+void ContactSearch::forEachElementPair(const core::State& s, const std::function<void(int, int, int)>& visit) const {
+  const auto& elems = geometry_.beams().elements();
+  std::vector<char> inPairs(geometry_.beams().beams().size(), 0);
+  for (const auto& p : geometry_.pairs()) inPairs[p.beamA] = inPairs[p.beamB] = 1;
+  // The elements of beams in contact pairs: the only ones boxed, gridded and searched.
+  std::vector<int> boxedElements;
+  for (std::size_t e = 0; e < elems.size(); ++e)
+    if (inPairs[elems[e].beam]) boxedElements.push_back(static_cast<int>(e));
+  double cell = 0.0;
+  const std::vector<Box> boxes = sweptBoxes(geometry_, s, boxedElements, cell);
+  if (boxedElements.empty()) return;
+  const BoxGrid grid(boxes, boxedElements, cell);
+  // Element pairs (pair, element of its beam A, element of its beam B) whose boxes overlap, found
+  // from each element's cells (not by looping over every pair and element: with All Pairs of n
+  // beams that is n^2 / 2 pairs), then visited pair by pair in element order.
+  // A cell lists its elements in increasing order, and a beam's elements are numbered one after
+  // another, so the elements of ea's own beam (never in a pair with it) are one run of each cell,
+  // skipped by bisection: where elements are short against the sections, a cell holds thousands of
+  // one beam's elements, and testing them all made the search quadratic (`check` of Example 1 with
+  // 10^4 elements on beam 1: 5.7 s, 88 % of it in these tests; 2 x 10^4: 4 times that).
+  const BeamRuns beam = beamRuns(elems, boxedElements, geometry_.beams().beams().size());
+  std::vector<std::tuple<int, int, int>> found;
+  std::vector<int> seenBy(elems.size(), -1);  // seenBy[eb] == ea: (ea, eb) found already
+  for (const int ea : boxedElements) {
+    const Box& A = boxes[ea];
+    const int own = elems[ea].beam;
+    const auto visitRun = [&](const int* begin, const int* end) {
+      for (const int* it = begin; it != end; ++it) {
+        const int eb = *it;
+        // The boxes first: most elements of a cell are not in a pair with ea's beam or do not reach
+        // ea's box, and the box test costs less than the pair's lookup.
+        const Box& B = boxes[eb];
+        bool overlap = true;
+        for (int c = 0; c < 3; ++c) overlap = overlap && A.lo[c] <= B.hi[c] && B.lo[c] <= A.hi[c];
+        if (!overlap) continue;
+        if (seenBy[eb] == ea) continue;
+        const int pair = geometry_.pairOf(elems[ea].beam, elems[eb].beam);
+        if (pair < 0) continue;
+        seenBy[eb] = ea;
+        // Elements that share a node (beams joined there) or whose nodes are pinned together do
+        // not contact each other.
+        const BeamElement &A0 = elems[ea], &B0 = elems[eb];
+        bool joined = false;
+        for (int na : {A0.node1, A0.node2})
+          for (int nb : {B0.node1, B0.node2}) joined = joined || na == nb || geometry_.joined(na, nb);
+        if (!joined) found.emplace_back(pair, ea, eb);
+      }
+    };
+    grid.forEachCell(A, [&](long long c) {
+      const auto [begin, end] = grid.elements(c);
+      if (!beam.runs) return visitRun(begin, end);
+      const int* from = std::lower_bound(begin, end, beam.first[own]);
+      const int* to = std::upper_bound(from, end, beam.last[own]);
+      visitRun(begin, from);
+      visitRun(to, end);
+    });
+  }
+  std::stable_sort(found.begin(), found.end(),
+                   [](const auto& a, const auto& b) { return std::get<0>(a) < std::get<0>(b); });
+  for (const auto& [pi, ea, eb] : found) visit(pi, ea, eb);
+}
+
+std::vector<std::tuple<int, int, int>> ContactSearch::candidates(const core::State& s) const {
+  std::vector<std::tuple<int, int, int>> found;
+  forEachElementPair(s, [&](int pi, int ea, int eb) { found.emplace_back(pi, ea, eb); });
+  std::sort(found.begin(), found.end());
+  return found;
+}
+
+std::map<PointKey, Candidate> ContactSearch::detect(const core::State& s, const NarrowPhase& narrow) const {
+  std::vector<std::tuple<int, int, int>> visits;
+  forEachElementPair(s, [&](int pi, int ea, int eb) { visits.emplace_back(pi, ea, eb); });
+  // A key's candidate is the one offered with the lowest (outside, visit): for a point contact the
+  // candidate most central in its elements, the first visited of equals; for a line Gauss point the
+  // last visited (offered with outside 0 and -visit). The choice does not depend on which rank
+  // evaluated which visit, so the ranks' shares merge into the whole search's result.
+  std::map<PointKey, Offer> chosen;
+  const CandidateOffer offer = [&chosen](const PointKey& key, const Candidate& c, double outside, long long visit) {
+    const auto it = chosen.find(key);
+    if (it == chosen.end())
+      chosen.emplace(key, Offer{c, outside, visit});
+    else if (outside < it->second.outside || (!(it->second.outside < outside) && visit < it->second.visit))
+      it->second = Offer{c, outside, visit};
+  };
+  const int ranks = comm_.is_null() ? 1 : comm_->getSize(), me = comm_.is_null() ? 0 : comm_->getRank();
+  const std::size_t first = visits.size() * me / ranks, last = visits.size() * (me + 1) / ranks;
+  const auto share = [&] {
+    for (std::size_t v = first; v < last; ++v) {
+      const auto& [pi, ea, eb] = visits[v];
+      narrow(pi, ea, eb, static_cast<long long>(v), offer);
+    }
+  };
+  if (ranks == 1) {
+    share();
+  } else {
+    // A failure in one rank's share is thrown on every rank (the first failing rank's error).
+    core::collectively(*comm_, share);
+    exchangeChoices(*comm_, chosen, offer);
+  }
+  std::map<PointKey, Candidate> found;
+  for (auto& [key, o] : chosen) found.emplace_hint(found.end(), key, std::move(o.candidate));
+  return found;
+}
+
+void ContactSearch::checkNoUnseenContact(const core::State& state, bool atStart, const std::string& strategy) const {
+  // Contacts the point model cannot see: two beams whose axes come closer than the sum of their
+  // sections' inscribed radii (so they surely overlap) where no contact point can exist:
+  //  - at a free beam end (the closest points of the two lines lie beyond it, so no element pair
+  //    has them inside both elements): an end pressed into the side of another beam;
+  //  - nearly parallel (sine of the angle below "Parallel Line Tolerance"): point contact is
+  //    undefined there.
+  // A state with such an overlap is not a solution: the increment fails (a run cannot complete with
+  // it), and at the start the deck is refused.
+  const auto& elems = geometry_.beams().elements();
+  const auto& beams = geometry_.beams().beams();
+  forEachElementPair(state, [&](int pi, int ea, int eb) {
+    const auto& pair = geometry_.pairs()[pi];
+    if (geometry_.inLineContact(pi, ea, eb)) return;  // line contact sees parallel beams and their ends
+    const double reach = geometry_.inscribed(pair.beamA) + geometry_.inscribed(pair.beamB);
+    const BeamElement &A = elems[ea], &B = elems[eb];
+    const Vec3d &a1 = state.position[A.node1], &a2 = state.position[A.node2];
+    const Vec3d &b1 = state.position[B.node1], &b2 = state.position[B.node2];
+    const SegmentClosest c = segmentClosest(a1, a2, b1, b2);
+    if (!(c.distance < reach * (1.0 - 1e-9))) return;
+    const double sine = norm(cross(a2 - a1, b2 - b1)) / (norm(a2 - a1) * norm(b2 - b1));
+    const bool endA = (c.s == 0.0 && geometry_.freeEnd(A.node1)) || (c.s == 1.0 && geometry_.freeEnd(A.node2));
+    const bool endB = (c.t == 0.0 && geometry_.freeEnd(B.node1)) || (c.t == 1.0 && geometry_.freeEnd(B.node2));
+    const bool parallel = sine < geometry_.options().minimumSinAngle;
+    if (!parallel && !endA && !endB) return;
+    const Vec3d at = a1 + c.s * (a2 - a1);
+    std::ostringstream s;
+    s << "beams \"" << beams[pair.beamA].name << "\" and \"" << beams[pair.beamB].name << "\" overlap near ("
+      << at[0] << ", " << at[1] << ", " << at[2] << "), axes " << c.distance << " apart, ";
+    if (parallel) {
+      s << "lying nearly parallel (sine of their angle " << sine
+        << " below Contact/Parallel Line Tolerance): point contact cannot model this contact, and line contact "
+           "is available only between two circular or two rectangular sections";
+      if (!geometry_.lineContact())
+        s << " with a strategy that enforces lines and Contact/Line Contact Angle > 0 (" << strategy
+          << " here does not)";
+    } else {
+      s << "at the free end of beam \"" << beams[endA ? pair.beamA : pair.beamB].name
+        << "\": contact at a beam end is not modelled (a contact point needs the closest points of the two lines "
+           "within both beams)";
+    }
+    if (atStart) throw core::InputError(s.str() + "; move the beams apart");
+    throw std::runtime_error(s.str());
+  });
+}
+
+void ContactSearch::checkNoPassThrough(const core::State& state,
+                                       const std::function<bool(int, int, int)>& held) const {
+  // Beams passed through each other when the axes of two of their elements crossed between the last
+  // converged state and this one (the signed distance of the axes, oriented by continuity of
+  // t_B x t_A, changed sign while the closest points lay on both elements in both states) and no
+  // active contact point of the pair near those elements holds them. A point that carries its normal
+  // from before is legal however deep it penetrates (a soft penalty); a crossing that no point
+  // saw is not a solution: the increment fails (and is cut), never a silent result.
+  forEachElementPair(state, [&](int pi, int ea, int eb) {
+    const LinePairInput now = geometry_.axisInput(ea, eb, state), before = geometry_.axisInput(ea, eb, geometry_.reference());
+    const ClosestPoints cur = closestPoints(now), ref = closestPoints(before);
+    const double minimumSin = geometry_.options().minimumSinAngle;
+    if (cur.sinAngle < minimumSin || ref.sinAngle < minimumSin) return;
+    if (!geometry_.withinElement(ea, cur.xi) || !geometry_.withinElement(eb, cur.eta) ||
+        !geometry_.nearElement(ea, ref.xi) || !geometry_.nearElement(eb, ref.eta))
+      return;
+    const Vec3d cRef = lineCross(ref), cCur = lineCross(cur);
+    const double sideRef = dot(ref.cB - ref.cA, cRef);
+    const double sideCur = dot(cur.cB - cur.cA, cCur) * (dot(cRef, cCur) >= 0.0 ? 1.0 : -1.0);
+    if (sideRef * sideCur > 0.0 || (sideRef == 0.0 && sideCur == 0.0)) return;
+    if (held(pi, ea, eb)) return;
+    const auto& pair = geometry_.pairs()[pi];
+    std::ostringstream s;
+    s << "beams \"" << geometry_.beams().beams()[pair.beamA].name << "\" and \""
+      << geometry_.beams().beams()[pair.beamB].name << "\" passed through each other near (" << cur.cA[0] << ", "
+      << cur.cA[1] << ", " << cur.cA[2] << ") with no contact point holding them (smaller increments help)";
+    throw std::runtime_error(s.str());
+  });
+}
+
+}  // namespace bc::constraints

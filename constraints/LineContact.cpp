@@ -1,0 +1,384 @@
+#include "LineContact.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace bc::constraints {
+
+using elements::BeamElement;
+
+LineContact::LineContact(const ContactGeometry& geometry, const ConstraintEnforcer& enforcer)
+    : geometry_(geometry), enforcer_(enforcer) {
+  nodal_ = geometry_.lineContact() && enforcer_.lineField() == ConstraintEnforcer::LineField::Nodal;
+  // Gauss-Legendre points on [0, 1]: roots of P_n by Newton's method from the Chebyshev guesses.
+  const int n = std::max(geometry_.options().lineGaussPoints, 1);
+  for (int i = 0; i < n; ++i) {
+    double x = std::cos(M_PI * (i + 0.75) / (n + 0.5)), dp = 1.0;
+    for (int it = 0; it < 100; ++it) {
+      double p0 = 1.0, p1 = x;
+      for (int k = 2; k <= n; ++k) {
+        const double p2 = ((2 * k - 1) * x * p1 - (k - 1) * p0) / k;
+        p0 = p1;
+        p1 = p2;
+      }
+      if (n == 1) p0 = 1.0, p1 = x;
+      dp = n * (x * p1 - p0) / (x * x - 1.0);
+      const double step = p1 / dp;
+      x -= step;
+      if (std::abs(step) < 1e-16) break;
+    }
+    gaussXi_.push_back(0.5 * (1.0 - x));
+    gaussWeight_.push_back(1.0 / ((1.0 - x * x) * dp * dp));  // (2 / ((1 - x^2) P_n'^2)) / 2
+  }
+  // Segment planes: at a node between two elements of a beam the mean of their unit axes, at an end
+  // the end element's axis.
+  const auto& elems = geometry_.beams().elements();
+  std::map<std::pair<int, int>, int> byIndex;  // (beam, index) -> element
+  for (std::size_t e = 0; e < elems.size(); ++e) byIndex[{elems[e].beam, elems[e].index}] = static_cast<int>(e);
+  segmentPlanes_.resize(elems.size());
+  for (std::size_t e = 0; e < elems.size(); ++e) {
+    const Vec3d t = column(elems[e].data.T0, 0);
+    for (int side = 0; side < 2; ++side) {
+      const auto next = byIndex.find({elems[e].beam, elems[e].index + (side == 0 ? -1 : 1)});
+      Vec3d m = t;
+      if (next != byIndex.end()) m = m + column(elems[next->second].data.T0, 0);
+      segmentPlanes_[e][side] = (1.0 / norm(m)) * m;
+    }
+  }
+}
+
+std::pair<std::array<int, 2>, int> LineContact::facing(int eA, int eB, const core::State& s) const {
+  const BeamElement &a = geometry_.beams().elements()[eA], &b = geometry_.beams().elements()[eB];
+  const Vec3d mA = 0.5 * (s.position[a.node1] + s.position[a.node2]);
+  const Vec3d mB = 0.5 * (s.position[b.node1] + s.position[b.node2]);
+  const Vec3d tA = s.position[a.node2] - s.position[a.node1];
+  Vec3d d = mB - mA;
+  d = d - (dot(d, tA) / dot(tA, tA)) * tA;
+  // Face f of a section: outward normal +e2, +e3, -e2, -e3 for f = 0..3 (current: R_1 T0).
+  const auto best = [&](const BeamElement& e, const Vec3d& towards) {
+    int face = 0;
+    double most = -1e300;
+    for (int f = 0; f < 4; ++f) {
+      const Vec3d n = (f < 2 ? 1.0 : -1.0) * (s.rotation[e.node1] * column(e.data.T0, 1 + f % 2));
+      if (dot(n, towards) > most) {
+        most = dot(n, towards);
+        face = f;
+      }
+    }
+    return face;
+  };
+  const int faceA = best(a, d), faceB = best(b, -1.0 * d);
+  // A's edges on its face (lines 0..3 at (+y,+z), (-y,+z), (-y,-z), (+y,-z)).
+  static const std::array<int, 2> edgesOf[4] = {{0, 3}, {0, 1}, {1, 2}, {2, 3}};
+  return {edgesOf[faceA], faceB};
+}
+
+LinePairInput LineContact::faceInput(int eA, int edgeA, int eB, int faceB, const core::State& s) const {
+  LinePairInput in = geometry_.lineInput(eA, edgeA, eB, 0, s);
+  const BeamElement& b = geometry_.beams().elements()[eB];
+  const auto& sec = geometry_.beams().beams()[b.beam].section;
+  const Vec3d axis = column(b.data.T0, 1 + faceB % 2);  // e2 or e3
+  const double sign = faceB < 2 ? 1.0 : -1.0;
+  const double half = 0.5 * (faceB % 2 == 0 ? sec.width : sec.height);   // along the face normal
+  const double across = 0.5 * (faceB % 2 == 0 ? sec.height : sec.width);  // the face's half width
+  in.oB = (sign * half) * axis;
+  in.nB = sign * axis;
+  in.halfWidthB = across;
+  in.face = true;
+  in.radiusSum = 0.0;
+  return in;
+}
+
+LinePairInput LineContact::input(const ContactPointRecord& p, const core::State& s) const {
+  return segmentInput(p.key.pair, p.elementA, p.elementB, p.edge(), p.face(), s);
+}
+
+LinePairInput LineContact::segmentInput(int pair, int eA, int eB, int edge, int face, const core::State& s) const {
+  LinePairInput in = geometry_.rectangles(pair) ? faceInput(eA, edge, eB, face, s) : geometry_.lineInput(eA, 0, eB, 0, s);
+  in.sB1 = segmentPlanes_[eB][0];
+  in.sB2 = segmentPlanes_[eB][1];
+  return in;
+}
+
+LineHistory LineContact::history(const ContactPointRecord& p) const {
+  const auto& elems = geometry_.beams().elements();
+  return {p.xiPrev - elems[p.elementA].index, p.etaPrev - elems[p.elementB].index, p.etaRate};
+}
+
+double LineContact::slip(const ContactPointRecord& p, const ClosestPoints& cp, const core::State& s) const {
+  const BeamElement& eB = geometry_.beams().elements()[p.elementB];
+  return (cp.eta - history(p).etaPrevAt(cp.xi)) * norm(s.position[eB.node2] - s.position[eB.node1]);
+}
+
+double LineContact::weight(const ContactPointRecord& p, double segment) const {
+  return gaussWeight_[p.gauss()] * geometry_.beams().elements()[p.elementA].data.L0 * segment;
+}
+
+void LineContact::findPoints(int pi, int ea, int eb, long long visit, const core::State& s, const PointMap& known,
+                             const CandidateOffer& offer) const {
+  // The Gauss points of the segment of A's element that lies between the planes of B's element's
+  // nodes (segments of neighbouring elements of B share their plane, so they tile A's line and
+  // no Gauss point straddles a node of B or lies beyond B's end).
+  // Rectangular sections: on each of A's two edges facing B, against B's face facing A, where
+  // the edge lies across that face.
+  std::vector<std::pair<int, int>> lines = {{0, 0}};  // (edge of A, face of B)
+  if (geometry_.rectangles(pi)) {
+    const auto [edges, face] = facing(ea, eb, geometry_.reference());
+    lines = {{edges[0], face}, {edges[1], face}};
+  }
+  for (const auto& [edge, face] : lines) {
+    const LinePairInput in = segmentInput(pi, ea, eb, edge, face, s);
+    // (A sliver of a segment, where A's element ends at B's node within round-off, carries nothing.)
+    constexpr double kSliver = 1e-9;
+    const LineSegment seg = lineSegment(in);
+    if (!(seg.length() > kSliver)) continue;
+    // The planes partition A's line where its points project onto B about along B's axis (nearly
+    // parallel lines close together). Where the segment's points project far beyond B's element
+    // instead (lines further apart than their elements are long, at an angle: neighbouring wires
+    // of a strand, element pairs several elements apart), the pair is not in line contact.
+    const double mid = lineProjection(in, seg.lo + 0.5 * seg.length()).eta;
+    if (!(mid > -0.5 && mid < 1.5)) continue;
+    for (int q = 0; q < (int)gaussXi_.size(); ++q) {
+      const ClosestPoints cp = lineProjection(in, seg.lo + seg.length() * gaussXi_[q]);
+      const PointKey key = PointKey::gaussPoint(pi, ea, eb, edge, face, q);
+      // Across B's face: a new point within 1e-3 of its width beyond the face's edge, a known one
+      // while within 5 % (equal widths put A's edges exactly on B's face edges, where a sharp
+      // bound would drop and take up points from one iterate to the next).
+      if (in.face && std::abs(cp.lateral) > in.halfWidthB * (known.count(key) ? 1.05 : 1.001)) continue;
+      offer(key, Candidate{ea, eb, cp}, 0.0, -visit);  // the last visit wins
+    }
+  }
+}
+
+ClosestPoints LineContact::geometry(const ContactPointRecord& p, const core::State& s, double* segment) const {
+  const LinePairInput in = input(p, s);
+  const LineSegment seg = lineSegment(in);
+  if (segment) *segment = seg.length();
+  ClosestPoints cp = lineProjection(in, seg.lo + seg.length() * gaussXi_[p.gauss()]);
+  cp.sinAngle = 1.0;  // a line point is defined at any angle
+  if (lineSide(in, cp, p.normal) < 0.0) {  // it keeps its side (lineKinematics)
+    const double radiusSum = cp.distance - cp.gap;
+    cp.gap = -cp.distance - radiusSum;
+    cp.normal = -1.0 * cp.normal;
+  }
+  return cp;
+}
+
+ContactKinematics LineContact::kinematics(const ContactPointRecord& p, const core::State& s, Variations order) const {
+  const LinePairInput in = input(p, s);
+  return segmentKinematics(in, lineSegment(in), gaussXi_[p.gauss()], history(p), p.normal, order);
+}
+
+ContactKinematics LineContact::values(const ContactPointRecord& p, const ClosestPoints& cp, double segment,
+                                      const core::State& s) const {
+  ContactKinematics k;
+  k.xi = cp.xi;
+  k.eta = cp.eta;
+  k.segment = segment;
+  k.normal.value = cp.gap;
+  k.tangent2.value = slip(p, cp, s);
+  const LinePairInput in = input(p, s);
+  const Vec3d tA = (in.xA2 + in.RA2 * in.oA) - (in.xA1 + in.RA1 * in.oA);
+  const Vec3d tB = (in.xB2 + in.RB2 * in.oB) - (in.xB1 + in.RB1 * in.oB);
+  k.axesCosine = dot(tA, tB) / (norm(tA) * norm(tB));
+  return k;
+}
+
+int LineContact::fieldNode(int element, int side) const {
+  const BeamElement& e = geometry_.beams().elements()[element];
+  const auto& nodes = geometry_.beams().beams()[e.beam].nodes;
+  const int last = static_cast<int>(nodes.size()) - 1;
+  int i = e.index + side;
+  if (last == 1) i = 0;  // one element: one field node
+  else if (i == 0) i = 1;
+  else if (i == last) i = last - 1;
+  return nodes[i];
+}
+
+std::vector<LineContact::FieldShare> LineContact::fieldShares(const ContactPointRecord& p, double xi,
+                                                              const PointMap& points) const {
+  std::vector<FieldShare> shares;
+  for (int side = 0; side < 2; ++side) {
+    const int node = fieldNode(p.elementA, side);
+    const double N = side == 0 ? 1.0 - xi : xi, slope = side == 0 ? -1.0 : 1.0;
+    if (!shares.empty() && shares.back().node == node) {
+      shares.back().N += N;
+      shares.back().slope += slope;
+      continue;
+    }
+    FieldShare f;
+    f.node = node;
+    f.N = N;
+    f.slope = slope;
+    const auto it = points.find(PointKey::lineNode(p.key.pair, p.edge(), node));
+    if (it != points.end()) f.record = &it->second;
+    shares.push_back(f);
+  }
+  return shares;
+}
+
+std::map<PointKey, LineContact::NodeGap> LineContact::nodeGaps(const PointMap& points, const core::State& s) const {
+  std::map<PointKey, NodeGap> gaps;
+  for (const auto& [key, p] : points) {
+    if (!p.line()) continue;
+    double segment = 0.0;
+    const ClosestPoints cp = geometry(p, s, &segment);
+    const double length = weight(p, segment);
+    const double w = length * geometry_.blendWeightAt(p, s);
+    const double gap = w > 0.0 ? cp.gap : 0.0;
+    const double slipped = w > 0.0 ? slip(p, cp, s) : 0.0;
+    for (const FieldShare& f : fieldShares(p, cp.xi, points)) {
+      NodeGap& g = gaps[PointKey::lineNode(p.key.pair, p.edge(), f.node)];
+      g.weighted += w * f.N * gap;
+      g.weightedSlip += w * f.N * slipped;
+      g.weight += w * f.N;
+      g.full += length * f.N;
+    }
+  }
+  for (auto& [key, g] : gaps)
+    if (g.weight > 0.0) {
+      g.weighted /= g.weight;
+      g.weightedSlip /= g.weight;
+    }
+  return gaps;
+}
+
+ContactPoint LineContact::nodeView(const ContactPointRecord& node, const ContactKinematics& k,
+                                   const core::State& s) const {
+  ContactPoint view{k, geometry_.pairs()[node.key.pair].friction, geometry_.options().frictionLaw,
+                    pointMultipliers(node, s), 1.0};
+  view.measured[0] = false;  // as its Gauss points: slip along the axes only
+  return view;
+}
+
+const PointState* LineContact::fieldState(const ContactPointRecord& p, const PointMap& points) const {
+  // The field node with the largest share among those that have multipliers.
+  const ContactPointRecord* host = nullptr;
+  double best = -1.0;
+  for (const FieldShare& f : fieldShares(p, p.xi, points))
+    if (f.record && f.record->extraCount > 0 && f.N > best) {
+      host = f.record;
+      best = f.N;
+    }
+  return host ? &*host->state : nullptr;
+}
+
+bool LineContact::evaluateNodal(const ContactPointRecord& p, const ContactKinematics& k, const core::State& s,
+                                const PointMap& points, std::vector<double>& f, std::vector<double>* K,
+                                PointResult* result) const {
+  // lambda = N_a Lambda_a + N_b Lambda_b; the point's multiplier rows and columns are mapped on the
+  // nodes' with the same N (block = E^T point E with E the interpolation). The Gauss point xi moves
+  // with its segment, so N does too: the tangent also holds the rows E'^T f xi' and the columns
+  // (d f / d lambda) (N' Lambda) xi'.
+  const PointState* host = fieldState(p, points);
+  if (!host || !enforcer_.contributes(k.normal.value, *host)) return false;
+  const int m = enforcer_.multipliers(*host);
+  std::vector<double> lambda(m, 0.0), lambdaSlope(m, 0.0);  // lambda and d lambda / d xi
+  std::vector<std::vector<std::pair<int, double>>> to(kPairDofs + m);  // point dof -> (block dof, factor)
+  std::vector<std::pair<int, double>> slopes;                          // (block row of a node's q = 0, dN / dxi)
+  for (int i = 0; i < kPairDofs; ++i) to[i].push_back({i, 1.0});
+  int slot = kPairDofs;
+  for (const FieldShare& n : fieldShares(p, k.xi, points)) {
+    if (!n.record || n.record->extraCount == 0) continue;
+    if (n.record->extraCount != m)
+      throw std::logic_error(enforcer_.type() + ": the two line nodes of a Gauss point own different numbers of multipliers");
+    const double* values = &s.extra[n.record->extraOffset];
+    for (int q = 0; q < m; ++q) {
+      lambda[q] += n.N * values[q];
+      lambdaSlope[q] += n.slope * values[q];
+      to[kPairDofs + q].push_back({slot + q, n.N});
+    }
+    slopes.push_back({slot, n.slope});
+    slot += m;
+  }
+  const int np = kPairDofs + m, nb = slot;
+  std::vector<double> fp(np, 0.0), Kp(K ? std::size_t(np) * np : 0, 0.0);
+  ContactPoint view = geometry_.strategyView(p, k, s);
+  view.lambda = lambda.data();
+  const PointResult r = enforcer_.evaluate(view, *host, fp.data(), K ? Kp.data() : nullptr);
+  if (result) *result = r;
+  f.assign(nb, 0.0);
+  for (int i = 0; i < np; ++i)
+    for (const auto& [bi, ci] : to[i]) f[bi] += ci * fp[i];
+  if (K) {
+    // d lambda / d u = lambdaSlope xi': into the point's displacement columns.
+    for (int i = 0; i < np; ++i) {
+      double dfdxi = 0.0;
+      for (int q = 0; q < m; ++q) dfdxi += Kp[std::size_t(np) * i + kPairDofs + q] * lambdaSlope[q];
+      if (dfdxi != 0.0)
+        for (int j = 0; j < kPairDofs; ++j) Kp[std::size_t(np) * i + j] += dfdxi * k.xiR[j];
+    }
+    K->assign(std::size_t(nb) * nb, 0.0);
+    for (int i = 0; i < np; ++i)
+      for (int j = 0; j < np; ++j) {
+        const double v = Kp[std::size_t(np) * i + j];
+        if (v == 0.0) continue;
+        for (const auto& [bi, ci] : to[i])
+          for (const auto& [bj, cj] : to[j]) (*K)[std::size_t(nb) * bi + bj] += ci * cj * v;
+      }
+    // The nodes' rows N_a f_lambda: d N_a / d u = slope xi'.
+    for (const auto& [row, slope] : slopes)
+      for (int q = 0; q < m; ++q)
+        for (int j = 0; j < kPairDofs; ++j)
+          (*K)[std::size_t(nb) * (row + q) + j] += slope * fp[kPairDofs + q] * k.xiR[j];
+  }
+  return true;
+}
+
+void LineContact::noteCommitted(const ContactPointRecord& p, const ContactKinematics& k, const core::State& s) {
+  if (!p.line() || !p.result.active) return;
+  if (geometry_.pairs()[p.key.pair].friction > 0.0) frictionless_.insert(p.key.pair);
+  if (!nodal_) return;
+  // The field enforces gaps weighted over beam A's elements: between its nodes the beams may
+  // penetrate. Beyond kUnresolvedLine of the thinner section's inscribed radius the contact zone is
+  // not resolved.
+  const double radius = geometry_.thinner(p.key.pair);
+  if (-k.normal.value > kUnresolvedLine * radius) {
+    auto& worst = unresolved_[p.key.pair];
+    if (-k.normal.value > worst.first) {
+      const ClosestPoints at = geometry(p, s);
+      worst = {-k.normal.value, 0.5 * (at.pA + at.pB)};
+    }
+  }
+}
+
+void LineContact::noteRestored(const PointMap& points) {
+  for (const auto& [key, p] : points)
+    if (p.line() && geometry_.pairs()[p.key.pair].friction > 0.0) frictionless_.insert(p.key.pair);
+}
+
+void LineContact::checkResolution(const PointMap& points, const core::State& state) {
+  // The Gauss points of line contact see the gap only where they are. Where the contact zone of an
+  // element pair is shorter than their spacing (axes crossing at a small angle) the beams can overlap
+  // between them, unseen. Per element pair (and, for rectangles, edge of A) with line points that
+  // carry weight: the gap sampled along A's line (kSamples points, projected on B's) against the
+  // deepest Gauss point's.
+  constexpr int kSamples = 64;
+  // (pair, element A, element B, edge of A, face of B; 0, 0 for circles) -> lowest Gauss gap
+  std::map<std::tuple<int, int, int, int, int>, double> deepest;
+  for (const auto& [key, p] : points) {
+    if (!p.line()) continue;
+    if (!(geometry_.blendWeightAt(p, state) > kCarries)) continue;
+    const auto k = std::make_tuple(p.key.pair, p.elementA, p.elementB, p.edge(), p.face());
+    const double gap = geometry(p, state).gap;
+    const auto it = deepest.find(k);
+    deepest[k] = it == deepest.end() ? gap : std::min(it->second, gap);
+  }
+  for (const auto& [k, gauss] : deepest) {
+    const auto [pi, ea, eb, edge, face] = k;
+    const double radius = geometry_.thinner(pi);
+    // Rectangles: along A's edge against B's face, where the edge lies across it.
+    const LinePairInput in = segmentInput(pi, ea, eb, edge, face, state);
+    const LineSegment seg = lineSegment(in);
+    for (int i = 0; i <= kSamples && seg.length() > 0.0; ++i) {
+      const ClosestPoints cp = lineProjection(in, seg.lo + seg.length() * i / kSamples);
+      if (in.face && std::abs(cp.lateral) > in.halfWidthB) continue;
+      const double unseen = std::min(gauss, 0.0) - cp.gap;
+      if (!(unseen > kUnresolvedLine * radius)) continue;
+      auto& worst = unseenBetween_[pi];
+      if (unseen > worst.first) worst = {unseen, 0.5 * (cp.pA + cp.pB)};
+    }
+  }
+}
+
+}  // namespace bc::constraints

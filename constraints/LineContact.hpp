@@ -1,0 +1,118 @@
+// Line contact of nearly parallel beams: Gauss points along the segment of each element of beam A
+// that lies between the planes of the nodes of an element of beam B (rectangular sections: on each
+// of A's two edges facing B, against B's face facing A), each standing for its share of line A. A
+// strategy may carry its multipliers on a field on the nodes of line A (LineField::Nodal): its line
+// nodes are points of their own, and each Gauss point acts through its field nodes' multipliers.
+// After each step the Gauss points' resolution of the contact zone is checked (warnings).
+#pragma once
+#include <map>
+#include <set>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include "ContactGeometry.hpp"
+
+namespace bc::constraints {
+
+class LineContact {
+ public:
+  LineContact(const ContactGeometry& geometry, const ConstraintEnforcer& enforcer);
+  // Whether the strategy's multipliers live on a field on line A's nodes.
+  bool nodal() const { return nodal_; }
+
+  // The narrow phase of one element pair in line contact, the broad phase's `visit`-th: offers its
+  // Gauss points (the last visit wins; `known`: the present points).
+  void findPoints(int pi, int ea, int eb, long long visit, const core::State& s, const PointMap& known,
+                  const CandidateOffer& offer) const;
+  // A Gauss point's closest points in `s` at its Gauss point of its segment (keeping its side), the
+  // segment's length in `segment`; its kinematics; and the values segmentKinematics would give,
+  // without their variations.
+  ClosestPoints geometry(const ContactPointRecord& p, const core::State& s, double* segment = nullptr) const;
+  ContactKinematics kinematics(const ContactPointRecord& p, const core::State& s, Variations order) const;
+  ContactKinematics values(const ContactPointRecord& p, const ClosestPoints& cp, double segment,
+                           const core::State& s) const;
+  // The length of line A a Gauss point stands for (its weight times its segment's reference length).
+  double weight(const ContactPointRecord& p, double segment) const;
+  // The Gauss point's parameter on A's element, on [0, 1].
+  double gaussXi(int q) const { return gaussXi_[q]; }
+
+  // Nodal line fields. The field's nodes are beam A's nodes, except its two end nodes: their shape
+  // functions are merged into their neighbours' (the field is constant on a beam's end elements;
+  // a beam of one element has one multiplier node). An end node's own multiplier would constrain
+  // the gap where the supports of both beams often fix it already (rods held at the same ends), so
+  // the constraints would be redundant and the multipliers undetermined. fieldNode(element, side)
+  // is the node carrying the multipliers of the element's node `side` (0, 1); fieldShares(p) the
+  // distinct field nodes of a Gauss point with their shape values N (summing to 1) and their
+  // records among `points` (null where none exists).
+  int fieldNode(int element, int side) const;
+  struct FieldShare {
+    int node = -1;
+    double N = 0.0, slope = 0.0;  // N at the point's xi and dN / dxi
+    const ContactPointRecord* record = nullptr;
+  };
+  std::vector<FieldShare> fieldShares(const ContactPointRecord& p, double xi, const PointMap& points) const;
+  // Per field node: the weighted gap int N_a g_N ds / int N_a ds and the weight int N_a ds (Gauss
+  // weights times lengths times the line points' blend weights) at `s`.
+  struct NodeGap {
+    double weighted = 0.0, weight = 0.0, full = 0.0;  // full: the weight without the blend
+    double weightedSlip = 0.0;                          // int N_a g_T2 ds / int N_a ds
+  };
+  std::map<PointKey, NodeGap> nodeGaps(const PointMap& points, const core::State& s) const;
+  // The view a strategy gets of a line node (its weighted gap, its multipliers).
+  ContactPoint nodeView(const ContactPointRecord& node, const ContactKinematics& k, const core::State& s) const;
+  // A Gauss point of a nodal field: the state of its nearer line node with multipliers (null: none has any).
+  const PointState* fieldState(const ContactPointRecord& p, const PointMap& points) const;
+  // Evaluates a Gauss point of a nodal line field: residual and tangent over its block's dofs (the
+  // point's, then its field nodes' multipliers).
+  bool evaluateNodal(const ContactPointRecord& p, const ContactKinematics& k, const core::State& s,
+                     const PointMap& points, std::vector<double>& f, std::vector<double>* K,
+                     PointResult* result) const;
+
+  // What the steps showed, for the warnings: pairs with friction whose line points carried force;
+  // nodal line fields: pair -> deepest penetration, where; pair -> deepest overlap between Gauss
+  // points, where.
+  const std::set<int>& frictionless() const { return frictionless_; }
+  const std::map<int, std::pair<double, Vec3d>>& unresolved() const { return unresolved_; }
+  const std::map<int, std::pair<double, Vec3d>>& unseenBetween() const { return unseenBetween_; }
+  // Notes a committed Gauss point (its kinematics `k` in `s`) and, after a step, records overlaps of
+  // line contact between the Gauss points; the frictionless pairs of restored points.
+  void noteCommitted(const ContactPointRecord& p, const ContactKinematics& k, const core::State& s);
+  void checkResolution(const PointMap& points, const core::State& s);
+  void noteRestored(const PointMap& points);
+
+ private:
+  // Rectangular sections in line contact: the two edges of A on its face towards B and B's face
+  // towards A, from the elements' places and turns in `s`.
+  std::pair<std::array<int, 2>, int> facing(int eA, int eB, const core::State& s) const;
+  // Line contact's input of an edge of A on a face of B (faces 0..3 = +y, +z, -y, -z of the
+  // section); of the segment of element eA (its edge `edge`) on element eB (its face `face`):
+  // lineInput or faceInput with the planes of eB's nodes; of a Gauss point.
+  LinePairInput faceInput(int eA, int edgeA, int eB, int faceB, const core::State& s) const;
+  LinePairInput segmentInput(int pair, int eA, int eB, int edge, int face, const core::State& s) const;
+  LinePairInput input(const ContactPointRecord& p, const core::State& s) const;
+  // A Gauss point's history (element parameters) and its slip along B at `cp` in `s` since then, as
+  // segmentKinematics measures it.
+  LineHistory history(const ContactPointRecord& p) const;
+  double slip(const ContactPointRecord& p, const ClosestPoints& cp, const core::State& s) const;
+
+  const ContactGeometry& geometry_;
+  const ConstraintEnforcer& enforcer_;
+  bool nodal_ = false;
+  std::vector<double> gaussXi_, gaussWeight_;  // Gauss points on [0, 1], weights summing to 1
+  // Per element: the reference normals of the segment planes at its two nodes (the mean unit axis of
+  // the beam's elements meeting there).
+  std::vector<std::array<Vec3d, 2>> segmentPlanes_;
+  std::set<int> frictionless_;
+  std::map<int, std::pair<double, Vec3d>> unresolved_, unseenBetween_;
+};
+
+// A line point penetrating by more than this fraction of the thinner section's inscribed radius (a
+// nodal multiplier field's point, or the gap between Gauss points beyond the deepest one's) is
+// reported: the contact zone is not resolved (warnings()).
+constexpr double kUnresolvedLine = 1e-3;
+// A point (or line node) whose blend weight (share of its full weight) is at most this is not
+// judged after Newton and keeps no multipliers (its rows would carry nothing).
+constexpr double kCarries = 1e-3;
+
+}  // namespace bc::constraints

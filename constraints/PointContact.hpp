@@ -1,0 +1,26 @@
+// Point contact: a point per two lines of a beam pair (only lines facing the other beam, so a pair
+// of rectangular beams has at most 2 x 2 = 4 points), on the element pair where the closest points
+// of the two lines fall inside both elements (a point on a shared node is taken once).
+#pragma once
+#include "ContactGeometry.hpp"
+
+namespace bc::constraints {
+
+class PointContact {
+ public:
+  explicit PointContact(const ContactGeometry& geometry) : geometry_(geometry) {}
+  // The narrow phase of one element pair of pair `pi`, the broad phase's `visit`-th: offers each
+  // point contact it finds (`known`: the present points, which keep their orientation and element pair).
+  void findPoints(int pi, int ea, int eb, long long visit, const core::State& s, const PointMap& known,
+                  const CandidateOffer& offer) const;
+  // Closest points of a point's two lines in `s`, with the point's normal orientation and gap.
+  ClosestPoints geometry(const ContactPointRecord& p, const core::State& s) const;
+  ContactKinematics kinematics(const ContactPointRecord& p, const core::State& s, Variations order) const;
+
+ private:
+  // The orientation of a newly found point (from the last converged state).
+  double referenceSigma(int eA, int lA, int eB, int lB, const ClosestPoints& current) const;
+  const ContactGeometry& geometry_;
+};
+
+}  // namespace bc::constraints
