@@ -139,6 +139,17 @@ void exchangeChoices(const Teuchos::Comm<int>& comm, std::map<PointKey, Offer>& 
 
 namespace {
 
+// The elements of beams in contact pairs: the only ones boxed, gridded and searched.
+std::vector<int> elementsInPairs(const ContactGeometry& geometry) {
+  const auto& elems = geometry.beams().elements();
+  std::vector<char> inPairs(geometry.beams().beams().size(), 0);
+  for (const auto& p : geometry.pairs()) inPairs[p.beamA] = inPairs[p.beamB] = 1;
+  std::vector<int> boxed;
+  for (std::size_t e = 0; e < elems.size(); ++e)
+    if (inPairs[elems[e].beam]) boxed.push_back(static_cast<int>(e));
+  return boxed;
+}
+
 // Bounding boxes of the elements `boxed` (of beams in contact pairs), swept from the last converged
 // state to `s`: a pair that one increment carries through each other is still a candidate, with no
 // search margin tuned to the increment. `cell`: the largest extent of a box.
@@ -192,12 +203,7 @@ BeamRuns beamRuns(const std::vector<BeamElement>& elems, const std::vector<int>&
 
 void ContactSearch::forEachElementPair(const core::State& s, const std::function<void(int, int, int)>& visit) const {
   const auto& elems = geometry_.beams().elements();
-  std::vector<char> inPairs(geometry_.beams().beams().size(), 0);
-  for (const auto& p : geometry_.pairs()) inPairs[p.beamA] = inPairs[p.beamB] = 1;
-  // The elements of beams in contact pairs: the only ones boxed, gridded and searched.
-  std::vector<int> boxedElements;
-  for (std::size_t e = 0; e < elems.size(); ++e)
-    if (inPairs[elems[e].beam]) boxedElements.push_back(static_cast<int>(e));
+  const std::vector<int> boxedElements = elementsInPairs(geometry_);
   double cell = 0.0;
   const std::vector<Box> boxes = sweptBoxes(geometry_, s, boxedElements, cell);
   if (boxedElements.empty()) return;

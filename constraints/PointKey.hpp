@@ -13,7 +13,10 @@
 // The code is what checkpoints, the extra unknowns' keys and the table's line_A and line_B columns
 // hold: a point contact (lineA, lineB); a Gauss point (-1 - (gauss + 64 (edge + 4 face + 16 elementB)),
 // elementA); a line node (kLineNode - edge, node). Gauss codes that would reach the line nodes' codes
-// (more than about 1.95 x 10^6 elements) skip them, so every key has its own code.
+// (more than about 1.95 x 10^6 elements, which the packed numbers could not hold) skip below them, so
+// every key has its own code; there the keys keep their order (line nodes first) while such a Gauss
+// point's code compares below the line nodes' (nothing depends on the codes' order: the extra
+// unknowns of line nodes and of Gauss points never coexist, and points are found by key).
 #pragma once
 #include <array>
 #include <ostream>
