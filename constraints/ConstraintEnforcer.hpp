@@ -133,6 +133,8 @@ class ConstraintEnforcer {
   // with its compliance as handed to setCompliance (and for a point found later, with the run's count
   // when it is > 0). The strategy decides what relaxing means. By default the tangential compliances
   // times 10^relaxations go to setCompliance: automatic tangential parameters tenfold lower each time.
+  // (Until ContactManager calls this, its handCompliance hands setCompliance the scaled compliances
+  // itself, with the same result; handCompliance is to be removed when the manager calls this.)
   virtual void relaxTangential(PointState& s, const double compliance[3], int relaxations) const;
 
   // --- when Newton has converged for an increment ---------------------------------------------------
