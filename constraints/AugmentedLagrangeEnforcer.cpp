@@ -57,8 +57,7 @@ PointResult AugmentedLagrangeEnforcer::evaluate(const ContactPoint& p, const Poi
   h.penalties.require();
   const double* eps = choice_.at(h.penalties);
   const FrictionRegularization friction{{h.lambdaT[0], h.lambdaT[1]}, eps[1]};
-  return reportedPenalties(
-      regularizedEvaluate(p, smoothedAugmentedLaw(h.lambdaN, eps[0], regularization_), friction, f, K), eps);
+  return regularizedEvaluate(p, smoothedAugmentedLaw(h.lambdaN, eps[0], regularization_), friction, f, K);
 }
 
 bool AugmentedLagrangeEnforcer::acceptPoint(const ContactPoint& p, PointState& s, double& worstViolation) const {
@@ -94,7 +93,7 @@ bool AugmentedLagrangeEnforcer::acceptPoint(const ContactPoint& p, PointState& s
 
 PointResult AugmentedLagrangeEnforcer::reportedForces(const ContactPoint& p, const PointState& s) const {
   const State& h = stateOf<State>(s);
-  PointResult r = reportedPenalties(PointResult{}, choice_.at(h.penalties));
+  PointResult r;
   r.active = h.lambdaN < 0.0;
   if (!r.active) return r;
   r.lambdaN = h.lambdaN;

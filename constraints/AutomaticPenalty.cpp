@@ -42,9 +42,10 @@ void AutomaticPenalty::giveCompliance(PointMap& points, const ContactGeometry& g
 }
 
 void AutomaticPenalty::handCompliance(ContactPointRecord& p) const {
-  const double c[3] = {p.compliance[0], tangentialRelaxation_ * p.compliance[1],
-                       tangentialRelaxation_ * p.compliance[2]};
-  enforcer_.setCompliance(*p.state, c);
+  if (relaxations_ == 0)
+    enforcer_.setCompliance(*p.state, p.compliance);
+  else
+    enforcer_.relaxTangential(*p.state, p.compliance, relaxations_);
 }
 
 void AutomaticPenalty::watchFriction(const PointKey& key, const PointResult& r, bool tangent) const {

@@ -1,9 +1,9 @@
 // Automatic penalty parameters: the points whose strategy state asks for it are handed the beams'
 // compliance at the point (ConstraintEnforcer::setCompliance), from which the strategy chooses its
 // parameters. When a Newton solve fails with slip directions cycling (friction forces reversing at
-// many points, failureHint), the automatic tangential parameters are lowered tenfold for the retry
-// (their compliances handed on times the relaxation factor), at most kMaxRelaxations times; the
-// run then warns.
+// many points, failureHint), the strategy is asked to relax its tangential law for the retry
+// (ConstraintEnforcer::relaxTangential; the built-in strategies lower an automatic eps_T tenfold
+// each time), at most kMaxRelaxations times; the run then warns.
 #pragma once
 #include <array>
 #include <functional>
@@ -29,7 +29,8 @@ class AutomaticPenalty {
   // solver gave the compliance function.
   using Kinematics = std::function<ContactKinematics(const ContactPointRecord&)>;
   void giveCompliance(PointMap& points, const ContactGeometry& geometry, const Kinematics& kinematics);
-  // Hands a point its compliance, the tangential part times the relaxation factor.
+  // Hands a point its compliance (setCompliance), or after relaxations the strategy relaxes its
+  // tangential law from it (relaxTangential).
   void handCompliance(ContactPointRecord& p) const;
 
   // This rank's slipping points in the present Newton solve: compares a point's friction force at a

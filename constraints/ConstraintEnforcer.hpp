@@ -89,9 +89,6 @@ struct PointResult {
   double lambdaN = 0.0;
   double lambdaT[2] = {0.0, 0.0};
   bool slip[2] = {false, false};
-  // The penalty parameters (eps_N, eps_T) the point used, if any (output). To be removed when the
-  // contact manager writes ConstraintEnforcer::outputValues() into contact_points.csv instead.
-  double penalty[2] = {0.0, 0.0};
 };
 
 class ConstraintEnforcer {
@@ -133,8 +130,6 @@ class ConstraintEnforcer {
   // with its compliance as handed to setCompliance (and for a point found later, with the run's count
   // when it is > 0). The strategy decides what relaxing means. By default the tangential compliances
   // times 10^relaxations go to setCompliance: automatic tangential parameters tenfold lower each time.
-  // (Until ContactManager calls this, its handCompliance hands setCompliance the scaled compliances
-  // itself, with the same result; handCompliance is to be removed when the manager calls this.)
   virtual void relaxTangential(PointState& s, const double compliance[3], int relaxations) const;
 
   // --- when Newton has converged for an increment ---------------------------------------------------

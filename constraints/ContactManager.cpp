@@ -272,8 +272,12 @@ void ContactManager::commitPoint(Point& p, const core::State& state) {
     std::vector<double> f;
     p.result = PointResult{};
     lines_.evaluateNodal(p, k, state, set_.current(), f, nullptr, &p.result);
+    const PointState* acting = actingState(p);
+    p.outputs = acting ? enforcer_->outputValues(view, *acting)
+                       : std::vector<double>(enforcer_->outputColumns().size(), 0.0);
   } else {
     p.result = enforcer_->reportedForces(view, *p.state);
+    p.outputs = enforcer_->outputValues(view, *p.state);
     enforcer_->commitPoint(view, *p.state);
   }
   // Reported as applied: times the blend weight and, for a line point, its length.
@@ -320,6 +324,7 @@ void ContactManager::commitStep(const core::State& state) {
     }
     const ContactPoint view = lines_.nodeView(p, k, state);
     p.result = enforcer_->reportedForces(view, *p.state);
+    p.outputs = enforcer_->outputValues(view, *p.state);
     enforcer_->commitPoint(view, *p.state);
     p.gap = k.normal.value;
     p.position = state.position[p.key.node];

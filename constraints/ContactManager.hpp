@@ -63,7 +63,7 @@ class ContactManager : public core::Contribution {
   double stepBound(const core::State& state, const std::vector<double>& du) const override;
   void returnToIterate() override { set_.returnToMark(); }
   std::string tableName() const override { return "contact_points.csv"; }
-  std::string tableHeader() const override { return ContactReport::tableHeader(); }
+  std::string tableHeader() const override { return report_.tableHeader(); }
   std::vector<std::string> tableRows() const override { return report_.tableRows(set_.committed()); }
   std::string progressSummary() const override { return report_.progressSummary(set_.committed(), lastPasses_); }
   std::vector<std::string> warnings() const override { return report_.warnings(); }

@@ -53,6 +53,8 @@ struct ContactPointRecord {
   // the following.
   double gap = 0.0;
   PointResult result;
+  // The values of the strategy's own columns of the table (ConstraintEnforcer::outputValues).
+  std::vector<double> outputs;
   // The beams' compliance at the point (ConstraintEnforcer::setCompliance; 0: not asked for).
   double compliance[3] = {0.0, 0.0, 0.0};
   Vec3d position{};

@@ -18,11 +18,14 @@ void ContactReport::noteDepth(const ContactPointRecord& p, const ClosestPoints& 
   }
 }
 
-std::string ContactReport::tableHeader() {
-  return "pair,line_A,line_B,beam_A_coordinate,beam_B_coordinate,x,y,z,gap,normal_force,tangential_force_1,"
-         "tangential_force_2,state_1,state_2,active,normal_x,normal_y,normal_z,normal_force_x,normal_force_y,"
-         "normal_force_z,tangential_force_x,tangential_force_y,tangential_force_z,tangential_force,element_A,element_B,"
-         "line_traction,normal_penalty,tangential_penalty";
+std::string ContactReport::tableHeader() const {
+  std::string header =
+      "pair,line_A,line_B,beam_A_coordinate,beam_B_coordinate,x,y,z,gap,normal_force,tangential_force_1,"
+      "tangential_force_2,state_1,state_2,active,normal_x,normal_y,normal_z,normal_force_x,normal_force_y,"
+      "normal_force_z,tangential_force_x,tangential_force_y,tangential_force_z,tangential_force,element_A,element_B,"
+      "line_traction";
+  for (const std::string& column : enforcer_.outputColumns()) header += "," + column;
+  return header;
 }
 
 std::vector<std::string> ContactReport::tableRows(const PointMap& committed) const {
@@ -45,8 +48,10 @@ std::vector<std::string> ContactReport::tableRows(const PointMap& committed) con
     const auto& elems = geometry_.beams().elements();
     s << "," << elems[p.elementA].index << "," << elems[p.elementB].index << ","
       << (p.line() && p.length > 0.0 ? -p.result.lambdaN / p.length : 0.0);
-    // The penalty parameters the strategy used at the point (0: none, or the point carried no force).
-    s << "," << p.result.penalty[0] << "," << p.result.penalty[1];
+    // The strategy's own columns (the built-in ones: the penalty parameters the point used, 0 for none
+    // or where it carried no force).
+    const std::size_t columns = enforcer_.outputColumns().size();
+    for (std::size_t c = 0; c < columns; ++c) s << "," << (c < p.outputs.size() ? p.outputs[c] : 0.0);
     rows.push_back(s.str());
   }
   return rows;

@@ -21,7 +21,8 @@ class ContactReport {
                 const AutomaticPenalty& penalty)
       : geometry_(geometry), enforcer_(enforcer), lines_(lines), penalty_(penalty) {}
 
-  static std::string tableHeader();
+  // The common columns, then the strategy's own (ConstraintEnforcer::outputColumns).
+  std::string tableHeader() const;
   std::vector<std::string> tableRows(const PointMap& committed) const;
   void appendVtk(const PointMap& committed, core::VtkMesh& mesh) const;
   // `lastPasses`: the passes of the increment solved last.

@@ -76,12 +76,4 @@ inline const double* PenaltyChoice::at(const PointPenalties& point) const {
   return point.automatic ? point.eps : given_;
 }
 
-// Puts the point's parameters into its forces for output (PointResult::penalty; to be removed with
-// that field, when the contact manager writes outputValues()).
-inline PointResult reportedPenalties(PointResult r, const double eps[2]) {
-  r.penalty[0] = eps[0];
-  r.penalty[1] = eps[1];
-  return r;
-}
-
 }  // namespace bc::constraints

@@ -42,7 +42,7 @@ PointResult PenaltyEnforcer::evaluate(const ContactPoint& p, const PointState& s
   h.penalties.require();
   const double* eps = choice_.at(h.penalties);
   const FrictionRegularization friction{{h.lambdaT[0], h.lambdaT[1]}, eps[1]};
-  return reportedPenalties(regularizedEvaluate(p, smoothedPenaltyLaw(eps[0], regularization_), friction, f, K), eps);
+  return regularizedEvaluate(p, smoothedPenaltyLaw(eps[0], regularization_), friction, f, K);
 }
 
 std::vector<double> PenaltyEnforcer::outputValues(const ContactPoint& p, const PointState& s) const {

@@ -52,7 +52,7 @@ TEST(AutomaticPenalty, CrossedCantileversGetTheClosedFormComplianceAndLoseExactl
     ASSERT_TRUE(r.report.completed) << r.report.failure;
     double epsN = 0.0;
     for (const auto& [key, pt] : p.contact->points())
-      if (pt.result.active) epsN = pt.result.penalty[0];
+      if (pt.result.active) epsN = pt.outputs[0];
     const double expected = (1 - e) / (e * (f11 + f22));
     const double Np = sums(p).normal;
     std::printf("target %.0e: eps_N %.6g (closed form %.6g), N %.6f vs Lagrange %.6f: ratio %.6f (1 - e = %.6f)\n", e,
