@@ -44,16 +44,20 @@ std::string deck(int elements, const std::string& solver) {
   std::ostringstream s;
   s.precision(17);
   s << R"XML(<ParameterList name="BeamContact"><ParameterList name="Beams"><ParameterList name="b">
-    <Parameter name="Start" type="Array(double)" value="{0,0,0}"/><Parameter name="End" type="Array(double)" value="{)XML" << L << R"XML(,0,0}"/>
-    <Parameter name="Elements" type="int" value=")XML" << elements << R"XML("/>
+    <Parameter name="Start" type="Array(double)" value="{0,0,0}"/><Parameter name="End" type="Array(double)" value="{)XML"
+    << L << R"XML(,0,0}"/>
+    <Parameter name="Elements" type="int" value=")XML"
+    << elements << R"XML("/>
     <ParameterList name="Section"><Parameter name="Width" type="double" value="10"/><Parameter name="Height" type="double" value="10"/></ParameterList>
     <ParameterList name="Material"><Parameter name="Young's Modulus" type="double" value="30000"/><Parameter name="Poisson's Ratio" type="double" value="0.3"/></ParameterList>
   </ParameterList></ParameterList>
   <ParameterList name="Supports"><ParameterList name="clamp"><Parameter name="Beam" type="string" value="b"/><Parameter name="Node" type="string" value="start"/></ParameterList></ParameterList>
   <ParameterList name="Loads"><ParameterList name="tip"><Parameter name="Beam" type="string" value="b"/><Parameter name="Node" type="string" value="end"/>
-    <Parameter name="Force" type="Array(double)" value="{0,0,)XML" << P << R"XML(}"/></ParameterList></ParameterList>
+    <Parameter name="Force" type="Array(double)" value="{0,0,)XML"
+    << P << R"XML(}"/></ParameterList></ParameterList>
   <ParameterList name="Load Stepping"><Parameter name="Number of Increments" type="int" value="1"/></ParameterList>
-  <ParameterList name="Linear Solver"><Parameter name="Type" type="string" value=")XML" << solver << R"XML("/></ParameterList>
+  <ParameterList name="Linear Solver"><Parameter name="Type" type="string" value=")XML"
+    << solver << R"XML("/></ParameterList>
 </ParameterList>)XML";
   return s.str();
 }
@@ -115,7 +119,8 @@ int main(int argc, char** argv) {
       bc::core::StaticSolver solver(comm, problem.model, problem.solver, *linear);
       comm->barrier();
       auto t3 = Clock::now();
-      const auto run = solver.run([](const bc::core::StepReport&, const bc::core::State&, const bc::core::Assembler&) {});
+      const auto run =
+          solver.run([](const bc::core::StepReport&, const bc::core::State&, const bc::core::Assembler&) {});
       comm->barrier();
       auto t4 = Clock::now();
       if (!run.completed && root) std::printf("step failed: %s\n", run.failure.c_str());
@@ -123,14 +128,14 @@ int main(int argc, char** argv) {
       tstep.push_back(std::chrono::duration<double, std::milli>(t4 - t3).count());
     }
     if (root)
-      std::printf("%9d %8lld %12.3f %12.3f %12.3f %12.3f %8d\n", n, static_cast<long long>(state.numDofs()),
-                  median(ta), median(ts), median(ti), median(tstep), newton);
+      std::printf("%9d %8lld %12.3f %12.3f %12.3f %12.3f %8d\n", n, static_cast<long long>(state.numDofs()), median(ta),
+                  median(ts), median(ti), median(tstep), newton);
   }
   if (root) {
     // The element kernel alone: force and tangent of one element at a bent and twisted state.
     using namespace bc::elements;
-    const BeamElementData d = makeBeamElement({{0.0, 0.0, 0.0}}, {{10.0, 0.0, 0.0}}, {{0.0, 1.0, 0.0}}, 3e6,
-                                              1e6, 2.5e7, 2.5e7);
+    const BeamElementData d =
+        makeBeamElement({{0.0, 0.0, 0.0}}, {{10.0, 0.0, 0.0}}, {{0.0, 1.0, 0.0}}, 3e6, 1e6, 2.5e7, 2.5e7);
     BeamElementState s;
     s.x1 = {{0.0, 0.0, 0.0}};
     s.x2 = {{9.9, 0.8, 0.3}};
@@ -152,9 +157,10 @@ int main(int argc, char** argv) {
       return sum != 0.0 ? median(t) : -1.0;
     };
     const double written = perCall(internalForceAndTangent), nested = perCall(internalForceAndTangentFromEnergy);
-    std::printf("beam element force and tangent [us per element]: %.2f (written-out gradient, AD tangent), %.2f "
-                "(nested AD of the energy), ratio %.2f\n",
-                written, nested, nested / written);
+    std::printf(
+        "beam element force and tangent [us per element]: %.2f (written-out gradient, AD tangent), %.2f "
+        "(nested AD of the energy), ratio %.2f\n",
+        written, nested, nested / written);
   }
   return 0;
 }

@@ -22,7 +22,8 @@ void AutomaticPenalty::giveCompliance(PointMap& points, const ContactGeometry& g
     const ContactKinematics k = kinematics(p);
     const auto d = geometry.pointDofs(p);
     for (const GapDerivatives* g : {&k.normal, &k.tangent1, &k.tangent2})
-      loads.push_back({std::vector<core::GlobalDof>(d.begin(), d.end()), std::vector<double>(g->R.begin(), g->R.end())});
+      loads.push_back(
+          {std::vector<core::GlobalDof>(d.begin(), d.end()), std::vector<double>(g->R.begin(), g->R.end())});
     // The manager weights a line point's force by the length it stands for (a whole segment's share here).
     weights.push_back(p.line() ? lines_.weight(p, 1.0) : 1.0);
     waiting.push_back(&p);
@@ -32,8 +33,10 @@ void AutomaticPenalty::giveCompliance(PointMap& points, const ContactGeometry& g
   try {
     c = compliance_(geometry.reference(), loads);
   } catch (const std::runtime_error& e) {
-    throw core::InputError(enforcer_.type() + ": automatic penalty parameters need the beams' compliance at the "
-                           "contact points, but " + e.what() + "; give the penalty parameters as numbers");
+    throw core::InputError(enforcer_.type() +
+                           ": automatic penalty parameters need the beams' compliance at the "
+                           "contact points, but " +
+                           e.what() + "; give the penalty parameters as numbers");
   }
   for (std::size_t i = 0; i < waiting.size(); ++i) {
     for (int k = 0; k < 3; ++k) waiting[i]->compliance[k] = weights[i] * c[3 * i + k];
@@ -42,10 +45,8 @@ void AutomaticPenalty::giveCompliance(PointMap& points, const ContactGeometry& g
 }
 
 void AutomaticPenalty::handCompliance(ContactPointRecord& p) const {
-  if (relaxations_ == 0)
-    enforcer_.setCompliance(*p.state, p.compliance);
-  else
-    enforcer_.relaxTangential(*p.state, p.compliance, relaxations_);
+  if (relaxations_ == 0) enforcer_.setCompliance(*p.state, p.compliance);
+  else enforcer_.relaxTangential(*p.state, p.compliance, relaxations_);
 }
 
 void AutomaticPenalty::watchFriction(const PointKey& key, const PointResult& r, bool tangent) const {

@@ -55,8 +55,7 @@ class PointState {
   virtual std::unique_ptr<PointState> clone() const = 0;
   virtual void fields(StateFields& visit) {}
 };
-template <class Self>
-class PointStateOf : public PointState {
+template <class Self> class PointStateOf : public PointState {
  public:
   std::unique_ptr<PointState> clone() const override { return std::make_unique<Self>(static_cast<const Self&>(*this)); }
 };
@@ -70,9 +69,9 @@ template <class S> const S& stateOf(const PointState& s) { return static_cast<co
 // One contact point as a strategy sees it.
 struct ContactPoint {
   const ContactKinematics& kinematics;
-  double friction = 0.0;            // Coulomb coefficient mu of the pair
+  double friction = 0.0;  // Coulomb coefficient mu of the pair
   FrictionLaw law = FrictionLaw::IsotropicCoulomb;
-  const double* lambda = nullptr;   // the point's multipliers (multipliers(state) of them), or null
+  const double* lambda = nullptr;  // the point's multipliers (multipliers(state) of them), or null
   // Its share where point and line contact are blended (all-angle contact of circular beams): the
   // manager scales the point's residual and tangent by it; in (0, 1], 1 elsewhere. A strategy that
   // judges constraint violations may weigh them by it.

@@ -14,7 +14,8 @@ using elements::CrossSection;
 ContactGeometry::ContactGeometry(std::shared_ptr<const elements::BeamSet> beams, std::vector<ContactPairSpec> pairs,
                                  ContactOptions options, bool lineContact)
     : beams_(std::move(beams)), pairs_(std::move(pairs)), options_(std::move(options)), lineContact_(lineContact) {
-  for (std::size_t i = 0; i < pairs_.size(); ++i) pairIndex_[beamPairKey(pairs_[i].beamA, pairs_[i].beamB)] = static_cast<int>(i);
+  for (std::size_t i = 0; i < pairs_.size(); ++i)
+    pairIndex_[beamPairKey(pairs_[i].beamA, pairs_[i].beamB)] = static_cast<int>(i);
   for (const auto& [a, b] : options_.joinedNodes) {
     joined_.insert({a, b});
     joined_.insert({b, a});
@@ -49,9 +50,7 @@ ContactGeometry::ContactGeometry(std::shared_ptr<const elements::BeamSet> beams,
   }
 }
 
-double ContactGeometry::beamCoordinate(int element, double xi) const {
-  return beams_->elements()[element].index + xi;
-}
+double ContactGeometry::beamCoordinate(int element, double xi) const { return beams_->elements()[element].index + xi; }
 
 bool ContactGeometry::blends(int pair) const {
   // Both circular, or both rectangular (a mixed pair is refused at construction).
@@ -146,10 +145,14 @@ LinePairInput ContactGeometry::lineInput(int eA, int lA, int eB, int lB, const c
   const Line& la = lines_[a.beam][lA];
   const Line& lb = lines_[b.beam][lB];
   LinePairInput in;
-  in.xA1 = s.position[a.node1]; in.xA2 = s.position[a.node2];
-  in.xB1 = s.position[b.node1]; in.xB2 = s.position[b.node2];
-  in.RA1 = s.rotation[a.node1]; in.RA2 = s.rotation[a.node2];
-  in.RB1 = s.rotation[b.node1]; in.RB2 = s.rotation[b.node2];
+  in.xA1 = s.position[a.node1];
+  in.xA2 = s.position[a.node2];
+  in.xB1 = s.position[b.node1];
+  in.xB2 = s.position[b.node2];
+  in.RA1 = s.rotation[a.node1];
+  in.RA2 = s.rotation[a.node2];
+  in.RB1 = s.rotation[b.node1];
+  in.RB2 = s.rotation[b.node2];
   in.oA = la.cy * column(a.data.T0, 1) + la.cz * column(a.data.T0, 2);
   in.oB = lb.cy * column(b.data.T0, 1) + lb.cz * column(b.data.T0, 2);
   in.radiusSum = la.radius + lb.radius;

@@ -30,8 +30,8 @@ struct ContactPairSpec {
 };
 
 struct ContactOptions {
-  double searchMargin = 0.0;           // added to the bounding boxes [length]
-  double minimumSinAngle = 1e-3;       // lines closer to parallel are skipped (point contact undefined)
+  double searchMargin = 0.0;  // added to the bounding boxes [length]
+  double minimumSinAngle = 1e-3;  // lines closer to parallel are skipped (point contact undefined)
   bool allowInitialPenetration = false;
   FrictionLaw frictionLaw = FrictionLaw::IsotropicCoulomb;
   // All-angle contact of two circular beams (radians): line contact (Gauss points along the line,
@@ -143,7 +143,7 @@ class ContactGeometry {
   // elements whose boxes overlap, 10^5 pairs on the 316 x 316 crossed layers).
   static std::uint64_t beamPairKey(int a, int b) { return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b); }
   std::unordered_map<std::uint64_t, int> pairIndex_;
-  std::set<int> freeEnd_;          // nodes at a beam end that no other element or pin uses
+  std::set<int> freeEnd_;  // nodes at a beam end that no other element or pin uses
   std::vector<double> inscribed_;  // per beam: radius of the largest circle in its section
 };
 

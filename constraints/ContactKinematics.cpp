@@ -20,8 +20,7 @@ void solveClosest(const Vec3<T>& pA1, const Vec3<T>& pA2, const Vec3<T>& pB1, co
   eta = (ab * ad - aa * bd) / det;
 }
 
-template <class T>
-struct Gaps {
+template <class T> struct Gaps {
   T gN, gT1, gT2, xi, eta;
   T cosine;  // t_A . t_B / (|t_A| |t_B|): the metric of the tangential gaps (isotropic friction)
   T length;  // line contact on a segment: its length as a fraction of A's element (else 1)
@@ -50,16 +49,15 @@ Gaps<T> gaps(const Vec3<T>& pA1, const Vec3<T>& pA2, const Vec3<T>& pB1, const V
 
 // The cubic Hermite curve through P1, P2 with end tangents V1, V2 (per unit parameter) at u, and its
 // first and second derivatives in u.
-template <class T>
-struct Same {
-  using type = T;
-};
+template <class T> struct Same { using type = T; };
 template <class T, class U>
 void hermite(const Vec3<T>& P1, const Vec3<T>& V1, const Vec3<T>& P2, const Vec3<T>& V2, const U& u,
              typename Same<Vec3<T>>::type* x, typename Same<Vec3<T>>::type* dx, typename Same<Vec3<T>>::type* ddx) {
   const U u2 = u * u, u3 = u2 * u;
   if (x) *x = (1.0 - 3.0 * u2 + 2.0 * u3) * P1 + (u - 2.0 * u2 + u3) * V1 + (3.0 * u2 - 2.0 * u3) * P2 + (u3 - u2) * V2;
-  if (dx) *dx = (6.0 * u2 - 6.0 * u) * P1 + (1.0 - 4.0 * u + 3.0 * u2) * V1 + (6.0 * u - 6.0 * u2) * P2 + (3.0 * u2 - 2.0 * u) * V2;
+  if (dx)
+    *dx = (6.0 * u2 - 6.0 * u) * P1 + (1.0 - 4.0 * u + 3.0 * u2) * V1 + (6.0 * u - 6.0 * u2) * P2 +
+          (3.0 * u2 - 2.0 * u) * V2;
   if (ddx) *ddx = (12.0 * u - 6.0) * P1 + (6.0 * u - 4.0) * V1 + (6.0 - 12.0 * u) * P2 + (6.0 * u - 2.0) * V2;
 }
 
@@ -67,8 +65,7 @@ void hermite(const Vec3<T>& P1, const Vec3<T>& V1, const Vec3<T>& P2, const Vec3
 // reference axis vector (cubic), else the straight chord P1 + u (P2 - P1).
 template <class T, class U>
 void axisPoint(const Vec3<T>& P1, const Vec3<T>& V1, const Vec3<T>& P2, const Vec3<T>& V2, bool cubic, const U& u,
-               typename Same<Vec3<T>>::type* x, typename Same<Vec3<T>>::type* dx,
-               typename Same<Vec3<T>>::type* ddx) {
+               typename Same<Vec3<T>>::type* x, typename Same<Vec3<T>>::type* dx, typename Same<Vec3<T>>::type* ddx) {
   if (cubic) return hermite(P1, V1, P2, V2, u, x, dx, ddx);
   if (x) *x = P1 + u * (P2 - P1);
   if (dx) *dx = P2 - P1;
@@ -281,13 +278,17 @@ ContactKinematics lineKinematicsOf(const LinePairInput& in, bool segmented, doub
     return g;
   };
   if (in.face && segmented)
-    k = kinematicsOf<12>(in, faceRefs, faceNodes, [&](const auto* P) { return face(P, P + 10); }, order);
+    k = kinematicsOf<12>(
+        in, faceRefs, faceNodes, [&](const auto* P) { return face(P, P + 10); }, order);
   else if (in.face)
-    k = kinematicsOf<10>(in, faceRefs, faceNodes, [&](const auto* P) { return face(P, P); }, order);
+    k = kinematicsOf<10>(
+        in, faceRefs, faceNodes, [&](const auto* P) { return face(P, P); }, order);
   else if (segmented)
-    k = kinematicsOf<10>(in, circleRefs, faceNodes, [&](const auto* P) { return circle(P, P + 8); }, order);
+    k = kinematicsOf<10>(
+        in, circleRefs, faceNodes, [&](const auto* P) { return circle(P, P + 8); }, order);
   else
-    k = kinematicsOf<8>(in, nullptr, nullptr, [&](const auto* P) { return circle(P, P); }, order);
+    k = kinematicsOf<8>(
+        in, nullptr, nullptr, [&](const auto* P) { return circle(P, P); }, order);
   k.cosine = 0.0;
   k.cosineR.fill(0.0);
   return k;
@@ -354,16 +355,14 @@ namespace {
 // The gaps' values, gradients G and (with second variations) Hessians H in the coordinates of the
 // vectors (3 per vector), as the kernels below hand them to the chain rule.
 enum Quantity { kGapN, kGapT1, kGapT2, kXi, kEta, kCosine, kLength, kQuantities };
-template <int kCoords>
-struct CoordinateGaps {
+template <int kCoords> struct CoordinateGaps {
   double value[kQuantities];
   double G[kQuantities][kCoords];
   double H[3][kCoords][kCoords];  // g_N, g_T1, g_T2
 };
 
 // The rotated part r_k of each vector and its node.
-template <int Vectors>
-struct VectorFrame {
+template <int Vectors> struct VectorFrame {
   Vec3d r[Vectors];
   int node[Vectors];
 };

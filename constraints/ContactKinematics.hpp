@@ -33,8 +33,8 @@ using Matrix24 = std::array<double, kPairDofs * kPairDofs>;  // row-major
 struct LinePairInput {
   Vec3d xA1{}, xA2{}, xB1{}, xB2{};  // current nodal positions
   Mat3d RA1{}, RA2{}, RB1{}, RB2{};  // current nodal rotations
-  Vec3d oA{}, oB{};                  // reference offsets of the two lines from their axes
-  double radiusSum = 0.0;            // r_A + r_B for circular sections
+  Vec3d oA{}, oB{};  // reference offsets of the two lines from their axes
+  double radiusSum = 0.0;  // r_A + r_B for circular sections
   // Line contact only: the elements' reference axis vectors X_2 - X_1 (length L0). The axis of an
   // element is then the cubic Hermite curve through the two nodes with the nodal tangents
   // R_m (X_2 - X_1) (it is the straight chord while the nodes have not turned, and follows the beam's
@@ -69,20 +69,19 @@ LineSegment lineSegment(const LinePairInput& in);
 // etaRate (xi - xiPrev).
 struct LineHistory {
   double xiPrev = 0.0, etaPrev = 0.0, etaRate = 0.0;
-  template <class T>
-  T etaPrevAt(const T& xi) const { return etaPrev + etaRate * (xi - xiPrev); }
+  template <class T> T etaPrevAt(const T& xi) const { return etaPrev + etaRate * (xi - xiPrev); }
 };
 
 struct ClosestPoints {
   double xi = 0.0, eta = 0.0;  // line parameters in [0, 1] when inside both segments
-  double distance = 0.0;       // |p_B - p_A|
-  double sinAngle = 0.0;       // |t_A x t_B| / (|t_A| |t_B|)
+  double distance = 0.0;  // |p_B - p_A|
+  double sinAngle = 0.0;  // |t_A x t_B| / (|t_A| |t_B|)
   Vec3d pA{}, pB{}, cA{}, cB{};  // points on the lines and on the axes at xi, eta
-  Vec3d normal{};              // unit normal with sigma applied
+  Vec3d normal{};  // unit normal with sigma applied
   double sigma = 1.0;
   double gap = 0.0;
-  double lateral = 0.0;        // face contact: p_A's offset across B's face from its centre line
-  double etaRate = 0.0;        // line contact: d eta / d xi of the projection
+  double lateral = 0.0;  // face contact: p_A's offset across B's face from its centre line
+  double etaRate = 0.0;  // line contact: d eta / d xi of the projection
 };
 
 // Closest points in double precision (for the search and for choosing sigma). Lines closer to

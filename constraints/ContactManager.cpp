@@ -68,7 +68,8 @@ void ContactManager::giveUpIdle(const core::State& state) {
   // points left the other beam or carry no weight, a point contact whose blend weight is 0. They are
   // given up here (the state starts afresh); those that carry almost nothing are given up between
   // passes (acceptSolution), at the state the active set is judged at.
-  const auto gaps = lines_.nodal() ? lines_.nodeGaps(set_.current(), state) : std::map<PointKey, LineContact::NodeGap>{};
+  const auto gaps =
+      lines_.nodal() ? lines_.nodeGaps(set_.current(), state) : std::map<PointKey, LineContact::NodeGap>{};
   for (auto& [key, p] : set_.current()) {
     if (p.line() || enforcer_->multipliers(*p.state) == 0) continue;
     bool idle = false;
@@ -219,7 +220,8 @@ bool ContactManager::acceptSolution(core::State& state) {
   // A point whose blend weight is at most kCarries carries (almost) nothing: the strategy does not judge it.
   // With a nodal line field the line nodes are judged, on their weighted gaps, not the Gauss points.
   std::vector<bool> carries;
-  const auto gaps = lines_.nodal() ? lines_.nodeGaps(set_.current(), state) : std::map<PointKey, LineContact::NodeGap>{};
+  const auto gaps =
+      lines_.nodal() ? lines_.nodeGaps(set_.current(), state) : std::map<PointKey, LineContact::NodeGap>{};
   const auto judged = [&](const PointKey& key, const Point& p, bool& carriesHere) {
     return judge(key, p, state, gaps, carriesHere);
   };
@@ -273,8 +275,8 @@ void ContactManager::commitPoint(Point& p, const core::State& state) {
     p.result = PointResult{};
     lines_.evaluateNodal(p, k, state, set_.current(), f, nullptr, &p.result);
     const PointState* acting = actingState(p);
-    p.outputs = acting ? enforcer_->outputValues(view, *acting)
-                       : std::vector<double>(enforcer_->outputColumns().size(), 0.0);
+    p.outputs =
+        acting ? enforcer_->outputValues(view, *acting) : std::vector<double>(enforcer_->outputColumns().size(), 0.0);
   } else {
     p.result = enforcer_->reportedForces(view, *p.state);
     p.outputs = enforcer_->outputValues(view, *p.state);
@@ -309,7 +311,8 @@ void ContactManager::commitPoint(Point& p, const core::State& state) {
 
 void ContactManager::commitStep(const core::State& state) {
   penalty_.forgetFriction();
-  const auto gaps = lines_.nodal() ? lines_.nodeGaps(set_.current(), state) : std::map<PointKey, LineContact::NodeGap>{};
+  const auto gaps =
+      lines_.nodal() ? lines_.nodeGaps(set_.current(), state) : std::map<PointKey, LineContact::NodeGap>{};
   for (auto& [key, p] : set_.current()) {
     if (!p.node()) {
       commitPoint(p, state);
@@ -337,14 +340,18 @@ void ContactManager::commitStep(const core::State& state) {
 }
 
 void ContactManager::saveCommitted(core::CheckpointOut& out) const {
-  out.label("contact").word(enforcer_->type()).integer(static_cast<long long>(set_.committed().size())).integer(lastPasses_);
+  out.label("contact")
+      .word(enforcer_->type())
+      .integer(static_cast<long long>(set_.committed().size()))
+      .integer(lastPasses_);
   penalty_.save(out);
   set_.save(out);
 }
 
 void ContactManager::loadCommitted(core::CheckpointIn& in, const core::State& committed) {
   in.label("contact");
-  if (in.word() != core::CheckpointOut::token(enforcer_->type())) in.fail("it was written with another enforcement strategy");
+  if (in.word() != core::CheckpointOut::token(enforcer_->type()))
+    in.fail("it was written with another enforcement strategy");
   const long long n = in.integer();
   const long long lastPasses = in.integer();
   const double relaxation = in.real();

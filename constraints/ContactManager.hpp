@@ -82,8 +82,7 @@ class ContactManager : public core::Contribution {
   // strategies that enforce them exactly) after each pass of the increment solved last.
   const std::vector<double>& passViolations() const { return violations_; }
   // Kinematics of a point at a state (public for tests of the assembled contact tangent).
-  ContactKinematics kinematics(const Point& p, const core::State& state,
-                               Variations order = Variations::Second) const;
+  ContactKinematics kinematics(const Point& p, const core::State& state, Variations order = Variations::Second) const;
   // The values and first variations (no second variations: K zero) where the point acts (or is a
   // point contact); for a line point that does not act, only the values (gaps, xi, eta, segment, the
   // axes' cosine): what the active set and the step's end judge a point by, at a fraction of the cost.

@@ -58,8 +58,8 @@ struct ContactPointRecord {
   // The beams' compliance at the point (ConstraintEnforcer::setCompliance; 0: not asked for).
   double compliance[3] = {0.0, 0.0, 0.0};
   Vec3d position{};
-  Vec3d normal{};          // unit normal (from beam A to beam B)
-  Vec3d normalForce{};     // the force the point applies on beam B: its normal part ...
+  Vec3d normal{};  // unit normal (from beam A to beam B)
+  Vec3d normalForce{};  // the force the point applies on beam B: its normal part ...
   Vec3d tangentialForce{};  // ... and its tangential part (global components)
 };
 

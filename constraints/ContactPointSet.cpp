@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <string>
 
-
 namespace bc::constraints {
 
 ContactPointRecord ContactPointSet::newPoint(const PointKey& key, const Candidate& c) const {
@@ -174,8 +173,14 @@ void ContactPointSet::load(core::CheckpointIn& in, long long n, const core::Stat
       if (in.word() != core::CheckpointOut::token(expected))
         in.fail(std::string("a contact point's state lacks \"") + expected + "\" (another strategy version?)");
     }
-    void real(const char* n, double& v) override { name(n); v = in.real(); }
-    void flag(const char* n, bool& v) override { name(n); v = in.integer() != 0; }
+    void real(const char* n, double& v) override {
+      name(n);
+      v = in.real();
+    }
+    void flag(const char* n, bool& v) override {
+      name(n);
+      v = in.integer() != 0;
+    }
   } reader(in);
   committed_.clear();
   for (long long i = 0; i < n; ++i) {
@@ -183,7 +188,8 @@ void ContactPointSet::load(core::CheckpointIn& in, long long n, const core::Stat
     const auto* block = committed.extra.find(kContactExtraOwner, extraKey(p));
     p.extraOffset = block ? block->offset : -1;
     p.extraCount = block ? block->size : 0;
-    if (p.extraCount != enforcer_.multipliers(*p.state)) in.fail("a contact point's multipliers do not match its state");
+    if (p.extraCount != enforcer_.multipliers(*p.state))
+      in.fail("a contact point's multipliers do not match its state");
     committed_[p.key] = p;
   }
   // Every contact multiplier in the state belongs to one of these points.

@@ -36,8 +36,8 @@ std::vector<std::string> ContactReport::tableRows(const PointMap& committed) con
     s.precision(12);
     const auto state = [&](int i) { return !p.result.active ? "open" : (p.result.slip[i] ? "slip" : "stick"); };
     const auto code = p.key.code();
-    s << geometry_.pairs()[p.key.pair].name << "," << code[1] << "," << code[2] << "," << p.xiPrev << ","
-      << p.etaPrev << "," << p.position[0] << "," << p.position[1] << "," << p.position[2] << "," << p.gap << ","
+    s << geometry_.pairs()[p.key.pair].name << "," << code[1] << "," << code[2] << "," << p.xiPrev << "," << p.etaPrev
+      << "," << p.position[0] << "," << p.position[1] << "," << p.position[2] << "," << p.gap << ","
       << -p.result.lambdaN << "," << p.result.lambdaT[0] << "," << p.result.lambdaT[1] << "," << state(0) << ","
       << state(1) << "," << (p.result.active ? 1 : 0);
     for (const Vec3d* v : {&p.normal, &p.normalForce, &p.tangentialForce})
@@ -112,9 +112,11 @@ std::vector<std::string> ContactReport::warnings() const {
     s << "contact pair \"" << pairs[pair].name << "\": between the Gauss points of line contact the beams "
       << "overlapped by up to " << worst.first << " more than at any Gauss point, near (" << worst.second[0] << ", "
       << worst.second[1] << ", " << worst.second[2] << ") (more than " << kUnresolvedLine
-      << " of the thinner section's inscribed radius): the contact zone there is shorter than the Gauss points' spacing (axes "
+      << " of the thinner section's inscribed radius): the contact zone there is shorter than the Gauss points' "
+         "spacing (axes "
          "crossing at a small angle), so part of the contact was not seen; raise Contact/Line Gauss Points or "
-         "refine beam \"" << beams[pairs[pair].beamA].name << "\"";
+         "refine beam \""
+      << beams[pairs[pair].beamA].name << "\"";
     w.push_back(s.str());
   }
   for (const auto& [pair, worst] : lines_.unresolved()) {
@@ -123,7 +125,8 @@ std::vector<std::string> ContactReport::warnings() const {
       << " enforces line contact on gaps weighted over the elements of beam \"" << beams[pairs[pair].beamA].name
       << "\", and between its nodes the beams penetrated by up to " << worst.first << " near (" << worst.second[0]
       << ", " << worst.second[1] << ", " << worst.second[2] << "), more than " << kUnresolvedLine
-      << " of the thinner section's inscribed radius: the contact zone there is short against the elements (beams crossing at a "
+      << " of the thinner section's inscribed radius: the contact zone there is short against the elements (beams "
+         "crossing at a "
          "small angle, or a beam end on the other beam), so the contact force is not resolved; refine beam \""
       << beams[pairs[pair].beamA].name << "\" or use Penalty or Augmented Lagrange";
     w.push_back(s.str());

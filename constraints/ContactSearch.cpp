@@ -62,8 +62,7 @@ class BoxGrid {
     }
   }
   // Calls fn(cell) for each cell of a box.
-  template <class Fn>
-  void forEachCell(const Box& b, const Fn& fn) const {
+  template <class Fn> void forEachCell(const Box& b, const Fn& fn) const {
     const auto [i0, i1] = range(b, 0);
     const auto [j0, j1] = range(b, 1);
     const auto [k0, k1] = range(b, 2);
@@ -162,15 +161,17 @@ std::vector<Box> sweptBoxes(const ContactGeometry& geometry, const core::State& 
   for (const int e : boxed) {
     const BeamElement& el = elems[e];
     const auto& sec = geometry.beams().beams()[el.beam].section;
-    const double reach = (sec.shape == CrossSection::Shape::Rectangle ? 0.5 * std::hypot(sec.width, sec.height)
-                                                                       : sec.radius) +
-                         geometry.options().searchMargin;
+    const double reach =
+        (sec.shape == CrossSection::Shape::Rectangle ? 0.5 * std::hypot(sec.width, sec.height) : sec.radius) +
+        geometry.options().searchMargin;
     Box b;
     for (int k = 0; k < 3; ++k) {
       b.lo[k] = std::min({s.position[el.node1][k], s.position[el.node2][k], reference.position[el.node1][k],
-                          reference.position[el.node2][k]}) - reach;
+                          reference.position[el.node2][k]}) -
+                reach;
       b.hi[k] = std::max({s.position[el.node1][k], s.position[el.node2][k], reference.position[el.node1][k],
-                          reference.position[el.node2][k]}) + reach;
+                          reference.position[el.node2][k]}) +
+                reach;
       cell = std::max(cell, b.hi[k] - b.lo[k]);
     }
     boxes[e] = b;
@@ -195,7 +196,8 @@ BeamRuns beamRuns(const std::vector<BeamElement>& elems, const std::vector<int>&
     r.last[b] = std::max(r.last[b], e);
     ++count[b];
   }
-  for (std::size_t b = 0; b < numBeams; ++b) r.runs = r.runs && (count[b] == 0 || r.last[b] - r.first[b] + 1 == count[b]);
+  for (std::size_t b = 0; b < numBeams; ++b)
+    r.runs = r.runs && (count[b] == 0 || r.last[b] - r.first[b] + 1 == count[b]);
   return r;
 }
 
@@ -275,8 +277,7 @@ std::map<PointKey, Candidate> ContactSearch::detect(const core::State& s, const 
   std::map<PointKey, Offer> chosen;
   const CandidateOffer offer = [&chosen](const PointKey& key, const Candidate& c, double outside, long long visit) {
     const auto it = chosen.find(key);
-    if (it == chosen.end())
-      chosen.emplace(key, Offer{c, outside, visit});
+    if (it == chosen.end()) chosen.emplace(key, Offer{c, outside, visit});
     else if (outside < it->second.outside || (!(it->second.outside < outside) && visit < it->second.visit))
       it->second = Offer{c, outside, visit};
   };
@@ -327,8 +328,8 @@ void ContactSearch::checkNoUnseenContact(const core::State& state, bool atStart,
     if (!parallel && !endA && !endB) return;
     const Vec3d at = a1 + c.s * (a2 - a1);
     std::ostringstream s;
-    s << "beams \"" << beams[pair.beamA].name << "\" and \"" << beams[pair.beamB].name << "\" overlap near ("
-      << at[0] << ", " << at[1] << ", " << at[2] << "), axes " << c.distance << " apart, ";
+    s << "beams \"" << beams[pair.beamA].name << "\" and \"" << beams[pair.beamB].name << "\" overlap near (" << at[0]
+      << ", " << at[1] << ", " << at[2] << "), axes " << c.distance << " apart, ";
     if (parallel) {
       s << "lying nearly parallel (sine of their angle " << sine
         << " below Contact/Parallel Line Tolerance): point contact cannot model this contact, and line contact "
@@ -346,8 +347,7 @@ void ContactSearch::checkNoUnseenContact(const core::State& state, bool atStart,
   });
 }
 
-void ContactSearch::checkNoPassThrough(const core::State& state,
-                                       const std::function<bool(int, int, int)>& held) const {
+void ContactSearch::checkNoPassThrough(const core::State& state, const std::function<bool(int, int, int)>& held) const {
   // Beams passed through each other when the axes of two of their elements crossed between the last
   // converged state and this one (the signed distance of the axes, oriented by continuity of
   // t_B x t_A, changed sign while the closest points lay on both elements in both states) and no
@@ -355,7 +355,8 @@ void ContactSearch::checkNoPassThrough(const core::State& state,
   // from before is legal however deep it penetrates (a soft penalty); a crossing that no point
   // saw is not a solution: the increment fails (and is cut), never a silent result.
   forEachElementPair(state, [&](int pi, int ea, int eb) {
-    const LinePairInput now = geometry_.axisInput(ea, eb, state), before = geometry_.axisInput(ea, eb, geometry_.reference());
+    const LinePairInput now = geometry_.axisInput(ea, eb, state),
+                        before = geometry_.axisInput(ea, eb, geometry_.reference());
     const ClosestPoints cur = closestPoints(now), ref = closestPoints(before);
     const double minimumSin = geometry_.options().minimumSinAngle;
     if (cur.sinAngle < minimumSin || ref.sinAngle < minimumSin) return;

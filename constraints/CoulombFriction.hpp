@@ -18,28 +18,22 @@
 namespace bc::constraints::cone {
 
 inline double value(double x) { return x; }
-template <class T>
-double value(const T& x) {
-  return Sacado::ScalarValue<T>::eval(x);
-}
+template <class T> double value(const T& x) { return Sacado::ScalarValue<T>::eval(x); }
 
 // M g: the covariant components of the vector g^1 a - g^2 b in the basis (a, -b).
-template <class T>
-void metric(const T& c, const T g[2], T out[2]) {
+template <class T> void metric(const T& c, const T g[2], T out[2]) {
   out[0] = g[0] - c * g[1];
   out[1] = -c * g[0] + g[1];
 }
 
 // |v|_{M^-1}^2 = v^T M^-1 v, M^-1 = [1 c; c 1] / (1 - c^2).
-template <class T>
-T lengthSquared(const T& c, const T v[2]) {
+template <class T> T lengthSquared(const T& c, const T v[2]) {
   return (v[0] * v[0] + 2.0 * c * v[0] * v[1] + v[1] * v[1]) / (1.0 - c * c);
 }
 
 // Projection of v onto the disk |v|_{M^-1} <= radius (radius <= 0: the origin). Returns true when v
 // lay outside (slip).
-template <class T>
-bool project(const T& c, const T& radius, const T v[2], T out[2]) {
+template <class T> bool project(const T& c, const T& radius, const T v[2], T out[2]) {
   using std::sqrt;
   if (!(value(radius) > 0.0)) {
     out[0] = out[1] = T(0.0);

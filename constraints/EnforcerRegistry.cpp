@@ -60,8 +60,10 @@ const EnforcerEntry& findEnforcer(const std::string& name, const std::string& pa
 namespace {
 core::ParameterSpec enforcementSpec() {
   core::ParameterSpec spec;
-  spec.addRequired("Type", std::string("Penalty"), "the enforcement strategy; its parameters go in the sublist of "
-                   "the same name", {}, "one of " + core::joinNames(enforcerNames()));
+  spec.addRequired("Type", std::string("Penalty"),
+                   "the enforcement strategy; its parameters go in the sublist of "
+                   "the same name",
+                   {}, "one of " + core::joinNames(enforcerNames()));
   for (const auto& entry : registry())
     spec.addSublist(entry.name, entry.spec->reference(),
                     "used when Type is \"" + entry.name + "\": " + entry.description);

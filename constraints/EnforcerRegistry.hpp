@@ -18,8 +18,8 @@ namespace bc::constraints {
 
 struct EnforcerEntry {
   std::string name;
-  std::string description;                     // one line for the reference
-  const core::ParameterSpec* spec = nullptr;   // parameters of the strategy's sublist
+  std::string description;  // one line for the reference
+  const core::ParameterSpec* spec = nullptr;  // parameters of the strategy's sublist
   std::function<std::unique_ptr<ConstraintEnforcer>(const Teuchos::ParameterList&)> create;
   std::string origin;  // who registered it: "built-in", "plug-in \"<path>\"" or "the program" (set by registerEnforcer)
 };
@@ -41,8 +41,11 @@ class RegistrationOrigin {
 void registerEnforcer(EnforcerEntry entry);
 // T has static name(), description() and spec(), and a constructor from its validated sublist.
 template <class T> void registerEnforcer() {
-  registerEnforcer({T::name(), T::description(), &T::spec(),
-                    [](const Teuchos::ParameterList& p) { return std::make_unique<T>(p); }, {}});
+  registerEnforcer({T::name(),
+                    T::description(),
+                    &T::spec(),
+                    [](const Teuchos::ParameterList& p) { return std::make_unique<T>(p); },
+                    {}});
 }
 // Registers the built-in strategies: Penalty, Lagrange Multiplier, Augmented Lagrange (once; later
 // calls do nothing).

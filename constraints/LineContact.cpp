@@ -79,7 +79,7 @@ LinePairInput LineContact::faceInput(int eA, int edgeA, int eB, int faceB, const
   const auto& sec = geometry_.beams().beams()[b.beam].section;
   const Vec3d axis = column(b.data.T0, 1 + faceB % 2);  // e2 or e3
   const double sign = faceB < 2 ? 1.0 : -1.0;
-  const double half = 0.5 * (faceB % 2 == 0 ? sec.width : sec.height);   // along the face normal
+  const double half = 0.5 * (faceB % 2 == 0 ? sec.width : sec.height);  // along the face normal
   const double across = 0.5 * (faceB % 2 == 0 ? sec.height : sec.width);  // the face's half width
   in.oB = (sign * half) * axis;
   in.nB = sign * axis;
@@ -94,7 +94,8 @@ LinePairInput LineContact::input(const ContactPointRecord& p, const core::State&
 }
 
 LinePairInput LineContact::segmentInput(int pair, int eA, int eB, int edge, int face, const core::State& s) const {
-  LinePairInput in = geometry_.rectangles(pair) ? faceInput(eA, edge, eB, face, s) : geometry_.lineInput(eA, 0, eB, 0, s);
+  LinePairInput in =
+      geometry_.rectangles(pair) ? faceInput(eA, edge, eB, face, s) : geometry_.lineInput(eA, 0, eB, 0, s);
   in.sB1 = segmentPlanes_[eB][0];
   in.sB2 = segmentPlanes_[eB][1];
   return in;
@@ -275,13 +276,14 @@ bool LineContact::evaluateNodal(const ContactPointRecord& p, const ContactKinema
   const int m = enforcer_.multipliers(*host);
   std::vector<double> lambda(m, 0.0), lambdaSlope(m, 0.0);  // lambda and d lambda / d xi
   std::vector<std::vector<std::pair<int, double>>> to(kPairDofs + m);  // point dof -> (block dof, factor)
-  std::vector<std::pair<int, double>> slopes;                          // (block row of a node's q = 0, dN / dxi)
+  std::vector<std::pair<int, double>> slopes;  // (block row of a node's q = 0, dN / dxi)
   for (int i = 0; i < kPairDofs; ++i) to[i].push_back({i, 1.0});
   int slot = kPairDofs;
   for (const FieldShare& n : fieldShares(p, k.xi, points)) {
     if (!n.record || n.record->extraCount == 0) continue;
     if (n.record->extraCount != m)
-      throw std::logic_error(enforcer_.type() + ": the two line nodes of a Gauss point own different numbers of multipliers");
+      throw std::logic_error(enforcer_.type() +
+                             ": the two line nodes of a Gauss point own different numbers of multipliers");
     const double* values = &s.extra[n.record->extraOffset];
     for (int q = 0; q < m; ++q) {
       lambda[q] += n.N * values[q];

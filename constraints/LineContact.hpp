@@ -56,7 +56,7 @@ class LineContact {
   // weights times lengths times the line points' blend weights) at `s`.
   struct NodeGap {
     double weighted = 0.0, weight = 0.0, full = 0.0;  // full: the weight without the blend
-    double weightedSlip = 0.0;                          // int N_a g_T2 ds / int N_a ds
+    double weightedSlip = 0.0;  // int N_a g_T2 ds / int N_a ds
   };
   std::map<PointKey, NodeGap> nodeGaps(const PointMap& points, const core::State& s) const;
   // The view a strategy gets of a line node (its weighted gap, its multipliers).
@@ -66,8 +66,7 @@ class LineContact {
   // Evaluates a Gauss point of a nodal line field: residual and tangent over its block's dofs (the
   // point's, then its field nodes' multipliers).
   bool evaluateNodal(const ContactPointRecord& p, const ContactKinematics& k, const core::State& s,
-                     const PointMap& points, std::vector<double>& f, std::vector<double>* K,
-                     PointResult* result) const;
+                     const PointMap& points, std::vector<double>& f, std::vector<double>* K, PointResult* result) const;
 
   // What the steps showed, for the warnings: pairs with friction whose line points carried force;
   // nodal line fields: pair -> deepest penetration, where; pair -> deepest overlap between Gauss

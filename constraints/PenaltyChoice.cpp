@@ -13,13 +13,15 @@ std::string openUnitInterval(const Teuchos::ParameterEntry& e) {
 
 void PenaltyChoice::addTo(core::ParameterSpec& spec, const std::string& role) {
   spec.addRequired("Normal Penalty Parameter", 1e4,
-                   "eps_N: " + role + " of the normal contact spring [force/length]; \"Automatic\": chosen per "
-                   "contact point from the beams' compliance there and Normal Target Error",
+                   "eps_N: " + role +
+                       " of the normal contact spring [force/length]; \"Automatic\": chosen per "
+                       "contact point from the beams' compliance there and Normal Target Error",
                    core::positive(), "> 0");
   spec.allowWord("Normal Penalty Parameter", kAutomatic);
   spec.addRequired("Tangential Penalty Parameter", 1e3,
-                   "eps_T: " + role + " of the tangential (stick) spring [force/length]; \"Automatic\": chosen per "
-                   "contact point from the beams' compliance there and Tangential Target Error",
+                   "eps_T: " + role +
+                       " of the tangential (stick) spring [force/length]; \"Automatic\": chosen per "
+                       "contact point from the beams' compliance there and Tangential Target Error",
                    core::positive(), "> 0");
   spec.allowWord("Tangential Penalty Parameter", kAutomatic);
   spec.add("Normal Target Error", 1e-3,
@@ -58,8 +60,9 @@ void PenaltyChoice::choose(const double compliance[3], double eps[2], int relaxa
       continue;
     }
     if (!(cs[i] > 0.0))
-      throw std::runtime_error("automatic penalty parameters: the beams do not give at a contact point (zero "
-                               "compliance: both beams held there); give the penalty parameters");
+      throw std::runtime_error(
+          "automatic penalty parameters: the beams do not give at a contact point (zero "
+          "compliance: both beams held there); give the penalty parameters");
     eps[i] = (1.0 - target_[i]) / (target_[i] * cs[i]);
   }
 }
@@ -71,8 +74,9 @@ std::vector<double> PenaltyChoice::outputValues(const PointPenalties& point) con
 
 void PointPenalties::require() const {
   if (waiting())
-    throw std::logic_error("a contact point with automatic penalty parameters was evaluated before the "
-                           "structure's compliance was known (run it through the static solver)");
+    throw std::logic_error(
+        "a contact point with automatic penalty parameters was evaluated before the "
+        "structure's compliance was known (run it through the static solver)");
 }
 
 }  // namespace bc::constraints

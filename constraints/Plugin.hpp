@@ -7,8 +7,8 @@
 #include "EnforcerRegistry.hpp"
 #include "core/Version.hpp"
 
-#define BEAMCONTACT_PLUGIN(...)                                                                               \
-  extern "C" __attribute__((visibility("default"))) const char* beamcontact_plugin_version() {               \
-    return BEAMCONTACT_VERSION;                                                                               \
-  }                                                                                                           \
+#define BEAMCONTACT_PLUGIN(...)                                                                \
+  extern "C" __attribute__((visibility("default"))) const char* beamcontact_plugin_version() { \
+    return BEAMCONTACT_VERSION;                                                                \
+  }                                                                                            \
   extern "C" __attribute__((visibility("default"))) void beamcontact_plugin_register() { __VA_ARGS__ }

@@ -32,16 +32,14 @@ void PointContact::findPoints(int pi, int ea, int eb, long long visit, const cor
       orient(cp, it != known.end() ? it->second.sigma : referenceSigma(ea, la, eb, lb, cp), in.radiusSum);
       // Only lines on the sides facing each other.
       if (dot(cp.pA - cp.cA, cp.normal) < -1e-12 || dot(cp.pB - cp.cB, cp.normal) > 1e-12) continue;
-      if (in.radiusSum == 0.0 && (dot(cp.pA - cp.cA, cp.normal) <= 0 || dot(cp.pB - cp.cB, cp.normal) >= 0))
-        continue;
+      if (in.radiusSum == 0.0 && (dot(cp.pA - cp.cA, cp.normal) <= 0 || dot(cp.pB - cp.cB, cp.normal) >= 0)) continue;
       // A known point stays on its element pair while its closest points lie within the
       // elements or up to kStay of an element length beyond a shared node; it is handed to a
       // neighbour only beyond that, so a point at a node cannot flip between elements from one
       // iteration to the next. Otherwise the candidate most central in its elements wins.
       constexpr double kStay = 0.05;
       double out = std::max(std::abs(cp.xi - 0.5), std::abs(cp.eta - 0.5));
-      if (it != known.end() && it->second.elementA == ea && it->second.elementB == eb && out <= 0.5 + kStay)
-        out = -1.0;
+      if (it != known.end() && it->second.elementA == ea && it->second.elementB == eb && out <= 0.5 + kStay) out = -1.0;
       offer(key, Candidate{ea, eb, cp}, out, visit);
     }
 }
@@ -53,8 +51,7 @@ ClosestPoints PointContact::geometry(const ContactPointRecord& p, const core::St
   return cp;
 }
 
-ContactKinematics PointContact::kinematics(const ContactPointRecord& p, const core::State& s,
-                                           Variations order) const {
+ContactKinematics PointContact::kinematics(const ContactPointRecord& p, const core::State& s, Variations order) const {
   const LinePairInput in = geometry_.lineInput(p.elementA, p.key.lineA, p.elementB, p.key.lineB, s);
   const double xiPrev = p.xiPrev - geometry_.beams().elements()[p.elementA].index;
   const double etaPrev = p.etaPrev - geometry_.beams().elements()[p.elementB].index;

@@ -28,11 +28,11 @@ struct PointKey {
   enum class Kind { LineNode, Gauss, Contact };  // in the order of their codes
   int pair = 0;
   Kind kind = Kind::Contact;
-  int lineA = 0, lineB = 0;        // a point contact's lines
+  int lineA = 0, lineB = 0;  // a point contact's lines
   int elementA = 0, elementB = 0;  // a Gauss point's elements
-  int edge = 0, face = 0;          // a Gauss point's (a line node's: edge) edge of A and face of B
-  int gauss = 0;                   // a Gauss point's index in its segment
-  int node = 0;                    // a line node's node
+  int edge = 0, face = 0;  // a Gauss point's (a line node's: edge) edge of A and face of B
+  int gauss = 0;  // a Gauss point's index in its segment
+  int node = 0;  // a line node's node
 
   static PointKey contact(int pair, int lineA, int lineB) {
     PointKey k;
@@ -67,15 +67,13 @@ struct PointKey {
   // (pair, line A, line B) as described above.
   std::array<long long, 3> code() const {
     switch (kind) {
-      case Kind::LineNode:
-        return {pair, kLineNode - edge, node};
+      case Kind::LineNode: return {pair, kLineNode - edge, node};
       case Kind::Gauss: {
         long long c = -1 - (gauss + kGaussSlots * (edge + 4 * (face + 4 * static_cast<long long>(elementB))));
         if (c <= kLineNode) c -= 4;  // below the line nodes' codes
         return {pair, c, elementA};
       }
-      case Kind::Contact:
-        break;
+      case Kind::Contact: break;
     }
     return {pair, lineA, lineB};
   }
@@ -93,13 +91,11 @@ struct PointKey {
     if (pair != o.pair) return pair < o.pair;
     if (kind != o.kind) return kind < o.kind;
     switch (kind) {
-      case Kind::LineNode:
-        return edge != o.edge ? edge > o.edge : node < o.node;
+      case Kind::LineNode: return edge != o.edge ? edge > o.edge : node < o.node;
       case Kind::Gauss:
         return std::tie(o.elementB, o.face, o.edge, o.gauss, elementA) <
                std::tie(elementB, face, edge, gauss, o.elementA);
-      case Kind::Contact:
-        break;
+      case Kind::Contact: break;
     }
     return std::tie(lineA, lineB) < std::tie(o.lineA, o.lineB);
   }

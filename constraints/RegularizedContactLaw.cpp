@@ -87,8 +87,7 @@ PointResult regularizedEvaluate(const ContactPoint& p, const NormalLaw& normal, 
   const Vector24* Rs[4] = {&k.normal.R, &k.tangent1.R, &k.tangent2.R, &k.cosineR};
   for (int a = 0; a < 3; ++a) {
     const double la = lam[a].val();
-    if (la == 0.0 && lam[a].dx(0) == 0.0 && lam[a].dx(1) == 0.0 && lam[a].dx(2) == 0.0 && lam[a].dx(3) == 0.0)
-      continue;
+    if (la == 0.0 && lam[a].dx(0) == 0.0 && lam[a].dx(1) == 0.0 && lam[a].dx(2) == 0.0 && lam[a].dx(3) == 0.0) continue;
     for (int i = 0; i < n; ++i) f[i] += la * gaps[a]->R[i];
     if (!K) continue;
     double d[n] = {};

@@ -59,8 +59,15 @@ class SituationCheck {
  public:
   SituationCheck(const ConstraintEnforcer& strategy, const LinePairInput& in, const ClosestPoints& cp, double xiPrev,
                  double etaPrev, FrictionLaw law, double mu)
-      : strategy_(strategy), in_(in), cp_(cp), xiPrev_(xiPrev), etaPrev_(etaPrev), law_(law), mu_(mu),
-        k_(contactKinematics(in, cp.sigma, xiPrev, etaPrev)), state_(strategy.newPointState()) {}
+      : strategy_(strategy),
+        in_(in),
+        cp_(cp),
+        xiPrev_(xiPrev),
+        etaPrev_(etaPrev),
+        law_(law),
+        mu_(mu),
+        k_(contactKinematics(in, cp.sigma, xiPrev, etaPrev)),
+        state_(strategy.newPointState()) {}
 
   TangentCheck run(const std::string& situation) {
     TangentCheck c;
@@ -124,7 +131,8 @@ class SituationCheck {
       l = saved;
     }
     double error = 0.0;
-    for (int i = 0; i < n; ++i) error = std::max(error, std::abs((fp[i] - fm[i]) / (2 * h) - K[std::size_t(n) * i + j]));
+    for (int i = 0; i < n; ++i)
+      error = std::max(error, std::abs((fp[i] - fm[i]) / (2 * h) - K[std::size_t(n) * i + j]));
     return error;
   }
 
@@ -149,8 +157,11 @@ std::vector<TangentCheck> checkTangent(const ConstraintEnforcer& strategy) {
   const double xiPrev = cp.xi - 0.01, etaPrev = cp.eta + 0.01;
   for (FrictionLaw law : {FrictionLaw::IsotropicCoulomb, FrictionLaw::PerLine})
     for (double mu : {0.0, 0.01, 50.0}) {
-      const std::string situation = std::string(law == FrictionLaw::IsotropicCoulomb ? "Isotropic Coulomb" : "Per Line") +
-                                    ", mu = " + (mu == 0.0 ? "0" : mu < 1.0 ? "0.01" : "50");
+      const std::string situation =
+          std::string(law == FrictionLaw::IsotropicCoulomb ? "Isotropic Coulomb" : "Per Line") + ", mu = " +
+          (mu == 0.0  ? "0"
+           : mu < 1.0 ? "0.01"
+                      : "50");
       checks.push_back(SituationCheck(strategy, in, cp, xiPrev, etaPrev, law, mu).run(situation));
     }
   return checks;

@@ -14,12 +14,12 @@
 namespace bc::constraints {
 
 struct TangentCheck {
-  std::string situation;   // friction law and coefficient
-  bool acts = false;       // the strategy acts on the penetrating point
-  int size = 0;            // 24 + multipliers
-  int slipping = 0;        // lines reported slipping
-  double maxEntry = 0.0;   // max |K|
-  double maxError = 0.0;   // max |K - central differences|
+  std::string situation;  // friction law and coefficient
+  bool acts = false;  // the strategy acts on the penetrating point
+  int size = 0;  // 24 + multipliers
+  int slipping = 0;  // lines reported slipping
+  double maxEntry = 0.0;  // max |K|
+  double maxError = 0.0;  // max |K - central differences|
   double relativeError() const { return maxEntry > 0.0 ? maxError / maxEntry : maxError; }
 };
 

@@ -86,8 +86,8 @@ namespace {
 // Recursive coordinate bisection: the nodes `ids` go to ranks [r0, r1). The box's longest side is cut
 // where the ranks on either side get their share of the nodes (ties in the coordinate broken by node
 // number, so every rank computes the same split).
-void bisect(const std::vector<Vec3d>& X, std::vector<int>& ids, std::size_t begin, std::size_t end, int r0,
-            int r1, std::vector<int>& owner) {
+void bisect(const std::vector<Vec3d>& X, std::vector<int>& ids, std::size_t begin, std::size_t end, int r0, int r1,
+            std::vector<int>& owner) {
   if (r1 - r0 <= 1 || end - begin <= 1) {
     for (std::size_t k = begin; k < end; ++k) owner[ids[k]] = r0;
     return;
@@ -103,9 +103,8 @@ void bisect(const std::vector<Vec3d>& X, std::vector<int>& ids, std::size_t begi
     if (hi[a] - lo[a] > hi[axis] - lo[axis]) axis = a;
   const int rm = r0 + (r1 - r0) / 2;
   const std::size_t mid = begin + (end - begin) * std::size_t(rm - r0) / std::size_t(r1 - r0);
-  std::nth_element(ids.begin() + begin, ids.begin() + mid, ids.begin() + end, [&](int a, int b) {
-    return X[a][axis] < X[b][axis] || (X[a][axis] == X[b][axis] && a < b);
-  });
+  std::nth_element(ids.begin() + begin, ids.begin() + mid, ids.begin() + end,
+                   [&](int a, int b) { return X[a][axis] < X[b][axis] || (X[a][axis] == X[b][axis] && a < b); });
   bisect(X, ids, begin, mid, r0, rm, owner);
   bisect(X, ids, mid, end, rm, r1, owner);
 }
@@ -242,7 +241,8 @@ void Assembler::makeGraph(const RowPattern& rows) {
     counts.h_view(l) = rows.rowColumns[rows.rowIndex.at(overlap[l])].size();
   counts.modify_host();
   counts.sync_device();
-  graph_ = Teuchos::rcp(new FEGraph(ownedMap_, overlapMap_, Kokkos::DualView<const std::size_t*, FEGraph::device_type>(counts)));
+  graph_ = Teuchos::rcp(
+      new FEGraph(ownedMap_, overlapMap_, Kokkos::DualView<const std::size_t*, FEGraph::device_type>(counts)));
   Tpetra::beginAssembly(*graph_);
   for (std::size_t k = 0; k < rows.rowIds.size(); ++k)
     graph_->insertGlobalIndices(rows.rowIds[k], Teuchos::ArrayView<const GO>(rows.rowColumns[k]));

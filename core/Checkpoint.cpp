@@ -67,7 +67,11 @@ void CheckpointOut::state(const State& s) {
   integer(static_cast<long long>(s.extra.blocks().size()));
   for (double v : s.extra.values()) real(v);
   for (const auto& [id, block] : s.extra.blocks()) {
-    label("block").word(id.first).integer(block.offset).integer(block.size).integer(static_cast<long long>(id.second.size()));
+    label("block")
+        .word(id.first)
+        .integer(block.offset)
+        .integer(block.size)
+        .integer(static_cast<long long>(id.second.size()));
     for (long long k : id.second) integer(k);
   }
 }
@@ -82,9 +86,8 @@ void CheckpointIn::verifyChecksum() const {
   const std::size_t start = cut == std::string::npos ? 0 : cut + 1;
   const std::string line = n > 0 && text_.back() == '\n' ? text_.substr(start, n - 1 - start) : std::string();
   const bool wellFormed = line.size() == 7 + 64 && line.compare(0, 7, "sha256 ") == 0 &&
-                          std::all_of(line.begin() + 7, line.end(), [](char c) {
-                            return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f');
-                          });
+                          std::all_of(line.begin() + 7, line.end(),
+                                      [](char c) { return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'); });
   if (!wellFormed)
     fail("its last line is not its checksum (\"sha256\" and 64 hexadecimal digits): it was cut short or damaged");
   if (sha256Hex(text_.substr(0, start)) != line.substr(7))
@@ -191,7 +194,8 @@ void CheckpointIn::state(State& s) {
     if (nk < 0 || nk > 64) fail("bad extra-unknown key");
     ExtraUnknowns::Key key(static_cast<std::size_t>(nk));
     for (long long& k : key) k = integer();
-    if (block.offset != next || block.size <= 0 || block.offset + block.size > m) fail("extra unknowns out of order (it is damaged)");
+    if (block.offset != next || block.size <= 0 || block.offset + block.size > m)
+      fail("extra unknowns out of order (it is damaged)");
     next += block.size;
     blocks[{owner, key}] = block;
   }

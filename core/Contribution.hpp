@@ -15,8 +15,7 @@
 #include "State.hpp"
 
 namespace Teuchos {
-template <typename Ordinal>
-class Comm;
+template <typename Ordinal> class Comm;
 }  // namespace Teuchos
 
 namespace bc::core {
@@ -40,7 +39,7 @@ struct VtkMesh {
   std::map<std::string, std::vector<double>> pointScalars;
   std::vector<int> cellTypes;
   std::vector<std::vector<int>> cells;
-  std::vector<int> cellBeam;     // index of the beam a cell belongs to (-1: none)
+  std::vector<int> cellBeam;  // index of the beam a cell belongs to (-1: none)
   std::vector<int> cellElement;  // element index within its beam (-1: none)
   std::map<std::string, std::vector<double>> cellScalars;  // named cell arrays (zero where not set)
 

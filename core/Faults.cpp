@@ -62,14 +62,16 @@ void OutputFile::open(const fs::path& path, bool append, bool exclusive) {
   errno = 0;
   // Never through a symbolic link in the last component: a link planted where a results file goes
   // would send the writes elsewhere.
-  const int fd = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_NOFOLLOW | O_CLOEXEC | (append ? O_APPEND : O_TRUNC) |
-                                           (exclusive ? O_EXCL : 0),
-                        0644);
+  const int fd = ::open(
+      path_.c_str(),
+      O_WRONLY | O_CREAT | O_NOFOLLOW | O_CLOEXEC | (append ? O_APPEND : O_TRUNC) | (exclusive ? O_EXCL : 0), 0644);
   if (fd < 0) {
     if (errno == ELOOP) failLink();
     if (errno == EEXIST && exclusive)
-      throw OutputError("cannot write " + path_ + ": the file exists (beamcontact writes through this name and "
-                        "never replaces a file it finds there; remove it if it is a leftover of an interrupted write)",
+      throw OutputError("cannot write " + path_ +
+                            ": the file exists (beamcontact writes through this name and "
+                            "never replaces a file it finds there; remove it if it is a leftover of an interrupted "
+                            "write)",
                         "the file exists");
     fail("open");
   }
@@ -105,7 +107,8 @@ long OutputFile::length() const {
 
 bool OutputFile::stillAtItsPath() const {
   if (!file_) return false;
-  struct stat open {}, named {};
+  struct stat open {
+  }, named{};
   if (fstat(fileno(file_), &open) != 0 || ::stat(path_.c_str(), &named) != 0) return false;
   return open.st_dev == named.st_dev && open.st_ino == named.st_ino;
 }

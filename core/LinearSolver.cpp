@@ -86,8 +86,10 @@ GmresSettings readGmres(const Teuchos::ParameterList& p) {
 std::unique_ptr<LinearSolver> makeLinearSolver(const Teuchos::ParameterList& p) {
   const std::string type = p.get<std::string>("Type");
   if (type != "Direct" && p.get<bool>("Reuse Factorization"))
-    throw InputError("parameter \"Linear Solver/Reuse Factorization\" reuses the Direct solver's LU factorization; "
-                     "with Type \"" + type + "\" give Preconditioner instead");
+    throw InputError(
+        "parameter \"Linear Solver/Reuse Factorization\" reuses the Direct solver's LU factorization; "
+        "with Type \"" +
+        type + "\" give Preconditioner instead");
   if (type == "Direct") return makeDirectSolver(readDirect(p));
   return makeGmresSolver(readGmres(p));
 }

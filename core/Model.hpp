@@ -37,8 +37,8 @@ struct Support {
   std::string name;
   std::vector<int> nodes;
   std::array<bool, 6> fixed{};  // ux uy uz rx ry rz
-  Dofs6 value{};                // prescribed displacement / rotation (spin about global axes) at T = 1
-  LoadCurve curve;              // value(T) = value * curve(T)
+  Dofs6 value{};  // prescribed displacement / rotation (spin about global axes) at T = 1
+  LoadCurve curve;  // value(T) = value * curve(T)
 };
 
 struct NodalLoad {

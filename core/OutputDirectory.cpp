@@ -20,7 +20,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::string kHeader = "# beamcontact-manifest 1: what beamcontact wrote in this folder (a rerun removes only these)";
+const std::string kHeader =
+    "# beamcontact-manifest 1: what beamcontact wrote in this folder (a rerun removes only these)";
 
 // The names a folder's manifest lists, or nothing when it has no manifest (or one that is not ours).
 std::optional<std::set<std::string>> readManifest(const fs::path& dir) {
@@ -41,7 +42,8 @@ std::vector<fs::directory_entry> entries(const fs::path& dir) {
   std::vector<fs::directory_entry> all;
   std::error_code ec;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) all.push_back(*it);
-  std::sort(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.path().filename() < b.path().filename(); });
+  std::sort(all.begin(), all.end(),
+            [](const auto& a, const auto& b) { return a.path().filename() < b.path().filename(); });
   return all;
 }
 
@@ -113,7 +115,8 @@ void checkDeckOutputPath(const std::string& path, const std::string& parameter) 
     const auto status = fs::symlink_status(prefix, ec);
     if (fs::is_symlink(status))
       throw InputError("parameter \"" + parameter + "\" (\"" + path + "\") passes through the symbolic link \"" +
-                       prefix.string() + "\"; a deck's output is not written through links (give the linked "
+                       prefix.string() +
+                       "\"; a deck's output is not written through links (give the linked "
                        "folder with --output)");
     if (!fs::exists(status)) break;
   }
@@ -159,7 +162,8 @@ void OutputDirectory::add(const std::string& relative) {
 
 fs::path OutputDirectory::folder(const std::string& relative) {
   // Without the trailing '/', which would make the status below follow a link.
-  const std::string name = !relative.empty() && relative.back() == '/' ? relative.substr(0, relative.size() - 1) : relative;
+  const std::string name =
+      !relative.empty() && relative.back() == '/' ? relative.substr(0, relative.size() - 1) : relative;
   const fs::path p = dir_ / name;
   std::error_code ec;
   const auto status = fs::symlink_status(p, ec);

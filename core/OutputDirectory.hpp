@@ -27,10 +27,10 @@ void checkDeckOutputPath(const std::string& path, const std::string& parameter);
 class OutputDirectory {
  public:
   struct Options {
-    bool overwrite = false;       // --overwrite: foreign files are left in place instead of refused
-    bool pathFromDeck = false;    // the path came from a deck (checkDeckOutputPath applies)
+    bool overwrite = false;  // --overwrite: foreign files are left in place instead of refused
+    bool pathFromDeck = false;  // the path came from a deck (checkDeckOutputPath applies)
     std::string what = "results directory";  // for messages: "results directory", "study directory"
-    std::string parameter;        // the deck parameter the path came from (when pathFromDeck)
+    std::string parameter;  // the deck parameter the path came from (when pathFromDeck)
   };
   OutputDirectory() = default;
   // Creates `dir` when missing, else checks it: a regular directory (a symbolic link only when the

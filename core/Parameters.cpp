@@ -42,7 +42,8 @@ ParameterSpec& ParameterSpec::addSublist(const std::string& name, const Teuchos:
   return *this;
 }
 
-ParameterSpec& ParameterSpec::allowNamedSublists(const Teuchos::ParameterList& reference, const std::string& placeholder) {
+ParameterSpec& ParameterSpec::allowNamedSublists(const Teuchos::ParameterList& reference,
+                                                 const std::string& placeholder) {
   valid_.sublist(placeholder, false, "one sublist of this form per item; its name is the item's name")
       .setParameters(reference);
   reference_.sublist(placeholder, false, "one sublist of this form per item; its name is the item's name")
@@ -145,9 +146,9 @@ ParameterSpec::Check atLeast(int minimum) {
 ParameterSpec::Check wholeBetween(int minimum, int maximum) {
   return [minimum, maximum](const Teuchos::ParameterEntry& e) {
     const double v = number(e);
-    return (v >= minimum && v <= maximum) ? std::string()
-                                          : "must be from " + std::to_string(minimum) + " to " +
-                                                std::to_string(maximum) + ", got " + show(v);
+    return (v >= minimum && v <= maximum)
+               ? std::string()
+               : "must be from " + std::to_string(minimum) + " to " + std::to_string(maximum) + ", got " + show(v);
   };
 }
 ParameterSpec::Check inRange(double lo, double hi) {

@@ -94,7 +94,7 @@ ParameterSpec::Check atLeast(int minimum);
 ParameterSpec::Check wholeBetween(int minimum, int maximum);  // minimum <= v <= maximum
 ParameterSpec::Check inRange(double lo, double hi);  // lo < v <= hi
 ParameterSpec::Check closedRange(double lo, double hi);  // lo <= v <= hi
-ParameterSpec::Check vector3();                      // Array(double) of 3 entries
+ParameterSpec::Check vector3();  // Array(double) of 3 entries
 
 std::string joinNames(const std::vector<std::string>& names);
 

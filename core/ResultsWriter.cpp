@@ -91,9 +91,9 @@ ResultsWriter::ResultsWriter(const Where& where, const Model& model, Teuchos::RC
 }
 
 std::vector<std::string> ResultsWriter::fileNames() const {
-  std::vector<std::string> names = {"status.txt",   "steps.csv",   "newton.csv", "tracked_points.csv", "reactions.csv",
-                                    "summary.csv",  "timers.txt",  "results.pvd",              "checkpoint.txt",
-                                    "effective_parameters.xml"};
+  std::vector<std::string> names = {
+      "status.txt",  "steps.csv",  "newton.csv",  "tracked_points.csv", "reactions.csv",
+      "summary.csv", "timers.txt", "results.pvd", "checkpoint.txt",     "effective_parameters.xml"};
   for (const auto& c : model_.contributions)
     if (!c->tableName().empty()) names.push_back(c->tableName());
   return names;
@@ -140,9 +140,7 @@ void ResultsWriter::prepareResume(int step, double T) {
   // Rows of steps after the checkpoint's were computed by the interrupted run past the state this
   // run continues from: they go, and this run writes them again.
   truncateTablesAfter(step);
-  out_.removeOwn([&](const std::string& name) {
-    return name.rfind("vtk/", 0) == 0 && vtkStep(name.substr(4)) > step;
-  });
+  out_.removeOwn([&](const std::string& name) { return name.rfind("vtk/", 0) == 0 && vtkStep(name.substr(4)) > step; });
   keepVtkEntriesUpTo(step);
   out_.removeOwn([](const std::string& name) {
     return name == "summary.csv" || name == "timers.txt" || name == "summary.csv.tmp" || name == "timers.txt.tmp";
@@ -173,12 +171,10 @@ void ResultsWriter::checkStepsFitCheckpoint(int step, double T) const {
   }
   if (in.is_open() && rows != step)
     throw InputError("checkpoint " + checkpoint + " cannot be used: it is at step " + std::to_string(step) +
-                     ", steps.csv has " + std::to_string(rows) +
-                     " steps up to there (it is not this directory's run)");
+                     ", steps.csv has " + std::to_string(rows) + " steps up to there (it is not this directory's run)");
   if (rows > 0 && !(std::abs(lastT - T) <= 1e-11 * std::max(1.0, std::abs(T))))
-    throw InputError("checkpoint " + checkpoint + " cannot be used: its step " + std::to_string(step) +
-                     " is at T = " + shortest(T) + ", steps.csv's at T = " + shortest(lastT) +
-                     " (it is not this directory's run)");
+    throw InputError("checkpoint " + checkpoint + " cannot be used: its step " + std::to_string(step) + " is at T = " +
+                     shortest(T) + ", steps.csv's at T = " + shortest(lastT) + " (it is not this directory's run)");
 }
 
 // Each table keeps its header and its whole rows of steps up to `step`.
@@ -396,8 +392,7 @@ class VtkArrays {
     return add("Float64", name, 3, flat);
   }
   // A field-data array (one tuple per value).
-  template <class T>
-  std::string field(const std::string& type, const std::string& name, const std::vector<T>& values) {
+  template <class T> std::string field(const std::string& type, const std::string& name, const std::vector<T>& values) {
     std::string a = add(type, name, 1, values);
     return a.insert(a.find(" format="), " NumberOfTuples=\"" + std::to_string(values.size()) + "\"");
   }
@@ -460,8 +455,10 @@ void ResultsWriter::writeVtk(int step, double T, const State& state) {
 
 void ResultsWriter::writePvd() {
   std::ostringstream f;
-  f << std::setprecision(12) << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n";
-  for (const auto& [T, file] : vtkFiles_) f << "<DataSet timestep=\"" << T << "\" part=\"0\" file=\"" << file << "\"/>\n";
+  f << std::setprecision(12)
+    << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n";
+  for (const auto& [T, file] : vtkFiles_)
+    f << "<DataSet timestep=\"" << T << "\" part=\"0\" file=\"" << file << "\"/>\n";
   f << "</Collection>\n</VTKFile>\n";
   writeFileAtomically(own("results.pvd"), f.str());
 }
@@ -475,7 +472,8 @@ void ResultsWriter::writeSummary(const RunSummary& summary) {
     f << "completed,last_T,steps,newton_iterations,max_newton_per_step,passes,solve_seconds,peak_memory_mb";
     for (const auto& [column, seconds] : summary.stages) f << ',' << column;
     f << ",warnings";  // how many warnings status.txt lists (e.g. a beam strained beyond the model's 5 %)
-    f << '\n' << (summary.run.completed ? 1 : 0) << ',' << summary.run.lastT << ',' << summary.run.steps << ','
+    f << '\n'
+      << (summary.run.completed ? 1 : 0) << ',' << summary.run.lastT << ',' << summary.run.steps << ','
       << summary.run.newtonIterations << ',' << summary.maxIterationsPerStep << ',' << summary.passes << ','
       << summary.solveSeconds << ',' << usage.ru_maxrss / 1024.0;
     for (const auto& [column, seconds] : summary.stages) f << ',' << seconds;
@@ -491,8 +489,10 @@ void ResultsWriter::finish(const RunReport& run, const std::string& timerReport)
     // results are not where it says they are.
     for (const OutputFile* f : {&steps_, &newton_, &tracked_, &reactions_})
       if (f->isOpen() && !f->stillAtItsPath())
-        throw OutputError("cannot write " + dir_ + ": the results directory was removed or moved during the run "
-                          "(" + f->path() + " is gone)",
+        throw OutputError("cannot write " + dir_ +
+                              ": the results directory was removed or moved during the run "
+                              "(" +
+                              f->path() + " is gone)",
                           "the results directory was removed or moved");
     steps_.close();
     newton_.close();

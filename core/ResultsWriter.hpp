@@ -52,7 +52,7 @@ class ResultsWriter {
   // directory is prepared for a fresh run.
   struct Where {
     std::string directory;
-    bool fromDeck = false;   // the deck's Output/Directory: relative, no "..", no symbolic links
+    bool fromDeck = false;  // the deck's Output/Directory: relative, no "..", no symbolic links
     bool overwrite = false;  // write beside files beamcontact did not write (--overwrite)
     std::vector<std::string> notes;  // lines status.txt carries after its first (e.g. the loaded plug-ins)
   };

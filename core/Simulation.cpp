@@ -72,8 +72,8 @@ double resume(StaticSolver& solver, RunSummary& summary, const RunOptions& optio
   const double earlierSeconds = in.real();
   if (passes < 0 || passes > INT_MAX || maxIterations < 0 || maxIterations > INT_MAX || earlierSeconds < 0.0)
     in.fail("its run summary has a negative or too large count (passes " + std::to_string(passes) +
-            ", most iterations in a step " + std::to_string(maxIterations) + ", seconds " +
-            shortest(earlierSeconds) + ")");
+            ", most iterations in a step " + std::to_string(maxIterations) + ", seconds " + shortest(earlierSeconds) +
+            ")");
   summary.passes = static_cast<int>(passes);
   summary.maxIterationsPerStep = static_cast<int>(maxIterations);
   solver.loadCheckpoint(in);
@@ -124,13 +124,13 @@ void finish(ResultsWriter& writer, RunSummary& summary, const Model& model, Teuc
   timer.report(report, comm, opts);
   for (const auto& c : model.contributions)
     for (const auto& w : c->warnings()) summary.run.warnings.push_back(w);
-  for (const auto& [column, path] : std::vector<std::pair<std::string, std::string>>{
-           {"search_seconds", "Contact Search"},
-           {"assembly_seconds", "Assembly"},
-           {"contact_evaluation_seconds", "Assembly@Evaluate contact"},
-           {"linear_solve_seconds", "Linear Solve"},
-           {"active_set_seconds", "Active Set"},
-           {"output_seconds", "Output"}})
+  for (const auto& [column, path] :
+       std::vector<std::pair<std::string, std::string>>{{"search_seconds", "Contact Search"},
+                                                        {"assembly_seconds", "Assembly"},
+                                                        {"contact_evaluation_seconds", "Assembly@Evaluate contact"},
+                                                        {"linear_solve_seconds", "Linear Solve"},
+                                                        {"active_set_seconds", "Active Set"},
+                                                        {"output_seconds", "Output"}})
     summary.stages.emplace_back(column, timer.accumulatedTime(path));
   writer.writeSummary(summary);
   writer.finish(summary.run, report.str());

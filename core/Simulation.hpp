@@ -17,14 +17,14 @@ namespace bc::core {
 struct RunOptions {
   std::string outputDirectory;
   bool outputFromDeck = false;  // the directory is the deck's Output/Directory (relative, no "..", no links)
-  bool overwrite = false;       // --overwrite: write beside files beamcontact did not write (OutputDirectory.hpp)
+  bool overwrite = false;  // --overwrite: write beside files beamcontact did not write (OutputDirectory.hpp)
   std::vector<std::string> statusNotes;  // lines status.txt carries after its first (the loaded plug-ins)
   bool writeVtk = true;
-  bool progress = true;                       // one line per step on rank 0
+  bool progress = true;  // one line per step on rank 0
   const Teuchos::ParameterList* effective = nullptr;  // written as effective_parameters.xml
-  int checkpointEvery = 0;     // write checkpoint.txt after every this many converged steps (0: never)
-  bool restart = false;        // continue from outputDirectory/checkpoint.txt
-  std::string fingerprint;     // of the deck (without Output), kept in the checkpoint
+  int checkpointEvery = 0;  // write checkpoint.txt after every this many converged steps (0: never)
+  bool restart = false;  // continue from outputDirectory/checkpoint.txt
+  std::string fingerprint;  // of the deck (without Output), kept in the checkpoint
 };
 
 struct RunResult {
@@ -32,7 +32,7 @@ struct RunResult {
   double solveSeconds = 0.0;  // wall time of the load stepping (excludes start-up and set-up)
   State finalState;
   std::vector<StepReport> steps;  // every converged step (of this process) with its Newton history
-  int restartedAtStep = -1;       // the checkpoint's step when restarted
+  int restartedAtStep = -1;  // the checkpoint's step when restarted
 };
 
 RunResult simulate(Model& model, const SolverSettings& settings, const Teuchos::ParameterList& linearSolver,

@@ -14,16 +14,14 @@ namespace bc::math {
 // Innermost double of a (possibly nested) forward-AD value; used for branch decisions only.
 template <class T> double val(const T& x) { return Sacado::ScalarValue<T>::eval(x); }
 
-template <class T>
-struct Vec3 {
+template <class T> struct Vec3 {
   T v[3];
   T& operator[](int i) { return v[i]; }
   const T& operator[](int i) const { return v[i]; }
 };
 
 // Row-major 3x3: m[3*i + j] is row i, column j.
-template <class T>
-struct Mat3 {
+template <class T> struct Mat3 {
   T m[9];
   T& operator()(int i, int j) { return m[3 * i + j]; }
   const T& operator()(int i, int j) const { return m[3 * i + j]; }
@@ -32,14 +30,21 @@ struct Mat3 {
 using Vec3d = Vec3<double>;
 using Mat3d = Mat3<double>;
 
-template <class T> Vec3<T> operator+(const Vec3<T>& a, const Vec3<T>& b) { return {{a[0] + b[0], a[1] + b[1], a[2] + b[2]}}; }
-template <class T> Vec3<T> operator-(const Vec3<T>& a, const Vec3<T>& b) { return {{a[0] - b[0], a[1] - b[1], a[2] - b[2]}}; }
+template <class T> Vec3<T> operator+(const Vec3<T>& a, const Vec3<T>& b) {
+  return {{a[0] + b[0], a[1] + b[1], a[2] + b[2]}};
+}
+template <class T> Vec3<T> operator-(const Vec3<T>& a, const Vec3<T>& b) {
+  return {{a[0] - b[0], a[1] - b[1], a[2] - b[2]}};
+}
 template <class T, class S> Vec3<T> operator*(const S& s, const Vec3<T>& a) { return {{s * a[0], s * a[1], s * a[2]}}; }
 template <class T> T dot(const Vec3<T>& a, const Vec3<T>& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 template <class T> Vec3<T> cross(const Vec3<T>& a, const Vec3<T>& b) {
   return {{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}};
 }
-template <class T> T norm(const Vec3<T>& a) { using std::sqrt; return sqrt(dot(a, a)); }
+template <class T> T norm(const Vec3<T>& a) {
+  using std::sqrt;
+  return sqrt(dot(a, a));
+}
 
 template <class T> Mat3<T> identity3() {
   Mat3<T> I;
@@ -67,14 +72,24 @@ template <class T> Mat3<T> transpose(const Mat3<T>& A) {
 template <class T> Vec3<T> column(const Mat3<T>& A, int j) { return {{A(0, j), A(1, j), A(2, j)}}; }
 template <class T> Mat3<T> fromColumns(const Vec3<T>& a, const Vec3<T>& b, const Vec3<T>& c) {
   Mat3<T> A;
-  for (int i = 0; i < 3; ++i) { A(i, 0) = a[i]; A(i, 1) = b[i]; A(i, 2) = c[i]; }
+  for (int i = 0; i < 3; ++i) {
+    A(i, 0) = a[i];
+    A(i, 1) = b[i];
+    A(i, 2) = c[i];
+  }
   return A;
 }
 template <class T> Mat3<T> skew(const Vec3<T>& w) {
   Mat3<T> W;
-  W(0, 0) = T(0.0); W(0, 1) = -w[2]; W(0, 2) = w[1];
-  W(1, 0) = w[2]; W(1, 1) = T(0.0); W(1, 2) = -w[0];
-  W(2, 0) = -w[1]; W(2, 1) = w[0]; W(2, 2) = T(0.0);
+  W(0, 0) = T(0.0);
+  W(0, 1) = -w[2];
+  W(0, 2) = w[1];
+  W(1, 0) = w[2];
+  W(1, 1) = T(0.0);
+  W(1, 2) = -w[0];
+  W(2, 0) = -w[1];
+  W(2, 1) = w[0];
+  W(2, 2) = T(0.0);
   return W;
 }
 
@@ -110,30 +125,44 @@ inline Mat3d expSO3(const Vec3d& w) {
 // by Shepperd's method (largest component first) and uses a series for small angles, so it is smooth
 // (and AD-differentiable) at the identity.
 template <class T> Vec3<T> logSO3(const Mat3<T>& R) {
-  using std::sqrt; using std::atan2;
+  using std::atan2;
+  using std::sqrt;
   const double tr = val(R(0, 0)) + val(R(1, 1)) + val(R(2, 2));
   T q0, q1, q2, q3;
   const double d0 = val(R(0, 0)), d1 = val(R(1, 1)), d2 = val(R(2, 2));
   if (tr >= d0 && tr >= d1 && tr >= d2) {
     q0 = 0.5 * sqrt(1.0 + R(0, 0) + R(1, 1) + R(2, 2));
     T s = 0.25 / q0;
-    q1 = (R(2, 1) - R(1, 2)) * s; q2 = (R(0, 2) - R(2, 0)) * s; q3 = (R(1, 0) - R(0, 1)) * s;
+    q1 = (R(2, 1) - R(1, 2)) * s;
+    q2 = (R(0, 2) - R(2, 0)) * s;
+    q3 = (R(1, 0) - R(0, 1)) * s;
   } else if (d0 >= d1 && d0 >= d2) {
     q1 = 0.5 * sqrt(1.0 + R(0, 0) - R(1, 1) - R(2, 2));
     T s = 0.25 / q1;
-    q0 = (R(2, 1) - R(1, 2)) * s; q2 = (R(0, 1) + R(1, 0)) * s; q3 = (R(0, 2) + R(2, 0)) * s;
+    q0 = (R(2, 1) - R(1, 2)) * s;
+    q2 = (R(0, 1) + R(1, 0)) * s;
+    q3 = (R(0, 2) + R(2, 0)) * s;
   } else if (d1 >= d2) {
     q2 = 0.5 * sqrt(1.0 - R(0, 0) + R(1, 1) - R(2, 2));
     T s = 0.25 / q2;
-    q0 = (R(0, 2) - R(2, 0)) * s; q1 = (R(0, 1) + R(1, 0)) * s; q3 = (R(1, 2) + R(2, 1)) * s;
+    q0 = (R(0, 2) - R(2, 0)) * s;
+    q1 = (R(0, 1) + R(1, 0)) * s;
+    q3 = (R(1, 2) + R(2, 1)) * s;
   } else {
     q3 = 0.5 * sqrt(1.0 - R(0, 0) - R(1, 1) + R(2, 2));
     T s = 0.25 / q3;
-    q0 = (R(1, 0) - R(0, 1)) * s; q1 = (R(0, 2) + R(2, 0)) * s; q2 = (R(1, 2) + R(2, 1)) * s;
+    q0 = (R(1, 0) - R(0, 1)) * s;
+    q1 = (R(0, 2) + R(2, 0)) * s;
+    q2 = (R(1, 2) + R(2, 1)) * s;
   }
-  if (val(q0) < 0.0) { q0 = -q0; q1 = -q1; q2 = -q2; q3 = -q3; }
+  if (val(q0) < 0.0) {
+    q0 = -q0;
+    q1 = -q1;
+    q2 = -q2;
+    q3 = -q3;
+  }
   T s2 = q1 * q1 + q2 * q2 + q3 * q3;  // sin^2(angle/2)
-  T factor;                            // angle / sin(angle/2)
+  T factor;  // angle / sin(angle/2)
   if (val(s2) < 1e-10) {
     // 2 atan(s/c)/s = (2/c) (1 - s^2/(3 c^2)) + O(s^4)
     factor = (2.0 / q0) * (1.0 - s2 / (3.0 * q0 * q0));
@@ -143,7 +172,6 @@ template <class T> Vec3<T> logSO3(const Mat3<T>& R) {
   }
   return {{factor * q1, factor * q2, factor * q3}};
 }
-
 
 // Closest points of the segments [a1, a2] and [b1, b2] (parameters clamped to [0, 1]): the minimum of
 // a convex quadratic over the unit square, at its stationary point if inside, else on an edge.

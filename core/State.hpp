@@ -87,11 +87,11 @@ class ExtraUnknowns {
 };
 
 struct State {
-  std::vector<Vec3d> reference;   // X: initial nodal positions
-  std::vector<Vec3d> position;    // x: current nodal positions
-  std::vector<Mat3d> rotation;    // R: current nodal rotation (maps reference triads to current ones)
+  std::vector<Vec3d> reference;  // X: initial nodal positions
+  std::vector<Vec3d> position;  // x: current nodal positions
+  std::vector<Mat3d> rotation;  // R: current nodal rotation (maps reference triads to current ones)
   std::vector<Vec3d> rotationVector;  // unwrapped total rotation vector, updated at converged steps
-  ExtraUnknowns extra;            // extra unknowns, numbered from 6 * numNodes()
+  ExtraUnknowns extra;  // extra unknowns, numbered from 6 * numNodes()
 
   int numNodes() const { return static_cast<int>(position.size()); }
   GlobalDof numDofs() const { return GlobalDof(kDofsPerNode) * numNodes() + GlobalDof(extra.size()); }
@@ -135,7 +135,10 @@ inline void State::updateRotationVectors() {
     if (angle < 1e-14) {
       // Identity: the candidates are 2 pi k along the previous axis.
       const double pa = norm(prev);
-      if (pa < 1e-14) { rotationVector[n] = psi; continue; }
+      if (pa < 1e-14) {
+        rotationVector[n] = psi;
+        continue;
+      }
       const double k = std::round(pa / twoPi);
       rotationVector[n] = (k * twoPi / pa) * prev;
       continue;

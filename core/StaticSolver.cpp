@@ -36,8 +36,8 @@ const ParameterSpec& newtonSpec() {
     s.add("Residual Tolerance", 1e-9,
           "converged when ||r|| <= this * max(first residual of the step, ||T f_ext||, ||reactions||)",
           inRange(0.0, 1.0), "in (0, 1]");
-    s.add("Increment Tolerance", 1e-8,
-          "and when ||du|| <= this * ||accumulated increment of the step|| (nodal dofs)", inRange(0.0, 1.0), "in (0, 1]");
+    s.add("Increment Tolerance", 1e-8, "and when ||du|| <= this * ||accumulated increment of the step|| (nodal dofs)",
+          inRange(0.0, 1.0), "in (0, 1]");
     s.add("Print Iterations", false, "print ||r|| and ||du|| of every Newton iteration on rank 0");
     s.addChoice("Predictor", "Extrapolate", {"Extrapolate", "None"},
                 "start of each increment's Newton iterations: \"Extrapolate\" continues the last converged "
@@ -51,8 +51,8 @@ const ParameterSpec& newtonSpec() {
                 "flips from one iterate to the next makes full-step Newton cycle)");
     s.add("Maximum Backtracks", 8, "step halvings allowed per Newton iteration (Line Search)", wholeBetween(1, 50),
           "1 to 50");
-    s.add("Divergence Factor", 1e10, "an iterate whose residual exceeds this times the reference diverged",
-          positive(), "> 0");
+    s.add("Divergence Factor", 1e10, "an iterate whose residual exceeds this times the reference diverged", positive(),
+          "> 0");
     return s;
   }();
   return spec;
@@ -65,8 +65,9 @@ SolverSettings readSolverSettings(const Teuchos::ParameterList& stepping, const 
     double prev = 0.0;
     for (double t : a) {
       if (!(t > prev) || t > 1.0)
-        throw InputError("parameter \"Load Stepping/Load Factors\": values must increase strictly from 0 and not "
-                         "exceed 1");
+        throw InputError(
+            "parameter \"Load Stepping/Load Factors\": values must increase strictly from 0 and not "
+            "exceed 1");
       s.loadFactors.push_back(t);
       prev = t;
     }
@@ -92,9 +93,13 @@ SolverSettings readSolverSettings(const Teuchos::ParameterList& stepping, const 
   return s;
 }
 
-StaticSolver::StaticSolver(Teuchos::RCP<const Comm> comm, Model& model, SolverSettings settings,
-                           LinearSolver& linear, Teuchos::RCP<Teuchos::StackedTimer> timer)
-    : comm_(comm), model_(model), settings_(std::move(settings)), linear_(linear), timer_(timer),
+StaticSolver::StaticSolver(Teuchos::RCP<const Comm> comm, Model& model, SolverSettings settings, LinearSolver& linear,
+                           Teuchos::RCP<Teuchos::StackedTimer> timer)
+    : comm_(comm),
+      model_(model),
+      settings_(std::move(settings)),
+      linear_(linear),
+      timer_(timer),
       assembler_(comm, model) {
   committed_ = model_.initial;
   trial_ = committed_;
@@ -234,7 +239,11 @@ bool StaticSolver::attempt(double Ta, double Tb, int cutLevel, StepReport& repor
 
 void StaticSolver::saveCheckpoint(CheckpointOut& out) const {
   out.label("run").integer(run_.steps).integer(run_.newtonIterations).real(run_.lastT);
-  out.label("progress").integer(progress_.increment).real(progress_.T).integer(progress_.level).integer(progress_.converged);
+  out.label("progress")
+      .integer(progress_.increment)
+      .real(progress_.T)
+      .integer(progress_.level)
+      .integer(progress_.converged);
   out.label("load-factors").integer(static_cast<long long>(settings_.loadFactors.size()));
   for (double t : settings_.loadFactors) out.real(t);
   // The model's reference geometry: a restart on a model whose nodes are elsewhere is refused.
@@ -362,8 +371,8 @@ void StaticSolver::checkProgress(CheckpointIn& in) const {
     const double k = std::round((at.T - Ta) / finest);
     if (!(k >= 0.0 && k < double(1 << settings_.maxStepCuts) && (at.level > 0 || k == 0.0) &&
           std::abs(at.T - (Ta + k * finest)) <= std::max(1e-6 * finest, 1e-12 * Tb)))
-      in.fail("its load factor T = " + shortest(at.T) + " is not one the load stepping reaches " + position +
-              " (T " + shortest(Ta) + " -> " + shortest(Tb) + " in multiples of " + shortest(finest) + ")");
+      in.fail("its load factor T = " + shortest(at.T) + " is not one the load stepping reaches " + position + " (T " +
+              shortest(Ta) + " -> " + shortest(Tb) + " in multiples of " + shortest(finest) + ")");
   }
   // The converged state is the position's, and the state before it the previous step's.
   if (committedT_ != at.T || run_.lastT != at.T)
@@ -421,7 +430,12 @@ struct StaticSolver::Newton {
   enum class Verdict { Iterate, Converged, NextPass, Failed };
 
   Newton(StaticSolver& solver, double ta, double tb, StepReport& r, std::string& f)
-      : s(solver), settings(solver.settings_), Ta(ta), Tb(tb), report(r), failure(f),
+      : s(solver),
+        settings(solver.settings_),
+        Ta(ta),
+        Tb(tb),
+        report(r),
+        failure(f),
         ndof(GlobalDof(kDofsPerNode) * solver.trial_.numNodes()),
         searching(settings.lineSearch == LineSearch::Backtracking) {}
 
@@ -434,7 +448,7 @@ struct StaticSolver::Newton {
   // number may change from one iteration to the next.
   const GlobalDof ndof;
   std::vector<double> accumulated;  // the step's motion so far (nodal dofs)
-  double stepNorm2 = 0.0;           // its squared norm
+  double stepNorm2 = 0.0;  // its squared norm
   Teuchos::RCP<Vector> x;
   double firstResidual = 0.0;
   int pass = 0, passStart = 0;  // a pass is one Newton solve of the increment
@@ -489,9 +503,9 @@ struct StaticSolver::Newton {
 
   // The contact search of the contributions, and the graph rebuilt when they or the dofs ask.
   void prepare() {
-    bool rebuild = s.graphStale_ || s.assembler_.ownedMap().is_null() ||
-                   static_cast<Tpetra::global_size_t>(s.trial_.numDofs()) !=
-                       s.assembler_.ownedMap()->getGlobalNumElements();
+    bool rebuild =
+        s.graphStale_ || s.assembler_.ownedMap().is_null() ||
+        static_cast<Tpetra::global_size_t>(s.trial_.numDofs()) != s.assembler_.ownedMap()->getGlobalNumElements();
     s.graphStale_ = false;
     {
       ScopedTimer search(s.timer_, "Contact Search");
@@ -615,8 +629,8 @@ struct StaticSolver::Newton {
     }
     if (kp < settings.maxIterations) return Verdict::Iterate;
     std::ostringstream m;
-    m << "no convergence in " << settings.maxIterations << " Newton iterations (Maximum Iterations), last ||r|| = "
-      << rn;
+    m << "no convergence in " << settings.maxIterations
+      << " Newton iterations (Maximum Iterations), last ||r|| = " << rn;
     for (auto& c : s.model_.contributions) {
       const std::string hint = c->failureHint(*s.comm_);
       if (!hint.empty()) m << "; " << hint;
@@ -718,16 +732,13 @@ bool StaticSolver::newton(double Ta, double Tb, StepReport& report, std::string&
     }
     n.record();
     switch (n.verdict()) {
-      case Newton::Verdict::Failed:
-        return false;
+      case Newton::Verdict::Failed: return false;
       case Newton::Verdict::Converged:
         report.iterations = n.k;
         report.passes = n.pass;
         return true;
-      case Newton::Verdict::NextPass:
-        continue;
-      case Newton::Verdict::Iterate:
-        break;
+      case Newton::Verdict::NextPass: continue;
+      case Newton::Verdict::Iterate: break;
     }
     std::vector<double> inc;
     double bound = 1.0;

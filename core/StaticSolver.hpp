@@ -43,14 +43,14 @@ struct NewtonIterate {
 };
 
 struct StepReport {
-  int step = 0;        // counter of converged (sub)steps, from 1
-  double T = 0.0;      // load factor reached
-  int cutLevel = 0;    // 0 for a configured increment, k for a piece of a k-times halved one
+  int step = 0;  // counter of converged (sub)steps, from 1
+  double T = 0.0;  // load factor reached
+  int cutLevel = 0;  // 0 for a configured increment, k for a piece of a k-times halved one
   int iterations = 0;  // Newton iterations (linear solves), over all passes
   int backtracks = 0;  // line-search step halvings, over all iterations
-  int stalls = 0;      // Newton solves that stalled and went on with backtracking (When Stalled)
+  int stalls = 0;  // Newton solves that stalled and went on with backtracking (When Stalled)
   int boundedSteps = 0;  // Newton steps shortened because a contact would close within them
-  int passes = 1;      // Newton solves of the increment (augmentation / active-set passes)
+  int passes = 1;  // Newton solves of the increment (augmentation / active-set passes)
   std::vector<NewtonIterate> history;
 };
 
@@ -73,8 +73,8 @@ struct SolverSettings {
   double residualTolerance = 1e-9;
   double incrementTolerance = 1e-8;
   double divergenceFactor = 1e10;  // ||r|| above this times the reference is divergence
-  bool printIterations = false;     // one line per Newton iteration on rank 0
-  bool extrapolate = true;          // predictor: the free dofs continue the last step's increment
+  bool printIterations = false;  // one line per Newton iteration on rank 0
+  bool extrapolate = true;  // predictor: the free dofs continue the last step's increment
   LineSearch lineSearch = LineSearch::WhenStalled;  // backtracking on ||r||
   int maxBacktracks = 8;
 };
@@ -129,7 +129,7 @@ class StaticSolver {
   Assembler assembler_;
   double modelSize_ = 0.0;  // largest distance of a reference node from the origin [length]
   State committed_, trial_;
-  State previous_;            // the converged state before committed_ (for the predictor)
+  State previous_;  // the converged state before committed_ (for the predictor)
   double previousT_ = -1.0, committedT_ = 0.0;  // their load factors; previousT_ < 0: none yet
   bool graphStale_ = false;
   // Where the load stepping stands: the configured increment, the load factor reached within it, its

@@ -108,8 +108,10 @@ ParameterList grid(const Options& o) {
   }
   const double load = o["load"];
   if (load != 0.0 && neY % (n + 1) != 0)
-    throw InputError("generate grid: --load acts at the top layer's crossings, which need to be nodes: give --elements "
-                     "a multiple of n + 1 = " + std::to_string(n + 1));
+    throw InputError(
+        "generate grid: --load acts at the top layer's crossings, which need to be nodes: give --elements "
+        "a multiple of n + 1 = " +
+        std::to_string(n + 1));
   for (int i = 0; i < m; ++i) {
     const std::string name = "y" + std::to_string(i + 1);
     beam(beams, name, vec(s * (i + 1), 0, z), vec(s * (i + 1), ly, z), neY, r, o["youngs-modulus"]);
@@ -135,7 +137,8 @@ ParameterList grid(const Options& o) {
 ParameterList weave(const Options& o) {
   const int n = o.whole("n", 1, 1000), m = o.whole("m", 1, 1000), per = o.whole("elements", 2, 1000);
   const double s = o["spacing"], r = o["radius"], gap = o["gap"], E = o["youngs-modulus"];
-  if (!(s > 4 * r) || !(r > 0) || !(gap >= 0)) throw InputError("generate weave: need spacing > 4 radius > 0, gap >= 0");
+  if (!(s > 4 * r) || !(r > 0) || !(gap >= 0))
+    throw InputError("generate weave: need spacing > 4 radius > 0, gap >= 0");
   const double a = r + 0.5 * gap, pi = std::acos(-1.0);
   ParameterList deck("BeamContact");
   ParameterList& beams = deck.sublist("Beams");
@@ -171,14 +174,13 @@ ParameterList weave(const Options& o) {
   return deck;
 }
 
-
 using V = math::Vec3d;
 
 // The box a fibre network's centres are drawn in and the rules a drawn fibre keeps (above).
 struct FibreBox {
   int count;
   double L, H, len, tilt, minAngle;  // box side and height, fibre length, angles [rad]
-  double r, gap, reach;              // radius, least gap, the distance within which fibres may touch
+  double r, gap, reach;  // radius, least gap, the distance within which fibres may touch
 };
 
 double segmentDistance(const V& a, const V& b, const V& c, const V& d) {
@@ -193,8 +195,8 @@ bool keepsClear(const FibreBox& box, const V& a, const V& b, const V& d, const V
   const double cosine = std::abs(d[0] * e[0] + d[1] * e[1] + d[2] * e[2]) / box.len;
   if (dist < box.reach && cosine > std::cos(box.minAngle)) return false;
   // No fibre end within reach of another fibre: contact at a beam end is not modelled.
-  if (dist < box.reach && std::min({segmentDistance(a, a, p, q), segmentDistance(b, b, p, q), segmentDistance(p, p, a, b),
-                                    segmentDistance(q, q, a, b)}) < box.reach)
+  if (dist < box.reach && std::min({segmentDistance(a, a, p, q), segmentDistance(b, b, p, q),
+                                    segmentDistance(p, p, a, b), segmentDistance(q, q, a, b)}) < box.reach)
     return false;
   return true;
 }
@@ -215,7 +217,8 @@ std::vector<std::pair<V, V>> placeFibres(const FibreBox& box, std::uint64_t seed
     if (tries == attempts)
       throw InputError("generate network: placed only " + std::to_string(kept.size()) + " of " +
                        std::to_string(box.count) + " fibres in " + std::to_string(attempts) +
-                       " draws; give fewer --fibres, a smaller --radius, --gap or --min-angle, or a larger --box or --height");
+                       " draws; give fewer --fibres, a smaller --radius, --gap or --min-angle, or a larger --box or "
+                       "--height");
     const V c{{uniform(0, L), uniform(0, L), uniform(0, H)}};
     const double phi = uniform(0, pi), theta = uniform(-box.tilt, box.tilt);
     const V d{{std::cos(theta) * std::cos(phi), std::cos(theta) * std::sin(phi), std::sin(theta)}};
@@ -301,8 +304,9 @@ double helixRadius(int wires, int core, int elements, double r, double rc, doubl
       c = std::min(c, math::segmentClosest(a[d], a[d + 1], b[0], b[1]).distance - 2 * r);
     }
     if (core)
-      c = std::min(c, math::segmentClosest(a[0], a[1], math::Vec3d{{0, 0, 0}}, math::Vec3d{{0, 0, lay * turns}})
-                              .distance - r - rc);
+      c = std::min(
+          c,
+          math::segmentClosest(a[0], a[1], math::Vec3d{{0, 0, 0}}, math::Vec3d{{0, 0, lay * turns}}).distance - r - rc);
     return c;
   };
   double lo = 0.5 * r, hi = 10 * (r + rc + gap + r / std::sin(pi / wires));
@@ -395,8 +399,10 @@ Options optionsOf(const std::string& kind) {
                      {"m", {3, "beams along Y (top layer)"}},
                      {"gap", {0.1, "gap between the layers at the start [length]"}},
                      {"press", {0.5, "downward motion of the top layer's ends at T = 1 [length]"}},
-                     {"load", {0.0, "downward force on the top layer at each crossing at T = 1 (the crossings must be "
-                                    "nodes) [force]"}},
+                     {"load",
+                      {0.0,
+                       "downward force on the top layer at each crossing at T = 1 (the crossings must be "
+                       "nodes) [force]"}},
                      {"elements", {0, "elements per beam; 0: max(9, crossings along the beam + 1)"}}});
   } else if (kind == "weave") {
     o.values.insert({{"n", {3, "warp yarns (along X)"}},
@@ -405,16 +411,17 @@ Options optionsOf(const std::string& kind) {
                      {"pull", {0.2, "stretch of the warp yarns at T = 1 (each end moves half) [length]"}},
                      {"elements", {8, "elements per spacing along each yarn (the undulation's polyline)"}}});
   } else if (kind == "network") {
-    o.values.insert({{"fibres", {20, "fibres"}},
-                     {"box", {50.0, "side of the square the fibre centres lie in [length]"}},
-                     {"height", {6.0, "height of the box the fibre centres lie in [length]"}},
-                     {"length", {40.0, "length of every fibre [length]"}},
-                     {"tilt", {10.0, "largest angle of a fibre out of the plane [degrees]"}},
-                     {"gap", {0.2, "least distance between fibre surfaces at the start [length]"}},
-                     {"min-angle", {10.0, "least crossing angle of fibres that may touch [degrees]"}},
-                     {"compress", {0.3, "compression of the box height at T = 1 (each fibre moves down by compress z_centre)"}},
-                     {"seed", {1, "seed of the random sequence (the same seed gives the same deck)"}},
-                     {"elements", {8, "elements per fibre"}}});
+    o.values.insert(
+        {{"fibres", {20, "fibres"}},
+         {"box", {50.0, "side of the square the fibre centres lie in [length]"}},
+         {"height", {6.0, "height of the box the fibre centres lie in [length]"}},
+         {"length", {40.0, "length of every fibre [length]"}},
+         {"tilt", {10.0, "largest angle of a fibre out of the plane [degrees]"}},
+         {"gap", {0.2, "least distance between fibre surfaces at the start [length]"}},
+         {"min-angle", {10.0, "least crossing angle of fibres that may touch [degrees]"}},
+         {"compress", {0.3, "compression of the box height at T = 1 (each fibre moves down by compress z_centre)"}},
+         {"seed", {1, "seed of the random sequence (the same seed gives the same deck)"}},
+         {"elements", {8, "elements per fibre"}}});
   } else if (kind == "strand") {
     o.values.insert({{"wires", {3, "helical wires around the axis"}},
                      {"core", {0, "1: a straight core wire inside them, 0: none"}},
@@ -449,7 +456,11 @@ std::string readOptions(const std::vector<std::string>& args, const std::string&
     }
     std::size_t used = 0;
     double v = 0;
-    try { v = std::stod(args[i + 1], &used); } catch (...) { used = 0; }
+    try {
+      v = std::stod(args[i + 1], &used);
+    } catch (...) {
+      used = 0;
+    }
     if (used != args[i + 1].size() || !std::isfinite(v))
       throw InputError("generate " + kind + ": --" + key + " takes a number, got \"" + args[i + 1] + "\"");
     it->second.first = v;
@@ -493,8 +504,8 @@ int generateDeck(const std::vector<std::string>& args) {
   const std::string kind = args[1];
   Options o = optionsOf(kind);
   const std::string output = readOptions(args, kind, o);
-  const ParameterList deck = kind == "grid"    ? grid(o)
-                             : kind == "weave" ? weave(o)
+  const ParameterList deck = kind == "grid"     ? grid(o)
+                             : kind == "weave"  ? weave(o)
                              : kind == "strand" ? strand(o)
                                                 : network(o);
   writeDeck(deckXml(kind, o, deck), output);

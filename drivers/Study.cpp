@@ -106,7 +106,8 @@ std::string scriptPath(const std::string& name) {
   if (ec) throw std::runtime_error("cannot locate the beamcontact executable (/proc/self/exe): " + ec.message());
   const fs::path script = exe.parent_path().parent_path() / "share" / "beamcontact" / name;
   if (!fs::is_regular_file(script, ec))
-    throw std::runtime_error("the helper script " + script.string() + " is missing (install or build BeamContact again)");
+    throw std::runtime_error("the helper script " + script.string() +
+                             " is missing (install or build BeamContact again)");
   return script.string();
 }
 
@@ -157,7 +158,8 @@ core::OutputDirectory openStudyDirectory(const fs::path& dir, const StudyDeck& d
   {
     const int lock = ::open((dir / core::kManifestName).c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
     if (lock < 0 || flock(lock, LOCK_EX | LOCK_NB) != 0)
-      throw InputError("study directory \"" + dir.string() + "\" is in use by another beamcontact study; wait for it "
+      throw InputError("study directory \"" + dir.string() +
+                       "\" is in use by another beamcontact study; wait for it "
                        "or choose another --output");
   }
   out.folder("cases/");
@@ -248,7 +250,11 @@ class CaseRunner {
  public:
   CaseRunner(std::vector<Case>& all, const StudyResults& results, const std::vector<std::string>& plugins,
              const StudyOptions& options, int parallel)
-      : all_(all), results_(results), plugins_(plugins), options_(options), parallel_(parallel),
+      : all_(all),
+        results_(results),
+        plugins_(plugins),
+        options_(options),
+        parallel_(parallel),
         exe_(selfExecutable()) {}
 
   // Runs every case not kept (`kept` of them are); returns the signal that stopped the study, 0 when
@@ -344,7 +350,8 @@ int reportStopped(const StudyResults& results, int stopSignal) {
   const auto& all = results.all;
   std::printf("study %s: stopped by %s; %zu of %zu cases complete; run the study again to run the others\n",
               results.deck.stem.c_str(), core::signalName(stopSignal).c_str(),
-              static_cast<std::size_t>(std::count_if(all.begin(), all.end(), [](const Case& c) { return c.status == "complete"; })),
+              static_cast<std::size_t>(
+                  std::count_if(all.begin(), all.end(), [](const Case& c) { return c.status == "complete"; })),
               all.size());
   std::fprintf(stderr, "beamcontact: study interrupted by %s; run it again to run the cases not complete\n",
                core::signalName(stopSignal).c_str());

@@ -20,10 +20,10 @@
 namespace bc::drivers {
 
 struct StudyOptions {
-  std::string output;     // study directory; default results/<study name>
-  int parallel = 0;       // cases run at once; 0: the deck's "Parallel Cases", else the core count
-  bool report = true;     // write report.md and the plots
-  int timing = 0;         // > 0: fair timing: one case at a time, VTK off, each run this many times
+  std::string output;  // study directory; default results/<study name>
+  int parallel = 0;  // cases run at once; 0: the deck's "Parallel Cases", else the core count
+  bool report = true;  // write report.md and the plots
+  int timing = 0;  // > 0: fair timing: one case at a time, VTK off, each run this many times
   std::vector<std::string> plugins;  // --plugin libraries, passed on to every case
   bool overwrite = false;  // --overwrite: write beside files beamcontact did not write (passed on to every case)
 };

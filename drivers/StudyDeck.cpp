@@ -27,8 +27,8 @@ std::string numberText(double v) {
 
 namespace {
 
-const std::vector<std::string> kContactQuantities = {"Normal Force", "Tangential Force 1", "Tangential Force 2",
-                                                     "Active Points", "Stick Lines", "Slip Lines"};
+const std::vector<std::string> kContactQuantities = {"Normal Force",  "Tangential Force 1", "Tangential Force 2",
+                                                     "Active Points", "Stick Lines",        "Slip Lines"};
 const std::vector<std::string> kComponents = {"ux", "uy", "uz", "rx", "ry", "rz"};
 
 // Calls fn(name, path, sublist) for every entry of `list` (at `path`); each must be a sublist.
@@ -69,7 +69,8 @@ Variable readVariable(const ParameterList& v, const std::string& name, const std
                        "\" is not known; a varied parameter has \"Path\", \"Values\" and optionally \"Unit\"");
   }
   if (!v.isParameter("Path") || !v.isType<std::string>("Path"))
-    throw InputError("missing required parameter \"" + path + "/Path\" (string: a parameter path in the base deck, "
+    throw InputError("missing required parameter \"" + path +
+                     "/Path\" (string: a parameter path in the base deck, "
                      "e.g. \"Contact/Enforcement/Type\")");
   var.path = v.get<std::string>("Path");
   var.unit = stringParameter(v, path, "Unit", false);
@@ -151,12 +152,13 @@ void readGroups(StudyDeck& deck) {
   forEachSublist(deck.study->sublist("Cases"), deck.root + "/Cases", "a group of cases",
                  [&](const std::string& gname, const std::string& gpath, const ParameterList& gl) {
                    Group g{gname, {}};
-                   forEachSublist(gl, gpath, "a varied parameter with \"Path\" and \"Values\"",
-                                  [&](const std::string& vname, const std::string& vpath, const ParameterList& v) {
-                                    g.variables.push_back(readVariable(v, vname, vpath));
-                                    if (std::find(deck.columns.begin(), deck.columns.end(), vname) == deck.columns.end())
-                                      deck.columns.push_back(vname);
-                                  });
+                   forEachSublist(
+                       gl, gpath, "a varied parameter with \"Path\" and \"Values\"",
+                       [&](const std::string& vname, const std::string& vpath, const ParameterList& v) {
+                         g.variables.push_back(readVariable(v, vname, vpath));
+                         if (std::find(deck.columns.begin(), deck.columns.end(), vname) == deck.columns.end())
+                           deck.columns.push_back(vname);
+                       });
                    deck.groups.push_back(std::move(g));
                  });
   if (deck.groups.empty()) throw InputError("parameter \"" + deck.root + "/Cases\" has no groups: nothing to run");
@@ -233,8 +235,9 @@ void checkPlotNames(const StudyDeck& deck, const std::string& path, const Plot& 
 
 // One plot (sublist `p` at `path`), after the groups and outputs it names.
 Plot readPlot(const StudyDeck& deck, const std::string& name, const std::string& path, const ParameterList& p) {
-  onlyKeys(p, path,
-           {"X", "Y", "Series", "Relative To Group", "Log X", "Error", "Published X", "Published Y", "Published Labels"});
+  onlyKeys(
+      p, path,
+      {"X", "Y", "Series", "Relative To Group", "Log X", "Error", "Published X", "Published Y", "Published Labels"});
   Plot plot;
   plot.name = name;
   plot.x = stringParameter(p, path, "X", true);
@@ -330,9 +333,8 @@ std::string caseDeckXml(const StudyDeck& deck, const Case& c, bool timing) {
     setValue(caseDeck, *var, value, "case " + std::to_string(c.index) + " (group \"" + c.group + "\")");
   // The case's deck names its folder where a deck may (relative, no ".."), so it can be run again
   // by itself; otherwise it keeps the default (results/deck). The study runs it with --output.
-  const bool deckMayName = c.dir.is_relative() && std::none_of(c.dir.begin(), c.dir.end(), [](const fs::path& part) {
-                             return part == "..";
-                           });
+  const bool deckMayName = c.dir.is_relative() &&
+                           std::none_of(c.dir.begin(), c.dir.end(), [](const fs::path& part) { return part == ".."; });
   if (deckMayName) caseDeck.sublist("Output").set("Directory", c.dir.string());
   else caseDeck.sublist("Output").remove("Directory", false);
   if (timing) caseDeck.sublist("Output").set("Write VTK", false);  // fair timing: the method, not the output

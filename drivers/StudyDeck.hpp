@@ -29,8 +29,8 @@ struct Group {
 struct Output {
   std::string name;
   std::string trackedPoint, component;  // a tracked point's component, or
-  std::string contact;                  // a contact total
-  std::string unit;                     // for the report's axes and tables
+  std::string contact;  // a contact total
+  std::string unit;  // for the report's axes and tables
 };
 
 struct Plot {
@@ -57,7 +57,7 @@ struct Case {
 // A study deck with its defaults applied, and its base deck.
 struct StudyDeck {
   std::string root = "Study";  // the study deck's top list, in messages
-  std::string stem;            // the study deck's file name without extension
+  std::string stem;  // the study deck's file name without extension
   Teuchos::RCP<Teuchos::ParameterList> study;
   std::filesystem::path base;  // the base deck, relative to the working directory
   Teuchos::RCP<Teuchos::ParameterList> baseDeck;

@@ -94,7 +94,7 @@ std::map<std::string, std::string> readOutputs(const fs::path& dir, const std::v
 
 // The run figures of a case, from its summary.csv.
 const std::vector<std::string> kRunColumns = {"newton_iterations", "max_newton_per_step", "passes", "steps", "last_T",
-                                              "solve_seconds", "peak_memory_mb"};
+                                              "solve_seconds",     "peak_memory_mb"};
 
 std::string tableHeader(const StudyResults& r) {
   std::ostringstream csv;
@@ -112,7 +112,8 @@ std::string tableHeader(const StudyResults& r) {
 }
 
 // Error against the reference: y - y_ref and (y - y_ref) / |y_ref| (empty where either is missing).
-void writeErrors(std::ostream& csv, const std::vector<Output>& outputs, const std::map<std::string, std::string>& values,
+void writeErrors(std::ostream& csv, const std::vector<Output>& outputs,
+                 const std::map<std::string, std::string>& values,
                  const std::map<std::string, std::string>& referenceValues) {
   for (const auto& o : outputs) {
     const auto y = values.find(o.name), r = referenceValues.find(o.name);
@@ -207,8 +208,8 @@ void jsonOutputs(std::ostream& j, const std::vector<Output>& outputs) {
   for (std::size_t i = 0; i < outputs.size(); ++i)
     j << (i ? ", " : "") << jsonString(outputs[i].name)
       << ": {\"tracked_point\": " << jsonString(outputs[i].trackedPoint)
-      << ", \"component\": " << jsonString(outputs[i].component)
-      << ", \"contact\": " << jsonString(outputs[i].contact) << "}";
+      << ", \"component\": " << jsonString(outputs[i].component) << ", \"contact\": " << jsonString(outputs[i].contact)
+      << "}";
 }
 
 void jsonPlots(std::ostream& j, const std::vector<Plot>& plots) {
@@ -280,13 +281,14 @@ void writeStudyJson(const StudyResults& r, int parallel) {
   const ParameterList& b = *deck.baseDeck;
   r.out.add("study.json");
   std::ofstream j(r.dir / "study.json");
-  j << "{\n  \"title\": " << jsonString(deck.study->get<std::string>("Title")) << ",\n  \"base_deck\": "
-    << jsonString(deck.base.string()) << ",\n  \"at_T\": " << deck.atT << ",\n  \"reference_group\": "
-    << jsonString(deck.study->get<std::string>("Reference Group")) << ",\n  \"timing_runs\": " << r.timing
-    << ",\n  \"parallel\": " << parallel << ",\n  \"base\": {\"strategy\": "
-    << jsonString(baseFact(b, "Contact/Enforcement", "Type"))
+  j << "{\n  \"title\": " << jsonString(deck.study->get<std::string>("Title"))
+    << ",\n  \"base_deck\": " << jsonString(deck.base.string()) << ",\n  \"at_T\": " << deck.atT
+    << ",\n  \"reference_group\": " << jsonString(deck.study->get<std::string>("Reference Group"))
+    << ",\n  \"timing_runs\": " << r.timing << ",\n  \"parallel\": " << parallel
+    << ",\n  \"base\": {\"strategy\": " << jsonString(baseFact(b, "Contact/Enforcement", "Type"))
     << ", \"beams\": " << (b.isSublist("Beams") ? b.sublist("Beams").numParams() : 0)
-    << ", \"increments\": " << jsonString(baseFact(b, "Load Stepping", "Number of Increments")) << "},\n  \"groups\": [";
+    << ", \"increments\": " << jsonString(baseFact(b, "Load Stepping", "Number of Increments"))
+    << "},\n  \"groups\": [";
   jsonGroups(j, deck.groups);
   j << "\n  ],\n  \"units\": {";
   jsonUnits(j, deck);
@@ -310,7 +312,8 @@ void writeReport(const StudyResults& r) {
     if (!before.count(e.path().filename().string()) && fs::is_regular_file(fs::symlink_status(e.path())))
       r.out.add(e.path().filename().string());
   if (code != 0)
-    throw std::runtime_error("the report script " + script + " failed; the table is in " + (r.dir / "cases.csv").string());
+    throw std::runtime_error("the report script " + script + " failed; the table is in " +
+                             (r.dir / "cases.csv").string());
 }
 
 }  // namespace bc::drivers::study

@@ -28,7 +28,7 @@ struct StudyResults {
   const StudyDeck& deck;
   const std::vector<Case>& all;
   const Case* reference;  // the reference case, or null
-  int timing;             // --timing: runs of each case
+  int timing;  // --timing: runs of each case
   std::filesystem::path dir;
   core::OutputDirectory& out;
 };

@@ -35,7 +35,8 @@ namespace {
 const char* kUsage =
     "usage: beamcontact run DECK.xml [--output DIR] [--overwrite] [--quiet] [--restart DIR] [--plugin LIB]...\n"
     "       beamcontact check DECK.xml [--plugin LIB]...\n"
-    "       beamcontact study STUDY.xml [--output DIR] [--overwrite] [--parallel N] [--timing [N]] [--no-report] [--plugin LIB]...\n"
+    "       beamcontact study STUDY.xml [--output DIR] [--overwrite] [--parallel N] [--timing [N]] [--no-report] "
+    "[--plugin LIB]...\n"
     "       beamcontact render RESULTS_DIR OUT.png [--stages T1,T2,...] [--view ELEV,AZIM] [--title TEXT]\n"
     "       beamcontact generate grid|weave [--n N] [--m M] [--spacing S] [--radius R] [--gap G]\n"
     "                [--press P (grid) | --pull P (weave)] [--elements E] [--youngs-modulus Y] [--friction MU]\n"
@@ -134,7 +135,8 @@ int studyCommand(const std::vector<std::string>& args, const std::vector<std::st
       if (!v.empty() && v.size() <= 4 && v.find_first_not_of("0123456789") == std::string::npos)
         options.parallel = std::stoi(v);
       if (options.parallel < 1 || options.parallel > 1024) {
-        std::fprintf(stderr, "beamcontact: --parallel takes a whole number from 1 to 1024, got \"%s\"\n", args[i].c_str());
+        std::fprintf(stderr, "beamcontact: --parallel takes a whole number from 1 to 1024, got \"%s\"\n",
+                     args[i].c_str());
         return 1;
       }
     } else if (args[i] == "--timing") {
@@ -221,8 +223,8 @@ int runDeck(const std::string& deck, const std::string& output, bool quiet, cons
   options.restart = !restart.empty();
   options.fingerprint = bc::input::deckFingerprint(problem);
   if (root)
-    std::printf("BeamContact: %s, %d nodes, %zu elements, %d ranks\n", deck.c_str(),
-                problem.model.initial.numNodes(), problem.beams->elements().size(), comm->getSize());
+    std::printf("BeamContact: %s, %d nodes, %zu elements, %d ranks\n", deck.c_str(), problem.model.initial.numNodes(),
+                problem.beams->elements().size(), comm->getSize());
   const auto result = bc::core::simulate(problem.model, problem.solver, problem.linearSolver, options, comm);
   if (root) printRunResult(result, deck, problem.outputDirectory);
   if (result.report.interrupted) return 128 + result.report.interrupted;
@@ -233,7 +235,10 @@ int runDeck(const std::string& deck, const std::string& output, bool quiet, cons
 // (with the message) when one lacks its library.
 bool takePlugins(std::vector<std::string>& args, std::vector<std::string>& plugins) {
   for (std::size_t i = 1; i < args.size();) {
-    if (args[i] != "--plugin") { ++i; continue; }
+    if (args[i] != "--plugin") {
+      ++i;
+      continue;
+    }
     if (i + 1 >= args.size()) {
       std::fprintf(stderr, "beamcontact: missing library after \"--plugin\"; see beamcontact --help\n");
       return false;
@@ -246,7 +251,9 @@ bool takePlugins(std::vector<std::string>& args, std::vector<std::string>& plugi
 
 // No command (an error) or --help.
 int helpCommand(const std::vector<std::string>& args) {
-  if (args.empty()) std::fputs("beamcontact: a command is needed (run, check, study, render, generate); see beamcontact --help\n", stderr);
+  if (args.empty())
+    std::fputs("beamcontact: a command is needed (run, check, study, render, generate); see beamcontact --help\n",
+               stderr);
   else std::fputs(kUsage, stdout);
   return args.empty() ? 1 : 0;
 }

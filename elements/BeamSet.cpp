@@ -92,8 +92,9 @@ std::vector<std::string> BeamSet::warnings() const {
     std::ostringstream s;
     s << std::setprecision(4) << "beam \"" << beams_[b].name << "\" is strained beyond the beam model's "
       << 100.0 * kStrainLimit << " % from T = " << x.firstT << " (" << (axial ? "axial" : "bending") << " strain "
-      << 100.0 * (axial ? x.first.axial : x.first.bending) << " %; largest " << 100.0 * x.largest << " % at T = "
-      << x.largestT << "): the model assumes small strains, so its results from there are not the material's "
+      << 100.0 * (axial ? x.first.axial : x.first.bending) << " %; largest " << 100.0 * x.largest
+      << " % at T = " << x.largestT
+      << "): the model assumes small strains, so its results from there are not the material's "
       << "(docs/beam-element.md)";
     w.push_back(s.str());
   }
@@ -145,8 +146,8 @@ void BeamSet::appendVtk(const core::State& state, core::VtkMesh& mesh) const {
   // Mz.
   constexpr int kCircleSides = 12;
   const double twoPi = 2.0 * std::acos(-1.0);
-  const char* forces[6] = {"axial force", "shear force y", "shear force z", "torque", "bending moment y",
-                           "bending moment z"};
+  const char* forces[6] = {"axial force", "shear force y",    "shear force z",
+                           "torque",      "bending moment y", "bending moment z"};
   for (const char* name : forces) mesh.cellScalars[name];
   for (const char* name : {"triad e1", "triad e2", "triad e3"}) mesh.pointVectors[name];
   for (const BeamElement& e : elements_) {
@@ -170,7 +171,8 @@ void BeamSet::appendVtk(const core::State& state, core::VtkMesh& mesh) const {
       outline = {{-y, -z}, {y, -z}, {y, z}, {-y, z}};
     } else {
       for (int k = 0; k < kCircleSides; ++k)
-        outline.emplace_back(cs.radius * std::cos(twoPi * k / kCircleSides), cs.radius * std::sin(twoPi * k / kCircleSides));
+        outline.emplace_back(cs.radius * std::cos(twoPi * k / kCircleSides),
+                             cs.radius * std::sin(twoPi * k / kCircleSides));
     }
     const int base = static_cast<int>(mesh.points.size());
     const int perEnd = static_cast<int>(outline.size()) + 1;  // centre first

@@ -14,12 +14,12 @@ struct Beam {
   std::string name;
   CrossSection section;
   Material material;
-  Vec3d sectionY{};        // direction fixing the section's local y axis
+  Vec3d sectionY{};  // direction fixing the section's local y axis
   std::vector<int> nodes;  // global node ids, in order along the beam
 };
 
 struct BeamElement {
-  int beam = 0;   // index into beams()
+  int beam = 0;  // index into beams()
   int index = 0;  // element index within the beam
   int node1 = 0, node2 = 0;
   BeamElementData data;

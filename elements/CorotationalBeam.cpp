@@ -6,8 +6,7 @@ namespace bc::elements {
 
 namespace {
 
-template <class T>
-Mat3<T> corotatedFrameT(const Mat3<T>& T1, const Mat3<T>& T2, const Vec3<T>& x1, const Vec3<T>& x2) {
+template <class T> Mat3<T> corotatedFrameT(const Mat3<T>& T1, const Mat3<T>& T2, const Vec3<T>& x1, const Vec3<T>& x2) {
   using std::sqrt;
   Vec3<T> dx = x2 - x1;
   T invL = 1.0 / norm(dx);
@@ -22,8 +21,7 @@ Mat3<T> corotatedFrameT(const Mat3<T>& T1, const Mat3<T>& T2, const Vec3<T>& x1,
 
 // Strain energy of the element for nodal positions x1, x2 and nodal frames T1 = R1 T0, T2 = R2 T0.
 template <class T>
-T energyOfFrames(const BeamElementData& d, const Vec3<T>& x1, const Vec3<T>& x2, const Mat3<T>& T1,
-                 const Mat3<T>& T2) {
+T energyOfFrames(const BeamElementData& d, const Vec3<T>& x1, const Vec3<T>& x2, const Mat3<T>& T1, const Mat3<T>& T2) {
   const Mat3<T> Rr = corotatedFrameT(T1, T2, x1, x2);
   const Mat3<T> RrT = transpose(Rr);
   const Vec3<T> th1 = logSO3(RrT * T1);
@@ -41,7 +39,8 @@ T energyOfFrames(const BeamElementData& d, const Vec3<T>& x1, const Vec3<T>& x2,
 BeamElementData makeBeamElement(const Vec3d& X1, const Vec3d& X2, const Vec3d& sectionY, double EA, double GJ,
                                 double EIy, double EIz) {
   BeamElementData d;
-  d.X1 = X1; d.X2 = X2;
+  d.X1 = X1;
+  d.X2 = X2;
   const Vec3d axis = X2 - X1;
   d.L0 = norm(axis);
   if (!(d.L0 > 0.0)) throw std::invalid_argument("beam element of zero length");
@@ -53,7 +52,10 @@ BeamElementData makeBeamElement(const Vec3d& X1, const Vec3d& X2, const Vec3d& s
   const Vec3d e2 = (1.0 / ny) * y;
   const Vec3d e3 = cross(e1, e2);
   d.T0 = fromColumns(e1, e2, e3);
-  d.EA = EA; d.GJ = GJ; d.EIy = EIy; d.EIz = EIz;
+  d.EA = EA;
+  d.GJ = GJ;
+  d.EIy = EIy;
+  d.EIz = EIz;
   return d;
 }
 
@@ -78,17 +80,19 @@ constexpr double kSign[12] = {-1, -1, -1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
 // (w lives on the inner AD level, delta on the outer), so exp(w) exp(delta) can be replaced by
 // I + W + D + W D, with W D = delta w^T - (w . delta) I; the dropped W^2 / 2 and D^2 / 2 only
 // carry pure second derivatives.
-template <class T>
-Mat3<T> incrementedFrame(const Vec3<T>& w, const Vec3<T>& delta, const Mat3d& C) {
+template <class T> Mat3<T> incrementedFrame(const Vec3<T>& w, const Vec3<T>& delta, const Mat3d& C) {
   Mat3<T> M;
   const T wd = dot(w, delta);
   for (int a = 0; a < 3; ++a)
     for (int b = 0; b < 3; ++b) M(a, b) = delta[a] * w[b];
   for (int a = 0; a < 3; ++a) M(a, a) += 1.0 - wd;
   const Vec3<T> s = w + delta;
-  M(0, 1) -= s[2]; M(0, 2) += s[1];
-  M(1, 0) += s[2]; M(1, 2) -= s[0];
-  M(2, 0) -= s[1]; M(2, 1) += s[0];
+  M(0, 1) -= s[2];
+  M(0, 2) += s[1];
+  M(1, 0) += s[2];
+  M(1, 2) -= s[0];
+  M(2, 0) -= s[1];
+  M(2, 1) += s[0];
   Mat3<T> F;
   for (int a = 0; a < 3; ++a)
     for (int b = 0; b < 3; ++b) F(a, b) = M(a, 0) * C(0, b) + M(a, 1) * C(1, b) + M(a, 2) * C(2, b);
@@ -102,7 +106,9 @@ namespace {
 // Theta = skew(theta): J^-1 = I - Theta / 2 + c Theta^2, c = 1 / t^2 - (1 + cos t) / (2 t sin t),
 // t = |theta| (series below t = 1e-2, where c = 1/12 + t^2/720 + t^4/30240 + O(t^6)).
 template <class T> Vec3<T> inverseLeftJacobianTransposed(const Vec3<T>& theta, const Vec3<T>& m) {
-  using std::cos; using std::sin; using std::sqrt;
+  using std::cos;
+  using std::sin;
+  using std::sqrt;
   const T t2 = dot(theta, theta);
   T c;
   if (val(t2) < 1e-4) {
@@ -188,8 +194,7 @@ void internalForceAndTangent(const BeamElementData& d, const BeamElementState& s
   }
 }
 
-void internalForceAndTangentFromEnergy(const BeamElementData& d, const BeamElementState& s, Vector12& f,
-                                       Matrix12& K) {
+void internalForceAndTangentFromEnergy(const BeamElementData& d, const BeamElementState& s, Vector12& f, Matrix12& K) {
   // Inner AD level: the virtual variation w (gives the force); outer level: the Newton increment
   // delta (gives the tangent). Rotations: R = exp(w) exp(delta) R_current, both at zero.
   using In = Sacado::Fad::SFad<double, kVars>;

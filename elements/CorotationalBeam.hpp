@@ -29,7 +29,7 @@ using namespace bc::math;  // Vec3, Mat3 and the SO(3) maps
 
 struct BeamElementData {
   Vec3d X1{}, X2{};  // reference positions of the two nodes
-  Mat3d T0{};        // reference element frame: columns e1 (axis), e2 (section y), e3 (section z)
+  Mat3d T0{};  // reference element frame: columns e1 (axis), e2 (section y), e3 (section z)
   double L0 = 0.0;
   double EA = 0.0, GJ = 0.0, EIy = 0.0, EIz = 0.0;
 };
@@ -44,15 +44,14 @@ using Matrix12 = std::array<double, 144>;  // row-major
 
 // Builds the reference data of an element; `sectionY` is a direction not parallel to the axis that
 // fixes the section's local y axis (it is orthogonalised against the axis).
-BeamElementData makeBeamElement(const Vec3d& X1, const Vec3d& X2, const Vec3d& sectionY, double EA,
-                                double GJ, double EIy, double EIz);
+BeamElementData makeBeamElement(const Vec3d& X1, const Vec3d& X2, const Vec3d& sectionY, double EA, double GJ,
+                                double EIy, double EIz);
 
 double strainEnergy(const BeamElementData& d, const BeamElementState& s);
 void internalForce(const BeamElementData& d, const BeamElementState& s, Vector12& f);
 void internalForceAndTangent(const BeamElementData& d, const BeamElementState& s, Vector12& f, Matrix12& K);
 // The same by nested forward AD of the strain energy (the reference of the tests and bench_beam).
-void internalForceAndTangentFromEnergy(const BeamElementData& d, const BeamElementState& s, Vector12& f,
-                                       Matrix12& K);
+void internalForceAndTangentFromEnergy(const BeamElementData& d, const BeamElementState& s, Vector12& f, Matrix12& K);
 
 // The co-rotated frame [e1 e2 e3] of the current state (for output and drawing).
 Mat3d corotatedFrame(const BeamElementData& d, const BeamElementState& s);

@@ -35,12 +35,15 @@ double CrossSection::torsionConstant() const {
 }
 CrossSection CrossSection::rectangle(double w, double h) {
   CrossSection s;
-  s.shape = Shape::Rectangle; s.width = w; s.height = h;
+  s.shape = Shape::Rectangle;
+  s.width = w;
+  s.height = h;
   return s;
 }
 CrossSection CrossSection::circle(double r) {
   CrossSection s;
-  s.shape = Shape::Circle; s.radius = r;
+  s.shape = Shape::Circle;
+  s.radius = r;
   return s;
 }
 

@@ -11,7 +11,7 @@ namespace bc::elements {
 struct CrossSection {
   enum class Shape { Rectangle, Circle };
   Shape shape = Shape::Rectangle;
-  double width = 0.0;   // b, along local y (rectangle)
+  double width = 0.0;  // b, along local y (rectangle)
   double height = 0.0;  // h, along local z (rectangle)
   double radius = 0.0;  // circle
   double givenTorsionConstant = 0.0;  // > 0: used instead of Saint-Venant's value (benchmarks stating GJ)

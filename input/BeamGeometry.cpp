@@ -58,9 +58,11 @@ std::vector<Vec3d> corners(const ParameterList& b, const std::string& path, bool
   std::vector<Vec3d> corners;
   if (straight) {
     for (const char* k : {"Start", "End"})
-      if (!b.isParameter(k)) throw InputError("missing required parameter \"" + path + "/" + k + "\" (a straight beam)");
+      if (!b.isParameter(k))
+        throw InputError("missing required parameter \"" + path + "/" + k + "\" (a straight beam)");
     corners = {toVec(b.get<Array<double>>("Start")), toVec(b.get<Array<double>>("End"))};
-    if (!(norm(corners[1] - corners[0]) > 0.0)) throw InputError("beam \"" + path + "\" has zero length (Start equals End)");
+    if (!(norm(corners[1] - corners[0]) > 0.0))
+      throw InputError("beam \"" + path + "\" has zero length (Start equals End)");
     return corners;
   }
   const auto& a = b.get<Array<double>>("Points");
@@ -105,7 +107,8 @@ std::vector<Vec3d> curvePoints(ParameterList& b, const std::string& path, int ne
   const Vec3d r = toVec(g.get<Array<double>>("Reference Direction"));
   const Vec3d rp = r - dot(r, n) * n;
   if (!(norm(rp) > 1e-8 * std::max(norm(r), 1e-300)))
-    throw InputError("parameter \"" + gpath + "/Reference Direction\" is zero or along the " + (arc ? "normal" : "axis"));
+    throw InputError("parameter \"" + gpath + "/Reference Direction\" is zero or along the " +
+                     (arc ? "normal" : "axis"));
   const Vec3d e1 = (1.0 / norm(rp)) * rp, e2 = cross(n, e1);
   const double R = g.get<double>("Radius");
   const Vec3d c = toVec(g.get<Array<double>>(arc ? "Centre" : "Axis Point"));
@@ -114,7 +117,8 @@ std::vector<Vec3d> curvePoints(ParameterList& b, const std::string& path, int ne
     t0 = g.get<double>("Start Angle") * pi / 180.0;
     t1 = g.get<double>("End Angle") * pi / 180.0;
     if (!(std::abs(t1 - t0) > 0.0) || std::abs(t1 - t0) > 2 * pi * (1 + 1e-12))
-      throw InputError("parameters \"" + gpath + "/Start Angle\" and \"End Angle\" must differ by more than 0 and at most 360 degrees");
+      throw InputError("parameters \"" + gpath +
+                       "/Start Angle\" and \"End Angle\" must differ by more than 0 and at most 360 degrees");
   } else {
     t0 = g.get<double>("Start Angle") * pi / 180.0;
     t1 = t0 + 2 * pi * g.get<double>("Turns");

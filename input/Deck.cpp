@@ -45,7 +45,8 @@ const ParameterSpec& sectionSpec() {
     ParameterSpec p;
     p.addChoice("Shape", "Rectangle", {"Rectangle", "Circle"}, "cross-section shape");
     p.addOptional("Width", 1.0, "Rectangle: side b along the section's local y axis [length]", core::positive(), "> 0");
-    p.addOptional("Height", 1.0, "Rectangle: side h along the section's local z axis [length]", core::positive(), "> 0");
+    p.addOptional("Height", 1.0, "Rectangle: side h along the section's local z axis [length]", core::positive(),
+                  "> 0");
     p.addOptional("Radius", 1.0, "Circle: radius [length]", core::positive(), "> 0");
     p.addOptional("Torsion Constant", 1.0,
                   "J [length^4]; default: Saint-Venant's value for the shape (set it where a benchmark states GJ)",
@@ -121,7 +122,9 @@ const ParameterSpec& supportSpec() {
     p.add("Displacement", zero3(), "prescribed displacement at T = 1 of the fixed ux uy uz [length]", core::vector3());
     p.add("Rotation", zero3(),
           "prescribed rotation at T = 1 of the fixed rx ry rz, as spins about the global axes [rad]", core::vector3());
-    p.addOptional("Load Curve", Array<double>(), "load history: T1, f1, T2, f2, ... (T from 0 to 1, increasing): the value at T is the value given here times f, linear between the points; default f = T");
+    p.addOptional("Load Curve", Array<double>(),
+                  "load history: T1, f1, T2, f2, ... (T from 0 to 1, increasing): the value at T is the value given "
+                  "here times f, linear between the points; default f = T");
     return p;
   }();
   return s;
@@ -133,7 +136,9 @@ const ParameterSpec& loadSpec() {
     addLocation(p);
     p.add("Force", zero3(), "point force at T = 1 (fixed direction) [force]", core::vector3());
     p.add("Moment", zero3(), "point moment at T = 1 about fixed global axes [force*length]", core::vector3());
-    p.addOptional("Load Curve", Array<double>(), "load history: T1, f1, T2, f2, ... (T from 0 to 1, increasing): the value at T is the value given here times f, linear between the points; default f = T");
+    p.addOptional("Load Curve", Array<double>(),
+                  "load history: T1, f1, T2, f2, ... (T from 0 to 1, increasing): the value at T is the value given "
+                  "here times f, linear between the points; default f = T");
     return p;
   }();
   return s;
@@ -170,8 +175,8 @@ const ParameterSpec& contactPairSpec() {
     ParameterSpec p;
     p.addRequired("Beam A", std::string("beam name"), "first beam of the pair");
     p.addRequired("Beam B", std::string("beam name"), "second beam of the pair");
-    p.addRequired("Friction Coefficient", 0.0, "Coulomb friction coefficient mu (0: frictionless)",
-                  core::nonNegative(), ">= 0");
+    p.addRequired("Friction Coefficient", 0.0, "Coulomb friction coefficient mu (0: frictionless)", core::nonNegative(),
+                  ">= 0");
     return p;
   }();
   return s;
@@ -225,12 +230,15 @@ const ParameterSpec& topSpec() {
     p.addSublist("Linear Solver", core::linearSolverSpec().reference(), "linear solver settings");
     p.addSublist("Output", outputSpec().reference(), "results directory and tracked points");
     p.addSublist("Contact", contactSpec().reference(), "beam-to-beam contact (optional)");
-    p.addSublist("Joints", ParameterList(), "named joints between beam ends and nodes of other beams, Rigid or "
+    p.addSublist("Joints", ParameterList(),
+                 "named joints between beam ends and nodes of other beams, Rigid or "
                  "Pinned (coincident ends are joined rigidly without one)");
-    p.addOptional("Plugins", Array<std::string>(), "shared libraries the deck needs, e.g. a strategy of your own "
+    p.addOptional("Plugins", Array<std::string>(),
+                  "shared libraries the deck needs, e.g. a strategy of your own "
                   "(paths relative to the deck's folder); each must also be given with --plugin, which loads it; "
                   "see docs/contact.md");
-    p.addOptional("Plugin SHA-256", Array<std::string>(), "SHA-256 of each of Plugins' libraries, in order "
+    p.addOptional("Plugin SHA-256", Array<std::string>(),
+                  "SHA-256 of each of Plugins' libraries, in order "
                   "(effective_parameters.xml records them); when given, a library whose digest differs is refused");
     return p;
   }();
@@ -280,10 +288,14 @@ int nodeIndexOnBeam(const std::string& node, int ne, const std::string& path, co
   }
   std::size_t used = 0;
   int index = 0;
-  try { index = std::stoi(node, &used); } catch (...) { used = 0; }
+  try {
+    index = std::stoi(node, &used);
+  } catch (...) {
+    used = 0;
+  }
   if (used != node.size() || node.empty() || index < 0 || index > ne)
-    throw InputError("parameter \"" + path + "\": \"" + node + "\" is not \"start\", \"end\", \"middle\" or an index 0.." +
-                     std::to_string(ne));
+    throw InputError("parameter \"" + path + "\": \"" + node +
+                     "\" is not \"start\", \"end\", \"middle\" or an index 0.." + std::to_string(ne));
   return index;
 }
 
@@ -342,7 +354,10 @@ class Locator {
 
 std::array<bool, 6> parseFixed(const std::string& text, const std::string& path) {
   std::array<bool, 6> fixed{};
-  if (text == "all") { fixed.fill(true); return fixed; }
+  if (text == "all") {
+    fixed.fill(true);
+    return fixed;
+  }
   static const char* names[6] = {"ux", "uy", "uz", "rx", "ry", "rz"};
   std::istringstream in(text);
   std::string word;
@@ -359,7 +374,6 @@ std::array<bool, 6> parseFixed(const std::string& text, const std::string& path)
   return fixed;
 }
 
-
 // The contact pairs of a validated Contact sublist `c`: All Pairs and the listed Pairs, each pair of
 // beams once.
 std::vector<constraints::ContactPairSpec> contactPairs(const Problem& p, ParameterList& c, const std::string& path) {
@@ -374,8 +388,8 @@ std::vector<constraints::ContactPairSpec> contactPairs(const Problem& p, Paramet
     pairs.reserve(std::size_t(nb) * std::size_t(nb - 1) / 2);
     for (int a = 0; a < nb; ++a)
       for (int b = a + 1; b < nb; ++b)
-        pairs.push_back({a, b, c.get<double>("Friction Coefficient"),
-                         p.beams->beams()[a].name + "-" + p.beams->beams()[b].name});
+        pairs.push_back(
+            {a, b, c.get<double>("Friction Coefficient"), p.beams->beams()[a].name + "-" + p.beams->beams()[b].name});
   } else if (c.isParameter("Friction Coefficient")) {
     throw InputError("parameter \"" + path + "/Friction Coefficient\" applies only with All Pairs; give it per pair");
   }
@@ -386,8 +400,7 @@ std::vector<constraints::ContactPairSpec> contactPairs(const Problem& p, Paramet
                 if (a == b) throw InputError("contact pair \"" + qpath + "\" names the same beam twice");
                 pairs.push_back({a, b, q.get<double>("Friction Coefficient"), name});
               });
-  if (pairs.empty())
-    throw InputError("\"" + path + "\" declares no contact pair: give Pairs or set All Pairs to true");
+  if (pairs.empty()) throw InputError("\"" + path + "\" declares no contact pair: give Pairs or set All Pairs to true");
   if (c.get<bool>("All Pairs") && pairs.size() > std::size_t(nb0) * std::size_t(nb0 - 1) / 2) {
     // Every pair is declared already (found without a map of all pairs: 10^4 beams make 5 x 10^7).
     const auto& q = pairs[std::size_t(nb0) * std::size_t(nb0 - 1) / 2];
@@ -395,7 +408,8 @@ std::vector<constraints::ContactPairSpec> contactPairs(const Problem& p, Paramet
     throw InputError("contact pairs \"" + p.beams->beams()[lo].name + "-" + p.beams->beams()[hi].name + "\" and \"" +
                      q.name + "\" both join beams \"" + p.beams->beams()[q.beamA].name + "\" and \"" +
                      p.beams->beams()[q.beamB].name +
-                     "\" (their contact would count twice); declare each pair once (All Pairs already declares every pair)");
+                     "\" (their contact would count twice); declare each pair once (All Pairs already declares every "
+                     "pair)");
   } else if (!c.get<bool>("All Pairs")) {
     std::map<std::pair<int, int>, std::string> seen;
     for (const auto& q : pairs) {
@@ -423,9 +437,9 @@ constraints::ContactOptions contactOptions(const Problem& p, const ParameterList
   options.lineAngle = c.get<double>("Line Contact Angle") * std::acos(-1.0) / 180.0;
   options.pointAngle = c.get<double>("Point Contact Angle") * std::acos(-1.0) / 180.0;
   if (options.lineAngle > 0.0 && !(options.pointAngle > options.lineAngle))
-    throw InputError("parameter \"" + path + "/Point Contact Angle\" (" + std::to_string(c.get<double>("Point Contact Angle")) +
-                     ") must exceed \"" + path + "/Line Contact Angle\" (" + std::to_string(c.get<double>("Line Contact Angle")) +
-                     ")");
+    throw InputError("parameter \"" + path + "/Point Contact Angle\" (" +
+                     std::to_string(c.get<double>("Point Contact Angle")) + ") must exceed \"" + path +
+                     "/Line Contact Angle\" (" + std::to_string(c.get<double>("Line Contact Angle")) + ")");
   options.lineGaussPoints = c.get<int>("Line Gauss Points");
   options.frictionLaw = c.get<std::string>("Friction Law") == "Per Line" ? constraints::FrictionLaw::PerLine
                                                                          : constraints::FrictionLaw::IsotropicCoulomb;
@@ -498,7 +512,9 @@ int joinCoincidentNodes(std::vector<elements::Beam>& beams, std::vector<Vec3d>& 
   const double tol = coincidenceTolerance(reference);
   // Nodes hashed into cells of size tol: a node within tol of another lies in a neighbouring cell.
   auto cell = [&](const Vec3d& x, int k) { return static_cast<long long>(std::floor((x[k] - lo[k]) / tol)); };
-  auto key = [](long long i, long long j, long long k) { return (i * 73856093LL) ^ (j * 19349663LL) ^ (k * 83492791LL); };
+  auto key = [](long long i, long long j, long long k) {
+    return (i * 73856093LL) ^ (j * 19349663LL) ^ (k * 83492791LL);
+  };
   std::unordered_map<long long, std::vector<int>> grid;
   std::vector<int> rep(n);
   std::iota(rep.begin(), rep.end(), 0);
@@ -573,8 +589,8 @@ void checkElements(const elements::Beam& beam, const std::vector<Vec3d>& points,
     const double L = norm(axis);
     if (!(L > 0.0)) throw InputError("beam \"" + path + "\" has an element of zero length (coincident points)");
     if (norm(cross(beam.sectionY, (1.0 / L) * axis)) <= 1e-8 * norm(beam.sectionY))
-      throw InputError("parameter \"" + path + "/Section Orientation\" is zero or parallel to element " + std::to_string(k) +
-                       " of the beam (give a direction across the beam)");
+      throw InputError("parameter \"" + path + "/Section Orientation\" is zero or parallel to element " +
+                       std::to_string(k) + " of the beam (give a direction across the beam)");
   }
 }
 
@@ -622,21 +638,22 @@ BeamsRead readBeams(Problem& p, ParameterList& deck, const std::string& top) {
   BeamsRead read;
   ParameterList& beamList = deck.sublist("Beams");
   if (beamList.numParams() == 0) throw InputError("\"" + top + "/Beams\" holds no beam");
-  forEachItem(beamList, top + "/Beams", beamSpec(), [&](ParameterList& b, const std::string& name, const std::string& path) {
-    elements::Beam beam = beamSectionAndMaterial(b, name, path);
-    const int ne = b.get<int>("Elements");
-    const std::vector<Vec3d> points = beamPoints(b, path, ne, beam.sectionY);
-    checkElements(beam, points, path);
-    checkBeamScale(beam, points, path);
-    checkModelSize(read.reference.size() + points.size());
-    const int first = static_cast<int>(read.reference.size());
-    for (std::size_t k = 0; k < points.size(); ++k) {
-      read.reference.push_back(points[k]);
-      beam.nodes.push_back(first + static_cast<int>(k));
-    }
-    p.beamIndex[name] = static_cast<int>(read.beams.size());
-    read.beams.push_back(beam);
-  });
+  forEachItem(beamList, top + "/Beams", beamSpec(),
+              [&](ParameterList& b, const std::string& name, const std::string& path) {
+                elements::Beam beam = beamSectionAndMaterial(b, name, path);
+                const int ne = b.get<int>("Elements");
+                const std::vector<Vec3d> points = beamPoints(b, path, ne, beam.sectionY);
+                checkElements(beam, points, path);
+                checkBeamScale(beam, points, path);
+                checkModelSize(read.reference.size() + points.size());
+                const int first = static_cast<int>(read.reference.size());
+                for (std::size_t k = 0; k < points.size(); ++k) {
+                  read.reference.push_back(points[k]);
+                  beam.nodes.push_back(first + static_cast<int>(k));
+                }
+                p.beamIndex[name] = static_cast<int>(read.beams.size());
+                read.beams.push_back(beam);
+              });
   return read;
 }
 
@@ -648,7 +665,8 @@ struct JointsRead {
 };
 
 // The two nodes (before joining) a joint item `j` names.
-std::array<int, 2> jointNodes(const Problem& p, const BeamsRead& read, const ParameterList& j, const std::string& path) {
+std::array<int, 2> jointNodes(const Problem& p, const BeamsRead& read, const ParameterList& j,
+                              const std::string& path) {
   std::array<int, 2> ends{0, 0};
   for (int s = 0; s < 2; ++s) {
     const std::string key = s == 0 ? "A" : "B";
@@ -656,8 +674,10 @@ std::array<int, 2> jointNodes(const Problem& p, const BeamsRead& read, const Par
     const auto& nodes = read.beams[beamNamed(p.beamIndex, beam, path + "/Beam " + key)].nodes;
     const std::string node = j.get<std::string>("Node " + key);
     if (s == 0 && node != "start" && node != "end")
-      throw InputError("parameter \"" + path + "/Node A\": a joint starts at a beam end, \"start\" or "
-                       "\"end\", not \"" + node + "\"");
+      throw InputError("parameter \"" + path +
+                       "/Node A\": a joint starts at a beam end, \"start\" or "
+                       "\"end\", not \"" +
+                       node + "\"");
     ends[s] = nodes[nodeIndexOnBeam(node, static_cast<int>(nodes.size()) - 1, path + "/Node " + key, beam)];
   }
   return ends;
@@ -695,7 +715,8 @@ void joinBeams(Problem& p, BeamsRead& read, JointsRead& joints) {
     pin.nodeA = newId[pin.nodeA];
     pin.nodeB = newId[pin.nodeB];
     if (pin.nodeA == pin.nodeB)
-      throw InputError("pinned joint \"" + pin.name + "\": its nodes are also rigidly joined (through a third beam "
+      throw InputError("pinned joint \"" + pin.name +
+                       "\": its nodes are also rigidly joined (through a third beam "
                        "or another joint)");
     p.pins.emplace_back(pin.nodeA, pin.nodeB);
   }
@@ -736,7 +757,10 @@ void readLoads(Problem& p, ParameterList& deck, const std::string& top, const Lo
                 load.name = name;
                 load.node = locate.nodes(l, path, false).front();
                 const auto f = l.get<Array<double>>("Force"), m = l.get<Array<double>>("Moment");
-                for (int k = 0; k < 3; ++k) { load.value[k] = f[k]; load.value[3 + k] = m[k]; }
+                for (int k = 0; k < 3; ++k) {
+                  load.value[k] = f[k];
+                  load.value[3 + k] = m[k];
+                }
                 load.curve = loadCurve(l, path);
                 p.model.loads.push_back(load);
               });
@@ -761,8 +785,10 @@ void readOutput(Problem& p, ParameterList& deck, const std::string& top, const s
   p.writeVtk = out.get<bool>("Write VTK");
   p.outputDirectory = out.isParameter("Directory") ? out.get<std::string>("Directory") : "results/" + deckName;
   if (p.outputDirectory.find_first_not_of(" \t") == std::string::npos)
-    throw InputError("parameter \"" + top + "/Output/Directory\" is empty; name a directory (or leave the "
-                     "parameter out for results/" + deckName + ")");
+    throw InputError("parameter \"" + top +
+                     "/Output/Directory\" is empty; name a directory (or leave the "
+                     "parameter out for results/" +
+                     deckName + ")");
   p.checkpointEvery = out.get<int>("Checkpoint Every");
   forEachItem(out.sublist("Tracked Points"), top + "/Output/Tracked Points", trackedSpec(),
               [&](ParameterList& t, const std::string& name, const std::string& path) {
@@ -777,17 +803,20 @@ void readContact(Problem& p, ParameterList& deck, const std::string& top) {
     // (Multipliers, and a plug-in's strategy, at the larger cost per point.)
     const std::string type = deck.sublist("Contact").sublist("Enforcement").get<std::string>("Type");
     const bool builtIn = constraints::findEnforcer(type, top + "/Contact/Enforcement/Type").origin == "built-in";
-    checkModelSize(p.beams->elements().size(), p.contact->points().size(),
-                   builtIn && !p.contact->enforcer().addsMultiplierRows() ? kBytesPerPointPenalty
-                                                                          : kBytesPerPointLagrange);
+    checkModelSize(
+        p.beams->elements().size(), p.contact->points().size(),
+        builtIn && !p.contact->enforcer().addsMultiplierRows() ? kBytesPerPointPenalty : kBytesPerPointLagrange);
   }
   const ParameterList& linear = p.linearSolver;
-  if (linear.get<std::string>("Type") == "GMRES" && linear.get<std::string>("Preconditioner") == "MueLu" &&
-      p.contact && p.contact->enforcer().addsMultiplierRows())
-    throw InputError("parameter \"" + top + "/Linear Solver/Preconditioner\" = \"MueLu\" preconditions matrices of "
-                     "nodal dofs only, and \"" + top + "/Contact/Enforcement/Type\" = \"" +
+  if (linear.get<std::string>("Type") == "GMRES" && linear.get<std::string>("Preconditioner") == "MueLu" && p.contact &&
+      p.contact->enforcer().addsMultiplierRows())
+    throw InputError("parameter \"" + top +
+                     "/Linear Solver/Preconditioner\" = \"MueLu\" preconditions matrices of "
+                     "nodal dofs only, and \"" +
+                     top + "/Contact/Enforcement/Type\" = \"" +
                      deck.sublist("Contact").sublist("Enforcement").get<std::string>("Type") +
-                     "\" adds multiplier rows: use Penalty or Augmented Lagrange with it, or Linear Solver/Type = Direct");
+                     "\" adds multiplier rows: use Penalty or Augmented Lagrange with it, or Linear Solver/Type = "
+                     "Direct");
 }
 
 }  // namespace

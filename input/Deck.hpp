@@ -25,15 +25,15 @@ struct Problem {
   core::Model model;
   std::shared_ptr<elements::BeamSet> beams;
   std::map<std::string, int> beamIndex;  // beam name -> index in beams->beams()
-  int joints = 0;                        // beam ends joined to a node of another beam (rigid or pinned)
+  int joints = 0;  // beam ends joined to a node of another beam (rigid or pinned)
   std::vector<std::pair<int, int>> pins;  // node pairs of the pinned joints
   std::shared_ptr<constraints::ContactManager> contact;  // null without a Contact sublist
   core::SolverSettings solver;
-  Teuchos::ParameterList linearSolver;   // validated "Linear Solver" sublist
+  Teuchos::ParameterList linearSolver;  // validated "Linear Solver" sublist
   std::string outputDirectory;
   bool writeVtk = true;
-  int checkpointEvery = 0;               // Output/Checkpoint Every
-  Teuchos::ParameterList effective;      // the whole deck with defaults filled in
+  int checkpointEvery = 0;  // Output/Checkpoint Every
+  Teuchos::ParameterList effective;  // the whole deck with defaults filled in
 };
 
 // Parses the file; throws core::InputError naming the file for a missing file or malformed XML.

@@ -219,11 +219,11 @@ void checkDuplicateBeams(const Problem& p) {
 // every point active), by 76 kB per point with Penalty and, with Lagrange multipliers, 170 kB from
 // 32 x 32 to 64 x 64, 195 kB from 64 x 64 to 100 x 100 and at least 267 kB on average at 128 x 128
 // (4.8 GB before KLU2's first factorization of the saddle point had ended, after 18 min: its factors
-// grow faster than the points), above 74 MB for the program. Augmented Lagrange has Penalty's matrix; a plug-in's strategy is
-// counted as Lagrange. A pair of All Pairs costs 100 bytes (its entry and the search's index: a
-// network of 4000 fibres, 8e6 pairs, 791 MB above the same deck without contact). The estimate is
-// checked before anything of the solver is allocated: while the beams are read (elements only),
-// before All Pairs makes its pairs, and once the contact points at the start are known.
+// grow faster than the points), above 74 MB for the program. Augmented Lagrange has Penalty's matrix; a plug-in's
+// strategy is counted as Lagrange. A pair of All Pairs costs 100 bytes (its entry and the search's index: a network of
+// 4000 fibres, 8e6 pairs, 791 MB above the same deck without contact). The estimate is checked before anything of the
+// solver is allocated: while the beams are read (elements only), before All Pairs makes its pairs, and once the contact
+// points at the start are known.
 void checkModelSize(std::size_t elements, std::size_t points, double bytesPerPoint, double pairs) {
   const double bytes =
       kBaseBytes + kBytesPerElement * double(elements) + bytesPerPoint * double(points) + kBytesPerPair * pairs;

@@ -25,7 +25,8 @@ std::vector<LoadedPlugin>& loaded() {
 
 std::string canonicalFile(const std::string& path, const std::string& what) {
   std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) throw core::InputError(what + " \"" + path + "\" does not exist (or is not a file)");
+  if (!fs::is_regular_file(path, ec))
+    throw core::InputError(what + " \"" + path + "\" does not exist (or is not a file)");
   return fs::canonical(path, ec).string();
 }
 }  // namespace
@@ -52,10 +53,13 @@ void loadPlugin(const std::string& path) {
   void* version = dlsym(handle, "beamcontact_plugin_version");
   void* entry = dlsym(handle, "beamcontact_plugin_register");
   if (!entry)
-    throw core::InputError(name + " has no beamcontact_plugin_register() (write BEAMCONTACT_PLUGIN(...) in one of its files)");
+    throw core::InputError(name +
+                           " has no beamcontact_plugin_register() (write BEAMCONTACT_PLUGIN(...) in one of its files)");
   if (!version)
-    throw core::InputError(name + " does not record the BeamContact version it was built against; rebuild it against "
-                           "BeamContact " + core::kVersion);
+    throw core::InputError(name +
+                           " does not record the BeamContact version it was built against; rebuild it against "
+                           "BeamContact " +
+                           core::kVersion);
   const std::string built = reinterpret_cast<const char* (*)()>(version)();
   if (built != core::kVersion)
     throw core::InputError(name + " was built against BeamContact " + built + "; this is BeamContact " +
@@ -104,7 +108,8 @@ void checkDeckPlugins(Teuchos::ParameterList& deck, const std::string& deckPath,
     if (std::find(allowed.begin(), allowed.end(), absolute) == allowed.end())
       throw core::InputError("the deck asks to load the plug-in \"" + absolute + "\" (" + where +
                              "); a plug-in runs code, so it is loaded only when named on the command line too: add "
-                             "--plugin " + absolute);
+                             "--plugin " +
+                             absolute);
     p = absolute;
     digests[i] = core::sha256File(absolute);
   }
@@ -123,7 +128,8 @@ void checkDeckPlugins(Teuchos::ParameterList& deck, const std::string& deckPath,
                                " that " + dwhere + " records: the library changed");
   }
   deck.set("Plugins", paths, deck.getEntry("Plugins").docString());
-  deck.set("Plugin SHA-256", digests, "SHA-256 of each of Plugins' libraries (written by beamcontact; a deck that "
+  deck.set("Plugin SHA-256", digests,
+           "SHA-256 of each of Plugins' libraries (written by beamcontact; a deck that "
            "gives it is refused when a library differs)");
 }
 

@@ -20,7 +20,7 @@
 namespace bc::input {
 
 struct LoadedPlugin {
-  std::string path;    // canonical
+  std::string path;  // canonical
   std::string sha256;  // of the file's bytes when it was loaded
 };
 

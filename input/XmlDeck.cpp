@@ -70,7 +70,9 @@ class Parser {
     while (!atEnd() && (std::isalnum(static_cast<unsigned char>(peek())) || peek() == '_' || peek() == ':' ||
                         peek() == '-' || peek() == '.'))
       advance();
-    if (i_ == start) fail(std::string("expected a name, found '") + (atEnd() ? std::string("end of file") : std::string(1, peek())) + "'");
+    if (i_ == start)
+      fail(std::string("expected a name, found '") + (atEnd() ? std::string("end of file") : std::string(1, peek())) +
+           "'");
     return s_.substr(start, i_ - start);
   }
   std::string attributeValue();
@@ -198,7 +200,8 @@ std::string toDouble(const std::string& raw, double& v) {
   if (errno == ERANGE && std::abs(v) > 1.0) return "\"" + t + "\" is out of range for a double";
   // Below the smallest normal double (about 2.2e-308) strtod sets ERANGE and returns 0 or a subnormal
   // number with fewer digits ("1e-400" was read as 0).
-  if (errno == ERANGE) return "\"" + t + "\" is too small for a double (its magnitude is below 2.2e-308; write 0 for zero)";
+  if (errno == ERANGE)
+    return "\"" + t + "\" is too small for a double (its magnitude is below 2.2e-308; write 0 for zero)";
   if (!std::isfinite(v)) return "\"" + t + "\" is not a finite number";
   return "";
 }
@@ -209,7 +212,8 @@ std::string toInt(const std::string& raw, int& v) {
   std::size_t k = (t[0] == '+' || t[0] == '-') ? 1 : 0;
   if (k == t.size() || t.find_first_not_of("0123456789", k) != std::string::npos) {
     double d;
-    if (toDouble(t, d).empty()) return "\"" + t + "\" is not a whole number (write it without a decimal point or exponent)";
+    if (toDouble(t, d).empty())
+      return "\"" + t + "\" is not a whole number (write it without a decimal point or exponent)";
     return "\"" + t + "\" is not a whole number";
   }
   errno = 0;
@@ -231,8 +235,7 @@ std::string toBool(const std::string& raw, bool& v) {
 // "{a, b, c}" -> its entries (trimmed).
 std::string splitArray(const std::string& raw, std::vector<std::string>& entries) {
   const std::string t = trim(raw);
-  if (t.size() < 2 || t.front() != '{' || t.back() != '}')
-    return "\"" + t + "\" is not an array; write {a, b, c}";
+  if (t.size() < 2 || t.front() != '{' || t.back() != '}') return "\"" + t + "\" is not an array; write {a, b, c}";
   const std::string inner = t.substr(1, t.size() - 2);
   if (trim(inner).empty()) return "";
   std::stringstream in(inner);
@@ -347,8 +350,7 @@ void Parser::claim(const std::string& n, int line) {
   Open& parent = stack_.back();
   const auto [it, fresh] = parent.names.emplace(n, line);
   if (!fresh)
-    fail("\"" + n + "\" is given twice in \"" + parent.path + "\" (first on line " + std::to_string(it->second) +
-         ")");
+    fail("\"" + n + "\" is given twice in \"" + parent.path + "\" (first on line " + std::to_string(it->second) + ")");
 }
 
 void Parser::openList(const std::vector<Attribute>& attrs, bool selfClosing, int line) {
@@ -454,9 +456,11 @@ ParameterList readParameterXmlFile(const std::string& path) {
   const double usable = usableMemory(&limited);
   if (!ec && usable > 0 && kReadBytesPerByte * double(size) > 0.8 * usable) {
     char buf[300];
-    std::snprintf(buf, sizeof buf, "file \"%s\" is %.0f MB, which takes about %.1f GB to read (%.0f bytes per byte); "
-                  "this machine has %.1f GB", path.c_str(), double(size) / 1e6, kReadBytesPerByte * double(size) / 1e9,
-                  kReadBytesPerByte, physicalMemory() / 1e9);
+    std::snprintf(buf, sizeof buf,
+                  "file \"%s\" is %.0f MB, which takes about %.1f GB to read (%.0f bytes per byte); "
+                  "this machine has %.1f GB",
+                  path.c_str(), double(size) / 1e6, kReadBytesPerByte * double(size) / 1e9, kReadBytesPerByte,
+                  physicalMemory() / 1e9);
     throw InputError(buf + limited);
   }
   std::ifstream f(path, std::ios::binary);

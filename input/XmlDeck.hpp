@@ -31,18 +31,17 @@ Teuchos::ParameterList readParameterXmlFile(const std::string& path);
 // (created when `create`, else an InputError naming the path), and a parameter set at a path (its
 // sublists created as needed). For tests, studies and deck generators: edits by path, never by text.
 Teuchos::ParameterList& sublistAtPath(Teuchos::ParameterList& list, const std::string& path, bool create = true);
-template <class T>
-void setAtPath(Teuchos::ParameterList& list, const std::string& path, const T& value) {
+template <class T> void setAtPath(Teuchos::ParameterList& list, const std::string& path, const T& value) {
   const auto slash = path.rfind('/');
   Teuchos::ParameterList& parent = slash == std::string::npos ? list : sublistAtPath(list, path.substr(0, slash));
   parent.set(slash == std::string::npos ? path : path.substr(slash + 1), value);
 }
 // Replaces an existing parameter (an InputError naming the path if there is none): a misspelt path
 // in a test or generator fails instead of adding a parameter nobody reads.
-template <class T>
-void replaceAtPath(Teuchos::ParameterList& list, const std::string& path, const T& value) {
+template <class T> void replaceAtPath(Teuchos::ParameterList& list, const std::string& path, const T& value) {
   const auto slash = path.rfind('/');
-  Teuchos::ParameterList& parent = slash == std::string::npos ? list : sublistAtPath(list, path.substr(0, slash), false);
+  Teuchos::ParameterList& parent =
+      slash == std::string::npos ? list : sublistAtPath(list, path.substr(0, slash), false);
   const std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
   if (!parent.isParameter(name) || parent.isSublist(name))
     throw core::InputError("path \"" + path + "\" names no parameter to replace");

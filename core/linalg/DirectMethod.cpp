@@ -18,9 +18,7 @@ const std::vector<DirectMethodEntry>& directMethods() {
        "multifrontal with dense (BLAS) kernels, 3 to 6 times faster factorizations at 10^5 rows (most on "
        "Lagrange multiplier saddle points), the faster from about 10^4 rows with Reuse Factorization",
        false,
-       [](const Comm&, const ReuseSettings& reuse) {
-         return oneProcessLu(std::make_unique<SerialUmfpack>(), reuse);
-       }},
+       [](const Comm&, const ReuseSettings& reuse) { return oneProcessLu(std::make_unique<SerialUmfpack>(), reuse); }},
       {"MUMPS",
        "multifrontal with dense kernels, the matrix factored where its rows are by all ranks together (the "
        "others gather it to rank 0)",

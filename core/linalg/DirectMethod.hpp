@@ -26,7 +26,7 @@ class SerialLu;
 struct ReuseSettings {
   bool on = false;
   int iterationLimit = 0;  // GMRES iterations summed since the last factorization; 0: automatic
-  double target = 0.0;     // the backward error GMRES stops at
+  double target = 0.0;  // the backward error GMRES stops at
 };
 
 class DirectMethod {

@@ -132,9 +132,7 @@ class GatheredToRank0 : public DirectMethod {
   // gathered graph from them (rows and columns in global order) and notes where each entry went.
   // Once per graph: later matrices of the graph travel as their values alone (gatherValues: 4 ms per
   // solve at 4096 contact points, where a Tpetra export with ADD into the gathered matrix took 90 ms).
-  void gatherGraph(const Matrix& A, const Comm& comm) {
-    buildGraph(gatherRows(comm, sortedRows(A)), comm.getRank());
-  }
+  void gatherGraph(const Matrix& A, const Comm& comm) { buildGraph(gatherRows(comm, sortedRows(A)), comm.getRank()); }
 
   // Each rank sorts its own rows' columns by global index (all ranks at once, where rank 0 sorted
   // every row before); sendOrder_ keeps the order in which its values are to travel.
@@ -190,8 +188,8 @@ class GatheredToRank0 : public DirectMethod {
     g.rows.resize(g.totalRows);
     g.cols.resize(g.total);
     g.lengths.resize(g.totalRows);
-    MPI_Gatherv(t.rowIds.data(), rows, MPI_LONG_LONG, g.rows.data(), rowCounts.data(), rowOffsets.data(),
-                MPI_LONG_LONG, 0, mpi);
+    MPI_Gatherv(t.rowIds.data(), rows, MPI_LONG_LONG, g.rows.data(), rowCounts.data(), rowOffsets.data(), MPI_LONG_LONG,
+                0, mpi);
     MPI_Gatherv(t.lengths.data(), rows, MPI_INT, g.lengths.data(), rowCounts.data(), rowOffsets.data(), MPI_INT, 0,
                 mpi);
     MPI_Gatherv(t.cols.data(), counts[1], MPI_LONG_LONG, g.cols.data(), entryCounts_.data(), entryOffsets_.data(),

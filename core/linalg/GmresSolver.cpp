@@ -21,8 +21,8 @@ class GmresSolver : public LinearSolver {
   int doSolve(const Teuchos::RCP<const Matrix>& A, const Vector& b, Vector& x) override {
     const Teuchos::RCP<Operator> prec = preconditioner(A);
     x.putScalar(0.0);
-    auto problem = Teuchos::rcp(new Belos::LinearProblem<Scalar, MultiVector, Operator>(
-        A, Teuchos::rcpFromRef(x), Teuchos::rcpFromRef(b)));
+    auto problem = Teuchos::rcp(
+        new Belos::LinearProblem<Scalar, MultiVector, Operator>(A, Teuchos::rcpFromRef(x), Teuchos::rcpFromRef(b)));
     problem->setRightPrec(prec);
     problem->setProblem();
     auto params = Teuchos::rcp(new Teuchos::ParameterList);

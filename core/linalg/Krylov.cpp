@@ -114,8 +114,7 @@ int gmres(const KrylovSpace& space, const double* b, double* x, int maxIteration
     // M^-1 v_0 = M^-1 b / beta: solved above for the target.
     if (k == 0)
       for (int r = 0; r < n; ++r) z[r] = z0[r] / beta;
-    else
-      space.precondition(a.V[k].data(), z);
+    else space.precondition(a.V[k].data(), z);
     const double h1 = a.extend(k);
     if (!a.rotate(k)) return -1;
     ++k;

@@ -9,7 +9,7 @@ namespace bc::core {
 struct KrylovSpace {
   int n = 0;  // this rank's entries of a vector
   // out = A v and out = M^-1 v (this rank's entries; every rank calls them together).
-  std::function<void(const double* v, double* out)> multiply, precondition;
+  std::function<void(const double*v, double*out)> multiply, precondition;
   // The sum over the ranks of a value each rank computed from its entries (the identity on one
   // process). Its result must be the same on every rank: the iteration's decisions follow it.
   std::function<double(double)> sum;

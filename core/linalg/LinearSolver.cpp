@@ -20,8 +20,10 @@ SolveReport LinearSolver::attempt(const Teuchos::RCP<const Matrix>& A, const Vec
     // Belos and MueLu report over several lines; the first names the failure.
     std::string what = e.what();
     what = what.substr(0, what.find('\n'));
-    throw LinearSolveError(name() + " failed, the tangent matrix is probably singular (a free motion: a beam "
-                           "without enough supports, or a contact constraint that fixes nothing): " + what);
+    throw LinearSolveError(name() +
+                           " failed, the tangent matrix is probably singular (a free motion: a beam "
+                           "without enough supports, or a contact constraint that fixes nothing): " +
+                           what);
   }
   ScopedTimer stage(timer_, "Residual Check");
   const int iterations = report.iterations;
@@ -70,8 +72,9 @@ void LinearSolver::check(const SolveReport& report) const {
   // singular matrix returns a huge x whose residual is small against ||A|| ||x||.
   if (report.conditionBound > checks_.conditionLimit) {
     std::ostringstream s;
-    s << name() << " linear solve: the tangent matrix is singular or nearly so (||A||_F ||x|| / ||b|| = "
-      << report.conditionBound << " > Condition Limit " << checks_.conditionLimit
+    s << name()
+      << " linear solve: the tangent matrix is singular or nearly so (||A||_F ||x|| / ||b|| = " << report.conditionBound
+      << " > Condition Limit " << checks_.conditionLimit
       << "): a free motion (a beam without enough supports) or dependent constraints (Lagrange multipliers "
          "at more contact points along a beam than its elements' nodes can move independently; refine the "
          "beams or use Penalty or Augmented Lagrange)";
@@ -80,8 +83,9 @@ void LinearSolver::check(const SolveReport& report) const {
   if (!std::isfinite(report.backwardError) || !std::isfinite(report.solutionNorm) ||
       report.backwardError > checks_.residualTolerance) {
     std::ostringstream s;
-    s << name() << " linear solve failed its residual check: ||b - A x|| / (||A||_F ||x|| + ||b||) = "
-      << report.backwardError << " > Residual Check Tolerance " << checks_.residualTolerance
+    s << name()
+      << " linear solve failed its residual check: ||b - A x|| / (||A||_F ||x|| + ||b||) = " << report.backwardError
+      << " > Residual Check Tolerance " << checks_.residualTolerance
       << " (||b - A x|| / ||b|| = " << report.relativeResidual << ")";
     throw LinearSolveError(s.str());
   }

@@ -23,11 +23,11 @@
 namespace bc::core {
 
 struct SolveReport {
-  int iterations = 0;          // Krylov iterations (0 for direct)
-  double relativeResidual = 0; // ||b - A x|| / ||b|| of the returned solution
-  double backwardError = 0;    // ||b - A x|| / (||A||_F ||x|| + ||b||), checked
-  double conditionBound = 0;   // ||A||_F ||x|| / ||b||, a lower bound of cond(A), checked
-  double solutionNorm = 0;     // ||x||
+  int iterations = 0;  // Krylov iterations (0 for direct)
+  double relativeResidual = 0;  // ||b - A x|| / ||b|| of the returned solution
+  double backwardError = 0;  // ||b - A x|| / (||A||_F ||x|| + ||b||), checked
+  double conditionBound = 0;  // ||A||_F ||x|| / ||b||, a lower bound of cond(A), checked
+  double solutionNorm = 0;  // ||x||
 };
 
 // The residual measures of x as a solution of A x = b (iterations 0): what every solve is checked by.
@@ -81,11 +81,11 @@ struct DirectSettings {
 
 struct GmresSettings {
   std::string preconditioner = "ILUT";  // ILUT, RILUK or MueLu
-  int overlap = 1;                      // of the additive Schwarz subdomains
-  double fill = 2.0;                    // ILUT level of fill, RILUK level k, MueLu's sweeps per level
-  double tolerance = 1e-12;             // relative residual at which GMRES stops
+  int overlap = 1;  // of the additive Schwarz subdomains
+  double fill = 2.0;  // ILUT level of fill, RILUK level k, MueLu's sweeps per level
+  double tolerance = 1e-12;  // relative residual at which GMRES stops
   int maxIterations = 1000;
-  int restart = 200;                    // Krylov vectors kept before a restart
+  int restart = 200;  // Krylov vectors kept before a restart
   SolveChecks checks;
 };
 

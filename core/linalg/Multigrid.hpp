@@ -8,8 +8,8 @@
 namespace bc::core {
 
 struct MultigridSettings {
-  int sweeps = 2;          // symmetric Gauss-Seidel sweeps per level, before and after
-  int coarseSize = 2000;   // rows below which the coarsest level is solved directly (KLU2)
+  int sweeps = 2;  // symmetric Gauss-Seidel sweeps per level, before and after
+  int coarseSize = 2000;  // rows below which the coarsest level is solved directly (KLU2)
 };
 
 // The preconditioner for A. `nearNull` holds 6 vectors on A's row map.

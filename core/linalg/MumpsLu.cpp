@@ -76,8 +76,9 @@ void MumpsLu::run(int job, const char* what) {
   const std::string detail = std::string("MUMPS ") + what + " failed (INFOG(1) = " + std::to_string(error) +
                              ", INFOG(2) = " + std::to_string(id.infog[1]) + ")";
   if (error == -13 || error == -19)
-    throw LinearSolverOutOfMemory(detail + ": it could not allocate the memory it needs; a smaller model, a "
-                                           "machine with more memory, or Linear Solver/Type = GMRES");
+    throw LinearSolverOutOfMemory(detail +
+                                  ": it could not allocate the memory it needs; a smaller model, a "
+                                  "machine with more memory, or Linear Solver/Type = GMRES");
   if (error == -10 || error == -6) throw std::runtime_error(detail + ": the matrix is singular");
   throw std::runtime_error(detail);
 }
@@ -115,8 +116,7 @@ void MumpsLu::analyse(const Matrix& A) {
   std::vector<int> mine(localRows_);
   for (int i = 0; i < localRows_; ++i) mine[i] = static_cast<int>(rowMap.getGlobalElement(i));
   rowIds_.assign(rank == 0 ? total : 0, 0);
-  MPI_Gatherv(mine.data(), localRows_, MPI_INT, rowIds_.data(), counts_.data(), offsets_.data(), MPI_INT, 0,
-              h_->comm);
+  MPI_Gatherv(mine.data(), localRows_, MPI_INT, rowIds_.data(), counts_.data(), offsets_.data(), MPI_INT, 0, h_->comm);
   gathered_.assign(rowIds_.size(), 0.0);
   dense_.assign(rank == 0 ? n : 0, 0.0);
 
@@ -157,8 +157,7 @@ void MumpsLu::factor(const Matrix& A, const double* values) {
       break;
     } catch (const std::runtime_error&) {
       const int error = id.infog[0];
-      const bool workspace = error == -8 || error == -9 || error == -14 || error == -15 || error == -17 ||
-                             error == -20;
+      const bool workspace = error == -8 || error == -9 || error == -14 || error == -15 || error == -17 || error == -20;
       if (!workspace || attempt == 4) {
         id.icntl[icntl(14)] = defaultRelaxation;
         throw;
@@ -179,8 +178,7 @@ void MumpsLu::solve(const double* b, double* x) {
   if (!factored_) throw std::logic_error("MumpsLu::solve before a factorization");
   int rank = 0;
   MPI_Comm_rank(h_->comm, &rank);
-  MPI_Gatherv(b, localRows_, MPI_DOUBLE, gathered_.data(), counts_.data(), offsets_.data(), MPI_DOUBLE, 0,
-              h_->comm);
+  MPI_Gatherv(b, localRows_, MPI_DOUBLE, gathered_.data(), counts_.data(), offsets_.data(), MPI_DOUBLE, 0, h_->comm);
   auto& id = h_->id;
   if (rank == 0) {
     for (std::size_t k = 0; k < rowIds_.size(); ++k) dense_[rowIds_[k]] = gathered_[k];
@@ -191,8 +189,7 @@ void MumpsLu::solve(const double* b, double* x) {
   run(3, "solve");
   if (rank == 0)
     for (std::size_t k = 0; k < rowIds_.size(); ++k) gathered_[k] = dense_[rowIds_[k]];
-  MPI_Scatterv(gathered_.data(), counts_.data(), offsets_.data(), MPI_DOUBLE, x, localRows_, MPI_DOUBLE, 0,
-               h_->comm);
+  MPI_Scatterv(gathered_.data(), counts_.data(), offsets_.data(), MPI_DOUBLE, x, localRows_, MPI_DOUBLE, 0, h_->comm);
 }
 
 }  // namespace bc::core

@@ -33,8 +33,7 @@ class OneProcessLu : public DirectMethod {
     // factored as it is.
     bool regularizedFailed = false;
     if (reuse_.on && regularization_.regularize(A) > 0) {
-      if (regularizedSolve(A, shortcuts && sameGraph, bv.getRawPtr(), xv.getRawPtr(), iterations))
-        return iterations;
+      if (regularizedSolve(A, shortcuts && sameGraph, bv.getRawPtr(), xv.getRawPtr(), iterations)) return iterations;
       regularizedFailed = true;
     }
     {

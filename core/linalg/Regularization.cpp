@@ -39,7 +39,8 @@ bool SaddlePointRegularization::locateDiagonals(const Matrix& A) {
   diagonalEntry_.assign(n, -1);
   for (int i = 0; i < n; ++i)
     for (auto k = graph.row_map(i); k < graph.row_map(i + 1); ++k)
-      if (colMap.getGlobalElement(graph.entries(k)) == rowMap.getGlobalElement(i)) diagonalEntry_[i] = static_cast<long>(k);
+      if (colMap.getGlobalElement(graph.entries(k)) == rowMap.getGlobalElement(i))
+        diagonalEntry_[i] = static_cast<long>(k);
   return true;
 }
 
@@ -102,10 +103,8 @@ bool SaddlePointRegularization::localCouplings(const Matrix& A, std::vector<Coup
   MPI_Allreduce(&zeros, &allZeros, 1, MPI_INT, MPI_SUM, mpi);
   if (allZeros == 0) return false;
   const auto importer = A.getGraph()->getImporter();
-  if (importer.is_null())
-    zeroColumn = zero;  // the column map is the domain (= row) map
-  else
-    zeroColumn.doImport(zero, *importer, Tpetra::INSERT);
+  if (importer.is_null()) zeroColumn = zero;  // the column map is the domain (= row) map
+  else zeroColumn.doImport(zero, *importer, Tpetra::INSERT);
   const auto zc = zeroColumn.getData();
   // Each column's owner: this rank, or for a column of another rank's row the importer's record.
   Teuchos::Array<int> columnOwner(colMap.getNodeNumElements(), rowMap.getComm()->getRank());
@@ -150,7 +149,8 @@ std::vector<SaddlePointRegularization::Coupling> SaddlePointRegularization::exch
   std::vector<double> receiveRatios(received);
   MPI_Alltoallv(sendRatios.data(), sendCounts.data(), sendOffsets.data(), MPI_DOUBLE, receiveRatios.data(),
                 receiveCounts.data(), receiveOffsets.data(), MPI_DOUBLE, mpi);
-  for (int r = 0; r < ranks; ++r) sendCounts[r] *= 2, sendOffsets[r] *= 2, receiveCounts[r] *= 2, receiveOffsets[r] *= 2;
+  for (int r = 0; r < ranks; ++r)
+    sendCounts[r] *= 2, sendOffsets[r] *= 2, receiveCounts[r] *= 2, receiveOffsets[r] *= 2;
   MPI_Alltoallv(sendIds.data(), sendCounts.data(), sendOffsets.data(), MPI_LONG_LONG, receiveIds.data(),
                 receiveCounts.data(), receiveOffsets.data(), MPI_LONG_LONG, mpi);
   std::vector<Coupling> arrived(received);

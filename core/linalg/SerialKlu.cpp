@@ -64,8 +64,8 @@ void SerialKlu::factor(const Matrix& A, bool refactor, const double* given) {
     auto& p = pattern_;
     d_->symbolic = ::KLU2::klu_analyze<double, int>(p.n, p.rowStart.data(), p.columns.data(), &d_->common);
     if (!d_->symbolic) throw std::runtime_error("KLU2 analysis failed");
-    d_->numeric = ::KLU2::klu_factor<double, int>(p.rowStart.data(), p.columns.data(), values, d_->symbolic,
-                                                  &d_->common);
+    d_->numeric =
+        ::KLU2::klu_factor<double, int>(p.rowStart.data(), p.columns.data(), values, d_->symbolic, &d_->common);
     if (!d_->numeric) throw std::runtime_error("KLU2 numeric factorization failed (singular matrix)");
     ::KLU2::klu_flops<double, int>(d_->symbolic, d_->numeric, &d_->common);
     setIterationsWorth(d_->common.flops, double(d_->numeric->lnz) + d_->numeric->unz + d_->numeric->nzoff,

@@ -43,7 +43,7 @@ void SerialLu::setIterationsWorth(double factorizationFlops, double factorNonzer
 }
 
 int SerialLu::solvePreconditioned(const Matrix& A, const double* b, double* x, int maxIterations,
-                                   double backwardError) const {
+                                  double backwardError) const {
   const auto local = A.getLocalMatrixHost();
   const int n = static_cast<int>(A.getRowMap()->getNodeNumElements());
   if (!factored() || n != pattern_.n) return -1;

@@ -58,21 +58,20 @@ void SerialUmfpack::release() {
 int SerialUmfpack::analyse(const double* values, double* info) {
   const auto& p = pattern_;
   if (!wide_)
-    return umfpack_di_symbolic(p.n, p.n, p.rowStart.data(), sortedColumns_.data(), values, &symbolic_,
-                               control_.data(), info);
+    return umfpack_di_symbolic(p.n, p.n, p.rowStart.data(), sortedColumns_.data(), values, &symbolic_, control_.data(),
+                               info);
   wideRowStart_.assign(p.rowStart.begin(), p.rowStart.end());
   wideColumns_.assign(sortedColumns_.begin(), sortedColumns_.end());
-  return umfpack_dl_symbolic(p.n, p.n, wideRowStart_.data(), wideColumns_.data(), values, &symbolic_,
-                             control_.data(), info);
+  return umfpack_dl_symbolic(p.n, p.n, wideRowStart_.data(), wideColumns_.data(), values, &symbolic_, control_.data(),
+                             info);
 }
 
 int SerialUmfpack::factorValues(const double* values, double* info) {
   freeNumeric();
-  const int status =
-      wide_ ? umfpack_dl_numeric(wideRowStart_.data(), wideColumns_.data(), values, symbolic_, &numeric_,
-                                 control_.data(), info)
-            : umfpack_di_numeric(pattern_.rowStart.data(), sortedColumns_.data(), values, symbolic_, &numeric_,
-                                 control_.data(), info);
+  const int status = wide_ ? umfpack_dl_numeric(wideRowStart_.data(), wideColumns_.data(), values, symbolic_, &numeric_,
+                                                control_.data(), info)
+                           : umfpack_di_numeric(pattern_.rowStart.data(), sortedColumns_.data(), values, symbolic_,
+                                                &numeric_, control_.data(), info);
   // Warnings of an under- or overflowing determinant say nothing about the solve.
   if (status == UMFPACK_WARNING_determinant_underflow || status == UMFPACK_WARNING_determinant_overflow)
     return UMFPACK_OK;
@@ -110,8 +109,8 @@ void SerialUmfpack::factor(const Matrix& A, bool /*refactor: the symbolic analys
     values = sortedValues_.data();
   }
   const auto& p = pattern_;
-  const std::string matrix = "the " + std::to_string(p.n) + "-row matrix (" + std::to_string(p.columns.size()) +
-                             " entries)";
+  const std::string matrix =
+      "the " + std::to_string(p.n) + "-row matrix (" + std::to_string(p.columns.size()) + " entries)";
   // The 32-bit version first (about 15 % faster where it fits); when its 32-bit addressing of the
   // factors runs out (it did on the crossed layers' 10^5 contact points, 1.2e6 rows, at 6 GB
   // resident), the 64-bit version from then on. An out-of-memory of the 64-bit version is the

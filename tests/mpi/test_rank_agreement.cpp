@@ -51,7 +51,8 @@ std::string deck(const std::string& solver) {
   <ParameterList name="Load Stepping"><Parameter name="Number of Increments" type="int" value="5"/></ParameterList>
   <ParameterList name="Nonlinear Solver"><Parameter name="Residual Tolerance" type="double" value="1e-12"/>
     <Parameter name="Increment Tolerance" type="double" value="1e-12"/></ParameterList>
-  <ParameterList name="Linear Solver"><Parameter name="Type" type="string" value=")XML" + solver + R"XML("/></ParameterList>
+  <ParameterList name="Linear Solver"><Parameter name="Type" type="string" value=")XML" +
+         solver + R"XML("/></ParameterList>
 </ParameterList>)XML";
 }
 
@@ -151,8 +152,8 @@ TEST(RankAgreement, LineContactLagrangeMultiplier) { compareDeck("parallel_rods.
 // the element pairs the broad phase found, and the ranks exchange the candidates they chose) picks
 // exactly the points of the whole search done on one rank: random straight fibres (40 and 120,
 // radius 0.2, length 40 with 8 to 16 elements, each through a random point of a cube of side 10, All
-// Pairs), at the start and after random nodal displacements of up to 0.5. The same keys, element pairs, orientations and beam coordinates, bit
-// for bit.
+// Pairs), at the start and after random nodal displacements of up to 0.5. The same keys, element pairs, orientations
+// and beam coordinates, bit for bit.
 TEST(SharedSearch, ChoosesThePointsOfTheWholeSearch) {
   auto world = Tpetra::getDefaultComm();
   std::mt19937 g(7);  // the same fibres and motions on every rank

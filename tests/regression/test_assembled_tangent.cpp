@@ -14,7 +14,8 @@ TEST(AssembledTangent, MatchesCentralDifferencesOfTheResidual) {
   auto comm = Tpetra::getDefaultComm();
   const double EI = 30000.0 * 2.0 * 64.0 / 12.0;
   const double P = 3.0 * EI / (100.0 * 100.0);
-  auto p = test::problemFromXml(test::cantileverXml(100.0, 2.0, 4.0, 30000.0, 0.25, 6, "0," + test::num(0.3 * P) + "," + test::num(P),
+  auto p = test::problemFromXml(test::cantileverXml(100.0, 2.0, 4.0, 30000.0, 0.25, 6,
+                                                    "0," + test::num(0.3 * P) + "," + test::num(P),
                                                     test::num(0.2 * P) + ",0,0", 3));
   const auto run = test::runQuiet(p, comm, "assembled_tangent");
   ASSERT_TRUE(run.report.completed);

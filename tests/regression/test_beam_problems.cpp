@@ -55,8 +55,9 @@ TEST(StructureCompliance, CantileverTipMatchesEulerBernoulliAndAFreeBeamIsSingul
     }
     return v;
   };
-  const auto c = core::structureCompliance(
-      p.model, Nothing{}, p.model.initial, {load({{2, 1.0}}), load({{5, 1.0}}), load({{0, 1.0}}), load({{1, 1.0}, {5, 1.0}})});
+  const auto c =
+      core::structureCompliance(p.model, Nothing{}, p.model.initial,
+                                {load({{2, 1.0}}), load({{5, 1.0}}), load({{0, 1.0}}), load({{1, 1.0}, {5, 1.0}})});
   const double EIy = E * cs.inertiaY(), EIz = E * cs.inertiaZ();
   const double expected[4] = {L * L * L / (3 * EIy), L / EIz, L / (E * cs.area()),
                               L * L * L / (3 * EIz) + L / EIz + L * L / EIz};
@@ -141,11 +142,10 @@ TEST(StrainCheck, EndMomentWarnsExactlyWhenTheBendingStrainCrossesFivePercent) {
     std::string name, force, moment, kind;
     bool warns;
   };
-  const std::vector<Case> cases = {
-      {"bending_below", "0,0,0", "0," + test::num(-0.95 * M5) + ",0", "bending", false},
-      {"bending_above", "0,0,0", "0," + test::num(-1.3 * M5) + ",0", "bending", true},
-      {"axial_below", test::num(0.95 * N5) + ",0,0", "0,0,0", "axial", false},
-      {"axial_above", test::num(1.3 * N5) + ",0,0", "0,0,0", "axial", true}};
+  const std::vector<Case> cases = {{"bending_below", "0,0,0", "0," + test::num(-0.95 * M5) + ",0", "bending", false},
+                                   {"bending_above", "0,0,0", "0," + test::num(-1.3 * M5) + ",0", "bending", true},
+                                   {"axial_below", test::num(0.95 * N5) + ",0,0", "0,0,0", "axial", false},
+                                   {"axial_above", test::num(1.3 * N5) + ",0,0", "0,0,0", "axial", true}};
   for (const Case& c : cases) {
     auto p = test::problemFromXml(test::cantileverXml(L, b, h, E, nu, 10, c.force, c.moment, n));
     const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "strain_" + c.name);
@@ -176,8 +176,7 @@ TEST(StrainCheck, EndMomentWarnsExactlyWhenTheBendingStrainCrossesFivePercent) {
 TEST(RollUp, EndMomentRollsCantileverIntoFullCircle) {
   const double EI = E * 1.0 / 12.0;  // 1 x 1 section
   const double M = 2 * std::acos(-1.0) * EI / L;
-  auto p = test::problemFromXml(test::cantileverXml(L, 1.0, 1.0, E, 0.3, 20, "0,0,0",
-                                                    "0," + test::num(-M) + ",0", 20,
+  auto p = test::problemFromXml(test::cantileverXml(L, 1.0, 1.0, E, 0.3, 20, "0,0,0", "0," + test::num(-M) + ",0", 20,
                                                     R"XML(<ParameterList name="Nonlinear Solver">
       <Parameter name="Residual Tolerance" type="double" value="1e-13"/>
       <Parameter name="Increment Tolerance" type="double" value="1e-12"/></ParameterList>)XML"));
@@ -254,19 +253,23 @@ std::string lFrame(double L1, double L2, const std::string& force, const std::st
   const std::string section = R"X(<ParameterList name="Section"><Parameter name="Width" type="double" value=")X" +
                               test::num(b) + R"X("/><Parameter name="Height" type="double" value=")X" + test::num(h) +
                               R"X("/></ParameterList><ParameterList name="Material">)X"
-                              R"X(<Parameter name="Young's Modulus" type="double" value=")X" + test::num(E) +
-                              R"X("/><Parameter name="Poisson's Ratio" type="double" value=")X" + test::num(nu) +
+                              R"X(<Parameter name="Young's Modulus" type="double" value=")X" +
+                              test::num(E) + R"X("/><Parameter name="Poisson's Ratio" type="double" value=")X" +
+                              test::num(nu) +
                               R"X("/></ParameterList><Parameter name="Elements" type="int" value="10"/>)X";
   return R"X(<ParameterList name="BeamContact"><ParameterList name="Beams">
     <ParameterList name="arm 1"><Parameter name="Start" type="Array(double)" value="{0, 0, 0}"/>
-      <Parameter name="End" type="Array(double)" value="{)X" + test::num(L1) + R"X(, 0, 0}"/>)X" + section + R"X(</ParameterList>
-    <ParameterList name="arm 2"><Parameter name="Start" type="Array(double)" value="{)X" + test::num(L1) + R"X(, 0, 0}"/>
-      <Parameter name="End" type="Array(double)" value="{)X" + test::num(L1) + ", " + test::num(L2) + R"X(, 0}"/>)X" +
-         section + R"X(</ParameterList></ParameterList>
+      <Parameter name="End" type="Array(double)" value="{)X" +
+         test::num(L1) + R"X(, 0, 0}"/>)X" + section + R"X(</ParameterList>
+    <ParameterList name="arm 2"><Parameter name="Start" type="Array(double)" value="{)X" +
+         test::num(L1) + R"X(, 0, 0}"/>
+      <Parameter name="End" type="Array(double)" value="{)X" +
+         test::num(L1) + ", " + test::num(L2) + R"X(, 0}"/>)X" + section + R"X(</ParameterList></ParameterList>
   <ParameterList name="Supports"><ParameterList name="clamp"><Parameter name="Beam" type="string" value="arm 1"/>
     <Parameter name="Node" type="string" value="start"/></ParameterList></ParameterList>
   <ParameterList name="Loads"><ParameterList name="tip"><Parameter name="Beam" type="string" value="arm 2"/>
-    <Parameter name="Node" type="string" value="end"/><Parameter name="Force" type="Array(double)" value="{)X" + force +
+    <Parameter name="Node" type="string" value="end"/><Parameter name="Force" type="Array(double)" value="{)X" +
+         force +
          R"X(}"/><Parameter name="Moment" type="Array(double)" value="{0, 0, 0}"/></ParameterList></ParameterList>
   <ParameterList name="Load Stepping"><Parameter name="Number of Increments" type="int" value="1"/></ParameterList>)X" +
          extra + R"X(</ParameterList>)X";
@@ -291,7 +294,8 @@ TEST(Joints, LFrameOfTwoJoinedBeamsMatchesTheLinearClosedForms) {
     const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "lframe_z");
     ASSERT_TRUE(r.report.completed) << r.report.failure;
     const int tip = p.beams->beams()[1].nodes.back();
-    const double w = P * std::pow(L2, 3) / (3 * E * Iy) + P * std::pow(L1, 3) / (3 * E * Iy) + P * L2 * L2 * L1 / (G * J);
+    const double w =
+        P * std::pow(L2, 3) / (3 * E * Iy) + P * std::pow(L1, 3) / (3 * E * Iy) + P * L2 * L2 * L1 / (G * J);
     std::printf("L-frame, out of plane: w = %.10e (closed form %.10e)\n", r.finalState.displacement(tip)[2], w);
     EXPECT_NEAR(r.finalState.displacement(tip)[2], w, 1e-6 * w);
   }
@@ -348,7 +352,8 @@ std::string bend45(int elements) {
       <Parameter name="Radius" type="double" value="100"/><Parameter name="Normal" type="Array(double)" value="{0, -1, 0}"/>
       <Parameter name="Reference Direction" type="Array(double)" value="{0, 0, -1}"/>
       <Parameter name="Start Angle" type="double" value="0"/><Parameter name="End Angle" type="double" value="45"/></ParameterList>
-    <Parameter name="Elements" type="int" value=")X" + std::to_string(elements) + R"X("/>
+    <Parameter name="Elements" type="int" value=")X" +
+         std::to_string(elements) + R"X("/>
     <ParameterList name="Section"><Parameter name="Width" type="double" value="1"/><Parameter name="Height" type="double" value="1"/>
       <Parameter name="Torsion Constant" type="double" value="0.16666666666666666"/></ParameterList>
     <ParameterList name="Material"><Parameter name="Young's Modulus" type="double" value="1e7"/>
@@ -381,8 +386,8 @@ TEST(CurvedBeams, FortyFiveDegreeBendConvergesToThePublishedTipDisplacement) {
     ASSERT_TRUE(r.report.completed) << n << " elements: " << r.report.failure;
     const auto u = r.finalState.displacement(tip);
     d.push_back({u[0], u[1], u[2]});
-    std::printf("45-degree bend, %2d elements: tip displacement (%.4f, %.4f, %.4f), %d Newton iterations\n", n, u[0], u[1],
-                u[2], r.report.newtonIterations);
+    std::printf("45-degree bend, %2d elements: tip displacement (%.4f, %.4f, %.4f), %d Newton iterations\n", n, u[0],
+                u[1], u[2], r.report.newtonIterations);
   }
   for (std::size_t k = 2; k < d.size(); ++k) {
     double before = 0, now = 0;
@@ -412,9 +417,11 @@ TEST(CurvedBeams, HelixAndPolylinePlaceTheirNodes) {
       <Parameter name="Axis Direction" type="Array(double)" value="{2, 0, 0}"/><Parameter name="Radius" type="double" value="5"/>
       <Parameter name="Pitch" type="double" value="20"/><Parameter name="Turns" type="double" value="1.5"/>
       <Parameter name="Reference Direction" type="Array(double)" value="{0, 1, 0}"/></ParameterList>
-      <Parameter name="Elements" type="int" value="48"/>)X" + tail + R"X(
+      <Parameter name="Elements" type="int" value="48"/>)X" +
+                           tail + R"X(
     <ParameterList name="rod"><Parameter name="Points" type="Array(double)" value="{0, 20, 0, 10, 20, 0, 10, 30, 5}"/>
-      <Parameter name="Elements" type="int" value="4"/>)X" + tail + R"X(</ParameterList>
+      <Parameter name="Elements" type="int" value="4"/>)X" +
+                           tail + R"X(</ParameterList>
   <ParameterList name="Supports"><ParameterList name="w"><Parameter name="Beam" type="string" value="wire"/>
     <Parameter name="Node" type="string" value="start"/></ParameterList>
     <ParameterList name="r"><Parameter name="Beam" type="string" value="rod"/><Parameter name="Node" type="string" value="start"/>

@@ -66,7 +66,7 @@ TEST(Pressing, CircularSectionsMatchTheExactClosedForm) {
     std::printf("circles, eps_N %.0e: %d point, N = %.6f (closed form %.6f), A = %.6f (%.6f), penetration %.3e\n", e,
                 c.active, c.normal, N, A, Aexact, c.maxPenetration);
     EXPECT_EQ(c.active, 1);  // one point, though it sits on nodes shared by two elements of each beam
-    EXPECT_NEAR(c.normal, N, 2e-3 * N);       // geometric nonlinearity of a 0.1 closure: < 0.2 %
+    EXPECT_NEAR(c.normal, N, 2e-3 * N);  // geometric nonlinearity of a 0.1 closure: < 0.2 %
     EXPECT_NEAR(A, Aexact, 2e-3 * Aexact);
     EXPECT_NEAR(c.maxPenetration, c.normal / e, 1e-9);  // penalty law: penetration = N / eps_N
     pen.push_back(c.maxPenetration);
@@ -146,9 +146,10 @@ TEST(Pressing, AugmentedLagrangeMeetsGapToleranceIndependentlyOfEps) {
     const auto c = sums(p);
     int passes = 0;
     for (const auto& s : r.steps) passes += s.passes;
-    std::printf("augmented Lagrange eps_N %.0e: N = %.6f (rigid-contact closed form %.4f), max penetration %.2e, "
-                "%d passes over %zu steps\n",
-                e, c.normal, pressingForce(W, 0, 1), c.maxPenetration, passes, r.steps.size());
+    std::printf(
+        "augmented Lagrange eps_N %.0e: N = %.6f (rigid-contact closed form %.4f), max penetration %.2e, "
+        "%d passes over %zu steps\n",
+        e, c.normal, pressingForce(W, 0, 1), c.maxPenetration, passes, r.steps.size());
     EXPECT_LT(c.maxPenetration, 1e-6);
     // Edge points off the centre lines: see the penalty test (7 %).
     EXPECT_NEAR(c.normal, pressingForce(W, 0, 1), 0.08 * pressingForce(W, 0, 1));
@@ -169,9 +170,10 @@ TEST(Example1, EachStrategyRunsToTheEnd) {
     const auto c = sums(p);
     int maxIt = 0;
     for (const auto& st : r.steps) maxIt = std::max(maxIt, st.iterations);
-    std::printf("%s: A (%.4f, %.4f)  B (%.4f, %.4f)  N %.2f  T1 %.2f  points %d  steps %d  Newton %d (max %d)  solve %.2f s\n",
-                type.c_str(), s.displacement(A)[0], s.displacement(A)[2], s.displacement(B)[0], s.displacement(B)[2],
-                c.normal, c.tangential1, c.active, r.report.steps, r.report.newtonIterations, maxIt, r.solveSeconds);
+    std::printf(
+        "%s: A (%.4f, %.4f)  B (%.4f, %.4f)  N %.2f  T1 %.2f  points %d  steps %d  Newton %d (max %d)  solve %.2f s\n",
+        type.c_str(), s.displacement(A)[0], s.displacement(A)[2], s.displacement(B)[0], s.displacement(B)[2], c.normal,
+        c.tangential1, c.active, r.report.steps, r.report.newtonIterations, maxIt, r.solveSeconds);
     // Paper, Table 1 and 2 (magnitudes; B's labels swapped in the paper): A (0.54-0.57, 9.8-9.9),
     // B (35.4-36.2 along X, 8.0-8.1 down). Our reconstructed layout: within 8 %.
     EXPECT_NEAR(std::abs(s.displacement(A)[0]), 0.55, 0.08 * 0.55);
@@ -197,8 +199,8 @@ void checkExample(const std::string& deckName) {
     ASSERT_TRUE(r.report.completed) << deckName << ", " << type << ": " << r.report.failure;
     const auto A = r.finalState.displacement(p.beams->beams()[0].nodes.back());
     const auto c = sums(p);
-    std::printf("%s, %s: A (%.9f, %.9f)  N %.6f  T1 %.6f  steps %d  Newton %d  solve %.2f s\n", deckName.c_str(),
-                type, A[0], A[2], c.normal, c.tangential1, r.report.steps, r.report.newtonIterations, r.solveSeconds);
+    std::printf("%s, %s: A (%.9f, %.9f)  N %.6f  T1 %.6f  steps %d  Newton %d  solve %.2f s\n", deckName.c_str(), type,
+                A[0], A[2], c.normal, c.tangential1, r.report.steps, r.report.newtonIterations, r.solveSeconds);
     for (const auto& [key, pt] : p.contact->points()) {
       if (!pt.result.active) continue;
       for (double t : pt.result.lambdaT) EXPECT_LE(std::abs(t), -1.0 * pt.result.lambdaN * (1 + 1e-9));
@@ -292,8 +294,9 @@ TEST(ContactInput, BadInputsNameTheirCause) {
       EXPECT_TRUE(std::regex_search(std::string(e.what()), std::regex(pattern))) << e.what();
     }
   };
-  expectError(example1("Mortar"),
-              R"("BeamContact/Contact/Enforcement/Type": unknown enforcement strategy "Mortar"; valid strategies are "Penalty", .*"Augmented Lagrange")");
+  expectError(
+      example1("Mortar"),
+      R"("BeamContact/Contact/Enforcement/Type": unknown enforcement strategy "Mortar"; valid strategies are "Penalty", .*"Augmented Lagrange")");
   expectError(example1("Penalty", "40.0, 0.0, -20.0", 50, -5.0),
               R"("BeamContact/Contact/Enforcement/Penalty/Normal Penalty Parameter": must be > 0, got -5)");
   Deck noFriction = example1("Penalty");

@@ -48,8 +48,8 @@ SolvedRun solve(const Deck& deck, const std::string& directory, bool restart) {
   o.checkpointEvery = 8;
   o.restart = restart;
   o.fingerprint = "restart-test";
-  run.result = core::simulate(run.problem.model, run.problem.solver, run.problem.linearSolver, o,
-                              Tpetra::getDefaultComm());
+  run.result =
+      core::simulate(run.problem.model, run.problem.solver, run.problem.linearSolver, o, Tpetra::getDefaultComm());
   return run;
 }
 

@@ -28,37 +28,41 @@ namespace {
 // of each beam), pinned ends driven down by 16 T. In 2 increments the first Newton step of the first
 // increment carries "upper" 5 below "lower" before the search has seen the pair.
 Deck pushedThrough(const std::string& type, int increments, double epsN) {
-  const std::string beam = R"X(<ParameterList name="Section"><Parameter name="Shape" type="string" value="Circle"/>)X"
-                           R"X(<Parameter name="Radius" type="double" value="0.5"/></ParameterList>)X"
-                           R"X(<ParameterList name="Material"><Parameter name="Young's Modulus" type="double" value="30000.0"/>)X"
-                           R"X(<Parameter name="Poisson's Ratio" type="double" value="0.3"/></ParameterList>)X";
+  const std::string beam =
+      R"X(<ParameterList name="Section"><Parameter name="Shape" type="string" value="Circle"/>)X"
+      R"X(<Parameter name="Radius" type="double" value="0.5"/></ParameterList>)X"
+      R"X(<ParameterList name="Material"><Parameter name="Young's Modulus" type="double" value="30000.0"/>)X"
+      R"X(<Parameter name="Poisson's Ratio" type="double" value="0.3"/></ParameterList>)X";
   const std::string end = R"X(<Parameter name="Fixed" type="string" value="ux uy uz ry"/>)X"
                           R"X(<Parameter name="Displacement" type="Array(double)" value="{0.0, 0.0, -16.0}"/>)X";
   return input::parseParameterXml(R"X(<ParameterList name="BeamContact"><ParameterList name="Beams">
     <ParameterList name="lower"><Parameter name="Start" type="Array(double)" value="{0.0, 0.0, 0.0}"/>
       <Parameter name="End" type="Array(double)" value="{100.0, 0.0, 0.0}"/><Parameter name="Elements" type="int" value="10"/>)X" +
-         beam + R"X(</ParameterList>
+                                      beam + R"X(</ParameterList>
     <ParameterList name="upper"><Parameter name="Start" type="Array(double)" value="{45.0, -50.0, 3.0}"/>
       <Parameter name="End" type="Array(double)" value="{45.0, 50.0, 3.0}"/><Parameter name="Elements" type="int" value="11"/>)X" +
-         beam + R"X(</ParameterList></ParameterList>
+                                      beam + R"X(</ParameterList></ParameterList>
   <ParameterList name="Supports">
     <ParameterList name="a"><Parameter name="Beam" type="string" value="lower"/><Parameter name="Node" type="string" value="start"/></ParameterList>
     <ParameterList name="b"><Parameter name="Beam" type="string" value="lower"/><Parameter name="Node" type="string" value="end"/></ParameterList>
     <ParameterList name="c"><Parameter name="Beam" type="string" value="upper"/><Parameter name="Node" type="string" value="start"/>)X" +
-         end + R"X(</ParameterList>
+                                      end + R"X(</ParameterList>
     <ParameterList name="d"><Parameter name="Beam" type="string" value="upper"/><Parameter name="Node" type="string" value="end"/>)X" +
-         end + R"X(</ParameterList></ParameterList>
+                                      end + R"X(</ParameterList></ParameterList>
   <ParameterList name="Contact"><ParameterList name="Pairs"><ParameterList name="crossing">
       <Parameter name="Beam A" type="string" value="lower"/><Parameter name="Beam B" type="string" value="upper"/>
       <Parameter name="Friction Coefficient" type="double" value="0.0"/></ParameterList></ParameterList>
-    <ParameterList name="Enforcement"><Parameter name="Type" type="string" value=")X" + type + R"X("/>
-      <ParameterList name="Penalty"><Parameter name="Normal Penalty Parameter" type="double" value=")X" + test::num(epsN) + R"X("/>
+    <ParameterList name="Enforcement"><Parameter name="Type" type="string" value=")X" +
+                                      type + R"X("/>
+      <ParameterList name="Penalty"><Parameter name="Normal Penalty Parameter" type="double" value=")X" +
+                                      test::num(epsN) + R"X("/>
         <Parameter name="Tangential Penalty Parameter" type="double" value="10.0"/></ParameterList>
       <ParameterList name="Augmented Lagrange"><Parameter name="Normal Penalty Parameter" type="double" value="100.0"/>
         <Parameter name="Tangential Penalty Parameter" type="double" value="10.0"/></ParameterList></ParameterList></ParameterList>
   <ParameterList name="Load Stepping"><Parameter name="Number of Increments" type="int" value=")X" +
-         std::to_string(increments) + R"X("/></ParameterList>
-</ParameterList>)X", "pushed-through deck");
+                                      std::to_string(increments) + R"X("/></ParameterList>
+</ParameterList>)X",
+                                  "pushed-through deck");
 }
 }  // namespace
 
@@ -170,8 +174,8 @@ TEST(Nodes, CircularExample1CompletesWithEachStrategyAndLaw) {
       ASSERT_TRUE(r.report.completed) << law << ", " << type << ": " << r.report.failure;
       const auto A = r.finalState.displacement(p.beams->beams()[0].nodes.back());
       const auto c = sums(p);
-      std::printf("circular Example 1, %s, %s: A (%.6f, %.6f)  N %.4f  steps %d  Newton %d\n", law.c_str(), type.c_str(),
-                  A[0], A[2], c.normal, r.report.steps, r.report.newtonIterations);
+      std::printf("circular Example 1, %s, %s: A (%.6f, %.6f)  N %.4f  steps %d  Newton %d\n", law.c_str(),
+                  type.c_str(), A[0], A[2], c.normal, r.report.steps, r.report.newtonIterations);
       got[type] = {A[0], A[2], c.normal};
     }
     // Augmented and plain Lagrange: 1e-6 apart with Per Line; 1.5e-4 in A's x with Isotropic Coulomb
@@ -259,7 +263,8 @@ TEST(Search, FindsTheElementPairsABruteForceSearchFinds) {
           const auto pi = pairOf.find({elems[a].beam, elems[b].beam});
           if (pi == pairOf.end()) continue;
           bool overlap = true;
-          for (int k = 0; k < 3; ++k) overlap = overlap && box(a, k, false) <= box(b, k, true) && box(b, k, false) <= box(a, k, true);
+          for (int k = 0; k < 3; ++k)
+            overlap = overlap && box(a, k, false) <= box(b, k, true) && box(b, k, false) <= box(a, k, true);
           if (overlap) brute.emplace_back(pi->second, a, b);
         }
       std::sort(brute.begin(), brute.end());

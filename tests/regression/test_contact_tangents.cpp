@@ -33,7 +33,8 @@ TEST(ContactTangent, AugmentedLagrangeSlip) {
 }
 TEST(ContactTangent, LagrangeMultiplierSlipWithMultiplierRows) {
   // The 27-dof point elements: displacement rows, multiplier columns and the constraint rows.
-  checkContactTangent("Lagrange Multiplier", example1("Lagrange Multiplier", "40.0, 0.0, -20.0", 10), 0.3, true, false, 0.5);
+  checkContactTangent("Lagrange Multiplier", example1("Lagrange Multiplier", "40.0, 0.0, -20.0", 10), 0.3, true, false,
+                      0.5);
 }
 TEST(ContactTangent, LagrangeMultiplierStick) {
   Deck deck = circles("Lagrange Multiplier", 3.0, 1e4);
@@ -81,10 +82,14 @@ TEST(LineContact, TangentMatchesCentralDifferences) {
     double degrees;
     bool rectangles;
   };
-  for (const Case& c : std::vector<Case>{{"Penalty", 0.0, false}, {"Augmented Lagrange", 0.0, false},
-                                         {"Lagrange Multiplier", 0.0, false}, {"Penalty", 10.0, false},
-                                         {"Augmented Lagrange", 10.0, false}, {"Lagrange Multiplier", 10.0, false},
-                                         {"Penalty", 0.0, true}, {"Lagrange Multiplier", 0.0, true}}) {
+  for (const Case& c : std::vector<Case>{{"Penalty", 0.0, false},
+                                         {"Augmented Lagrange", 0.0, false},
+                                         {"Lagrange Multiplier", 0.0, false},
+                                         {"Penalty", 10.0, false},
+                                         {"Augmented Lagrange", 10.0, false},
+                                         {"Lagrange Multiplier", 10.0, false},
+                                         {"Penalty", 0.0, true},
+                                         {"Lagrange Multiplier", 0.0, true}}) {
     const std::string& type = c.type;
     const double degrees = c.degrees;
     // (Lifted by 1e-6: touching at exactly zero gap, the crossing's point carries a round-off force
@@ -109,8 +114,8 @@ TEST(LineContact, TangentMatchesCentralDifferences) {
       const double a = 0.01 * static_cast<double>(i);
       const double dz = lm ? -0.4 : -0.05;
       s.applyNodeIncrement(rod[i], std::array<double, 6>{0.3 * a, -0.2 * a, dz, 2 * a, -a, 3 * a}.data());
-    // At 10 degrees the rod's inner nodes go further down, so the crossing and its neighbourhood
-    // penetrate (point contact and line points at once).
+      // At 10 degrees the rod's inner nodes go further down, so the crossing and its neighbourhood
+      // penetrate (point contact and line points at once).
     }
     if (type == "Lagrange Multiplier") {
       // The active set of the pushed state (penetrating points and line nodes), with multipliers
@@ -131,17 +136,19 @@ TEST(LineContact, TangentMatchesCentralDifferences) {
       points += on && !q.line();
       if (on && q.line() && type != "Lagrange Multiplier") {
         std::vector<double> f(constraints::kPairDofs, 0.0);
-        slipping += p.contact->enforcer().evaluate(p.contact->strategyView(q, k, s), *acting, f.data(), nullptr).slip[1];
+        slipping +=
+            p.contact->enforcer().evaluate(p.contact->strategyView(q, k, s), *acting, f.data(), nullptr).slip[1];
       }
     }
     double kmax = 0.0;
     const double err = assembledContactTangentError(p, s, kmax);
-    std::printf("%s, %s, %.0f degrees: line contact tangent vs central differences: max error / max |K| = %.2e (%d "
-                "points active, %d of them point contacts, %d line points slipping)\n",
-                type.c_str(), c.rectangles ? "rectangles" : "circles", degrees, err / kmax, active, points, slipping);
+    std::printf(
+        "%s, %s, %.0f degrees: line contact tangent vs central differences: max error / max |K| = %.2e (%d "
+        "points active, %d of them point contacts, %d line points slipping)\n",
+        type.c_str(), c.rectangles ? "rectangles" : "circles", degrees, err / kmax, active, points, slipping);
     if (type != "Lagrange Multiplier" && degrees == 0) {
-      EXPECT_GT(slipping, 0);           // friction along the axes, slipping ...
-      EXPECT_LT(slipping, active);      // ... and sticking
+      EXPECT_GT(slipping, 0);  // friction along the axes, slipping ...
+      EXPECT_LT(slipping, active);  // ... and sticking
     }
     EXPECT_GT(active - points, degrees > 0 ? 0 : 10);  // line points
     if (degrees > 0) {

@@ -43,9 +43,9 @@ TEST(StickThenSlip, FrictionGrowsWithTheStickStiffnessThenStaysAtMuN) {
   // 7.5 between them that moves the closest points along X by about as much as the drag.
   const double pi = std::acos(-1.0), E = 30000.0, EI2 = E * pi * std::pow(2.5, 4) / 4, EA1 = E * pi * 25.0;
   const double s1 = 40.0, s2 = 50.0, L = 100.0;
-  const double cT = 0.25 * (simplySupported(s1, s1, L, EI2) + 2 * simplySupported(s1, s2, L, EI2) +
-                            simplySupported(s2, s2, L, EI2)) +
-                    (50.0 + 2 * 50.0 + 60.0) / (4 * EA1);
+  const double cT =
+      0.25 * (simplySupported(s1, s1, L, EI2) + 2 * simplySupported(s1, s2, L, EI2) + simplySupported(s2, s2, L, EI2)) +
+      (50.0 + 2 * 50.0 + 60.0) / (4 * EA1);
   for (const std::string type : {"Lagrange Multiplier", "Penalty"}) {
     Deck deck = circles(type, 0.0, 1e4, "0.05, 0.0, 0.0", 20, 0.3);
     moveBeam2(deck, "55.0, -45.0, 7.45", "55.0, 55.0, 7.45");
@@ -148,8 +148,8 @@ TEST(Output, AppliedContactForceBalancesTheSupportReactionsOfBeamB) {
     const auto reactions = lastReactions(test::scratchDirectory("balance_np1"));
     elements::Vec3d supports{};
     for (int a = 0; a < 3; ++a)
-      supports[a] = reactions.at(std::string("beam 2 start_F") + "xyz"[a]) +
-                    reactions.at(std::string("beam 2 end_F") + "xyz"[a]);
+      supports[a] =
+          reactions.at(std::string("beam 2 start_F") + "xyz"[a]) + reactions.at(std::string("beam 2 end_F") + "xyz"[a]);
     std::printf("%s: contact force on beam 2 (%.9f, %.9f, %.9f), its support reactions (%.9f, %.9f, %.9f)\n",
                 type.c_str(), F[0], F[1], F[2], supports[0], supports[1], supports[2]);
     EXPECT_GT(norm(pt.tangentialForce), 0.1 * norm(pt.normalForce));
@@ -222,9 +222,10 @@ TEST(LoadHistory, PressThenSlideGivesThePressThenMuN) {
     ASSERT_TRUE(rq.report.completed) << type << ": " << rq.report.failure;
     const CsvPoint alone = contactAt("press_only_np1", 1.0);
     const double Npress = 0.1 / (c1 + c2 + (type == "Penalty" ? 1e-4 : 0.0));
-    std::printf("%s: N at T = 0.5 %.9f (press alone %.9f, frictionless closed form %.6f); at T = 1 N %.6f, "
-                "|F_T| %.6f = %.9f mu N, %s\n",
-                type.c_str(), half.N, alone.N, Npress, end.N, end.T, end.T / (mu * end.N), end.state.c_str());
+    std::printf(
+        "%s: N at T = 0.5 %.9f (press alone %.9f, frictionless closed form %.6f); at T = 1 N %.6f, "
+        "|F_T| %.6f = %.9f mu N, %s\n",
+        type.c_str(), half.N, alone.N, Npress, end.N, end.T, end.T / (mu * end.N), end.state.c_str());
     EXPECT_NEAR(half.N, alone.N, 1e-9 * alone.N) << type;
     EXPECT_NEAR(half.N, Npress, 2e-2 * Npress) << type;
     EXPECT_EQ(end.state, "slip") << type;

@@ -44,7 +44,7 @@ struct LineSums {
   int points = 0, active = 0;
   double total = 0.0, gapMin = 1e300, gapMax = -1e300;
   double friction = 0.0;  // x components of the active points' tangential forces on beam B
-  int slipping = 0;       // active points slipping along the axes
+  int slipping = 0;  // active points slipping along the axes
 };
 LineSums lineSums(const input::Problem& p) {
   LineSums s;
@@ -119,7 +119,8 @@ TEST(LineContact, RigidPunchGivesThePenaltyTractionPerUnitLength) {
   // the kinematics (whose side comes from the double-precision geometry).
   {
     core::State moved = r.finalState;
-    for (int n : p.beams->beams()[1].nodes) moved.applyNodeIncrement(n, std::array<double, 6>{0, 0, -1.2, 0, 0, 0}.data());
+    for (int n : p.beams->beams()[1].nodes)
+      moved.applyNodeIncrement(n, std::array<double, 6>{0, 0, -1.2, 0, 0, 0}.data());
     for (const auto& [key, q] : p.contact->points()) {
       if (!q.line()) continue;
       const auto k = p.contact->kinematics(q, moved);
@@ -255,9 +256,10 @@ TEST(LineContact, LagrangeMultiplierFieldCarriesHalfTheLoadOfStackedCantilevers)
       ASSERT_TRUE(r.report.completed) << r.report.failure;
       const Traction t = traction(p, q);
       const double error = std::abs(t.total - 50 * q) / (50 * q);
-      std::printf("Lagrange, ground %d / rod %d elements, q = %g: total %.9f (q L / 2 = %.3f, error %.1e), traction "
-                  "within %.1e of q / 2 at %d Gauss points\n",
-                  nGround, nRod, q, t.total, 50 * q, error, t.worst, t.active);
+      std::printf(
+          "Lagrange, ground %d / rod %d elements, q = %g: total %.9f (q L / 2 = %.3f, error %.1e), traction "
+          "within %.1e of q / 2 at %d Gauss points\n",
+          nGround, nRod, q, t.total, 50 * q, error, t.worst, t.active);
       // Six Gauss points on each segment: the rod's elements cut by the planes of the ground's
       // nodes. Where the two meshes' nodes line up in the reference, the planes (normal to the
       // ground's turned axis) cut the rod's axis, 2 r above, 2 r theta beside its node: every
@@ -286,8 +288,10 @@ TEST(LineContact, LagrangeMultiplierFieldCarriesHalfTheLoadOfStackedCantilevers)
     const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "lm_line_q1");
     ASSERT_TRUE(r.report.completed) << r.report.failure;
     const Traction t = traction(p, 1.0);
-    std::printf("Lagrange, %d elements, q = 1: total %.6f, largest deviation of the traction from q / 2: %.1e (at the "
-                "clamp)\n", n, t.total, t.worst);
+    std::printf(
+        "Lagrange, %d elements, q = 1: total %.6f, largest deviation of the traction from q / 2: %.1e (at the "
+        "clamp)\n",
+        n, t.total, t.worst);
     EXPECT_NEAR(t.total, 50.0, 1e-3 * 50.0);
     EXPECT_LT(t.worst, 1e-2);
   }
@@ -298,8 +302,10 @@ TEST(LineContact, LagrangeMultiplierFieldCarriesHalfTheLoadOfStackedCantilevers)
     const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "stiff_penalty_line");
     ASSERT_TRUE(r.report.completed) << r.report.failure;
     const Traction t = traction(p, 0.01);
-    std::printf("Penalty 1e8 per Gauss point, 40 elements, q = 0.01: total %.6f, largest deviation of the traction "
-                "from q / 2: %.1e\n", t.total, t.worst);
+    std::printf(
+        "Penalty 1e8 per Gauss point, 40 elements, q = 0.01: total %.6f, largest deviation of the traction "
+        "from q / 2: %.1e\n",
+        t.total, t.worst);
   }
 }
 
@@ -470,8 +476,10 @@ TEST(LineContact, RectanglesFaceToFaceCarryTheLoadOnBothEdges) {
   for (const std::string type : {"Penalty", "Lagrange Multiplier", "Augmented Lagrange"}) {
     auto deck = parallelRectangles(type, 20, 16, 1e5, 6, 0.002);
     // (The faces come down on each other along a length at once: the penalty laws' C1 onset.)
-    if (type != "Lagrange Multiplier") input::setAtPath(deck, "Contact/Enforcement/" + type + "/Regularization Gap", 1e-4);
-    if (type == "Augmented Lagrange") input::setAtPath(deck, "Contact/Enforcement/Augmented Lagrange/Gap Tolerance", 1e-9);
+    if (type != "Lagrange Multiplier")
+      input::setAtPath(deck, "Contact/Enforcement/" + type + "/Regularization Gap", 1e-4);
+    if (type == "Augmented Lagrange")
+      input::setAtPath(deck, "Contact/Enforcement/Augmented Lagrange/Gap Tolerance", 1e-9);
     input::replaceAtPath(deck, "Load Stepping/Number of Increments", 2);
     support(deck, "ground", 0, "ux uy uz rx");
     support(deck, "ground", 20, "uy uz rx");

@@ -139,27 +139,31 @@ class DirectSolver : public ::testing::TestWithParam<std::string> {};
 TEST_P(DirectSolver, RefactorsNewValuesOfTheSamePattern) {
   auto solver = makeLinearSolver(solverList("Direct", GetParam()));
   const GO n = 200;
-  auto A = tridiagonal(n, [](GO i) { return 4.0 + 0.01 * i; }, [](GO) { return -1.0; });
+  auto A = tridiagonal(
+      n, [](GO i) { return 4.0 + 0.01 * i; }, [](GO) { return -1.0; });
   const double e0 = solveError(*solver, A);
   // New values: refactored with the first pivot order.
-  setValues(*A, [](GO i) { return 3.0 + std::sin(0.1 * i); }, [](GO i) { return -1.0 + 0.001 * i; });
+  setValues(
+      *A, [](GO i) { return 3.0 + std::sin(0.1 * i); }, [](GO i) { return -1.0 + 0.001 * i; });
   const double e1 = solveError(*solver, A);
   // Values whose first pivot (a_00 = 0) the old order cannot take: factored afresh, with pivoting.
-  setValues(*A, [](GO i) { return i == 0 ? 0.0 : 4.0; }, [](GO) { return 1.0; });
+  setValues(
+      *A, [](GO i) { return i == 0 ? 0.0 : 4.0; }, [](GO) { return 1.0; });
   const double e2 = solveError(*solver, A);
   // Unsymmetric values (the solve with A, not A^T, is checked: the libraries read A's rows as the
   // columns of A^T) in a new matrix.
-  auto U = tridiagonal(n, [](GO i) { return 4.0 + 0.01 * i; }, [](GO) { return -1.5; },
-                       [](GO i) { return 0.5 + 0.005 * i; });
+  auto U = tridiagonal(
+      n, [](GO i) { return 4.0 + 0.01 * i; }, [](GO) { return -1.5; }, [](GO i) { return 0.5 + 0.005 * i; });
   const double e3 = solveError(*solver, U);
   // Unsymmetric values with each row's columns in descending order (KLU2 takes them so, UMFPACK's
   // are sorted).
-  auto D = tridiagonal(n, [](GO) { return 4.0; }, [](GO) { return -1.5; }, [](GO i) { return 0.5 + 0.005 * i; },
-                       true);
+  auto D = tridiagonal(
+      n, [](GO) { return 4.0; }, [](GO) { return -1.5; }, [](GO i) { return 0.5 + 0.005 * i; }, true);
   const double e4 = solveError(*solver, D);
-  std::printf("  Direct (%s), solution error: first factorization %.1e, refactored %.1e, old pivot zero %.1e, "
-              "unsymmetric %.1e, columns descending %.1e\n",
-              GetParam().c_str(), e0, e1, e2, e3, e4);
+  std::printf(
+      "  Direct (%s), solution error: first factorization %.1e, refactored %.1e, old pivot zero %.1e, "
+      "unsymmetric %.1e, columns descending %.1e\n",
+      GetParam().c_str(), e0, e1, e2, e3, e4);
   EXPECT_LT(e0, 1e-12);
   EXPECT_LT(e1, 1e-12);
   EXPECT_LT(e2, 1e-12);
@@ -173,30 +177,34 @@ TEST_P(DirectSolver, ReuseSolvesLaterMatricesWithTheLastFactorization) {
   p.set("Reuse Iteration Limit", 20);  // GMRES iterations summed over the solves since a factorization
   auto solver = makeLinearSolver(p);
   const GO n = 300;
-  auto A = tridiagonal(n, [](GO i) { return 4.0 + 0.01 * i; }, [](GO) { return -1.0; });
+  auto A = tridiagonal(
+      n, [](GO i) { return 4.0 + 0.01 * i; }, [](GO) { return -1.0; });
   const auto [r0, e0] = reportAndError(*solver, A);  // nothing to reuse: factored
   // The same values: the factorization is the exact inverse, GMRES stops after one iteration.
   const auto [r1, e1] = reportAndError(*solver, A);
   // Values within 2 % of the factored ones: GMRES with the old factorization, no new one.
-  setValues(*A, [](GO i) { return (4.0 + 0.01 * i) * (1.0 + 0.02 * std::sin(0.3 * i)); },
-            [](GO i) { return -1.0 + 0.01 * std::cos(0.2 * i); });
+  setValues(
+      *A, [](GO i) { return (4.0 + 0.01 * i) * (1.0 + 0.02 * std::sin(0.3 * i)); },
+      [](GO i) { return -1.0 + 0.01 * std::cos(0.2 * i); });
   const auto [r2, e2] = reportAndError(*solver, A);
   // Another matrix object of the same size with another pattern (a new graph, as when contact points
   // come or go): two couplings fewer than the factored matrix.
-  auto B = tridiagonal(n, [](GO i) { return 4.0 + 0.01 * i; }, [](GO i) { return i % 150 == 75 ? 0.0 : -1.0; });
+  auto B = tridiagonal(
+      n, [](GO i) { return 4.0 + 0.01 * i; }, [](GO i) { return i % 150 == 75 ? 0.0 : -1.0; });
   const auto [r3, e3] = reportAndError(*solver, B);
   // Values far from the factored ones (the diagonal halved and doubled in alternation, off-diagonals
   // flipped): more iterations than the limit leaves (20 less those spent above), so B is factored.
-  setValues(*B, [](GO i) { return i % 2 ? 8.0 : 2.5; }, [](GO i) { return i % 3 ? 1.2 : -0.7; });
+  setValues(
+      *B, [](GO i) { return i % 2 ? 8.0 : 2.5; }, [](GO i) { return i % 3 ? 1.2 : -0.7; });
   const auto [r4, e4] = reportAndError(*solver, B);
   // The same values again: B's own factorization, one iteration (the count starts afresh).
   const auto [r5, e5] = reportAndError(*solver, B);
-  std::printf("  Direct (%s) with reuse: GMRES iterations %d (factored), %d (same values), %d (values within 2 %%), "
-              "%d (new pattern), %d (far values: factored), %d (their values again); errors %.1e %.1e %.1e %.1e "
-              "%.1e %.1e\n",
-              GetParam().c_str(), r0.iterations, r1.iterations, r2.iterations, r3.iterations, r4.iterations,
-              r5.iterations, e0, e1, e2,
-              e3, e4, e5);
+  std::printf(
+      "  Direct (%s) with reuse: GMRES iterations %d (factored), %d (same values), %d (values within 2 %%), "
+      "%d (new pattern), %d (far values: factored), %d (their values again); errors %.1e %.1e %.1e %.1e "
+      "%.1e %.1e\n",
+      GetParam().c_str(), r0.iterations, r1.iterations, r2.iterations, r3.iterations, r4.iterations, r5.iterations, e0,
+      e1, e2, e3, e4, e5);
   EXPECT_EQ(r0.iterations, 0);
   EXPECT_EQ(r1.iterations, 1);
   EXPECT_GE(r2.iterations, 2);
@@ -223,9 +231,10 @@ TEST_P(DirectSolver, ReuseFactorsASaddlePointWithItsZeroDiagonalRegularized) {
   // The zero diagonal outside the pattern: nothing to regularize, A factored as it is.
   auto reuseAgain = makeLinearSolver(p);
   const auto [u, eu] = reportAndError(*reuseAgain, saddlePoint(200, 19, false));
-  std::printf("  Direct (%s) on a saddle point: with reuse %d GMRES iterations, error %.1e, backward error %.1e; "
-              "exact factorization error %.1e; zero diagonal outside the pattern: %d iterations, error %.1e\n",
-              GetParam().c_str(), r.iterations, e, r.backwardError, ed, u.iterations, eu);
+  std::printf(
+      "  Direct (%s) on a saddle point: with reuse %d GMRES iterations, error %.1e, backward error %.1e; "
+      "exact factorization error %.1e; zero diagonal outside the pattern: %d iterations, error %.1e\n",
+      GetParam().c_str(), r.iterations, e, r.backwardError, ed, u.iterations, eu);
   EXPECT_GE(r.iterations, 1);
   EXPECT_LE(r.iterations, 4);
   EXPECT_LT(e, 1e-11);
@@ -239,8 +248,9 @@ TEST_P(DirectSolver, ReuseFactorsASaddlePointWithItsZeroDiagonalRegularized) {
 TEST_P(DirectSolver, ASingularMatrixIsAnError) {
   auto solver = makeLinearSolver(solverList("Direct", GetParam()));
   // Rows 10 and 11 equal: singular.
-  auto A = tridiagonal(40, [](GO i) { return i == 10 || i == 11 ? 1.0 : 4.0; },
-                       [](GO i) { return i == 10 ? 1.0 : (i == 9 || i == 11 ? 0.0 : -1.0); });
+  auto A = tridiagonal(
+      40, [](GO i) { return i == 10 || i == 11 ? 1.0 : 4.0; },
+      [](GO i) { return i == 10 ? 1.0 : (i == 9 || i == 11 ? 0.0 : -1.0); });
   const auto map = A->getRowMap();
   Vector b(map), x(map);
   b.putScalar(1.0);
@@ -258,8 +268,9 @@ TEST(LinearSolver, UmfpackSixtyFourBitVersionSolvesAsTheThirtyTwoBit) {
   SerialUmfpack narrow, wide(true);
   for (const bool newPattern : {false, true}) {
     const GO n = 500;
-    auto A = tridiagonal(n, [](GO i) { return 4.0 + 0.01 * i; }, [&](GO i) { return newPattern && i % 7 == 3 ? 0.0 : -1.0; },
-                         [](GO i) { return 0.5 + 0.005 * i; }, false, self);
+    auto A = tridiagonal(
+        n, [](GO i) { return 4.0 + 0.01 * i; }, [&](GO i) { return newPattern && i % 7 == 3 ? 0.0 : -1.0; },
+        [](GO i) { return 0.5 + 0.005 * i; }, false, self);
     std::vector<double> xTrue(n), b(n), x32(n), x64(n);
     for (GO i = 0; i < n; ++i) xTrue[i] = 1.0 + double(i) / n;
     Vector xv(A->getRowMap()), bv(A->getRowMap());
@@ -289,7 +300,8 @@ TEST(LinearSolver, GmresWithMultigridSolvesNodalSystems) {
   auto solver = makeLinearSolver(solverList("GMRES", "MueLu"));
   ASSERT_TRUE(solver->wantsNearNullSpace());
   const GO nodes = 300, n = 6 * nodes;
-  auto A = tridiagonal(n, [](GO) { return 2.0 + 1e-3; }, [](GO i) { return (i + 1) % 6 == 0 ? -1.0 : 0.0; });
+  auto A = tridiagonal(
+      n, [](GO) { return 2.0 + 1e-3; }, [](GO i) { return (i + 1) % 6 == 0 ? -1.0 : 0.0; });
   // The couplings above join dof 5 of a node to dof 0 of the next only; give every dof its own chain.
   const auto map = A->getRowMap();
   auto B = Teuchos::rcp(new Matrix(map, 3));

@@ -24,7 +24,6 @@
 
 namespace bc::test {
 
-
 // Decks are parameter lists, edited by parameter path (input::replaceAtPath fails on a misspelt
 // path), never as text.
 using Deck = Teuchos::ParameterList;
@@ -126,8 +125,8 @@ inline double assembledContactTangentError(const input::Problem& p, const core::
 }
 
 // `motion` of beam 2's ends at T = 1, solved to T = 0.3, then beam 2 moved by `dx` along X.
-inline void checkContactTangent(const std::string& type, const Deck& deck, double dx, bool expectSlip,
-                                bool expectStick, double mu) {
+inline void checkContactTangent(const std::string& type, const Deck& deck, double dx, bool expectSlip, bool expectStick,
+                                double mu) {
   auto comm = Tpetra::getDefaultComm();
   auto p = input::buildProblem(deck, "tangent_" + type);
   p.solver.loadFactors = {0.1, 0.2, 0.3};
@@ -156,8 +155,9 @@ inline void checkContactTangent(const std::string& type, const Deck& deck, doubl
   double kmax = 0.0;
   const double err = assembledContactTangentError(p, s, kmax);
   if (comm->getRank() == 0)
-    std::printf("%s: contact tangent vs central differences: max error / max |K| = %.2e (%d sliding, %d sticking lines)\n",
-                type.c_str(), err / kmax, slipping, sticking);
+    std::printf(
+        "%s: contact tangent vs central differences: max error / max |K| = %.2e (%d sliding, %d sticking lines)\n",
+        type.c_str(), err / kmax, slipping, sticking);
   EXPECT_GT(kmax, 0.0);
   EXPECT_LT(err / kmax, 1e-6);
 }
@@ -167,8 +167,8 @@ inline void checkContactTangent(const std::string& type, const Deck& deck, doubl
 // gives the exact discrete answer: N = (W - 0.5) / (c1 + c2 + 1/eps_N), c1 = a^3 / (3 E I1) with
 // a = 50 (cantilever), c2 = L^3 / (48 E I2) with L = 100 (beam 2 simply supported in bending), and
 // A's deflection N a^2 (3 L1 - a) / (6 E I1).
-inline Deck circles(const std::string& type, double W, double epsN, const std::string& motion = "",
-                    int increments = 4, double mu = 0.0) {
+inline Deck circles(const std::string& type, double W, double epsN, const std::string& motion = "", int increments = 4,
+                    double mu = 0.0) {
   Deck d = example1(type, motion.empty() ? "0.0, 0.0, " + test::num(-W) : motion, increments, epsN, 400.0, mu);
   for (const auto& [beam, radius] : {std::make_pair("beam 1", 5.0), std::make_pair("beam 2", 2.5)}) {
     Deck& section = input::sublistAtPath(d, std::string("Beams/") + beam + "/Section", false);

@@ -51,27 +51,36 @@ inline std::string cantileverXml(double L, double width, double height, double E
   return R"XML(<ParameterList name="BeamContact">
   <ParameterList name="Beams"><ParameterList name="b">
     <Parameter name="Start" type="Array(double)" value="{0,0,0}"/>
-    <Parameter name="End" type="Array(double)" value="{)XML" + d(L) + R"XML(,0,0}"/>
-    <Parameter name="Elements" type="int" value=")XML" + std::to_string(elements) + R"XML("/>
-    <ParameterList name="Section"><Parameter name="Width" type="double" value=")XML" + d(width) + R"XML("/>
-      <Parameter name="Height" type="double" value=")XML" + d(height) + R"XML("/></ParameterList>
-    <ParameterList name="Material"><Parameter name="Young's Modulus" type="double" value=")XML" + d(E) + R"XML("/>
-      <Parameter name="Poisson's Ratio" type="double" value=")XML" + d(nu) + R"XML("/></ParameterList>
+    <Parameter name="End" type="Array(double)" value="{)XML" +
+         d(L) + R"XML(,0,0}"/>
+    <Parameter name="Elements" type="int" value=")XML" +
+         std::to_string(elements) + R"XML("/>
+    <ParameterList name="Section"><Parameter name="Width" type="double" value=")XML" +
+         d(width) + R"XML("/>
+      <Parameter name="Height" type="double" value=")XML" +
+         d(height) + R"XML("/></ParameterList>
+    <ParameterList name="Material"><Parameter name="Young's Modulus" type="double" value=")XML" +
+         d(E) + R"XML("/>
+      <Parameter name="Poisson's Ratio" type="double" value=")XML" +
+         d(nu) + R"XML("/></ParameterList>
   </ParameterList></ParameterList>
   <ParameterList name="Supports"><ParameterList name="clamp">
     <Parameter name="Beam" type="string" value="b"/><Parameter name="Node" type="string" value="start"/>
   </ParameterList></ParameterList>
   <ParameterList name="Loads"><ParameterList name="tip">
     <Parameter name="Beam" type="string" value="b"/><Parameter name="Node" type="string" value="end"/>
-    <Parameter name="Force" type="Array(double)" value="{)XML" + force + R"XML(}"/>
-    <Parameter name="Moment" type="Array(double)" value="{)XML" + moment + R"XML(}"/>
+    <Parameter name="Force" type="Array(double)" value="{)XML" +
+         force + R"XML(}"/>
+    <Parameter name="Moment" type="Array(double)" value="{)XML" +
+         moment + R"XML(}"/>
   </ParameterList></ParameterList>
   <ParameterList name="Load Stepping"><Parameter name="Number of Increments" type="int" value=")XML" +
          std::to_string(increments) + R"XML("/></ParameterList>
   <ParameterList name="Output"><ParameterList name="Tracked Points"><ParameterList name="tip">
     <Parameter name="Beam" type="string" value="b"/><Parameter name="Node" type="string" value="end"/>
   </ParameterList></ParameterList></ParameterList>
-  )XML" + extra + R"XML(
+  )XML" + extra +
+         R"XML(
 </ParameterList>)XML";
 }
 

@@ -44,9 +44,14 @@ BeamElementState randomState(const BeamElementData& d, std::mt19937& g) {
 BeamElementState perturbed(BeamElementState s, int dof, double h) {
   Vec3d w{};
   if (dof < 3) s.x1[dof] += h;
-  else if (dof < 6) { w[dof - 3] = h; s.R1 = expSO3(w) * s.R1; }
-  else if (dof < 9) s.x2[dof - 6] += h;
-  else { w[dof - 9] = h; s.R2 = expSO3(w) * s.R2; }
+  else if (dof < 6) {
+    w[dof - 3] = h;
+    s.R1 = expSO3(w) * s.R1;
+  } else if (dof < 9) s.x2[dof - 6] += h;
+  else {
+    w[dof - 9] = h;
+    s.R2 = expSO3(w) * s.R2;
+  }
   return s;
 }
 
@@ -75,7 +80,8 @@ TEST(BeamElement, TangentMatchesCentralDifferencesAtLargeRotations) {
   double worst = 0.0;
   for (int trial = 0; trial < 20; ++trial) {
     const BeamElementState s = randomState(d, g);
-    Vector12 f; Matrix12 K;
+    Vector12 f;
+    Matrix12 K;
     internalForceAndTangent(d, s, f, K);
     const auto [err, kmax] = bc::test::centralDifferences(12, 12, 1e-6, forceAt(d, s), columnOf(K));
     worst = std::max(worst, err / kmax);
@@ -101,7 +107,8 @@ TEST(BeamElement, WrittenOutGradientMatchesNestedAdOfTheEnergy) {
       s.R1 = Q * expSO3(randomVec(g, local));
       s.R2 = Q * expSO3(randomVec(g, local));
     }
-    Vector12 f, fRef; Matrix12 K, KRef;
+    Vector12 f, fRef;
+    Matrix12 K, KRef;
     internalForceAndTangent(d, s, f, K);
     internalForceAndTangentFromEnergy(d, s, fRef, KRef);
     double fmax = 0.0, kmax = 0.0, ef = 0.0, ek = 0.0;
@@ -116,8 +123,7 @@ TEST(BeamElement, WrittenOutGradientMatchesNestedAdOfTheEnergy) {
     worstF = std::max(worstF, ef / fmax);
     worstK = std::max(worstK, ek / kmax);
   }
-  std::printf("written-out gradient against nested AD: force %.3e, tangent %.3e (largest relative)\n", worstF,
-              worstK);
+  std::printf("written-out gradient against nested AD: force %.3e, tangent %.3e (largest relative)\n", worstF, worstK);
   EXPECT_LT(worstF, 1e-11);
   EXPECT_LT(worstK, 1e-11);
 }
@@ -128,7 +134,8 @@ TEST(BeamElement, ForceIsTheEnergyDerivativeAlongSpins) {
   double worst = 0.0;
   for (int trial = 0; trial < 10; ++trial) {
     const BeamElementState s = randomState(d, g);
-    Vector12 f, f2; Matrix12 K;
+    Vector12 f, f2;
+    Matrix12 K;
     internalForce(d, s, f);
     internalForceAndTangent(d, s, f2, K);
     double fmax = 0.0;
@@ -152,8 +159,10 @@ TEST(BeamElement, RigidRotationKeepsEnergyAndRotatesForces) {
     const Mat3d Q = expSO3(randomVec(g, 2.0));
     const Vec3d c = randomVec(g, 10.0);
     BeamElementState r = s;
-    r.x1 = Q * s.x1 + c; r.x2 = Q * s.x2 + c;
-    r.R1 = Q * s.R1; r.R2 = Q * s.R2;
+    r.x1 = Q * s.x1 + c;
+    r.x2 = Q * s.x2 + c;
+    r.R1 = Q * s.R1;
+    r.R2 = Q * s.R2;
     const double E = strainEnergy(d, s), Er = strainEnergy(d, r);
     EXPECT_GT(E, 0.0);
     EXPECT_NEAR(Er, E, 1e-10 * E);
@@ -173,7 +182,8 @@ TEST(BeamElement, RigidRotationKeepsEnergyAndRotatesForces) {
 TEST(BeamElement, UndeformedStateHasNoForce) {
   const BeamElementData d = sampleElement();
   BeamElementState s{d.X1, d.X2, identity3<double>(), identity3<double>()};
-  Vector12 f; Matrix12 K;
+  Vector12 f;
+  Matrix12 K;
   internalForceAndTangent(d, s, f, K);
   for (double v : f) EXPECT_NEAR(v, 0.0, 1e-9);
   // Axial stiffness EA/L0 along the axis.
@@ -211,9 +221,9 @@ TEST(BeamElement, TangentMatchesCentralDifferencesAtSmallLocalRotations) {
   // Short element (L0 = 0.5), large rigid rotation, local rotations from 1e-3 down to 1e-7 rad:
   // both branches of the log map (series below ~2e-5 rad) and the switch between them.
   const CrossSection cs = CrossSection::rectangle(10.0, 10.0);
-  const BeamElementData d = makeBeamElement({{0.0, 0.0, 0.0}}, {{0.5, 0.0, 0.0}}, {{0.0, 1.0, 0.0}},
-                                            30000.0 * cs.area(), 12000.0 * cs.torsionConstant(),
-                                            30000.0 * cs.inertiaY(), 30000.0 * cs.inertiaZ());
+  const BeamElementData d =
+      makeBeamElement({{0.0, 0.0, 0.0}}, {{0.5, 0.0, 0.0}}, {{0.0, 1.0, 0.0}}, 30000.0 * cs.area(),
+                      12000.0 * cs.torsionConstant(), 30000.0 * cs.inertiaY(), 30000.0 * cs.inertiaZ());
   std::mt19937 g(5);
   double worst = 0.0;
   for (double local : {1e-3, 1e-4, 3e-5, 1e-5, 1e-6, 1e-7}) {
@@ -223,7 +233,8 @@ TEST(BeamElement, TangentMatchesCentralDifferencesAtSmallLocalRotations) {
     s.x2 = Q * (d.X2 + randomVec(g, 1e-4));
     s.R1 = Q * expSO3(randomVec(g, local));
     s.R2 = Q * expSO3(randomVec(g, local));
-    Vector12 f; Matrix12 K;
+    Vector12 f;
+    Matrix12 K;
     internalForceAndTangent(d, s, f, K);
     const auto [err, kmax] = bc::test::centralDifferences(12, 12, 1e-7, forceAt(d, s), columnOf(K));
     std::printf("local rotations %.0e: max relative tangent error %.3e\n", local, err / kmax);

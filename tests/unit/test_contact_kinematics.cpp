@@ -19,8 +19,10 @@ namespace {
 // A at y = +5 and the bottom edge of B at x = 52.5 (element from x = 50 to 60 on A, y from 0 to 10 on B).
 LinePairInput crossing() {
   LinePairInput in;
-  in.xA1 = {{50, 0, 0}}; in.xA2 = {{60, 0, 0}};
-  in.xB1 = {{50, 0, 8}}; in.xB2 = {{50, 10, 8}};
+  in.xA1 = {{50, 0, 0}};
+  in.xA2 = {{60, 0, 0}};
+  in.xB1 = {{50, 0, 8}};
+  in.xB2 = {{50, 10, 8}};
   in.RA1 = in.RA2 = in.RB1 = in.RB2 = identity3<double>();
   in.oA = {{0, 5, 5}};
   in.oB = {{2.5, 0, -2.5}};
@@ -90,8 +92,8 @@ TEST(ContactKinematics, CrossedBeamsGapAndPoints) {
   const auto in = crossing();
   const auto cp = closestPoints(in);
   EXPECT_NEAR(cp.gap, 0.5, 1e-14);
-  EXPECT_NEAR(cp.xi, 0.25, 1e-14);   // x = 52.5 on A's element from 50 to 60
-  EXPECT_NEAR(cp.eta, 0.5, 1e-14);   // y = 5 on B's element from 0 to 10
+  EXPECT_NEAR(cp.xi, 0.25, 1e-14);  // x = 52.5 on A's element from 50 to 60
+  EXPECT_NEAR(cp.eta, 0.5, 1e-14);  // y = 5 on B's element from 0 to 10
   EXPECT_NEAR(cp.normal[2], 1.0, 1e-14);
   const auto k = contactKinematics(in, cp.sigma, 0.25, 0.5);
   EXPECT_NEAR(k.normal.value, 0.5, 1e-14);
@@ -131,8 +133,10 @@ TEST(ContactKinematics, VariationsMatchCentralDifferences) {
 // by B's nodes as 1 - eta and eta; A's point (material) moves with its nodes as 1 - xi and xi.
 TEST(LineKinematics, ParallelBeamsGapAndProjection) {
   LinePairInput in;
-  in.xA1 = {{0, 0, 0}}; in.xA2 = {{10, 0, 0}};
-  in.xB1 = {{-2, 0, 2.5}}; in.xB2 = {{8, 0, 2.5}};
+  in.xA1 = {{0, 0, 0}};
+  in.xA2 = {{10, 0, 0}};
+  in.xB1 = {{-2, 0, 2.5}};
+  in.xB2 = {{8, 0, 2.5}};
   in.RA1 = in.RA2 = in.RB1 = in.RB2 = identity3<double>();
   in.radiusSum = 2.0;
   const auto cp = lineProjection(in, 0.3);
@@ -157,8 +161,10 @@ TEST(LineKinematics, ParallelBeamsGapAndProjection) {
 TEST(LineKinematics, CubicAxisFollowsTheNodalRotations) {
   for (const double phi : {0.1, -0.2}) {
     LinePairInput in;
-    in.xA1 = {{0, 0, 0}}; in.xA2 = {{10, 0, 0}};
-    in.xB1 = {{0, 0, 2.5}}; in.xB2 = {{10, 0, 2.5}};
+    in.xA1 = {{0, 0, 0}};
+    in.xA2 = {{10, 0, 0}};
+    in.xB1 = {{0, 0, 2.5}};
+    in.xB2 = {{10, 0, 2.5}};
     in.RA1 = in.RA2 = identity3<double>();
     in.RB1 = expSO3(Vec3d{{0, -phi, 0}});
     in.RB2 = expSO3(Vec3d{{0, phi, 0}});
@@ -174,7 +180,8 @@ TEST(LineKinematics, CubicAxisFollowsTheNodalRotations) {
     const auto off = lineProjection(in, 0.2);
     double best = 1e300;
     for (int i = 0; i <= 200000; ++i) {
-      const double u = i / 200000.0, x = 10 * (3 * u * u - 2 * u * u * u + std::cos(phi) * (u - 3 * u * u + 2 * u * u * u));
+      const double u = i / 200000.0,
+                   x = 10 * (3 * u * u - 2 * u * u * u + std::cos(phi) * (u - 3 * u * u + 2 * u * u * u));
       const double z = 2.5 + 10 * std::sin(phi) * (u - u * u);
       best = std::min(best, std::hypot(x - 2.0, z));
     }
@@ -187,9 +194,11 @@ TEST(LineKinematics, VariationsMatchCentralDifferences) {
   double worstR = 0.0, worstK = 0.0;
   for (int trial = 0; trial < 10; ++trial) {
     LinePairInput in;
-    in.xA1 = {{0, 0, 0}}; in.xA2 = {{10, 0, 0}};
-    in.xB1 = {{-2, 0.3, 2.5}}; in.xB2 = {{8, -0.2, 2.6}};  // nearly parallel, not exactly
-    in.oA = trial % 2 ? Vec3d{{0, 0.4, 0.2}} : Vec3d{};      // off-axis lines too (general offsets)
+    in.xA1 = {{0, 0, 0}};
+    in.xA2 = {{10, 0, 0}};
+    in.xB1 = {{-2, 0.3, 2.5}};
+    in.xB2 = {{8, -0.2, 2.6}};  // nearly parallel, not exactly
+    in.oA = trial % 2 ? Vec3d{{0, 0.4, 0.2}} : Vec3d{};  // off-axis lines too (general offsets)
     in.oB = trial % 2 ? Vec3d{{0, -0.3, 0.1}} : Vec3d{};
     // Cubic (Hermite) axes through the nodal rotations in most trials, straight chords in some.
     if (trial % 3 != 0) {
@@ -199,9 +208,9 @@ TEST(LineKinematics, VariationsMatchCentralDifferences) {
     placeGenerally(in, g, 0.3);
     in.radiusSum = 2.0;
     const double xi = 0.1 + 0.08 * trial, etaP = 0.4;
-    const auto [errR, errK] = centralDifferenceErrors(
-        in, [&](const LinePairInput& s) { return lineKinematics(s, xi, etaP); },
-        {&ContactKinematics::normal, &ContactKinematics::tangent2});
+    const auto [errR, errK] =
+        centralDifferenceErrors(in, [&](const LinePairInput& s) { return lineKinematics(s, xi, etaP); },
+                                {&ContactKinematics::normal, &ContactKinematics::tangent2});
     worstR = std::max(worstR, errR);
     worstK = std::max(worstK, errK);
   }
@@ -216,8 +225,10 @@ TEST(LineKinematics, VariationsMatchCentralDifferences) {
 // gap by dz. Then R and K against central differences at general states.
 TEST(LineKinematics, FaceContactOfRectangles) {
   LinePairInput in;
-  in.xA1 = {{0, 0, 0.5}}; in.xA2 = {{10, 0, 0.5}};
-  in.xB1 = {{-2, 0, 1.6}}; in.xB2 = {{8, 0, 1.6}};
+  in.xA1 = {{0, 0, 0.5}};
+  in.xA2 = {{10, 0, 0.5}};
+  in.xB1 = {{-2, 0, 1.6}};
+  in.xB2 = {{8, 0, 1.6}};
   in.RA1 = in.RA2 = in.RB1 = in.RB2 = identity3<double>();
   in.oA = Vec3d{{0, 0.3, 0.5}};
   in.oB = Vec3d{{0, 0, -0.5}};
@@ -242,9 +253,9 @@ TEST(LineKinematics, FaceContactOfRectangles) {
     LinePairInput t = in;
     placeGenerally(t, g, 0.3);
     const double xi = 0.1 + 0.08 * trial;
-    const auto [errR, errK] = centralDifferenceErrors(
-        t, [&](const LinePairInput& s) { return lineKinematics(s, xi, 0.4); },
-        {&ContactKinematics::normal, &ContactKinematics::tangent2});
+    const auto [errR, errK] =
+        centralDifferenceErrors(t, [&](const LinePairInput& s) { return lineKinematics(s, xi, 0.4); },
+                                {&ContactKinematics::normal, &ContactKinematics::tangent2});
     worstR = std::max(worstR, errR);
     worstK = std::max(worstK, errK);
   }
@@ -261,13 +272,15 @@ TEST(LineKinematics, FaceContactOfRectangles) {
 // circles and faces; cubic axes and chords), the plane normals turning with B's nodes.
 TEST(LineKinematics, SegmentBoundsAndTheirVariations) {
   LinePairInput in;
-  in.xA1 = {{0, 0, 0}}; in.xA2 = {{10, 0, 0}};
+  in.xA1 = {{0, 0, 0}};
+  in.xA2 = {{10, 0, 0}};
   in.RA1 = in.RA2 = in.RB1 = in.RB2 = identity3<double>();
   in.dA = in.dB = Vec3d{{10, 0, 0}};
   in.sB1 = in.sB2 = Vec3d{{1, 0, 0}};
   in.radiusSum = 2.0;
   for (double x0 : {-2.0, 3.0, -12.0, 11.0}) {
-    in.xB1 = {{x0, 0, 2.5}}; in.xB2 = {{x0 + 10, 0, 2.5}};
+    in.xB1 = {{x0, 0, 2.5}};
+    in.xB2 = {{x0 + 10, 0, 2.5}};
     const LineSegment seg = lineSegment(in);
     const double lo = std::max(0.0, x0 / 10), hi = std::min(1.0, x0 / 10 + 1);
     if (hi <= lo) {
@@ -292,9 +305,11 @@ TEST(LineKinematics, SegmentBoundsAndTheirVariations) {
   int planes = 0;
   for (int trial = 0; trial < 12; ++trial) {
     LinePairInput t;
-    t.xA1 = {{0, 0, 0}}; t.xA2 = {{10, 0, 0}};
+    t.xA1 = {{0, 0, 0}};
+    t.xA2 = {{10, 0, 0}};
     const double x0 = trial % 3 == 0 ? 2.0 : (trial % 3 == 1 ? -3.0 : 1.0), lB = trial % 3 == 2 ? 6.0 : 10.0;
-    t.xB1 = {{x0, 0.3, 2.5}}; t.xB2 = {{x0 + lB, -0.2, 2.6}};
+    t.xB1 = {{x0, 0.3, 2.5}};
+    t.xB2 = {{x0 + lB, -0.2, 2.6}};
     if (trial % 4 != 3) {
       t.dA = Vec3d{{10, 0, 0}};
       t.dB = Vec3d{{lB, -0.5, 0.1}};
@@ -336,8 +351,8 @@ TEST(LineKinematics, SegmentBoundsAndTheirVariations) {
     worstXi = std::max(worstXi, xiErr / xiMax);
     if (lengthMax > 0.0) worstLength = std::max(worstLength, lengthErr / lengthMax);
   }
-  std::printf("segments (%d plane bounds), max relative error: R %.2e, K %.2e, xi %.2e, length %.2e\n", planes,
-              worstR, worstK, worstXi, worstLength);
+  std::printf("segments (%d plane bounds), max relative error: R %.2e, K %.2e, xi %.2e, length %.2e\n", planes, worstR,
+              worstK, worstXi, worstLength);
   EXPECT_GE(planes, 12);
   EXPECT_LT(worstR, 1e-6);
   EXPECT_LT(worstK, 1e-6);
@@ -384,8 +399,10 @@ TEST(ContactKinematics, FirstVariationsOnlyAgreeWithTheFullKinematics) {
   }
   for (int trial = 0; trial < 4; ++trial) {
     LinePairInput in;
-    in.xA1 = {{0, 0, 0}}; in.xA2 = {{10, 0, 0}};
-    in.xB1 = {{-3.0 + trial, 0.3, 2.5}}; in.xB2 = {{7.0 + trial, -0.2, 2.6}};
+    in.xA1 = {{0, 0, 0}};
+    in.xA2 = {{10, 0, 0}};
+    in.xB1 = {{-3.0 + trial, 0.3, 2.5}};
+    in.xB2 = {{7.0 + trial, -0.2, 2.6}};
     in.RA1 = in.RA2 = in.RB1 = in.RB2 = identity3<double>();
     in.dA = in.dB = Vec3d{{10, 0, 0}};
     in.sB1 = in.sB2 = Vec3d{{1, 0, 0}};
@@ -398,8 +415,10 @@ TEST(ContactKinematics, FirstVariationsOnlyAgreeWithTheFullKinematics) {
     worstLine = std::max(worstLine, err);
     EXPECT_EQ(kNorm, 0.0);
   }
-  std::printf("first variations only vs full kinematics, largest difference relative to the largest entry: point "
-              "%.1e, line %.1e\n", worstPoint, worstLine);
+  std::printf(
+      "first variations only vs full kinematics, largest difference relative to the largest entry: point "
+      "%.1e, line %.1e\n",
+      worstPoint, worstLine);
   EXPECT_LT(worstPoint, 1e-14);
   EXPECT_LT(worstLine, 1e-14);
 }

@@ -20,13 +20,17 @@ std::string deck(const std::string& beamExtra = "", const std::string& section =
                  const std::string& end = "{10,0,0}", const std::string& rest = "") {
   return R"XML(<ParameterList name="BeamContact"><ParameterList name="Beams"><ParameterList name="rod">
     <Parameter name="Start" type="Array(double)" value="{0,0,0}"/>
-    <Parameter name="End" type="Array(double)" value=")XML" + end + R"XML("/>)XML" + elements + beamExtra + R"XML(
-    <ParameterList name="Section">)XML" + section + R"XML(</ParameterList>
-    <ParameterList name="Material">)XML" + material + R"XML(</ParameterList>
+    <Parameter name="End" type="Array(double)" value=")XML" +
+         end + R"XML("/>)XML" + elements + beamExtra + R"XML(
+    <ParameterList name="Section">)XML" +
+         section + R"XML(</ParameterList>
+    <ParameterList name="Material">)XML" +
+         material + R"XML(</ParameterList>
   </ParameterList></ParameterList>
   <ParameterList name="Supports"><ParameterList name="clamp">
     <Parameter name="Beam" type="string" value="rod"/><Parameter name="Node" type="string" value="start"/>
-  </ParameterList></ParameterList>)XML" + rest + "</ParameterList>";
+  </ParameterList></ParameterList>)XML" +
+         rest + "</ParameterList>";
 }
 
 void expectError(const std::string& xml, const std::string& pattern) {
@@ -61,59 +65,81 @@ TEST(InputValidation, WrongTypeIsNamed) {
 }
 
 TEST(InputValidation, NonPositiveYoungsModulus) {
-  expectError(deck("", R"XML(<Parameter name="Width" type="double" value="1"/><Parameter name="Height" type="double" value="1"/>)XML",
-                   R"XML(<Parameter name="Young's Modulus" type="double" value="-5"/><Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML"),
-              R"XML("BeamContact/Beams/rod/Material/Young's Modulus": must be > 0, got -5)XML");
+  expectError(
+      deck(
+          "",
+          R"XML(<Parameter name="Width" type="double" value="1"/><Parameter name="Height" type="double" value="1"/>)XML",
+          R"XML(<Parameter name="Young's Modulus" type="double" value="-5"/><Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML"),
+      R"XML("BeamContact/Beams/rod/Material/Young's Modulus": must be > 0, got -5)XML");
 }
 
 TEST(InputValidation, MissingRequiredParameter) {
-  expectError(deck("", R"XML(<Parameter name="Width" type="double" value="1"/><Parameter name="Height" type="double" value="1"/>)XML",
-                   R"XML(<Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML"),
-              R"XML(missing required parameter "BeamContact/Beams/rod/Material/Young's Modulus")XML");
+  expectError(
+      deck(
+          "",
+          R"XML(<Parameter name="Width" type="double" value="1"/><Parameter name="Height" type="double" value="1"/>)XML",
+          R"XML(<Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML"),
+      R"XML(missing required parameter "BeamContact/Beams/rod/Material/Young's Modulus")XML");
   expectError(deck("", R"XML(<Parameter name="Width" type="double" value="1"/>)XML"),
               R"XML(missing required parameter "BeamContact/Beams/rod/Section/Height" for a Rectangle)XML");
 }
 
 TEST(InputValidation, ZeroElements) {
-  expectError(deck("", R"XML(<Parameter name="Width" type="double" value="1"/><Parameter name="Height" type="double" value="1"/>)XML",
-                   R"XML(<Parameter name="Young's Modulus" type="double" value="100"/><Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML",
-                   R"XML(<Parameter name="Elements" type="int" value="0"/>)XML"),
-              R"XML("BeamContact/Beams/rod/Elements": must be from 1 to 10000000, got 0)XML");
+  expectError(
+      deck(
+          "",
+          R"XML(<Parameter name="Width" type="double" value="1"/><Parameter name="Height" type="double" value="1"/>)XML",
+          R"XML(<Parameter name="Young's Modulus" type="double" value="100"/><Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML",
+          R"XML(<Parameter name="Elements" type="int" value="0"/>)XML"),
+      R"XML("BeamContact/Beams/rod/Elements": must be from 1 to 10000000, got 0)XML");
 }
 
 TEST(InputValidation, ZeroLengthBeam) {
-  expectError(deck("", R"XML(<Parameter name="Width" type="double" value="1"/><Parameter name="Height" type="double" value="1"/>)XML",
-                   R"XML(<Parameter name="Young's Modulus" type="double" value="100"/><Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML",
-                   R"XML(<Parameter name="Elements" type="int" value="4"/>)XML", "{0,0,0}"),
-              R"XML(beam "BeamContact/Beams/rod" has zero length)XML");
+  expectError(
+      deck(
+          "",
+          R"XML(<Parameter name="Width" type="double" value="1"/><Parameter name="Height" type="double" value="1"/>)XML",
+          R"XML(<Parameter name="Young's Modulus" type="double" value="100"/><Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML",
+          R"XML(<Parameter name="Elements" type="int" value="4"/>)XML", "{0,0,0}"),
+      R"XML(beam "BeamContact/Beams/rod" has zero length)XML");
 }
 
 TEST(InputValidation, UnknownBeamName) {
   const std::string loads = R"XML(<ParameterList name="Loads"><ParameterList name="push">
       <Parameter name="Beam" type="string" value="bar"/><Parameter name="Node" type="string" value="end"/>
       <Parameter name="Force" type="Array(double)" value="{0,0,1}"/></ParameterList></ParameterList>)XML";
-  expectError(deck("", R"XML(<Parameter name="Width" type="double" value="1"/><Parameter name="Height" type="double" value="1"/>)XML",
-                   R"XML(<Parameter name="Young's Modulus" type="double" value="100"/><Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML",
-                   R"XML(<Parameter name="Elements" type="int" value="4"/>)XML", "{10,0,0}", loads),
-              R"XML("BeamContact/Loads/push/Beam": unknown beam "bar"; beams are "rod")XML");
+  expectError(
+      deck(
+          "",
+          R"XML(<Parameter name="Width" type="double" value="1"/><Parameter name="Height" type="double" value="1"/>)XML",
+          R"XML(<Parameter name="Young's Modulus" type="double" value="100"/><Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML",
+          R"XML(<Parameter name="Elements" type="int" value="4"/>)XML", "{10,0,0}", loads),
+      R"XML("BeamContact/Loads/push/Beam": unknown beam "bar"; beams are "rod")XML");
 }
 
 TEST(InputValidation, InvalidChoiceListsValidOnes) {
-  const std::string solver = R"XML(<ParameterList name="Linear Solver"><Parameter name="Type" type="string" value="CG"/></ParameterList>)XML";
-  expectError(deck("", R"XML(<Parameter name="Width" type="double" value="1"/><Parameter name="Height" type="double" value="1"/>)XML",
-                   R"XML(<Parameter name="Young's Modulus" type="double" value="100"/><Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML",
-                   R"XML(<Parameter name="Elements" type="int" value="4"/>)XML", "{10,0,0}", solver),
-              R"XML("BeamContact/Linear Solver/Type": "CG" is not a valid choice; valid choices are "Direct", "GMRES")XML");
+  const std::string solver =
+      R"XML(<ParameterList name="Linear Solver"><Parameter name="Type" type="string" value="CG"/></ParameterList>)XML";
+  expectError(
+      deck(
+          "",
+          R"XML(<Parameter name="Width" type="double" value="1"/><Parameter name="Height" type="double" value="1"/>)XML",
+          R"XML(<Parameter name="Young's Modulus" type="double" value="100"/><Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML",
+          R"XML(<Parameter name="Elements" type="int" value="4"/>)XML", "{10,0,0}", solver),
+      R"XML("BeamContact/Linear Solver/Type": "CG" is not a valid choice; valid choices are "Direct", "GMRES")XML");
 }
 
 TEST(InputValidation, NodeIndexOutOfRange) {
   const std::string loads = R"XML(<ParameterList name="Loads"><ParameterList name="push">
       <Parameter name="Beam" type="string" value="rod"/><Parameter name="Node" type="string" value="7"/>
       </ParameterList></ParameterList>)XML";
-  expectError(deck("", R"XML(<Parameter name="Width" type="double" value="1"/><Parameter name="Height" type="double" value="1"/>)XML",
-                   R"XML(<Parameter name="Young's Modulus" type="double" value="100"/><Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML",
-                   R"XML(<Parameter name="Elements" type="int" value="4"/>)XML", "{10,0,0}", loads),
-              R"XML("BeamContact/Loads/push/Node": "7" is not "start", "end", "middle" or an index 0..4)XML");
+  expectError(
+      deck(
+          "",
+          R"XML(<Parameter name="Width" type="double" value="1"/><Parameter name="Height" type="double" value="1"/>)XML",
+          R"XML(<Parameter name="Young's Modulus" type="double" value="100"/><Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML",
+          R"XML(<Parameter name="Elements" type="int" value="4"/>)XML", "{10,0,0}", loads),
+      R"XML("BeamContact/Loads/push/Node": "7" is not "start", "end", "middle" or an index 0..4)XML");
 }
 
 TEST(InputValidation, PenaltyParametersAreNumbersOrAutomatic) {

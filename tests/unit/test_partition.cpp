@@ -41,10 +41,8 @@ TEST(CoordinatePartition, TwoRanksCutTheLongestSide) {
   const auto owner = coordinatePartition(X, 2);
   double top0 = -1.0, bottom1 = 10.0;
   for (std::size_t k = 0; k < X.size(); ++k)
-    if (owner[k] == 0)
-      top0 = std::max(top0, X[k][1]);
-    else
-      bottom1 = std::min(bottom1, X[k][1]);
+    if (owner[k] == 0) top0 = std::max(top0, X[k][1]);
+    else bottom1 = std::min(bottom1, X[k][1]);
   EXPECT_LE(top0, bottom1);
 }
 

@@ -21,8 +21,9 @@ TEST(Strategies, EveryRegisteredStrategyHasATangentMatchingCentralDifferences) {
     EXPECT_EQ(strategy->type(), entry.name);
     int slipping = 0, sticking = 0;
     for (const auto& c : constraints::checkTangent(*strategy)) {
-      std::printf("%-20s %-28s size %2d, slipping lines %d: max |K| %.3e, max |K - central differences| / max |K| = %.2e\n",
-                  entry.name.c_str(), c.situation.c_str(), c.size, c.slipping, c.maxEntry, c.relativeError());
+      std::printf(
+          "%-20s %-28s size %2d, slipping lines %d: max |K| %.3e, max |K - central differences| / max |K| = %.2e\n",
+          entry.name.c_str(), c.situation.c_str(), c.size, c.slipping, c.maxEntry, c.relativeError());
       EXPECT_TRUE(c.acts) << entry.name << ", " << c.situation << ": does not act on a penetrating point";
       EXPECT_GT(c.maxEntry, 0.0) << entry.name << ", " << c.situation;
       EXPECT_LT(c.relativeError(), 1e-6) << entry.name << ", " << c.situation;
