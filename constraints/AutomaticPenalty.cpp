@@ -80,7 +80,6 @@ std::string AutomaticPenalty::failureHint(const Teuchos::Comm<int>& comm, const 
 
 void AutomaticPenalty::relaxAfterFailure(PointMap& committed) {
   if (cycling_) {
-    tangentialRelaxation_ *= 10.0;
     ++relaxations_;
     for (auto& [key, p] : committed)
       if (p.compliance[0] > 0.0) handCompliance(p);
@@ -89,20 +88,18 @@ void AutomaticPenalty::relaxAfterFailure(PointMap& committed) {
 }
 
 void AutomaticPenalty::restore(core::CheckpointIn& in, double factor, int relaxations) {
-  tangentialRelaxation_ = factor;
   relaxations_ = relaxations;
   // The tangential penalties are relaxed by a factor 10 each time (relaxAfterFailure), from 1.
-  double relaxation = 1.0;
-  for (int k = 0; k < relaxations_ && std::isfinite(relaxation); ++k) relaxation *= 10.0;
-  if (tangentialRelaxation_ != relaxation)
-    in.fail("its tangential relaxation factor " + core::shortest(tangentialRelaxation_) + " is not 10^" +
+  if (factor != tangentialRelaxationFactor(relaxations_))
+    in.fail("its tangential relaxation factor " + core::shortest(factor) + " is not 10^" +
             std::to_string(relaxations_) + " (its count of relaxations)");
 }
 
 std::string AutomaticPenalty::warning() const {
   if (relaxations_ == 0) return "";
   std::ostringstream s;
-  s << "the automatic Tangential Penalty Parameters were lowered by a factor " << tangentialRelaxation_
+  s << "the automatic Tangential Penalty Parameters were lowered by a factor "
+    << tangentialRelaxationFactor(relaxations_)
     << " after Newton solves failed with slip directions cycling: a sticking friction force may be off by more "
        "than the Tangential Target Error (by 1 / (1 + eps_T c_T) of it with the lowered eps_T, contact_points.csv "
        "gives each point's eps_T)";

@@ -45,7 +45,9 @@ class AutomaticPenalty {
 
   // The relaxation in checkpoints: its factor and count, and both read back (checked against each
   // other).
-  void save(core::CheckpointOut& out) const { out.real(tangentialRelaxation_).integer(relaxations_); }
+  void save(core::CheckpointOut& out) const {
+    out.real(tangentialRelaxationFactor(relaxations_)).integer(relaxations_);
+  }
   void restore(core::CheckpointIn& in, double factor, int relaxations);
   // The warning of a run whose parameters were lowered (empty: none).
   std::string warning() const;
@@ -60,7 +62,6 @@ class AutomaticPenalty {
   const ConstraintEnforcer& enforcer_;
   const LineContact& lines_;
   core::ComplianceFunction compliance_;
-  double tangentialRelaxation_ = 1.0;
   int relaxations_ = 0;
   mutable bool cycling_ = false;
   mutable std::map<PointKey, FrictionWatch> frictionWatch_;

@@ -1,5 +1,6 @@
 #include "ConstraintEnforcer.hpp"
 
+#include <cmath>
 #include <vector>
 
 namespace bc::constraints {
@@ -10,9 +11,14 @@ PointResult ConstraintEnforcer::reportedForces(const ContactPoint& p, const Poin
   return evaluate(p, s, f.data(), nullptr);
 }
 
-void ConstraintEnforcer::relaxTangential(PointState& s, const double compliance[3], int relaxations) const {
+double tangentialRelaxationFactor(int relaxations) {
   double factor = 1.0;
-  for (int k = 0; k < relaxations; ++k) factor *= 10.0;
+  for (int k = 0; k < relaxations && std::isfinite(factor); ++k) factor *= 10.0;
+  return factor;
+}
+
+void ConstraintEnforcer::relaxTangential(PointState& s, const double compliance[3], int relaxations) const {
+  const double factor = tangentialRelaxationFactor(relaxations);
   const double c[3] = {compliance[0], factor * compliance[1], factor * compliance[2]};
   setCompliance(s, c);
 }

@@ -90,6 +90,10 @@ struct PointResult {
   bool slip[2] = {false, false};
 };
 
+// The factor by which `relaxations` tangential relaxations (ConstraintEnforcer::relaxTangential)
+// scale the tangential compliances: 10^relaxations, formed by repeated products (inf beyond range).
+double tangentialRelaxationFactor(int relaxations);
+
 class ConstraintEnforcer {
  public:
   virtual ~ConstraintEnforcer() = default;

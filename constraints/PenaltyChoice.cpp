@@ -46,8 +46,7 @@ PenaltyChoice::PenaltyChoice(const Teuchos::ParameterList& v) {
 }
 
 void PenaltyChoice::choose(const double compliance[3], double eps[2], int relaxations) const {
-  double factor = 1.0;
-  for (int k = 0; k < relaxations; ++k) factor *= 10.0;
+  const double factor = tangentialRelaxationFactor(relaxations);
   const double c[3] = {compliance[0], factor * compliance[1], factor * compliance[2]};
   // Tangential: the stiffer slip direction (smaller compliance) that is measured at all.
   double cT = 0.0;
