@@ -4,8 +4,7 @@
 
 #include <cmath>
 
-#include "core/Assembler.hpp"
-#include "support/CentralDifferences.hpp"
+#include "support/AssembledTangent.hpp"
 #include "support/TestSupport.hpp"
 
 using namespace bc;
@@ -24,28 +23,7 @@ TEST(AssembledTangent, MatchesCentralDifferencesOfTheResidual) {
   s.applyNodeIncrement(3, std::array<double, 6>{0.5, -0.3, 0.2, 0.05, -0.1, 0.08}.data());
 
   core::Assembler a(comm, p.model);
-  a.rebuild(s);
-  a.assemble(s, 0.7, true);
-  const auto K = a.matrix();
-  const int n = static_cast<int>(s.numDofs());
-  const auto [err, kmax] = test::centralDifferences(
-      n, n, 1e-6,
-      [&](int j, double h) {
-        std::vector<double> du(n, 0.0);
-        du[j] = h;
-        core::State moved = s;
-        moved.applyIncrement(du);
-        a.assemble(moved, 0.7, false);
-        return a.gatherToAll(*a.residual());
-      },
-      [&](int j) {
-        // Column j of K: apply K to e_j.
-        core::Vector ej(a.ownedMap()), col(a.ownedMap());
-        if (a.ownsDof(j)) ej.replaceGlobalValue(j, 1.0);
-        K->apply(ej, col);
-        return a.gatherToAll(col);
-      },
-      [&](int i) { return a.constrainedDofs().count(i) > 0; });
+  const auto [err, kmax] = test::assembledTangentError(a, s, 0.7);
   if (comm->getRank() == 0) std::printf("assembled tangent: max |K - FD| / max |K| = %.3e\n", err / kmax);
   EXPECT_LT(err / kmax, 1e-6);
 }

@@ -14,8 +14,7 @@
 #include <vector>
 
 #include "constraints/ContactManager.hpp"
-#include "core/Assembler.hpp"
-#include "support/CentralDifferences.hpp"
+#include "support/AssembledTangent.hpp"
 #include "support/TestSupport.hpp"
 
 #ifndef BC_SOURCE_DIR
@@ -99,27 +98,7 @@ inline double assembledContactTangentError(const input::Problem& p, const core::
   m.supports = p.model.supports;
   m.contributions = {p.contact};
   core::Assembler a(comm, m);
-  a.rebuild(s);
-  a.assemble(s, 0.3, true);
-  const int n = static_cast<int>(s.numDofs());
-  const auto e = centralDifferences(
-      n, n, 1e-6,
-      [&](int j, double h) {
-        std::vector<double> du(n, 0.0);
-        du[j] = h;
-        core::State moved = s;
-        moved.applyIncrement(du);
-        a.assemble(moved, 0.3, false);
-        return a.gatherToAll(*a.residual());
-      },
-      [&](int j) {
-        core::Vector ej(a.ownedMap()), col(a.ownedMap());
-        if (a.ownsDof(j)) ej.replaceGlobalValue(j, 1.0);
-        a.assemble(s, 0.3, true);
-        a.matrix()->apply(ej, col);
-        return a.gatherToAll(col);
-      },
-      [&](int i) { return a.constrainedDofs().count(i) > 0; });
+  const auto e = assembledTangentError(a, s, 0.3);
   kmax = e.largest;
   return e.error;
 }
