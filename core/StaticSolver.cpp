@@ -5,6 +5,7 @@
 #include <climits>
 #include <cmath>
 #include <map>
+#include <iomanip>
 #include <sstream>
 
 #include "Checkpoint.hpp"
@@ -596,16 +597,35 @@ struct StaticSolver::Newton {
 
   // Whether the iterate has converged. At k = 0 nothing has been solved yet: accept only a state
   // already in equilibrium with respect to the loads and reactions (e.g. an increment that changes
-  // nothing). After that the residual cannot fall below its round-off floor (about eps * EA per
-  // element): once the increments are negligible, a residual that stopped decreasing has reached
-  // that floor.
-  bool converged() const {
-    if (kp == 0) return rn == 0.0 || rn <= settings.residualTolerance * std::max(reactionNorm, loadNorm);
+  // nothing). After that each test may meet the other's round-off floor:
+  // - the residual cannot fall below its floor (about eps * EA per element): once the increments
+  //   are negligible, a residual that stopped decreasing has reached that floor;
+  // - the increment cannot fall below K^-1 times that floor either. The residual test is relative to
+  //   the whole load (reactions, loads), the increment test to the step's motion, which is small in a
+  //   cut step: there the floor of ||du|| can lie above its tolerance with the residual at its own
+  //   floor, and cutting further only makes it worse. So with the residual test met, an increment
+  //   that stopped falling (not below half the one before) while within sqrt(Increment Tolerance) of
+  //   the step's motion is at its floor. A Newton iterate that still converges halves its increment
+  //   at every iteration; one cycling between active sets moves by far more than that bound.
+  struct Tests {
+    bool residual = false, increment = false, residualFloor = false, incrementFloor = false;
+    bool met() const { return (residual || residualFloor) && (increment || incrementFloor); }
+  };
+  Tests tests() const {
+    Tests t;
+    if (kp == 0) {
+      t.residual = t.increment = rn == 0.0 || rn <= settings.residualTolerance * std::max(reactionNorm, loadNorm);
+      return t;
+    }
     const double duLast = report.history[k - 1].incrementNorm;
-    const bool incrementOk = duLast <= settings.incrementTolerance * incrementScale;
-    const bool stagnated = kp >= 2 && rn > 0.5 * report.history[k - 1].residualNorm;
-    return incrementOk && (rn <= settings.residualTolerance * reference || stagnated);
+    t.residual = rn <= settings.residualTolerance * reference;
+    t.increment = duLast <= settings.incrementTolerance * incrementScale;
+    t.residualFloor = t.increment && kp >= 2 && rn > 0.5 * report.history[k - 1].residualNorm;
+    t.incrementFloor = t.residual && kp >= 2 && duLast > 0.5 * report.history[k - 2].incrementNorm &&
+                       duLast <= std::sqrt(settings.incrementTolerance) * incrementScale;
+    return t;
   }
+  bool converged() const { return tests().met(); }
 
   // What the iterate means: a failure (a residual not finite, divergence, the iteration limit), the
   // increment converged, another pass (the contributions ask for another solve of the increment:
@@ -629,8 +649,14 @@ struct StaticSolver::Newton {
     }
     if (kp < settings.maxIterations) return Verdict::Iterate;
     std::ostringstream m;
-    m << "no convergence in " << settings.maxIterations
-      << " Newton iterations (Maximum Iterations), last ||r|| = " << rn;
+    const Tests t = tests();
+    const double duLast = kp > 0 ? report.history[k - 1].incrementNorm : 0.0;
+    m << std::setprecision(3) << "no convergence in " << settings.maxIterations
+      << " Newton iterations (Maximum Iterations): the residual test " << (t.residual ? "holds" : "fails")
+      << " (||r|| = " << rn << " against Residual Tolerance x " << reference << " = "
+      << settings.residualTolerance * reference << "), the increment test " << (t.increment ? "holds" : "fails")
+      << " (||du|| = " << duLast << " against Increment Tolerance x " << incrementScale << " = "
+      << settings.incrementTolerance * incrementScale << ")";
     for (auto& c : s.model_.contributions) {
       const std::string hint = c->failureHint(*s.comm_);
       if (!hint.empty()) m << "; " << hint;

@@ -5,7 +5,9 @@
 //  - end moment M = 2 pi E I / L rolls the cantilever into a full circle;
 //  - quadratic convergence of Newton on a large-deflection tip-force case (order asserted);
 //  - a tip force of 1e-200 (forces that underflow when squared) is solved, not taken for equilibrium;
-//  - the small-strain check warns exactly when M h / (2 E I) or N / (E A) crosses 5 %.
+//  - the small-strain check warns exactly when M h / (2 E I) or N / (E A) crosses 5 %;
+//  - an increment at its round-off floor is accepted once the residual test holds, and a failure names
+//    the test that failed.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -201,6 +203,41 @@ TEST(RollUp, EndMomentRollsCantileverIntoFullCircle) {
   // Mid node: across the polygon, diameter = chord / sin(pi / n).
   const double chord = L / 20;
   EXPECT_NEAR(s.position[10][2], chord / std::sin(std::acos(-1.0) / 20), 1e-9 * L);
+}
+
+// The increment test meets its round-off floor: the roll-up's moment held (a Load Curve rising by
+// 1e-6 over T = 0.5 .. 1) with Increment Tolerance 1e-15, below what ||du|| can reach (measured: it
+// stops falling at 1e-14 .. 5e-14 with the residual at its own floor). Before, each step of the held
+// phase iterated to Maximum Iterations and was cut until the run stopped incomplete at T = 0.5; now an
+// increment that stopped falling with the residual test met is at its floor. The answer is the one of
+// the default tolerance (1e-8), to 1e-10 of L: both are the same equilibrium.
+TEST(Newton, AnIncrementAtItsRoundOffFloorIsAcceptedOnceTheResidualTestHolds) {
+  const double EI = E * 1.0 / 12.0;
+  const double M = 2 * std::acos(-1.0) * EI / L;
+  const auto solve = [&](double incrementTolerance, int maxIterations, const std::string& name) {
+    auto deck = Teuchos::getParametersFromXmlString(
+        test::cantileverXml(L, 1.0, 1.0, E, 0.3, 20, "0,0,0", "0," + test::num(-M) + ",0", 20));
+    deck->sublist("Loads").sublist("tip").set(
+        "Load Curve", Teuchos::Array<double>(std::vector<double>{0.0, 0.0, 0.5, 1.0, 1.0, 1.000001}));
+    deck->sublist("Nonlinear Solver").set("Increment Tolerance", incrementTolerance);
+    deck->sublist("Nonlinear Solver").set("Maximum Iterations", maxIterations);
+    auto p = input::buildProblem(*deck, name);
+    return test::runQuiet(p, Tpetra::getDefaultComm(), name);
+  };
+  const auto tight = solve(1e-15, 25, "floor_tight"), plain = solve(1e-8, 25, "floor_plain");
+  ASSERT_TRUE(tight.report.completed) << tight.report.failure;
+  ASSERT_TRUE(plain.report.completed) << plain.report.failure;
+  for (const auto& s : tight.steps) EXPECT_EQ(s.cutLevel, 0) << "T = " << s.T;
+  for (int n = 0; n <= 20; ++n)
+    for (int d = 0; d < 3; ++d)
+      EXPECT_NEAR(tight.finalState.position[n][d], plain.finalState.position[n][d], 1e-10 * L) << n << " " << d;
+  // A failure names the test that failed with both norms: one Newton iteration cannot converge.
+  const auto failed = solve(1e-8, 1, "floor_failed");
+  ASSERT_FALSE(failed.report.completed);
+  for (const char* part : {"Maximum Iterations", "the residual test fails", "Residual Tolerance x",
+                           "the increment test fails", "Increment Tolerance x"})
+    EXPECT_NE(failed.report.failure.find(part), std::string::npos) << part << " in: " << failed.report.failure;
+  std::printf("failure message: %s\n", failed.report.failure.c_str());
 }
 
 TEST(Newton, ConvergesQuadraticallyNearTheSolution) {
