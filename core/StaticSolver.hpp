@@ -6,8 +6,12 @@
 // consistent tangent. Convergence needs both
 //   ||r_k|| <= "Residual Tolerance" * max(||r_0||, ||T f_ext||, ||reactions||)  and
 //   ||du_k|| <= "Increment Tolerance" * ||accumulated increment of the step||,
-// where the residual test also passes once the residual stagnates at its round-off floor while the
-// increment test holds (then ||r|| <= ||K|| ||du|| is negligible).
+// where each test also passes at its round-off floor when the other one holds: a residual that
+// stagnates while the increment test holds (then ||r|| <= ||K|| ||du|| is negligible), and an
+// increment that stopped falling (not below half the one before) within sqrt(Increment Tolerance)
+// of the step's motion while the residual test holds (in a short step the floor of ||du||, K^-1
+// times the residual's, can lie above the increment test). A failure on Maximum Iterations names
+// the test that failed, with both norms and their thresholds.
 // Step bound: a contribution may shorten a Newton step (a contact spring open at the iterate that the
 // full step would close: the step ends just past its first touch, so the next tangent holds its
 // stiffness); the full step's norm still decides convergence. This is what lets stiff penalties
