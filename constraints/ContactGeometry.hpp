@@ -5,6 +5,7 @@
 // contact, line contact and the points' life cycle all read it.
 #pragma once
 #include <array>
+#include <map>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -43,6 +44,9 @@ struct ContactOptions {
   // Pairs of distinct nodes joined without sharing a node (pinned joints): elements meeting there
   // are no contact candidates, like elements that share a node.
   std::vector<std::pair<int, int>> joinedNodes;
+  // Nodes whose translations supports fix, with the fixed components (ux, uy, uz): the line-contact
+  // check of gaps that supports hold (LineContact::checkHeldEnds).
+  std::map<int, std::array<bool, 3>> heldNodes;
 };
 
 // A candidate of the narrow phase for a point key: the element pair it lies on and the closest

@@ -1,5 +1,6 @@
 #include "ContactReport.hpp"
 
+#include <iomanip>
 #include <sstream>
 
 namespace bc::constraints {
@@ -129,6 +130,20 @@ std::vector<std::string> ContactReport::warnings() const {
          "crossing at a "
          "small angle, or a beam end on the other beam), so the contact force is not resolved; refine beam \""
       << beams[pairs[pair].beamA].name << "\" or use Penalty or Augmented Lagrange";
+    w.push_back(s.str());
+  }
+  for (const auto& [pair, held] : lines_.heldEnds()) {
+    std::ostringstream s;
+    s << std::setprecision(3) << "contact pair \"" << pairs[pair].name << "\": supports hold both beams near ("
+      << held.at[0] << ", " << held.at[1] << ", " << held.at[2]
+      << "), where their slopes turned the contact normal so that the gap they hold "
+      << "there is " << held.gap << ", a penetration that " << enforcer_.type()
+      << "'s rigid line contact cannot remove: closing it within an element of beam \"" << beams[pairs[pair].beamA].name
+      << "\" takes tractions of about E I |g| / h^4 = " << held.traction << " (" << 100.0 * held.ratio()
+      << " % of the mean traction " << held.mean
+      << "), which grow as h^-4 when the beams are refined, and so do the errors of the contact force and the "
+         "reactions; hold only one of the two beams there, or use Penalty (which takes the gap with a force "
+         "eps_N |g|)";
     w.push_back(s.str());
   }
   for (int pair : lines_.frictionless()) {

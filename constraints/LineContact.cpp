@@ -349,7 +349,62 @@ void LineContact::noteRestored(const PointMap& points) {
     if (p.line() && geometry_.pairs()[p.key.pair].friction > 0.0) frictionless_.insert(p.key.pair);
 }
 
+bool LineContact::heldAlong(int n, const Vec3d& normal) const {
+  const auto& held = geometry_.options().heldNodes;
+  const auto it = held.find(n);
+  if (it == held.end()) return false;
+  for (int c = 0; c < 3; ++c)
+    if (!it->second[c] && std::abs(normal[c]) > 1e-6) return false;
+  return true;
+}
+
+void LineContact::checkHeldEnds(const PointMap& points, const core::State& s) {
+  // Two beams held by supports at the same place (two rods pinned at the same x) keep their gap
+  // there: when they bend, their slope turns the contact normal, and the gap the supports hold
+  // becomes -2 r (1 - cos theta), a penetration no multiplier can remove. A rigid line constraint
+  // (a nodal field: its weighted gaps are zero) then closes the gap within the field's first
+  // element of length h, which takes tractions of about EI |g| / h^4 (E I the softer beam's): they
+  // grow as the elements are refined, and so do the errors of the total force and the reactions.
+  // A penalty law takes the same gap with a force eps_N |g|.
+  const auto& elems = geometry_.beams().elements();
+  const auto& beams = geometry_.beams().beams();
+  std::map<int, std::pair<double, double>> load;  // pair -> (sum |lambda_N|, sum of lengths)
+  for (const auto& [key, p] : points) {
+    if (!p.line() || !p.result.active || p.length <= 0.0) continue;
+    load[p.key.pair].first += std::abs(p.result.lambdaN);
+    load[p.key.pair].second += p.length;
+  }
+  for (const auto& [key, p] : points) {
+    if (!p.line() || !p.result.active) continue;
+    const BeamElement &a = elems[p.elementA], &b = elems[p.elementB];
+    const int last = static_cast<int>(beams[a.beam].nodes.size()) - 2;  // A's last element
+    for (int side = 0; side < 2; ++side) {
+      if ((side == 0 && a.index != 0) || (side == 1 && a.index != last)) continue;
+      const int endA = side == 0 ? a.node1 : a.node2;
+      // B's node at the same place along the axes (within 1e-3 of A's element).
+      const Vec3d t = s.position[a.node2] - s.position[a.node1];
+      int endB = -1;
+      for (int nb : {b.node1, b.node2})
+        if (std::abs(dot(s.position[nb] - s.position[endA], t)) <= 1e-3 * dot(t, t)) endB = nb;
+      if (endB < 0) continue;
+      const LinePairInput in = input(p, s);
+      ClosestPoints cp = lineProjection(in, static_cast<double>(side));
+      if (!heldAlong(endA, cp.normal) || !heldAlong(endB, cp.normal)) continue;
+      if (lineSide(in, cp, p.normal) < 0.0) cp.gap = -cp.distance - (cp.distance - cp.gap);
+      const double EI = std::min({a.data.EIy, a.data.EIz, b.data.EIy, b.data.EIz});
+      const double h = a.data.L0;
+      const double traction = EI * std::abs(std::min(cp.gap, 0.0)) / (h * h * h * h);
+      const auto l = load.find(p.key.pair);
+      const double mean = l != load.end() && l->second.second > 0.0 ? l->second.first / l->second.second : 0.0;
+      if (!(mean > 0.0) || !(traction > kHeldEndTraction * mean)) continue;
+      HeldEnd& worst = heldEnds_[p.key.pair];
+      if (traction / mean > worst.ratio()) worst = {cp.gap, traction, mean, s.position[endA]};
+    }
+  }
+}
+
 void LineContact::checkResolution(const PointMap& points, const core::State& state) {
+  if (nodal_) checkHeldEnds(points, state);
   // The Gauss points of line contact see the gap only where they are. Where the contact zone of an
   // element pair is shorter than their spacing (axes crossing at a small angle) the beams can overlap
   // between them, unseen. Per element pair (and, for rectangles, edge of A) with line points that

@@ -74,6 +74,15 @@ class LineContact {
   const std::set<int>& frictionless() const { return frictionless_; }
   const std::map<int, std::pair<double, Vec3d>>& unresolved() const { return unresolved_; }
   const std::map<int, std::pair<double, Vec3d>>& unseenBetween() const { return unseenBetween_; }
+  // Nodal line fields at a beam end where supports hold both beams along the normal: pair -> the
+  // gap they hold there, where, and the traction EI |g| / h^4 it takes to close it within an element
+  // of length h, against the field's mean traction (the largest such ratio over the steps).
+  struct HeldEnd {
+    double gap = 0.0, traction = 0.0, mean = 0.0;
+    Vec3d at{};
+    double ratio() const { return mean > 0.0 ? traction / mean : 0.0; }
+  };
+  const std::map<int, HeldEnd>& heldEnds() const { return heldEnds_; }
   // Notes a committed Gauss point (its kinematics `k` in `s`) and, after a step, records overlaps of
   // line contact between the Gauss points; the frictionless pairs of restored points.
   void noteCommitted(const ContactPointRecord& p, const ContactKinematics& k, const core::State& s);
@@ -94,6 +103,10 @@ class LineContact {
   // segmentKinematics measures it.
   LineHistory history(const ContactPointRecord& p) const;
   double slip(const ContactPointRecord& p, const ClosestPoints& cp, const core::State& s) const;
+  // After a step (nodal fields): the gaps supports hold at beam ends (heldEnds).
+  void checkHeldEnds(const PointMap& points, const core::State& s);
+  // Whether node `n`'s supports hold it along `normal` (every free translation is across it).
+  bool heldAlong(int n, const Vec3d& normal) const;
 
   const ContactGeometry& geometry_;
   const ConstraintEnforcer& enforcer_;
@@ -104,7 +117,12 @@ class LineContact {
   std::vector<std::array<Vec3d, 2>> segmentPlanes_;
   std::set<int> frictionless_;
   std::map<int, std::pair<double, Vec3d>> unresolved_, unseenBetween_;
+  std::map<int, HeldEnd> heldEnds_;
 };
+
+// A held end is reported when closing its gap within one element would take more than this
+// fraction of the field's mean traction.
+constexpr double kHeldEndTraction = 1e-2;
 
 // A line point penetrating by more than this fraction of the thinner section's inscribed radius (a
 // nodal multiplier field's point, or the gap between Gauss points beyond the deepest one's) is

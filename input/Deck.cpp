@@ -446,6 +446,10 @@ constraints::ContactOptions contactOptions(const Problem& p, const ParameterList
   for (const auto& c : p.model.contributions)
     if (const auto* pins = dynamic_cast<const elements::PinnedJoints*>(c.get()))
       for (const auto& j : pins->joints()) options.joinedNodes.push_back({j.nodeA, j.nodeB});
+  for (const core::Support& s : p.model.supports)
+    for (int n : s.nodes)
+      for (int c = 0; c < 3; ++c)
+        if (s.fixed[c]) options.heldNodes[n][c] = true;
   return options;
 }
 

@@ -208,6 +208,59 @@ TEST(LineContact, ParallelPinnedBeamsMatchTheElasticFoundationClosedForm) {
   }
 }
 
+// Two identical rods pinned at the same x, the upper loaded by q: each carries q / 2 and both end
+// slopes are theta = (q / 2) L^3 / (24 E I). The slope turns the contact normal, so the supports hold
+// the gap at the ends at -2 r (1 - cos theta) = -r theta^2 (to O(theta^4)), a penetration a rigid line
+// constraint cannot remove: closing it within an element of length h takes tractions of about
+// E I r theta^2 / h^4, a share of q that grows as h^-4 (measured: the total force +0.07, +0.55, +3.5 %
+// with 10, 20, 40 elements at q = 1, and 0.04 % with 40 at q = 0.01, linear in q as the estimate
+// says). Lagrange Multiplier warns where that share exceeds 1 % of the field's mean traction, with
+// the gap; not at 10 elements, not at q = 0.01, and Penalty (which takes the gap as eps_N |g|, 1e-3
+// of q) never.
+TEST(LineContact, AGapThatSupportsHoldAtBothBeamsEndsIsReportedWhenRigidContactCannotCloseIt) {
+  const double E = 1e9, L = 100.0, r = 0.5, pi = std::acos(-1.0), EI = E * pi * std::pow(r, 4) / 4;
+  auto run = [&](const std::string& type, int n, double q, std::string& warning) {
+    auto deck = parallelBeams(type, n, n, 0.0, E, 6);
+    for (const char* beam : {"ground", "rod"}) {
+      support(deck, beam, 0, "ux uy uz rx");
+      support(deck, beam, n, "uy uz rx");
+    }
+    uniformLoad(deck, "rod", n, q);
+    input::replaceAtPath(deck, "Load Stepping/Number of Increments", 2);
+    auto p = input::buildProblem(deck, "held_ends");
+    const auto result = test::runQuiet(p, Tpetra::getDefaultComm(), "held_ends");
+    EXPECT_TRUE(result.report.completed) << result.report.failure;
+    warning.clear();
+    int held = 0;
+    for (const auto& w : result.report.warnings)
+      if (w.find("supports hold both beams") != std::string::npos) {
+        warning = w;
+        ++held;
+      }
+    EXPECT_LE(held, 1);
+    const double total = lineSums(p).total;
+    std::printf("%s, %d elements, q = %g: total %.6f (q L / 2 %+.3f %%)%s\n", type.c_str(), n, q, total,
+                100 * (total / (0.5 * q * L) - 1), held ? ", held-end warning" : "");
+  };
+  std::string w;
+  run("Lagrange Multiplier", 10, 1.0, w);
+  EXPECT_TRUE(w.empty()) << w;
+  run("Lagrange Multiplier", 40, 0.01, w);
+  EXPECT_TRUE(w.empty()) << w;
+  run("Penalty", 40, 1.0, w);
+  EXPECT_TRUE(w.empty()) << w;
+  run("Lagrange Multiplier", 40, 1.0, w);
+  ASSERT_FALSE(w.empty());
+  EXPECT_NE(w.find("contact pair \"line\""), std::string::npos) << w;
+  EXPECT_NE(w.find("hold only one of the two beams there, or use Penalty"), std::string::npos) << w;
+  const double theta = 0.5 * L * L * L / (24 * EI), expected = -r * theta * theta;
+  const auto at = w.find("the gap they hold there is ");
+  ASSERT_NE(at, std::string::npos) << w;
+  const double gap = std::stod(w.substr(at + std::string("the gap they hold there is ").size()));
+  std::printf("held gap %.4e, closed form -r theta^2 = %.4e\n", gap, expected);
+  EXPECT_NEAR(gap, expected, 0.02 * std::abs(expected));
+}
+
 // Lagrange multipliers on a line (a mortar field on the nodes of line A, linear between them,
 // constant on the end elements). Two identical cantilevers (E = 1e9, clamped at x = 0), the rod
 // lying on the ground and loaded by q per length: with the contact exact, both deflect alike, so
