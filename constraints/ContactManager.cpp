@@ -191,9 +191,14 @@ bool ContactManager::held(int pi, int ea, int eb, const core::State& state, bool
     if (std::abs(elems[onA].index - elems[ea].index) > 1 || std::abs(elems[onB].index - elems[eb].index) > 1) continue;
     if (p.node()) continue;
     const PointState* acting = actingState(p);
+    if (!acting) continue;
+    // (Seeing needs the gap's value only.)
+    if (!penetrating) {
+      if (enforcer_->contributes(pointGeometry(p, state).gap, *acting)) return true;
+      continue;
+    }
     const ContactKinematics k = kinematics(p, state, Variations::First);
-    if (acting && enforcer_->contributes(k.normal.value, *acting) && (k.normal.value < 0.0 || !penetrating))
-      return true;
+    if (enforcer_->contributes(k.normal.value, *acting) && k.normal.value < 0.0) return true;
   }
   return false;
 }
