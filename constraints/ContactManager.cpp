@@ -191,12 +191,14 @@ bool ContactManager::held(int pi, int ea, int eb, const core::State& state, bool
     if (std::abs(elems[onA].index - elems[ea].index) > 1 || std::abs(elems[onB].index - elems[eb].index) > 1) continue;
     if (p.node()) continue;
     const PointState* acting = actingState(p);
-    if (!acting) continue;
-    // (Seeing needs the gap's value only.)
+    // (Seeing needs the gap's value only: a point that acts, or one that penetrates, whose strategy
+    // has not taken it up yet, as Lagrange's points at the start.)
     if (!penetrating) {
-      if (enforcer_->contributes(pointGeometry(p, state).gap, *acting)) return true;
+      const double gap = pointGeometry(p, state).gap;
+      if (gap <= 0.0 || (acting && enforcer_->contributes(gap, *acting))) return true;
       continue;
     }
+    if (!acting) continue;
     const ContactKinematics k = kinematics(p, state, Variations::First);
     if (enforcer_->contributes(k.normal.value, *acting) && k.normal.value < 0.0) return true;
   }
