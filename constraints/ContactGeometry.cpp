@@ -59,10 +59,11 @@ bool ContactGeometry::blends(int pair) const {
 
 std::pair<double, double> ContactGeometry::blendAngles(int pair) const {
   // Circular sections: the deck's angles. Rectangular ones: their edges' point contact holds down to
-  // small angles (crossings at 0.1 .. 12 degrees complete), while the face contact's edges, which see
-  // only B's face, miss B's edges on A's face at a crossing (crossings at 4 .. 12 degrees failed at
-  // first contact with the deck's angles): line contact only where the edges are parallel within
-  // Parallel Line Tolerance, and the blend up to twice that angle.
+  // small angles (crossings at 0.1 .. 12 degrees complete), while the face contact's edges missed
+  // B's edges on A's face at a crossing when only A's edges took part (crossings at 4 .. 12 degrees
+  // failed at first contact with the deck's angles; not measured since B's edges take part): line
+  // contact only where the edges are parallel within Parallel Line Tolerance, and the blend up to
+  // twice that angle.
   if (!rectangles(pair)) return {options_.lineAngle, options_.pointAngle};
   const double parallel = std::asin(std::min(1.0, options_.minimumSinAngle));
   return {parallel, 2.0 * parallel};

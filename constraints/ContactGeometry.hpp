@@ -97,6 +97,11 @@ class ContactGeometry {
   double thinner(int pair) const { return std::min(inscribed_[pairs_[pair].beamA], inscribed_[pairs_[pair].beamB]); }
   int lineCount(int beam) const { return static_cast<int>(lines_[beam].size()); }
   bool rectangles(int pair) const;
+  // A Gauss point of rectangles' line contact on an edge of the pair's beam B against beam A's face:
+  // its roles are swapped (its elementA is an element of beam B, its elementB one of beam A).
+  bool swapped(const ContactPointRecord& p) const {
+    return p.line() && beams_->elements()[p.key.elementA].beam != pairs_[p.key.pair].beamA;
+  }
 
   // The input of closest points of line lA of element eA and line lB of element eB in `s`, and that
   // of the two elements' axes.

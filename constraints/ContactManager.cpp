@@ -50,8 +50,9 @@ void ContactManager::initialize(core::State& state) {
       throw core::InputError(s.str());
     }
   }
-  search_.checkNoUnseenContact(state, true, enforcer_->type());
   prepareIteration(state);
+  search_.checkNoUnseenContact(state, true, enforcer_->type(),
+                               [&](int pi, int ea, int eb) { return held(pi, ea, eb, state, false); });
   set_.commit();
 }
 
@@ -180,16 +181,26 @@ std::string ContactManager::failureHint(const Teuchos::Comm<int>& comm) const {
   return penalty_.failureHint(comm, set_.current());
 }
 
-bool ContactManager::held(int pi, int ea, int eb, const core::State& state) const {
+bool ContactManager::held(int pi, int ea, int eb, const core::State& state, bool penetrating) const {
   const auto& elems = geometry_.beams().elements();
   for (const auto& [key, p] : set_.current()) {
-    if (p.key.pair != pi || std::abs(elems[p.elementA].index - elems[ea].index) > 1 ||
-        std::abs(elems[p.elementB].index - elems[eb].index) > 1)
-      continue;
+    if (p.key.pair != pi) continue;
+    // (A point with swapped roles has its elements the other way round.)
+    const bool swapped = geometry_.swapped(p);
+    const int onA = swapped ? p.elementB : p.elementA, onB = swapped ? p.elementA : p.elementB;
+    if (std::abs(elems[onA].index - elems[ea].index) > 1 || std::abs(elems[onB].index - elems[eb].index) > 1) continue;
     if (p.node()) continue;
     const PointState* acting = actingState(p);
+    // (Seeing needs the gap's value only: a point that acts, or one that penetrates, whose strategy
+    // has not taken it up yet, as Lagrange's points at the start.)
+    if (!penetrating) {
+      const double gap = pointGeometry(p, state).gap;
+      if (gap <= 0.0 || (acting && enforcer_->contributes(gap, *acting))) return true;
+      continue;
+    }
+    if (!acting) continue;
     const ContactKinematics k = kinematics(p, state, Variations::First);
-    if (acting && enforcer_->contributes(k.normal.value, *acting) && k.normal.value < 0.0) return true;
+    if (enforcer_->contributes(k.normal.value, *acting) && k.normal.value < 0.0) return true;
   }
   return false;
 }
@@ -254,7 +265,8 @@ bool ContactManager::acceptSolution(core::State& state) {
   }
   if (all) {
     search_.checkNoPassThrough(state, [&](int pi, int ea, int eb) { return held(pi, ea, eb, state); });
-    search_.checkNoUnseenContact(state, false, enforcer_->type());
+    search_.checkNoUnseenContact(state, false, enforcer_->type(),
+                                 [&](int pi, int ea, int eb) { return held(pi, ea, eb, state, false); });
   }
   if (passes_ == 1) violations_.clear();
   violations_.push_back(worstViolation_);
@@ -293,7 +305,12 @@ void ContactManager::commitPoint(Point& p, const core::State& state) {
   const ClosestPoints cp = pointGeometry(p, state);
   if (p.result.active) report_.noteDepth(p, cp);
   p.position = 0.5 * (cp.pA + cp.pB);
-  p.normal = cp.normal;
+  // A point with swapped roles (an edge of the pair's B on A's face) reports as the pair's: its normal
+  // from the pair's A to B, its force on the pair's B (the gaps do not change under a rigid
+  // translation, so the translations' rows of its residual sum to zero: the force on its own beam A,
+  // the pair's B, is minus that on its own B).
+  const double roles = geometry_.swapped(p) ? -1.0 : 1.0;
+  p.normal = roles * cp.normal;
   // The force on beam B is what the multipliers apply through the residual lambda_q R_q on B's
   // nodal translations (dofs 12-14 and 18-20), with the opposite sign (the residual holds the
   // internal side); split along the normal and in the tangent plane.
@@ -301,7 +318,7 @@ void ContactManager::commitPoint(Point& p, const core::State& state) {
   const double lam[3] = {p.result.lambdaN, p.result.lambdaT[0], p.result.lambdaT[1]};
   Vec3d force{};
   for (int q = 0; q < 3; ++q)
-    for (int a = 0; a < 3; ++a) force[a] -= lam[q] * (g[q]->R[12 + a] + g[q]->R[18 + a]);
+    for (int a = 0; a < 3; ++a) force[a] -= roles * lam[q] * (g[q]->R[12 + a] + g[q]->R[18 + a]);
   p.normalForce = dot(force, cp.normal) * cp.normal;
   p.tangentialForce = force - p.normalForce;
   p.xiPrev = geometry_.beamCoordinate(p.elementA, k.xi);

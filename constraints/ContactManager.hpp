@@ -111,8 +111,9 @@ class ContactManager : public core::Contribution {
   std::vector<core::GlobalDof> blockDofs(const Point& p) const;
   // Whether this rank evaluates point p (block dofs `dofs`): connectivity and evaluate agree on it.
   static bool evaluatesHere(const Point& p, const std::vector<core::GlobalDof>& dofs, const OwnsDof& owns);
-  // Whether an active point of pair `pi` near elements ea and eb holds them in `state` (they crossed).
-  bool held(int pi, int ea, int eb, const core::State& state) const;
+  // Whether an active point of pair `pi` near elements ea and eb holds them in `state` (they crossed):
+  // one that penetrates, or with `penetrating` false any active one (it sees them).
+  bool held(int pi, int ea, int eb, const core::State& state, bool penetrating = true) const;
   // The kinematics a point is judged by after a solve (values and first variations; a line node:
   // its weighted gap and slip of `gaps`), and whether it carries: a point whose blend weight is at
   // most kCarries carries (almost) nothing, and its strategy does not judge it. The second stage of

@@ -37,18 +37,20 @@ std::vector<std::string> ContactReport::tableRows(const PointMap& committed) con
     s.precision(12);
     const auto state = [&](int i) { return !p.result.active ? "open" : (p.result.slip[i] ? "slip" : "stick"); };
     const auto code = p.key.code();
-    s << geometry_.pairs()[p.key.pair].name << "," << code[1] << "," << code[2] << "," << p.xiPrev << "," << p.etaPrev
-      << "," << p.position[0] << "," << p.position[1] << "," << p.position[2] << "," << p.gap << ","
-      << -p.result.lambdaN << "," << p.result.lambdaT[0] << "," << p.result.lambdaT[1] << "," << state(0) << ","
-      << state(1) << "," << (p.result.active ? 1 : 0);
+    // (A point with swapped roles, on an edge of beam B: its coordinates and elements as the pair's.)
+    const bool swapped = geometry_.swapped(p);
+    s << geometry_.pairs()[p.key.pair].name << "," << code[1] << "," << code[2] << ","
+      << (swapped ? p.etaPrev : p.xiPrev) << "," << (swapped ? p.xiPrev : p.etaPrev) << "," << p.position[0] << ","
+      << p.position[1] << "," << p.position[2] << "," << p.gap << "," << -p.result.lambdaN << "," << p.result.lambdaT[0]
+      << "," << p.result.lambdaT[1] << "," << state(0) << "," << state(1) << "," << (p.result.active ? 1 : 0);
     for (const Vec3d* v : {&p.normal, &p.normalForce, &p.tangentialForce})
       for (int a = 0; a < 3; ++a) s << "," << (*v)[a];
     s << "," << norm(p.tangentialForce);
     // The segment (the elements, within their beams, the point lies on) and, for a line point, its
     // normal force per unit length of line A (0 for point contacts).
     const auto& elems = geometry_.beams().elements();
-    s << "," << elems[p.elementA].index << "," << elems[p.elementB].index << ","
-      << (p.line() && p.length > 0.0 ? -p.result.lambdaN / p.length : 0.0);
+    s << "," << elems[swapped ? p.elementB : p.elementA].index << "," << elems[swapped ? p.elementA : p.elementB].index
+      << "," << (p.line() && p.length > 0.0 ? -p.result.lambdaN / p.length : 0.0);
     // The strategy's own columns (the built-in ones: the penalty parameters the point used, 0 for none
     // or where it carried no force).
     const std::size_t columns = enforcer_.outputColumns().size();
@@ -83,8 +85,9 @@ void ContactReport::appendVtk(const PointMap& committed, core::VtkMesh& mesh) co
     // 0: both lines stick, 1 or 2: that many slip.
     mesh.setPointScalar("contact slip lines", point, (p.result.slip[0] ? 1 : 0) + (p.result.slip[1] ? 1 : 0));
     mesh.setPointScalar("line traction", point, p.line() && p.length > 0.0 ? -p.result.lambdaN / p.length : 0.0);
-    mesh.setPointScalar("segment element A", point, elems[p.elementA].index);
-    mesh.setPointScalar("segment element B", point, elems[p.elementB].index);
+    const bool swapped = geometry_.swapped(p);
+    mesh.setPointScalar("segment element A", point, elems[swapped ? p.elementB : p.elementA].index);
+    mesh.setPointScalar("segment element B", point, elems[swapped ? p.elementA : p.elementB].index);
     mesh.cellTypes.push_back(1);  // VTK_VERTEX
     mesh.cells.push_back({point});
     mesh.cellBeam.push_back(-1);

@@ -9,6 +9,7 @@
 #include <type_traits>
 #include <unordered_map>
 
+#include "LineContact.hpp"
 #include "core/Faults.hpp"
 #include "core/Parameters.hpp"
 
@@ -301,26 +302,45 @@ std::map<PointKey, Candidate> ContactSearch::detect(const core::State& s, const 
   return found;
 }
 
-void ContactSearch::checkNoUnseenContact(const core::State& state, bool atStart, const std::string& strategy) const {
+void ContactSearch::checkNoUnseenContact(const core::State& state, bool atStart, const std::string& strategy,
+                                         const std::function<bool(int, int, int)>& seen) const {
   // Contacts the point model cannot see: two beams whose axes come closer than the sum of their
   // sections' inscribed radii (so they surely overlap) where no contact point can exist:
   //  - at a free beam end (the closest points of the two lines lie beyond it, so no element pair
   //    has them inside both elements): an end pressed into the side of another beam;
   //  - nearly parallel (sine of the angle below "Parallel Line Tolerance"): point contact is
-  //    undefined there.
+  //    undefined there;
+  //  - rectangular sections in line contact, where no active line point of the pair on or next to
+  //    the two elements sees the overlap (deeper than kUnresolvedLine of the thinner section's
+  //    inscribed radius, so that a chord's sagitta between touching beams does not count): line
+  //    contact sees only the faces it takes as facing each other, and their overlap's bounding lines.
   // A state with such an overlap is not a solution: the increment fails (a run cannot complete with
   // it), and at the start the deck is refused.
   const auto& elems = geometry_.beams().elements();
   const auto& beams = geometry_.beams().beams();
   forEachElementPair(state, [&](int pi, int ea, int eb) {
     const auto& pair = geometry_.pairs()[pi];
-    if (geometry_.inLineContact(pi, ea, eb)) return;  // line contact sees parallel beams and their ends
+    // Line contact of circular sections sees parallel beams and their ends.
+    const bool lines = geometry_.inLineContact(pi, ea, eb);
+    if (lines && !geometry_.rectangles(pi)) return;
     const double reach = geometry_.inscribed(pair.beamA) + geometry_.inscribed(pair.beamB);
     const BeamElement &A = elems[ea], &B = elems[eb];
     const Vec3d &a1 = state.position[A.node1], &a2 = state.position[A.node2];
     const Vec3d &b1 = state.position[B.node1], &b2 = state.position[B.node2];
     const SegmentClosest c = segmentClosest(a1, a2, b1, b2);
     if (!(c.distance < reach * (1.0 - 1e-9))) return;
+    if (lines) {
+      if (!(c.distance < reach - kUnresolvedLine * geometry_.thinner(pi)) || seen(pi, ea, eb)) return;
+      const Vec3d at = a1 + c.s * (a2 - a1);
+      std::ostringstream s;
+      s << "beams \"" << beams[pair.beamA].name << "\" and \"" << beams[pair.beamB].name << "\" overlap near (" << at[0]
+        << ", " << at[1] << ", " << at[2] << "), axes " << c.distance
+        << " apart (their sections' inscribed radii sum to " << reach
+        << "), in line contact of rectangular sections where no line point sees the overlap (line contact "
+        << "sees an edge of one beam on the face of the other facing it)";
+      if (atStart) throw core::InputError(s.str() + "; move the beams apart");
+      throw std::runtime_error(s.str());
+    }
     const double sine = norm(cross(a2 - a1, b2 - b1)) / (norm(a2 - a1) * norm(b2 - b1));
     const bool endA = (c.s == 0.0 && geometry_.freeEnd(A.node1)) || (c.s == 1.0 && geometry_.freeEnd(A.node2));
     const bool endB = (c.t == 0.0 && geometry_.freeEnd(B.node1)) || (c.t == 1.0 && geometry_.freeEnd(B.node2));

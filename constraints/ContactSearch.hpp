@@ -38,9 +38,12 @@ class ContactSearch {
   // choices; the result is the same on every rank and the same as the whole search's on one.
   std::map<PointKey, Candidate> detect(const core::State& s, const NarrowPhase& narrow) const;
 
-  // Overlaps no contact point can see (at a free beam end, or between nearly parallel beams): an
-  // error (InputError at the start, else the increment fails). `strategy`: the enforcer's type.
-  void checkNoUnseenContact(const core::State& state, bool atStart, const std::string& strategy) const;
+  // Overlaps no contact point can see (at a free beam end, or between nearly parallel beams; between
+  // rectangular sections in line contact, unless seen(pair, element A, element B): an active point
+  // of the pair on or next to those elements sees them): an error (InputError at the start, else the
+  // increment fails). `strategy`: the enforcer's type.
+  void checkNoUnseenContact(const core::State& state, bool atStart, const std::string& strategy,
+                            const std::function<bool(int, int, int)>& seen) const;
   // Beams whose axes crossed since the last converged state, unless held(pair, element A, element B):
   // an active point of the pair near those elements holds them. The increment fails.
   void checkNoPassThrough(const core::State& state, const std::function<bool(int, int, int)>& held) const;

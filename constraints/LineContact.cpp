@@ -120,34 +120,53 @@ void LineContact::findPoints(int pi, int ea, int eb, long long visit, const core
   // The Gauss points of the segment of A's element that lies between the planes of B's element's
   // nodes (segments of neighbouring elements of B share their plane, so they tile A's line and
   // no Gauss point straddles a node of B or lies beyond B's end).
-  // Rectangular sections: on each of A's two edges facing B, against B's face facing A, where
-  // the edge lies across that face.
-  std::vector<std::pair<int, int>> lines = {{0, 0}};  // (edge of A, face of B)
-  if (geometry_.rectangles(pi)) {
-    const auto [edges, face] = facing(ea, eb, geometry_.reference());
-    lines = {{edges[0], face}, {edges[1], face}};
-  }
-  for (const auto& [edge, face] : lines) {
-    const LinePairInput in = segmentInput(pi, ea, eb, edge, face, s);
-    // (A sliver of a segment, where A's element ends at B's node within round-off, carries nothing.)
-    constexpr double kSliver = 1e-9;
-    const LineSegment seg = lineSegment(in);
-    if (!(seg.length() > kSliver)) continue;
-    // The planes partition A's line where its points project onto B about along B's axis (nearly
-    // parallel lines close together). Where the segment's points project far beyond B's element
-    // instead (lines further apart than their elements are long, at an angle: neighbouring wires
-    // of a strand, element pairs several elements apart), the pair is not in line contact.
-    const double mid = lineProjection(in, seg.lo + 0.5 * seg.length()).eta;
-    if (!(mid > -0.5 && mid < 1.5)) continue;
-    for (int q = 0; q < (int)gaussXi_.size(); ++q) {
-      const ClosestPoints cp = lineProjection(in, seg.lo + seg.length() * gaussXi_[q]);
-      const PointKey key = PointKey::gaussPoint(pi, ea, eb, edge, face, q);
-      // Across B's face: a new point within 1e-3 of its width beyond the face's edge, a known one
-      // while within 5 % (equal widths put A's edges exactly on B's face edges, where a sharp
-      // bound would drop and take up points from one iterate to the next).
-      if (in.face && std::abs(cp.lateral) > in.halfWidthB * (known.count(key) ? 1.05 : 1.001)) continue;
-      offer(key, Candidate{ea, eb, cp}, 0.0, -visit);  // the last visit wins
+  if (!geometry_.rectangles(pi)) return offerSegment(pi, ea, eb, 0, 0, 0.0, visit, s, known, offer);
+  // Rectangular sections: two parallel faces touch on the strip where they overlap across, and the
+  // two lines that bound it carry the contact. Each bounding line is an edge of A lying on B's face
+  // or an edge of B lying on A's face, whichever lies inside the other's face; so both beams' two
+  // edges facing the other beam are tried: A's on B's face (Gauss points on A's segments between
+  // B's node planes), B's on A's face (points with the roles swapped: on B's segments between A's
+  // node planes, their elementA of beam B). A's edge takes a bounding line where it lies within B's
+  // face (within 1e-3 of B's half width beyond it, a known point within 5 %: equal widths put A's
+  // edges exactly on B's face edges); B's edge only where it lies inside A's face by more than
+  // that (5 % of B's half width, a known point 1e-3), so that A's edge there lies beyond B's face and
+  // never both carry the same line (that doubled the stiffness, or made Lagrange rows redundant).
+  // Where an edge of A leaves B's face, B's edge takes over at the same iterate, and back.
+  const auto [edgesA, faceB] = facing(ea, eb, geometry_.reference());
+  const auto [edgesB, faceA] = facing(eb, ea, geometry_.reference());
+  const auto& elems = geometry_.beams().elements();
+  const auto& secB = geometry_.beams().beams()[elems[eb].beam].section;
+  const double halfB = 0.5 * (faceB % 2 == 0 ? secB.height : secB.width);  // B's face's half width
+  for (const int edge : edgesA) offerSegment(pi, ea, eb, edge, faceB, 0.0, visit, s, known, offer);
+  for (const int edge : edgesB) offerSegment(pi, eb, ea, edge, faceA, halfB, visit, s, known, offer);
+}
+
+void LineContact::offerSegment(int pi, int ea, int eb, int edge, int face, double inside, long long visit,
+                               const core::State& s, const PointMap& known, const CandidateOffer& offer) const {
+  const LinePairInput in = segmentInput(pi, ea, eb, edge, face, s);
+  // (A sliver of a segment, where A's element ends at B's node within round-off, carries nothing.)
+  constexpr double kSliver = 1e-9;
+  const LineSegment seg = lineSegment(in);
+  if (!(seg.length() > kSliver)) return;
+  // The planes partition A's line where its points project onto B about along B's axis (nearly
+  // parallel lines close together). Where the segment's points project far beyond B's element
+  // instead (lines further apart than their elements are long, at an angle: neighbouring wires
+  // of a strand, element pairs several elements apart), the pair is not in line contact.
+  const double mid = lineProjection(in, seg.lo + 0.5 * seg.length()).eta;
+  if (!(mid > -0.5 && mid < 1.5)) return;
+  for (int q = 0; q < (int)gaussXi_.size(); ++q) {
+    const ClosestPoints cp = lineProjection(in, seg.lo + seg.length() * gaussXi_[q]);
+    const PointKey key = PointKey::gaussPoint(pi, ea, eb, edge, face, q);
+    const bool isKnown = known.count(key) > 0;
+    if (in.face) {
+      // Across the face (findPoints): an edge of the pair's A (inside 0) within the face's half
+      // width and a little beyond; an edge of the pair's B (inside: B's face's half width) inside
+      // the face by a little of that.
+      const double reach =
+          inside > 0.0 ? in.halfWidthB - inside * (isKnown ? 1e-3 : 0.05) : in.halfWidthB * (isKnown ? 1.05 : 1.001);
+      if (std::abs(cp.lateral) > reach) continue;
     }
+    offer(key, Candidate{ea, eb, cp}, 0.0, -visit);  // the last visit wins
   }
 }
 

@@ -1,6 +1,8 @@
 // Line contact of nearly parallel beams: Gauss points along the segment of each element of beam A
-// that lies between the planes of the nodes of an element of beam B (rectangular sections: on each
-// of A's two edges facing B, against B's face facing A), each standing for its share of line A. A
+// that lies between the planes of the nodes of an element of beam B (rectangular sections: on the
+// lines bounding the overlap of the two facing faces, each an edge of A on B's face or an edge of B
+// on A's face, whose points then have the roles of A and B swapped), each standing for its share of
+// its line. A
 // strategy may carry its multipliers on a field on the nodes of line A (LineField::Nodal): its line
 // nodes are points of their own, and each Gauss point acts through its field nodes' multipliers.
 // After each step the Gauss points' resolution of the contact zone is checked (warnings).
@@ -99,6 +101,12 @@ class LineContact {
   LinePairInput faceInput(int eA, int edgeA, int eB, int faceB, const core::State& s) const;
   LinePairInput segmentInput(int pair, int eA, int eB, int edge, int face, const core::State& s) const;
   LinePairInput input(const ContactPointRecord& p, const core::State& s) const;
+  // Offers the Gauss points of the segment of element ea (its edge `edge`) on element eb (its face
+  // `face`; circles: 0, 0) that lie across that face: an edge of the pair's beam A with `inside` 0,
+  // one of its beam B (the roles swapped: ea of beam B) with `inside` the half width of B's face
+  // (findPoints).
+  void offerSegment(int pi, int ea, int eb, int edge, int face, double inside, long long visit, const core::State& s,
+                    const PointMap& known, const CandidateOffer& offer) const;
   // A Gauss point's history (element parameters) and its slip along B at `cp` in `s` since then, as
   // segmentKinematics measures it.
   LineHistory history(const ContactPointRecord& p) const;

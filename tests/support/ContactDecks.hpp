@@ -264,13 +264,14 @@ inline void support(Teuchos::ParameterList& deck, const std::string& beam, int n
   s.set("Displacement", Teuchos::Array<double>(std::vector<double>{0.0, 0.0, uz}));
 }
 
-// A parallelBeams deck with rectangular sections (width 2 along y, height 1 along z).
-inline Teuchos::ParameterList toRectangles(Teuchos::ParameterList deck) {
+// A parallelBeams deck with rectangular sections (width 2 along y, the rod's `rodWidth`, height 1
+// along z).
+inline Teuchos::ParameterList toRectangles(Teuchos::ParameterList deck, double rodWidth = 2.0) {
   for (const char* beam : {"ground", "rod"}) {
     Teuchos::ParameterList& sec = deck.sublist("Beams").sublist(beam).sublist("Section");
     sec.remove("Radius");
     sec.set("Shape", std::string("Rectangle"));
-    sec.set("Width", 2.0);
+    sec.set("Width", std::string(beam) == "rod" ? rodWidth : 2.0);
     sec.set("Height", 1.0);
   }
   return deck;
