@@ -731,3 +731,74 @@ TEST(LineContact, NarrowOnWideRectanglesCrossingAtASmallAngle) {
     EXPECT_NEAR(total[true], total[false], 1e-8 * total[true]);
   }
 }
+
+// The angle sweep: a rod (60 long, from x = 20 to 80 when parallel) above a ground beam (100 long,
+// pinned at its ends), turned by 0, 1, 2, 5, 10 degrees about their common centre, its ends pinned,
+// pushed down by 0.2 into the ground's middle and dragged along x by 0.05, friction 0.3; circular
+// (r = 0.5) and rectangular (2 x 1) sections; each strategy. Every run must complete, and then:
+// - the rod is in equilibrium: the contact forces on it (the force each point applies on beam B,
+//   contact_points' normal and tangential vectors) balance its support reactions to 1e-8 of them;
+// - the Coulomb cone holds for the force each point applies (|F_T| <= mu |F_N| (1 + 1e-9));
+// - no overlap beyond 5 % of the thinner section's inscribed radius unless the run warns of it (the
+//   Lagrange field at small angles, where the contact zone is shorter than an element).
+TEST(LineContact, AngleSweepEveryStrategyBothSectionsCompletesInEquilibriumWithinTheCone) {
+  const double mu = 0.3;
+  for (const bool rectangles : {false, true})
+    for (const double degrees : {0.0, 1.0, 2.0, 5.0, 10.0})
+      for (const std::string type : {"Penalty", "Lagrange Multiplier", "Augmented Lagrange"}) {
+        auto deck = parallelBeams(type, 10, 10, 0.0, 1e5, 6, degrees, 0.0);
+        const double a = degrees * std::acos(-1.0) / 180.0, c = 30.0 * std::cos(a), s = 30.0 * std::sin(a);
+        input::replaceAtPath(deck, "Beams/rod/Start", Teuchos::Array<double>(std::vector<double>{50 - c, -s, 1.0}));
+        input::replaceAtPath(deck, "Beams/rod/End", Teuchos::Array<double>(std::vector<double>{50 + c, s, 1.0}));
+        if (rectangles) deck = toRectangles(deck);
+        input::replaceAtPath(deck, "Contact/Pairs/line/Friction Coefficient", mu);
+        support(deck, "ground", 0, "ux uy uz rx");
+        support(deck, "ground", 10, "uy uz rx");
+        for (int end : {0, 10}) {
+          support(deck, "rod", end, "ux uy uz rx", -0.2);
+          input::replaceAtPath(deck, "Supports/rod " + std::to_string(end) + "/Displacement",
+                               Teuchos::Array<double>(std::vector<double>{0.05, 0.0, -0.2}));
+        }
+        input::replaceAtPath(deck, "Load Stepping/Number of Increments", 4);
+        const std::string name = "sweep";
+        auto p = input::buildProblem(deck, name);
+        const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), name);
+        const std::string what =
+            std::string(rectangles ? "rectangles" : "circles") + ", " + test::num(degrees) + " degrees, " + type;
+        EXPECT_TRUE(r.report.completed) << what << ": " << r.report.failure;
+        if (!r.report.completed) continue;
+        // Equilibrium of the rod (beam B of the pair).
+        core::Vec3d force{};
+        double worstCone = 0.0, deepest = 0.0;
+        int active = 0;
+        for (const auto& [key, q] : p.contact->points()) {
+          if (q.node() || !q.result.active) continue;
+          ++active;
+          force = force + q.normalForce + q.tangentialForce;
+          const double n = math::norm(q.normalForce), t = math::norm(q.tangentialForce);
+          if (n > 0.0) worstCone = std::max(worstCone, t / (mu * n));
+          deepest = std::max(deepest, -q.gap);
+        }
+        const auto reactions = lastReactions(test::scratchDirectory(name + "_np1"));
+        core::Vec3d held{};
+        double scale = 0.0;
+        for (int end : {0, 10})
+          for (int d = 0; d < 3; ++d) {
+            const double v = reactions.at("rod " + std::to_string(end) + "_F" + std::string(1, "xyz"[d]));
+            held[d] += v;
+            scale = std::max(scale, std::abs(v));
+          }
+        const double imbalance = math::norm(force + held);
+        const double inscribed = rectangles ? 0.5 : 0.5;
+        bool warned = false;
+        for (const auto& w : r.report.warnings) warned = warned || w.find("penetrat") != std::string::npos;
+        std::printf(
+            "%-11s %4.0f deg %-20s: %d active, N %.6g, imbalance %.1e, |F_T| / (mu N) max %.12f, overlap %.2e%s\n",
+            rectangles ? "rectangles" : "circles", degrees, type.c_str(), active, math::norm(force), imbalance / scale,
+            worstCone, deepest, warned ? " (warned)" : "");
+        EXPECT_GT(active, 0) << what;
+        EXPECT_LT(imbalance, 1e-8 * scale) << what;
+        EXPECT_LE(worstCone, 1.0 + 1e-9) << what;
+        if (!warned) EXPECT_LT(deepest, 0.05 * inscribed) << what;
+      }
+}
