@@ -93,9 +93,11 @@ def deck(elements=16, increments=10, strategy="Penalty", eps_n=EPS_N, gauss=GAUS
      {STRETCH * 100:g} % and carried around the circle of radius {R:g} mm about the common axis (z) by
      theta = {THETA:.6g} rad, their clamps turning by theta about z (two supports per node, one per component,
      with load curves of {CURVE_POINTS} intervals: 10, 20 and 50 increments land on the circle). Away from
-     the ends (boundary layers about 5 radii long) the rods form a uniform double helix of radius {R:g} mm
-     and pitch 2 pi (1.01 L) / theta, pressed together by a uniform line load (closed form in
-     docs/contact.md; tests/regression/test_twisting_rods.cpp). Frictionless. Units: mm, N, MPa. -->
+     the ends (boundary layers about sqrt(EI / N) = 5 radii long) the rods form a uniform double helix of
+     radius {R:g} mm, pressed together by a uniform line load (closed form in docs/contact.md, "Twisting
+     rods"; tests/regression/test_twisting_rods.cpp). Rod 1 has {elements} elements, rod 2 {elements2}
+     (on matching meshes rod 1's nodes lie exactly on rod 2's segment planes). Frictionless.
+     Units: mm, N, MPa. -->
 <ParameterList name="BeamContact">
   <ParameterList name="Beams">
 {beam("rod1", R, elements)}{beam("rod2", -R, elements2)}  </ParameterList>

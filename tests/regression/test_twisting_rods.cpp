@@ -94,3 +94,39 @@ TEST(TwistingRods, EveryStrategyEndsOnTheHelix) {
     EXPECT_NEAR(h.layer, h.layerClosedForm, 0.15 * h.layerClosedForm) << type;
   }
 }
+
+// The line step bound (docs/contact.md, "Newton with contact"): a rod lying on a ground (r = 0.5
+// each, every node held, touching at gap 0; or lifted by 0.2) and a step that moves the rod down by
+// d. The gap falls linearly with the step's fraction s, g(s) = g_0 - d s (also beyond the ground's
+// axis: a line point keeps its side), so a step the bound shortens stops where the gap is
+// min(g_0, 0) - 0.1 r_min: s = (g_0 + 0.05) / d, when g_0 - d < -0.2 r_min. A step that goes no deeper
+// than that is not shortened, nor is one that opens the contact. The same for every strategy.
+TEST(LineStepBound, AStepIntoOrThroughTheOtherBeamStopsAtATenthOfTheRadius) {
+  for (const std::string type : {"Penalty", "Lagrange Multiplier", "Augmented Lagrange"})
+    for (const double lift : {0.0, 0.2}) {
+      auto deck = parallelBeams(type, 10, 10, 0.0, 1e5, 2, 0.0, lift);
+      for (int i = 0; i <= 10; ++i) {
+        support(deck, "ground", i, "all");
+        support(deck, "rod", i, "all");
+      }
+      auto p = input::buildProblem(deck, "line_step_bound");
+      const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "line_step_bound");
+      ASSERT_TRUE(r.report.completed) << r.report.failure;
+      ASSERT_GT(p.contact->points().size(), 0u);
+      const core::State& s = r.finalState;
+      const auto down = [&](double d) {
+        std::vector<double> du(s.numDofs(), 0.0);
+        for (int n : p.beams->beams()[1].nodes) du[std::size_t(core::kDofsPerNode) * n + 2] = -d;
+        return du;
+      };
+      for (const double d : {1.5, 0.5, 0.15}) {
+        const double expected = lift - d < -0.1 ? (lift + 0.05) / d : 1.0;
+        const double bound = p.contact->stepBound(s, down(d));
+        std::printf("%s, gap %.1f, step down by %.2f: bound %.15f (closed form %.15f)\n", type.c_str(), lift, d, bound,
+                    expected);
+        EXPECT_NEAR(bound, expected, 1e-9) << type << " lift " << lift << " d " << d;
+      }
+      EXPECT_EQ(p.contact->stepBound(s, down(lift + 0.09)), 1.0) << type;
+      EXPECT_EQ(p.contact->stepBound(s, down(-0.3)), 1.0) << type;
+    }
+}
