@@ -14,6 +14,7 @@
 // key the point's code, PointKey::code), as many as it asks for.
 #pragma once
 #include <array>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -122,6 +123,9 @@ class ContactManager : public core::Contribution {
   // takes 15 kB, and writing 150 MB of them for 10^4 points cost 80 us per point.
   ContactKinematics judge(const PointKey& key, const Point& p, const core::State& state,
                           const std::map<PointKey, LineContact::NodeGap>& gaps, bool& carries) const;
+  // The step bound of a line point (a Gauss point) for the full step `stepped()` from `state`.
+  double lineStepBound(const Point& p, const core::State& state,
+                       const std::function<const core::State&()>& stepped) const;
   // Commits a point (not a line node) at `state`: its strategy's state, its results and history.
   void commitPoint(Point& p, const core::State& state);
 

@@ -136,6 +136,9 @@ constexpr double kHeldEndTraction = 1e-2;
 // nodal multiplier field's point, or the gap between Gauss points beyond the deepest one's) is
 // reported: the contact zone is not resolved (warnings()).
 constexpr double kUnresolvedLine = 1e-3;
+// A Newton step that would carry a line point deeper than this fraction of the thinner section's
+// inscribed radius below its gap (or 0) is shortened to half that depth (ContactManager::stepBound).
+constexpr double kLineStepDepth = 0.2;
 // A point (or line node) whose blend weight (share of its full weight) is at most this is not
 // judged after Newton and keeps no multipliers (its rows would carry nothing).
 constexpr double kCarries = 1e-3;
