@@ -1,5 +1,6 @@
 #include "ContactReport.hpp"
 
+#include <limits>
 #include <sstream>
 
 namespace bc::constraints {
@@ -8,7 +9,20 @@ namespace {
 // An active point penetrating by more than this fraction of the thinner section's inscribed radius
 // is reported: at that depth the sections overlap visibly, and a penalty law is far from contact.
 constexpr double kDeep = 0.05;
+// A line point whose applied force has |F_T| > mu |F_N| + this |F_N| is reported. Every strategy's
+// multipliers satisfy the cone and a Gauss point applies them along unit vectors (docs/contact.md, "The
+// Coulomb cone on lines"); a Lagrange field's Gauss point sees interpolated multipliers, on the cone
+// where its nodes' are and its normal multipliers share a sign.
+constexpr double kOutsideCone = 1e-9;
 }  // namespace
+
+void ContactReport::noteCone(const ContactPointRecord& p, double friction) {
+  const double N = norm(p.normalForce), T = norm(p.tangentialForce);
+  if (!(T > (friction + kOutsideCone) * N)) return;
+  const double ratio = friction > 0.0 && N > 0.0 ? T / (friction * N) : std::numeric_limits<double>::infinity();
+  auto& worst = outsideCone_[p.key.pair];
+  if (ratio > worst.first) worst = {ratio, p.position};
+}
 
 void ContactReport::noteDepth(const ContactPointRecord& p, const ClosestPoints& cp) {
   const double depth = -cp.gap, inscribed = geometry_.thinner(p.key.pair);
@@ -129,6 +143,15 @@ std::vector<std::string> ContactReport::warnings() const {
          "crossing at a "
          "small angle, or a beam end on the other beam), so the contact force is not resolved; refine beam \""
       << beams[pairs[pair].beamA].name << "\" or use Penalty or Augmented Lagrange";
+    w.push_back(s.str());
+  }
+  for (const auto& [pair, worst] : outsideCone_) {
+    std::ostringstream s;
+    s << "contact pair \"" << pairs[pair].name << "\": a Gauss point of line contact applied a tangential force of "
+      << worst.first << " times mu times its normal force near (" << worst.second[0] << ", " << worst.second[1] << ", "
+      << worst.second[2] << "): outside the Coulomb cone (a multiplier field interpolated between nodes "
+      << "whose normal forces differ in sign, or between a sticking and a slipping node); refine beam \""
+      << beams[pairs[pair].beamA].name << "\"";
     w.push_back(s.str());
   }
   for (int pair : lines_.frictionless()) {

@@ -5,6 +5,7 @@
 // the projection (docs/contact.md, "Friction on lines").
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 
 #include "support/ContactDecks.hpp"
@@ -158,6 +159,7 @@ TEST(LineCone, DragAtThreeDegreesStaysOnTheCone) {
     if (!r.report.completed) continue;
     const Cone c = cone(p, 0.3);
     print("drag at 3 degrees", type, r, c);
+    for (const std::string& w : r.report.warnings) EXPECT_EQ(w.find("Coulomb cone"), std::string::npos) << w;
     EXPECT_GE(c.slipping, 2) << type;
     EXPECT_EQ(c.slipping, c.active) << type;
     EXPECT_LE(c.worst, 1.0 + 1e-9) << type;
@@ -165,6 +167,15 @@ TEST(LineCone, DragAtThreeDegreesStaysOnTheCone) {
     EXPECT_NEAR(c.slipLow, 1.0, 1e-9) << type;
     EXPECT_LE(c.sum, 1.0 + 1e-9) << type;
     EXPECT_NEAR(c.slipSum, 1.0, 1e-9) << type;
+    // The tangent of the new residual: the rod dragged on by 1e-3 from the end, every line point
+    // slipping, against central differences of the contact residual.
+    core::State s = r.finalState;
+    for (int n : p.beams->beams()[1].nodes) s.applyNodeIncrement(n, std::array<double, 6>{1e-3, 0, 0, 0, 0, 0}.data());
+    double kmax = 0.0;
+    const double err = assembledContactTangentError(p, s, kmax);
+    std::printf("  %s, dragged on: contact tangent vs central differences, max error / max |K| = %.2e\n", type.c_str(),
+                err / kmax);
+    EXPECT_LT(err / kmax, 1e-6) << type;
   }
 }
 
@@ -176,6 +187,7 @@ TEST(LineCone, WireSlidOnACoreStaysOnTheCone) {
     if (!r.report.completed) continue;
     const Cone c = cone(p, 0.3);
     print("wire on a core", type, r, c);
+    for (const std::string& w : r.report.warnings) EXPECT_EQ(w.find("Coulomb cone"), std::string::npos) << w;
     EXPECT_GE(c.slipping, 10) << type;
     EXPECT_EQ(c.slipping, c.active) << type;
     EXPECT_LE(c.worst, 1.0 + 1e-9) << type;
