@@ -11,8 +11,8 @@ namespace {
 constexpr double kDeep = 0.05;
 // A line point whose applied force has |F_T| > mu |F_N| + this |F_N| is reported. Every strategy's
 // multipliers satisfy the cone and a Gauss point applies them along unit vectors (docs/contact.md, "The
-// Coulomb cone on lines"); a Lagrange field's Gauss point sees interpolated multipliers, on the cone
-// where its nodes' are and its normal multipliers share a sign.
+// Coulomb cone on lines"); a Lagrange field's Gauss point sees interpolated multipliers, whose friction
+// rows hold the cone only tested with the field's shape functions.
 constexpr double kOutsideCone = 1e-9;
 }  // namespace
 
@@ -149,9 +149,11 @@ std::vector<std::string> ContactReport::warnings() const {
     std::ostringstream s;
     s << "contact pair \"" << pairs[pair].name << "\": a Gauss point of line contact applied a tangential force of "
       << worst.first << " times mu times its normal force near (" << worst.second[0] << ", " << worst.second[1] << ", "
-      << worst.second[2] << "): outside the Coulomb cone (a multiplier field interpolated between nodes "
-      << "whose normal forces differ in sign, or between a sticking and a slipping node); refine beam \""
-      << beams[pairs[pair].beamA].name << "\"";
+      << worst.second[2] << "): outside the Coulomb cone. A Lagrange multiplier field holds the cone at its nodes "
+      << "only as its friction rows are tested with the field's shape functions: where some of a node's Gauss points "
+      << "stick and others slip, or its normal force falls to zero along an element, the interpolated force can "
+      << "leave it; refine beam \"" << beams[pairs[pair].beamA].name
+      << "\" (Penalty and Augmented Lagrange hold the cone at every Gauss point)";
     w.push_back(s.str());
   }
   for (int pair : lines_.frictionless()) {
