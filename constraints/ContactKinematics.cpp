@@ -1,6 +1,7 @@
 #include "ContactKinematics.hpp"
 
 #include <cmath>
+#include <type_traits>
 
 namespace bc::constraints {
 
@@ -90,13 +91,46 @@ void projectOnB(const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB, co
   axisPoint(P[2], V[2], P[3], V[3], cubicB, g.eta, &xB, nullptr, nullptr);
 }
 
+// The slip metric of line contact at B's parameter eta, projection of A's point pA: the length that
+// A's point travels relative to B per unit of eta, m = (|x_B'|^2 + x_B'' . (x_B - p_A)) / |x_B'|. From
+// the orthogonality x_B'(eta) . (x_B(eta) - p_A) = 0, a motion v of A's point relative to B moves the
+// projection by d eta = x_B' . v / (|x_B'|^2 + x_B'' . (x_B - p_A)), so m d eta = t_B . v (t_B the unit
+// tangent): the slip g_T2 = (eta - etaPrev) m has a unit variation along t_B, and a friction force
+// lambda_T conjugate to it acts on B as lambda_T t_B, of length |lambda_T|. (The chord's length
+// |x_B2 - x_B1|, used before, differs from |x_B'| where B's element bends, and leaves out the offset of
+// A's point from B's curved axis, 1 - kappa (r_A + r_B) on the inside of a bend: strands 1.02-1.04.)
+// x with its first variations (the inner AD level) removed and its increments (the outer level, with
+// second variations) kept: a quantity held in the variation but not in the linearization.
+template <class T> T frozen(const T& x) {
+  if constexpr (std::is_same_v<T, double>) {
+    return x;
+  } else {
+    using V = std::decay_t<decltype(x.val())>;
+    if constexpr (std::is_same_v<V, double>) {
+      return T(x.val());
+    } else {
+      T y(V(x.val().val()));
+      for (int l = 0; l < x.size(); ++l) y.fastAccessDx(l) = V(x.dx(l).val());
+      return y;
+    }
+  }
+}
+
+template <class T> T slipMetric(const Vec3<T>* P, const Vec3<T>* V, bool cubicB, const T& eta, const Vec3<T>& pA) {
+  using std::sqrt;
+  Vec3<T> xB, dB, ddB;
+  axisPoint(P[2], V[2], P[3], V[3], cubicB, eta, &xB, &dB, &ddB);
+  const T speed2 = dot(dB, dB);
+  return (speed2 + dot(ddB, xB - pA)) / sqrt(speed2);
+}
+
 // Line contact at a Gauss point of axis A (fixed parameter xi, a material point) against axis B:
 // P = (x_A1, x_A2, x_B1, x_B2), V = their Hermite tangents R_m d; the point projected on B's curve
 // (projectOnB). The normal is along p_B - p_A, the gap |p_B - p_A| - (r_A + r_B), the slip along B from
 // etaPrev. Axis A's own tangential gap is zero (the point is material on A).
 template <class T>
 Gaps<T> lineGaps(const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB, double radiusSum, const T& xi,
-                 double etaStart, const T& etaPrev, double side) {
+                 double etaStart, const T& etaPrev, double side, bool held) {
   using std::sqrt;
   Gaps<T> g;
   Vec3<T> pA, xB;
@@ -105,7 +139,8 @@ Gaps<T> lineGaps(const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB, d
   const Vec3<T> tA = P[1] - P[0], tB = P[3] - P[2];
   g.gN = side * sqrt(dot(d, d)) - radiusSum;
   g.gT1 = T(0.0);
-  g.gT2 = (g.eta - etaPrev) * sqrt(dot(tB, tB));
+  const T m = slipMetric(P, V, cubicB, g.eta, pA);
+  g.gT2 = (g.eta - etaPrev) * (held ? frozen(m) : m);
   g.cosine = dot(tA, tB) / (sqrt(dot(tA, tA)) * sqrt(dot(tB, tB)));
   g.length = T(1.0);
   return g;
@@ -115,7 +150,7 @@ Gaps<T> lineGaps(const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB, d
 // along the face normal. N = (N_B1, N_B2) the nodal face normals (rotated reference normal).
 template <class T>
 Gaps<T> faceGaps(const Vec3<T>* P, const Vec3<T>* V, const Vec3<T>* N, bool cubicA, bool cubicB, const T& xi,
-                 double etaStart, const T& etaPrev) {
+                 double etaStart, const T& etaPrev, bool held) {
   using std::sqrt;
   Gaps<T> g;
   Vec3<T> pA, xB;
@@ -125,7 +160,8 @@ Gaps<T> faceGaps(const Vec3<T>* P, const Vec3<T>* V, const Vec3<T>* N, bool cubi
   const Vec3<T> tA = P[1] - P[0], tB = P[3] - P[2];
   g.gN = dot(pA - xB, m) / nm;
   g.gT1 = T(0.0);
-  g.gT2 = (g.eta - etaPrev) * sqrt(dot(tB, tB));
+  const T metric = slipMetric(P, V, cubicB, g.eta, pA);
+  g.gT2 = (g.eta - etaPrev) * (held ? frozen(metric) : metric);
   g.cosine = dot(tA, tB) / (sqrt(dot(tA, tA)) * sqrt(dot(tB, tB)));
   g.length = T(1.0);
   return g;
@@ -136,7 +172,7 @@ Gaps<T> faceGaps(const Vec3<T>* P, const Vec3<T>* V, const Vec3<T>* N, bool cubi
 // of B's two nodal face normals (Vectors = 10).
 template <int Vectors, class Fn>
 ContactKinematics kinematicsOf(const LinePairInput& in, const Vec3d* extraRef, const int* extraNode, Fn gapsOf,
-                               Variations order);
+                               Variations order, bool heldVariation = false);
 template <bool Second>
 ContactKinematics pointKinematicsOfOrder(const LinePairInput& in, double sigma, double xiPrev, double etaPrev);
 
@@ -202,7 +238,7 @@ ContactKinematics contactKinematicsFromGaps(const LinePairInput& in, double sigm
                                             Variations order) {
   return kinematicsOf<4>(
       in, nullptr, nullptr,
-      [&](const auto* P) { return gaps(P[0], P[1], P[2], P[3], in.radiusSum, sigma, xiPrev, etaPrev); }, order);
+      [&](const auto* P, bool) { return gaps(P[0], P[1], P[2], P[3], in.radiusSum, sigma, xiPrev, etaPrev); }, order);
 }
 
 ClosestPoints lineProjection(const LinePairInput& in, double xi) {
@@ -231,6 +267,7 @@ ClosestPoints lineProjection(const LinePairInput& in, double xi) {
   cp.distance = norm(cp.pB - cp.pA);
   // d/dxi of x_B'(eta) . (x_B(eta) - p_A(xi)) = 0
   cp.etaRate = dot(dxB, dxA) / (dot(ddxB, cp.pB - cp.pA) + dot(dxB, dxB));
+  cp.slipMetric = (dot(dxB, dxB) + dot(ddxB, cp.pB - cp.pA)) / norm(dxB);
   if (in.face) {
     // B's face: the normal interpolated between its nodes; the gap along it, outside positive.
     Vec3d m = (1.0 - cp.eta) * (in.RB1 * in.nB) + cp.eta * (in.RB2 * in.nB);
@@ -265,30 +302,33 @@ ContactKinematics lineKinematicsOf(const LinePairInput& in, bool segmented, doub
   const Vec3d faceRefs[4] = {in.nB, in.nB, in.sB1, in.sB2}, circleRefs[2] = {in.sB1, in.sB2};
   const int faceNodes[4] = {2, 3, 2, 3};
   ContactKinematics k;
-  const auto face = [&](const auto* P, const auto* S) {
+  // held: the variation at the Gauss point's place xi (and etaPrev(xi)) on A, with the slip metric held.
+  const auto face = [&](const auto* P, const auto* S, bool held) {
     auto [x, etaPrev, length] = pointOf(P, P + 4, S);
-    auto g = faceGaps(P, P + 4, P + 8, cubicA, cubicB, x, etaStart, etaPrev);
+    if (held) x = frozen(x), etaPrev = frozen(etaPrev);
+    auto g = faceGaps(P, P + 4, P + 8, cubicA, cubicB, x, etaStart, etaPrev, held);
     g.length = length;
     return g;
   };
-  const auto circle = [&](const auto* P, const auto* S) {
+  const auto circle = [&](const auto* P, const auto* S, bool held) {
     auto [x, etaPrev, length] = pointOf(P, P + 4, S);
-    auto g = lineGaps(P, P + 4, cubicA, cubicB, in.radiusSum, x, etaStart, etaPrev, side);
+    if (held) x = frozen(x), etaPrev = frozen(etaPrev);
+    auto g = lineGaps(P, P + 4, cubicA, cubicB, in.radiusSum, x, etaStart, etaPrev, side, held);
     g.length = length;
     return g;
   };
   if (in.face && segmented)
     k = kinematicsOf<12>(
-        in, faceRefs, faceNodes, [&](const auto* P) { return face(P, P + 10); }, order);
+        in, faceRefs, faceNodes, [&](const auto* P, bool held) { return face(P, P + 10, held); }, order, true);
   else if (in.face)
     k = kinematicsOf<10>(
-        in, faceRefs, faceNodes, [&](const auto* P) { return face(P, P); }, order);
+        in, faceRefs, faceNodes, [&](const auto* P, bool held) { return face(P, P, held); }, order, true);
   else if (segmented)
     k = kinematicsOf<10>(
-        in, circleRefs, faceNodes, [&](const auto* P) { return circle(P, P + 8); }, order);
+        in, circleRefs, faceNodes, [&](const auto* P, bool held) { return circle(P, P + 8, held); }, order, true);
   else
     k = kinematicsOf<8>(
-        in, nullptr, nullptr, [&](const auto* P) { return circle(P, P); }, order);
+        in, nullptr, nullptr, [&](const auto* P, bool held) { return circle(P, P, held); }, order, true);
   k.cosine = 0.0;
   k.cosineR.fill(0.0);
   return k;
@@ -357,8 +397,9 @@ namespace {
 enum Quantity { kGapN, kGapT1, kGapT2, kXi, kEta, kCosine, kLength, kQuantities };
 template <int kCoords> struct CoordinateGaps {
   double value[kQuantities];
-  double G[kQuantities][kCoords];
-  double H[3][kCoords][kCoords];  // g_N, g_T1, g_T2
+  double G[kQuantities][kCoords];  // (the gaps: their variations)
+  double gradient[3][kCoords];  // g_N, g_T1, g_T2: the gradients of their values
+  double H[3][kCoords][kCoords];  // g_N, g_T1, g_T2: the variations' derivatives
 };
 
 // The rotated part r_k of each vector and its node.
@@ -389,14 +430,15 @@ ContactKinematics chainRule(const CoordinateGaps<3 * Vectors>& c, const VectorFr
       }
     }
   // R = J^T G.
-  const auto firstVariation = [&](int q, Vector24& R) {
+  const auto map = [&](const double* coordinates, Vector24& R) {
     R.fill(0.0);
     for (int k = 0; k < Vectors; ++k) {
-      const double* G = &c.G[q][3 * k];
+      const double* G = &coordinates[3 * k];
       double* Rm = &R[6 * v.node[k]];
       for (int j = 0; j < 6; ++j) Rm[j] += Jk[k][0][j] * G[0] + Jk[k][1][j] * G[1] + Jk[k][2][j] * G[2];
     }
   };
+  const auto firstVariation = [&](int q, Vector24& R) { map(c.G[q], R); };
   ContactKinematics out;
   out.xi = c.value[kXi];
   out.eta = c.value[kEta];
@@ -412,6 +454,7 @@ ContactKinematics chainRule(const CoordinateGaps<3 * Vectors>& c, const VectorFr
     GapDerivatives& d = *dst[q];
     d.value = c.value[q];
     firstVariation(q, d.R);
+    map(c.gradient[q], d.gradient);
     if constexpr (Second) {
       // J^T H J by 3 x 3 blocks of H.
       const auto& H = c.H[q];
@@ -468,32 +511,54 @@ VectorFrame<Vectors> vectorFrame(const LinePairInput& in, const Vec3d* extraRef,
 // G and H of the gaps by nested forward AD of gapsOf (inner level: the variation, outer: the
 // increment; one level with first variations only).
 template <int Vectors, bool Second, class Fn>
-ContactKinematics kinematicsOfOrder(const LinePairInput& in, const Vec3d* extraRef, const int* extraNode, Fn gapsOf) {
+ContactKinematics kinematicsOfOrder(const LinePairInput& in, const Vec3d* extraRef, const int* extraNode, Fn gapsOf,
+                                    bool heldVariation) {
   constexpr int kCoords = 3 * Vectors;
   using In = Sacado::Fad::SFad<double, kCoords>;
   using Out = std::conditional_t<Second, Sacado::Fad::SFad<In, kCoords>, In>;
   Vec3d p[Vectors];
   const VectorFrame<Vectors> frame = vectorFrame<Vectors>(in, extraRef, extraNode, p);
-  Vec3<Out> P[Vectors];
-  for (int k = 0; k < Vectors; ++k)
-    for (int a = 0; a < 3; ++a) {
-      if constexpr (Second) P[k][a] = Out(kCoords, 3 * k + a, In(kCoords, 3 * k + a, p[k][a]));
-      else P[k][a] = Out(kCoords, 3 * k + a, p[k][a]);
-    }
-  const Gaps<Out> g = gapsOf(static_cast<const Vec3<Out>*>(P));
-  const Out* src[kQuantities] = {&g.gN, &g.gT1, &g.gT2, &g.xi, &g.eta, &g.cosine, &g.length};
   CoordinateGaps<kCoords> c;
-  for (int q = 0; q < kQuantities; ++q) {
-    const Out& v = *src[q];
-    if constexpr (Second) {
-      c.value[q] = v.val().val();
-      for (int k = 0; k < kCoords; ++k) c.G[q][k] = v.val().dx(k);
+  // The values and their gradients, all quantities (one AD level).
+  const auto full = [&]() {
+    Vec3<In> Q[Vectors];
+    for (int k = 0; k < Vectors; ++k)
+      for (int a = 0; a < 3; ++a) Q[k][a] = In(kCoords, 3 * k + a, p[k][a]);
+    const Gaps<In> g = gapsOf(static_cast<const Vec3<In>*>(Q), false);
+    const In* src[kQuantities] = {&g.gN, &g.gT1, &g.gT2, &g.xi, &g.eta, &g.cosine, &g.length};
+    for (int q = 0; q < kQuantities; ++q) {
+      c.value[q] = src[q]->val();
+      for (int k = 0; k < kCoords; ++k) c.G[q][k] = src[q]->dx(k);
       if (q < 3)
-        for (int k = 0; k < kCoords; ++k)
-          for (int l = 0; l < kCoords; ++l) c.H[q][k][l] = v.dx(l).dx(k);
-    } else {
-      c.value[q] = v.val();
-      for (int k = 0; k < kCoords; ++k) c.G[q][k] = v.dx(k);
+        for (int k = 0; k < kCoords; ++k) c.gradient[q][k] = c.G[q][k];
+    }
+  };
+  if (heldVariation || !Second) full();
+  // The gaps' variations (with the held quantities frozen where heldVariation) and their derivatives.
+  if (Second || heldVariation) {
+    Vec3<Out> P[Vectors];
+    for (int k = 0; k < Vectors; ++k)
+      for (int a = 0; a < 3; ++a) {
+        if constexpr (Second) P[k][a] = Out(kCoords, 3 * k + a, In(kCoords, 3 * k + a, p[k][a]));
+        else P[k][a] = Out(kCoords, 3 * k + a, p[k][a]);
+      }
+    const Gaps<Out> g = gapsOf(static_cast<const Vec3<Out>*>(P), heldVariation);
+    const Out* src[kQuantities] = {&g.gN, &g.gT1, &g.gT2, &g.xi, &g.eta, &g.cosine, &g.length};
+    // Without held quantities this pass gives the values and gradients too.
+    const int quantities = heldVariation ? 3 : kQuantities;
+    for (int q = 0; q < quantities; ++q) {
+      const Out& v = *src[q];
+      if constexpr (Second) {
+        if (!heldVariation) c.value[q] = v.val().val();
+        for (int k = 0; k < kCoords; ++k) c.G[q][k] = v.val().dx(k);
+        if (q < 3)
+          for (int k = 0; k < kCoords; ++k)
+            for (int l = 0; l < kCoords; ++l) c.H[q][k][l] = v.dx(l).dx(k);
+      } else {
+        for (int k = 0; k < kCoords; ++k) c.G[q][k] = v.dx(k);
+      }
+      if (!heldVariation && q < 3)
+        for (int k = 0; k < kCoords; ++k) c.gradient[q][k] = c.G[q][k];
     }
   }
   return chainRule<Vectors, Second>(c, frame);
@@ -578,14 +643,17 @@ ContactKinematics pointKinematicsOfOrder(const LinePairInput& in, double sigma, 
       for (int k = 0; k < 12; ++k) c.G[q][k] = G[q][k / 3][k % 3];
     }
   }
+  for (int q = 0; q < 3; ++q)
+    for (int k = 0; k < 12; ++k) c.gradient[q][k] = c.G[q][k];
   return chainRule<4, Second>(c, frame);
 }
 
 template <int Vectors, class Fn>
 ContactKinematics kinematicsOf(const LinePairInput& in, const Vec3d* extraRef, const int* extraNode, Fn gapsOf,
-                               Variations order) {
-  return order == Variations::Second ? kinematicsOfOrder<Vectors, true>(in, extraRef, extraNode, gapsOf)
-                                     : kinematicsOfOrder<Vectors, false>(in, extraRef, extraNode, gapsOf);
+                               Variations order, bool heldVariation) {
+  return order == Variations::Second
+             ? kinematicsOfOrder<Vectors, true>(in, extraRef, extraNode, gapsOf, heldVariation)
+             : kinematicsOfOrder<Vectors, false>(in, extraRef, extraNode, gapsOf, heldVariation);
 }
 
 }  // namespace

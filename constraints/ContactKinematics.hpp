@@ -82,16 +82,24 @@ struct ClosestPoints {
   double gap = 0.0;
   double lateral = 0.0;  // face contact: p_A's offset across B's face from its centre line
   double etaRate = 0.0;  // line contact: d eta / d xi of the projection
+  double slipMetric = 0.0;  // line contact: the slip along B per unit eta (lineGaps' slipMetric)
 };
 
 // Closest points in double precision (for the search and for choosing sigma). Lines closer to
 // parallel than sinAngle < 1e-12 return sinAngle and nothing else.
 ClosestPoints closestPoints(const LinePairInput& in);
 
+// A gap's value, its first variation R (the direction of the force a unit multiplier applies: the
+// residual is lambda R), the linearized variation K (the derivative of R) and the gradient of the value
+// (what linearizes a law lambda(g): dlambda = lambda'(g) gradient . du). For point contact R is the
+// gradient. A Gauss point of line contact varies at its place on A and with its slip metric held
+// (segmentKinematics): R differs from the gradient by the motion of the Gauss point with B's segment
+// and by the slip times the metric's change.
 struct GapDerivatives {
   double value = 0.0;
   Vector24 R{};
   Matrix24 K{};
+  Vector24 gradient{};
 };
 
 // Which variations of the gaps a kinematics call computes: First (values and R; K left zero) serves
@@ -124,8 +132,12 @@ struct ContactKinematics {
 ClosestPoints lineProjection(const LinePairInput& in, double xi);
 // The gaps of that Gauss point with their derivatives: g_N = |p_B - p_A| - (r_A + r_B) with eta from
 // the projection (its dependence included), g_T1 = 0 (no slip is measured across the axes), g_T2 =
-// (eta - etaPrev) |x_B2 - x_B1| (slip along B; the point is material on A); cosine 0 (the two
-// tangential directions are orthogonal), axesCosine the chords'.
+// (eta - etaPrev) m (slip along B, m the slip metric: the length A's point travels relative to B per
+// unit eta, so that the variation of g_T2 is B's unit tangent); cosine 0 (the two tangential directions
+// are orthogonal), axesCosine the chords'. The variations R (and K) are taken with the Gauss point's
+// parameter xi on A and the metric m held: a Gauss point applies lambda_N n and lambda_T t_B on B
+// (unit normal and tangent), so Coulomb's |lambda_T| <= mu |lambda_N| is the applied force's cone.
+// The gradients of the values (GapDerivatives::gradient) include both.
 // `keptNormal` (zero: none) orients the circular sections' gap: g_N = side |p_B - p_A| - (r_A + r_B),
 // side = lineSide(projection, keptNormal). A Gauss point whose axes have passed through each other
 // since the last converged step (p_B - p_A against the normal it had then) has side -1, so its gap is

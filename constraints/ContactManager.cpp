@@ -322,6 +322,7 @@ void ContactManager::commitPoint(Point& p, const core::State& state) {
     for (int a = 0; a < 3; ++a) force[a] -= roles * lam[q] * (g[q]->R[12 + a] + g[q]->R[18 + a]);
   p.normalForce = dot(force, cp.normal) * cp.normal;
   p.tangentialForce = force - p.normalForce;
+  if (p.line() && p.result.active) report_.noteCone(p, geometry_.pairs()[p.key.pair].friction);
   p.xiPrev = geometry_.beamCoordinate(p.elementA, k.xi);
   p.etaPrev = geometry_.beamCoordinate(p.elementB, k.eta);
   if (p.line()) p.etaRate = cp.etaRate;

@@ -1,6 +1,7 @@
 #include "ContactReport.hpp"
 
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 namespace bc::constraints {
@@ -9,7 +10,20 @@ namespace {
 // An active point penetrating by more than this fraction of the thinner section's inscribed radius
 // is reported: at that depth the sections overlap visibly, and a penalty law is far from contact.
 constexpr double kDeep = 0.05;
+// A line point whose applied force has |F_T| > mu |F_N| + this |F_N| is reported. Every strategy's
+// multipliers satisfy the cone and a Gauss point applies them along unit vectors (docs/contact.md, "The
+// Coulomb cone on lines"); a Lagrange field's Gauss point sees interpolated multipliers, whose friction
+// rows hold the cone only tested with the field's shape functions.
+constexpr double kOutsideCone = 1e-9;
 }  // namespace
+
+void ContactReport::noteCone(const ContactPointRecord& p, double friction) {
+  const double N = norm(p.normalForce), T = norm(p.tangentialForce);
+  if (!(T > (friction + kOutsideCone) * N)) return;
+  const double ratio = friction > 0.0 && N > 0.0 ? T / (friction * N) : std::numeric_limits<double>::infinity();
+  auto& worst = outsideCone_[p.key.pair];
+  if (ratio > worst.first) worst = {ratio, p.position};
+}
 
 void ContactReport::noteDepth(const ContactPointRecord& p, const ClosestPoints& cp) {
   const double depth = -cp.gap, inscribed = geometry_.thinner(p.key.pair);
@@ -147,6 +161,17 @@ std::vector<std::string> ContactReport::warnings() const {
       << "), which grow as h^-4 when the beams are refined, and so do the errors of the contact force and the "
          "reactions; hold only one of the two beams there, or use Penalty (which takes the gap with a force "
          "eps_N |g|)";
+    w.push_back(s.str());
+  }
+  for (const auto& [pair, worst] : outsideCone_) {
+    std::ostringstream s;
+    s << "contact pair \"" << pairs[pair].name << "\": a Gauss point of line contact applied a tangential force of "
+      << worst.first << " times mu times its normal force near (" << worst.second[0] << ", " << worst.second[1] << ", "
+      << worst.second[2] << "): outside the Coulomb cone. A Lagrange multiplier field holds the cone at its nodes "
+      << "only as its friction rows are tested with the field's shape functions: where some of a node's Gauss points "
+      << "stick and others slip, or its normal force falls to zero along an element, the interpolated force can "
+      << "leave it; refine beam \"" << beams[pairs[pair].beamA].name
+      << "\" (Penalty and Augmented Lagrange hold the cone at every Gauss point)";
     w.push_back(s.str());
   }
   for (int pair : lines_.frictionless()) {

@@ -30,6 +30,9 @@ class ContactReport {
   std::vector<std::string> warnings() const;
   // Notes a committed active point at its closest points `cp` (penetrations beyond kDeep).
   void noteDepth(const ContactPointRecord& p, const ClosestPoints& cp);
+  // Notes a committed active line point whose applied force (normalForce, tangentialForce) lies
+  // outside the Coulomb cone by more than kOutsideCone |F_N|.
+  void noteCone(const ContactPointRecord& p, double friction);
 
  private:
   const ContactGeometry& geometry_;
@@ -37,6 +40,7 @@ class ContactReport {
   const LineContact& lines_;
   const AutomaticPenalty& penalty_;
   std::map<int, std::pair<double, Vec3d>> deepPoints_;  // pair -> deepest active point beyond kDeep, where
+  std::map<int, std::pair<double, Vec3d>> outsideCone_;  // pair -> largest |F_T| / (mu |F_N|) beyond 1, where
 };
 
 }  // namespace bc::constraints

@@ -53,7 +53,7 @@ bool LagrangeMultiplierEnforcer::isotropicFrictionRows(const ContactPoint& p, do
                   p.measured[1] ? F(lT[1] + complementarity_ * Mg[1]) : F(0.0)};
   const F radius = lN.val() < 0.0 ? F(-mu * lN) : F(0.0);
   const bool slip = cone::project(c, radius, v, P);
-  const Vector24* Rs[3] = {&k.tangent1.R, &k.tangent2.R, &k.cosineR};
+  const Vector24* Rs[3] = {&k.tangent1.gradient, &k.tangent2.gradient, &k.cosineR};
   for (int t = 0; t < 2; ++t) {
     const F C = lT[t] - P[t];
     const int row = iN + 1 + t;
@@ -100,7 +100,7 @@ PointResult LagrangeMultiplierEnforcer::evaluate(const ContactPoint& p, const Po
   // Normal row: g_N = 0.
   f[iN] += k.normal.value;
   if (K)
-    for (int j = 0; j < kPairDofs; ++j) K[n * iN + j] += k.normal.R[j];
+    for (int j = 0; j < kPairDofs; ++j) K[n * iN + j] += k.normal.gradient[j];
   // Tangential rows.
   if (mu > 0.0 && p.law == FrictionLaw::IsotropicCoulomb) {
     r.slip[0] = r.slip[1] = isotropicFrictionRows(p, f, K);
@@ -114,7 +114,7 @@ PointResult LagrangeMultiplierEnforcer::evaluate(const ContactPoint& p, const Po
     } else if (!h.slip[t]) {
       f[row] += g[1 + t]->value;
       if (K)
-        for (int j = 0; j < kPairDofs; ++j) K[n * row + j] += g[1 + t]->R[j];
+        for (int j = 0; j < kPairDofs; ++j) K[n * row + j] += g[1 + t]->gradient[j];
     } else {
       const double s = h.slipSign[t];
       f[row] += s * lambda[1 + t] + mu * lambda[0];

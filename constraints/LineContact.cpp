@@ -107,8 +107,7 @@ LineHistory LineContact::history(const ContactPointRecord& p) const {
 }
 
 double LineContact::slip(const ContactPointRecord& p, const ClosestPoints& cp, const core::State& s) const {
-  const BeamElement& eB = geometry_.beams().elements()[p.elementB];
-  return (cp.eta - history(p).etaPrevAt(cp.xi)) * norm(s.position[eB.node2] - s.position[eB.node1]);
+  return (cp.eta - history(p).etaPrevAt(cp.xi)) * cp.slipMetric;
 }
 
 double LineContact::weight(const ContactPointRecord& p, double segment) const {

@@ -84,7 +84,8 @@ PointResult regularizedEvaluate(const ContactPoint& p, const NormalLaw& normal, 
   const ContactKinematics& k = p.kinematics;
   constexpr int n = kPairDofs;
   const GapDerivatives* gaps[3] = {&k.normal, &k.tangent1, &k.tangent2};
-  const Vector24* Rs[4] = {&k.normal.R, &k.tangent1.R, &k.tangent2.R, &k.cosineR};
+  // The law's inputs are linearized by the gaps' gradients; the forces act along their variations R.
+  const Vector24* Rs[4] = {&k.normal.gradient, &k.tangent1.gradient, &k.tangent2.gradient, &k.cosineR};
   for (int a = 0; a < 3; ++a) {
     const double la = lam[a].val();
     if (la == 0.0 && lam[a].dx(0) == 0.0 && lam[a].dx(1) == 0.0 && lam[a].dx(2) == 0.0 && lam[a].dx(3) == 0.0) continue;

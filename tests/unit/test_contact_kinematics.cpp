@@ -56,7 +56,7 @@ LinePairInput perturbedState(const LinePairInput& in, int dof, double h) {
   return p;
 }
 
-// Largest relative errors of R (against central differences of the gaps) and of K (against those of
+// Largest relative errors of the gradients (against central differences of the gaps) and of K (against those of
 // R) over the 24 dofs, for the gaps `which` of the kinematics `kernel(state)` computes at `in`.
 template <class Kernel>
 std::pair<double, double> centralDifferenceErrors(const LinePairInput& in, Kernel kernel,
@@ -66,11 +66,11 @@ std::pair<double, double> centralDifferenceErrors(const LinePairInput& in, Kerne
   double rmax = 0, kmax = 0, errR = 0, errK = 0;
   for (auto gap : which) {
     const GapDerivatives& a = k.*gap;
-    // R: one row, the gap's value; K: the rows of R.
+    // The gradient: one row, the gap's value (R for point contact); K: the rows of R.
     const auto r = bc::test::centralDifferences(
         1, kPairDofs, h,
         [&](int j, double step) { return std::array<double, 1>{(kernel(perturbedState(in, j, step)).*gap).value}; },
-        [&](int j) { return std::array<double, 1>{a.R[j]}; });
+        [&](int j) { return std::array<double, 1>{a.gradient[j]}; });
     const auto K = bc::test::centralDifferences(
         kPairDofs, kPairDofs, h, [&](int j, double step) { return (kernel(perturbedState(in, j, step)).*gap).R; },
         [&](int j) {

@@ -1,0 +1,199 @@
+// The Coulomb cone on lines: the force a Gauss point of line contact applies on beam B (its residual
+// lambda_N R_N + lambda_T R_T2 on B's nodal translations, ContactPointRecord::normalForce and
+// tangentialForce) obeys |F_T| <= mu |F_N| at every Gauss point, with equality where the point slips,
+// for every strategy: the slip along B is measured so that its variation is the unit tangent of B at
+// the projection (docs/contact.md, "Friction on lines").
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+
+#include "support/ContactDecks.hpp"
+
+using namespace bc;
+using namespace bc::test;
+
+namespace {
+
+// Per run, over the active Gauss points at the end: ratio = |F_T| / (mu |F_N|) with F the force the
+// point applies on beam B, F_N its part along the point's normal and F_T the rest (the definition of
+// the force the residual applies); the largest, the smallest and largest of the slipping points; in
+// sum, |sum F_T| / (mu sum |F_N|) (the resultant friction force against mu times the total normal
+// force: at most 1 by Coulomb's law at every point) and sum |F_T| / (mu sum |F_N|) (1 in full slip).
+struct Cone {
+  int active = 0, slipping = 0;
+  double worst = 0.0, slipLow = 1e300, slipHigh = 0.0, sum = 0.0, slipSum = 0.0;
+};
+Cone cone(const input::Problem& p, double mu) {
+  Cone c;
+  double T = 0.0, N = 0.0;
+  elements::Vec3d FT{};
+  for (const auto& [key, q] : p.contact->points()) {
+    if (!q.line() || !q.result.active) continue;
+    const double n = norm(q.normalForce), t = norm(q.tangentialForce);
+    if (!(n > 0.0)) continue;
+    ++c.active;
+    const double ratio = t / (mu * n);
+    c.worst = std::max(c.worst, ratio);
+    if (q.result.slip[1]) {
+      ++c.slipping;
+      c.slipLow = std::min(c.slipLow, ratio);
+      c.slipHigh = std::max(c.slipHigh, ratio);
+    }
+    T += t;
+    N += n;
+    FT = FT + q.tangentialForce;
+  }
+  c.sum = norm(FT) / (mu * N);
+  c.slipSum = T / (mu * N);
+  return c;
+}
+
+void print(const std::string& what, const std::string& type, const core::RunResult& r, const Cone& c) {
+  std::printf(
+      "%s, %s: %d active, %d slipping; |F_T| / mu |F_N| largest %.12f, slipping %.12f .. %.12f; in sum: "
+      "|sum F_T| / mu sum |F_N| %.12f, sum |F_T| / mu sum |F_N| %.12f; %d Newton iterations\n",
+      what.c_str(), type.c_str(), c.active, c.slipping, c.worst, c.slipLow, c.slipHigh, c.sum, c.slipSum,
+      r.report.newtonIterations);
+}
+
+// Two circular beams at 3 degrees (parallelBeams: ground 20 elements, rod 12, lifted 0.1, E 1e5),
+// clamped at their ends, every inner node held sideways; the rod's ends pressed down by 0.2 (closure
+// 0.1) while T goes to 0.5, then dragged along X by 0.3 while T goes to 1 (20 increments), mu 0.3.
+Deck drag(const std::string& type) {
+  Deck deck = parallelBeams(type, 20, 12, 0.0, 1e5, 6, 3.0, 0.1);
+  // (Augmented Lagrange on lines does not reach the default tolerance in 50 passes: issue 32, item 5.)
+  input::setAtPath(deck, "Contact/Enforcement/Augmented Lagrange/Gap Tolerance", 1e-4);
+  input::replaceAtPath(deck, "Load Stepping/Number of Increments", 20);
+  input::replaceAtPath(deck, "Contact/Pairs/line/Friction Coefficient", 0.3);
+  support(deck, "ground", 0, "all");
+  support(deck, "ground", 20, "all");
+  for (int i = 1; i < 20; ++i) support(deck, "ground", i, "uy");
+  for (int i = 1; i < 12; ++i) support(deck, "rod", i, "uy");
+  for (const int node : {0, 12}) {
+    support(deck, "rod", node, "uy uz rx ry rz", -0.2);
+    const std::string s = "Supports/rod " + std::to_string(node);
+    input::setAtPath(deck, s + "/Load Curve", vec("0, 0, 0.5, 1, 1, 1"));
+    Deck& move = input::sublistAtPath(deck, s + " drag");
+    move.set("Beam", std::string("rod"));
+    move.set("Node", std::to_string(node));
+    move.set("Fixed", std::string("ux"));
+    move.set("Displacement", vec("0.3, 0, 0"));
+    move.set("Load Curve", vec("0, 0, 0.5, 0, 1, 1"));
+  }
+  return deck;
+}
+
+// A wire wound on a straight core: the core (beam A, r = 0.5, along Z, 16 elements) held at every
+// node; the wire (beam B, r = 0.5) a helix of radius 1 about the core's axis (touching it) with a lay
+// angle of 10 degrees, one turn, 16 elements, pressed on the core by radial forces of 0.02 at its
+// inner nodes and slid along Z by 0.05 at every node (its end nodes held across), mu 0.3. B is
+// curved (kappa = sin^2(10 deg) / 1 = 0.030) and A's point lies on the inside of its bend at
+// r_A + r_B = 1: the slip along B's chord (before) was 1 / (1 - 0.030) = 1.031 times too short.
+Deck helix(const std::string& type) {
+  const double pi = std::acos(-1.0), alpha = 10.0 * pi / 180.0, pitch = 2.0 * pi / std::tan(alpha);
+  const int n = 16;
+  Deck deck("BeamContact");
+  const auto material = [](Deck& b) {
+    b.sublist("Section").set("Shape", std::string("Circle"));
+    b.sublist("Section").set("Radius", 0.5);
+    b.sublist("Material").set("Young's Modulus", 1e5);
+    b.sublist("Material").set("Poisson's Ratio", 0.3);
+  };
+  Deck& core = deck.sublist("Beams").sublist("core");
+  core.set("Start", vec("0, 0, 0"));
+  core.set("End", vec("0, 0, " + num(pitch)));
+  core.set("Elements", n);
+  material(core);
+  Deck& wire = deck.sublist("Beams").sublist("wire");
+  Deck& h = wire.sublist("Helix");
+  h.set("Axis Point", vec("0, 0, 0"));
+  h.set("Axis Direction", vec("0, 0, 1"));
+  h.set("Radius", 1.0);
+  h.set("Pitch", pitch);
+  h.set("Turns", 1.0);
+  h.set("Reference Direction", vec("1, 0, 0"));
+  h.set("Start Angle", 0.0);
+  wire.set("Elements", n);
+  material(wire);
+  for (int i = 0; i <= n; ++i) {
+    support(deck, "core", i, "all");
+    Deck& s = deck.sublist("Supports").sublist("wire " + std::to_string(i));
+    s.set("Beam", std::string("wire"));
+    s.set("Node", std::to_string(i));
+    s.set("Fixed", std::string(i == 0 || i == n ? "ux uy uz rz" : "uz"));
+    s.set("Displacement", vec("0, 0, 0.05"));
+    if (i == 0 || i == n) continue;
+    const double t = 2.0 * pi * i / n;
+    Deck& load = deck.sublist("Loads").sublist("wire " + std::to_string(i));
+    load.set("Beam", std::string("wire"));
+    load.set("Node", std::to_string(i));
+    load.set("Force", vec(num(-0.02 * std::cos(t)) + ", " + num(-0.02 * std::sin(t)) + ", 0"));
+  }
+  Deck& c = deck.sublist("Contact");
+  Deck& pair = c.sublist("Pairs").sublist("wound");
+  pair.set("Beam A", std::string("core"));
+  pair.set("Beam B", std::string("wire"));
+  pair.set("Friction Coefficient", 0.3);
+  c.set("Line Contact Angle", 12.0);
+  c.set("Point Contact Angle", 17.0);
+  c.set("Allow Initial Penetration", true);
+  c.sublist("Enforcement").set("Type", type);
+  for (const char* s : {"Penalty", "Augmented Lagrange"}) {
+    c.sublist("Enforcement").sublist(s).set("Normal Penalty Parameter", 1e4);
+    c.sublist("Enforcement").sublist(s).set("Tangential Penalty Parameter", 1e3);
+  }
+  c.sublist("Enforcement").sublist("Augmented Lagrange").set("Gap Tolerance", 1e-2);
+  deck.sublist("Load Stepping").set("Number of Increments", 2);
+  deck.sublist("Output").set("Write VTK", false);
+  return deck;
+}
+
+}  // namespace
+
+TEST(LineCone, DragAtThreeDegreesStaysOnTheCone) {
+  for (const std::string type : {"Penalty", "Augmented Lagrange", "Lagrange Multiplier"}) {
+    auto p = input::buildProblem(drag(type), "cone_drag");
+    const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "cone_drag");
+    EXPECT_TRUE(r.report.completed) << type << ": " << r.report.failure;
+    if (!r.report.completed) continue;
+    const Cone c = cone(p, 0.3);
+    print("drag at 3 degrees", type, r, c);
+    for (const std::string& w : r.report.warnings) EXPECT_EQ(w.find("Coulomb cone"), std::string::npos) << w;
+    EXPECT_GE(c.slipping, 2) << type;
+    EXPECT_EQ(c.slipping, c.active) << type;
+    EXPECT_LE(c.worst, 1.0 + 1e-9) << type;
+    EXPECT_NEAR(c.slipHigh, 1.0, 1e-9) << type;
+    EXPECT_NEAR(c.slipLow, 1.0, 1e-9) << type;
+    EXPECT_LE(c.sum, 1.0 + 1e-9) << type;
+    EXPECT_NEAR(c.slipSum, 1.0, 1e-9) << type;
+    // The tangent of the new residual: the rod dragged on by 1e-3 from the end, every line point
+    // slipping, against central differences of the contact residual.
+    core::State s = r.finalState;
+    for (int n : p.beams->beams()[1].nodes) s.applyNodeIncrement(n, std::array<double, 6>{1e-3, 0, 0, 0, 0, 0}.data());
+    double kmax = 0.0;
+    const double err = assembledContactTangentError(p, s, kmax);
+    std::printf("  %s, dragged on: contact tangent vs central differences, max error / max |K| = %.2e\n", type.c_str(),
+                err / kmax);
+    EXPECT_LT(err / kmax, 1e-6) << type;
+  }
+}
+
+TEST(LineCone, WireSlidOnACoreStaysOnTheCone) {
+  for (const std::string type : {"Penalty", "Augmented Lagrange", "Lagrange Multiplier"}) {
+    auto p = input::buildProblem(helix(type), "cone_helix");
+    const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "cone_helix");
+    EXPECT_TRUE(r.report.completed) << type << ": " << r.report.failure;
+    if (!r.report.completed) continue;
+    const Cone c = cone(p, 0.3);
+    print("wire on a core", type, r, c);
+    for (const std::string& w : r.report.warnings) EXPECT_EQ(w.find("Coulomb cone"), std::string::npos) << w;
+    EXPECT_GE(c.slipping, 10) << type;
+    EXPECT_EQ(c.slipping, c.active) << type;
+    EXPECT_LE(c.worst, 1.0 + 1e-9) << type;
+    EXPECT_NEAR(c.slipHigh, 1.0, 1e-9) << type;
+    EXPECT_NEAR(c.slipLow, 1.0, 1e-9) << type;
+    EXPECT_LE(c.sum, 1.0 + 1e-9) << type;
+    EXPECT_NEAR(c.slipSum, 1.0, 1e-9) << type;
+  }
+}
