@@ -149,6 +149,19 @@ Deck helix(const std::string& type) {
   return deck;
 }
 
+// Every active point slipping (at least `slipping` of them), each on the cone (|F_T| = mu |F_N| to
+// 1e-9) and their sums within it, with no cone warning.
+void expectOnTheCone(const core::RunResult& r, const Cone& c, const std::string& type, int slipping) {
+  for (const std::string& w : r.report.warnings) EXPECT_EQ(w.find("Coulomb cone"), std::string::npos) << w;
+  EXPECT_GE(c.slipping, slipping) << type;
+  EXPECT_EQ(c.slipping, c.active) << type;
+  EXPECT_LE(c.worst, 1.0 + 1e-9) << type;
+  EXPECT_NEAR(c.slipHigh, 1.0, 1e-9) << type;
+  EXPECT_NEAR(c.slipLow, 1.0, 1e-9) << type;
+  EXPECT_LE(c.sum, 1.0 + 1e-9) << type;
+  EXPECT_NEAR(c.slipSum, 1.0, 1e-9) << type;
+}
+
 }  // namespace
 
 TEST(LineCone, DragAtThreeDegreesStaysOnTheCone) {
@@ -159,14 +172,7 @@ TEST(LineCone, DragAtThreeDegreesStaysOnTheCone) {
     if (!r.report.completed) continue;
     const Cone c = cone(p, 0.3);
     print("drag at 3 degrees", type, r, c);
-    for (const std::string& w : r.report.warnings) EXPECT_EQ(w.find("Coulomb cone"), std::string::npos) << w;
-    EXPECT_GE(c.slipping, 2) << type;
-    EXPECT_EQ(c.slipping, c.active) << type;
-    EXPECT_LE(c.worst, 1.0 + 1e-9) << type;
-    EXPECT_NEAR(c.slipHigh, 1.0, 1e-9) << type;
-    EXPECT_NEAR(c.slipLow, 1.0, 1e-9) << type;
-    EXPECT_LE(c.sum, 1.0 + 1e-9) << type;
-    EXPECT_NEAR(c.slipSum, 1.0, 1e-9) << type;
+    expectOnTheCone(r, c, type, 2);
     // The tangent of the new residual: the rod dragged on by 1e-3 from the end, every line point
     // slipping, against central differences of the contact residual.
     core::State s = r.finalState;
@@ -187,13 +193,6 @@ TEST(LineCone, WireSlidOnACoreStaysOnTheCone) {
     if (!r.report.completed) continue;
     const Cone c = cone(p, 0.3);
     print("wire on a core", type, r, c);
-    for (const std::string& w : r.report.warnings) EXPECT_EQ(w.find("Coulomb cone"), std::string::npos) << w;
-    EXPECT_GE(c.slipping, 10) << type;
-    EXPECT_EQ(c.slipping, c.active) << type;
-    EXPECT_LE(c.worst, 1.0 + 1e-9) << type;
-    EXPECT_NEAR(c.slipHigh, 1.0, 1e-9) << type;
-    EXPECT_NEAR(c.slipLow, 1.0, 1e-9) << type;
-    EXPECT_LE(c.sum, 1.0 + 1e-9) << type;
-    EXPECT_NEAR(c.slipSum, 1.0, 1e-9) << type;
+    expectOnTheCone(r, c, type, 10);
   }
 }
