@@ -112,7 +112,6 @@ void ContactReport::appendVtk(const PointMap& committed, core::VtkMesh& mesh) co
 std::vector<std::string> ContactReport::warnings() const {
   std::vector<std::string> w;
   const auto& pairs = geometry_.pairs();
-  const auto& beams = geometry_.beams().beams();
   if (const std::string relaxed = penalty_.warning(); !relaxed.empty()) w.push_back(relaxed);
   for (const auto& [pair, worst] : deepPoints_) {
     const auto& pr = pairs[pair];
@@ -125,6 +124,20 @@ std::vector<std::string> ContactReport::warnings() const {
          "raise the Normal Penalty Parameter (or use Augmented Lagrange or Lagrange Multiplier)";
     w.push_back(s.str());
   }
+  lineWarnings(w);
+  for (int pair : lines_.frictionless()) {
+    std::ostringstream s;
+    s << "contact pair \"" << pairs[pair].name << "\" has friction coefficient " << pairs[pair].friction
+      << ", and its beams were in line contact (nearly parallel): ";
+    s << "friction acted along the axes only; sliding across them (perpendicular to both axes) is frictionless";
+    w.push_back(s.str());
+  }
+  return w;
+}
+
+void ContactReport::lineWarnings(std::vector<std::string>& w) const {
+  const auto& pairs = geometry_.pairs();
+  const auto& beams = geometry_.beams().beams();
   for (const auto& [pair, worst] : lines_.unseenBetween()) {
     std::ostringstream s;
     s << "contact pair \"" << pairs[pair].name << "\": between the Gauss points of line contact the beams "
@@ -174,14 +187,6 @@ std::vector<std::string> ContactReport::warnings() const {
       << "\" (Penalty and Augmented Lagrange hold the cone at every Gauss point)";
     w.push_back(s.str());
   }
-  for (int pair : lines_.frictionless()) {
-    std::ostringstream s;
-    s << "contact pair \"" << pairs[pair].name << "\" has friction coefficient " << pairs[pair].friction
-      << ", and its beams were in line contact (nearly parallel): ";
-    s << "friction acted along the axes only; sliding across them (perpendicular to both axes) is frictionless";
-    w.push_back(s.str());
-  }
-  return w;
 }
 
 std::string ContactReport::progressSummary(const PointMap& committed, int lastPasses) const {

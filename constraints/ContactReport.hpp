@@ -35,6 +35,9 @@ class ContactReport {
   void noteCone(const ContactPointRecord& p, double friction);
 
  private:
+  // The line-contact warnings: overlaps between Gauss points, unresolved Lagrange fields, gaps that
+  // supports hold, forces outside the Coulomb cone.
+  void lineWarnings(std::vector<std::string>& w) const;
   const ContactGeometry& geometry_;
   const ConstraintEnforcer& enforcer_;
   const LineContact& lines_;
