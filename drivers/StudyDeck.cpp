@@ -189,6 +189,29 @@ Output readOutput(const std::string& name, const std::string& path, const Parame
   return out;
 }
 
+// A tracked point's output must name one of the base deck's Output/Tracked Points, or one a case
+// variable's Path adds (Output/Tracked Points/<name>/...): otherwise every case would run and its
+// column would stay empty.
+void checkTrackedPoint(const StudyDeck& deck, const Output& out, const std::string& path) {
+  if (out.trackedPoint.empty()) return;
+  const std::string added = "Output/Tracked Points/" + out.trackedPoint + "/";
+  for (const Group& g : deck.groups)
+    for (const Variable& v : g.variables)
+      if (v.path.rfind(added, 0) == 0) return;
+  std::vector<std::string> names;
+  if (deck.baseDeck->isSublist("Output") && deck.baseDeck->sublist("Output").isSublist("Tracked Points")) {
+    const ParameterList& tracked = deck.baseDeck->sublist("Output").sublist("Tracked Points");
+    for (auto it = tracked.begin(); it != tracked.end(); ++it)
+      if (tracked.isSublist(tracked.name(it))) names.push_back(tracked.name(it));
+  }
+  if (std::find(names.begin(), names.end(), out.trackedPoint) != names.end()) return;
+  throw InputError("parameter \"" + path + "/Tracked Point\": \"" + out.trackedPoint +
+                   "\" is not a tracked point of the base deck \"" + deck.base.string() + "\" (" +
+                   (names.empty() ? std::string("it has no Output/Tracked Points")
+                                  : "its tracked points are " + core::joinNames(names)) +
+                   ")");
+}
+
 // A plot's published points (sublist `p` at `path`): Published Y, with as many X (or none) and labels (or none).
 void readPublished(const ParameterList& p, const std::string& path, Plot& plot) {
   auto numbers = [&](const std::string& key) {
@@ -283,6 +306,7 @@ StudyDeck readStudyDeck(const std::string& studyFile, const std::vector<std::str
   forEachSublist(deck.study->sublist("Outputs"), deck.root + "/Outputs", "an output",
                  [&](const std::string& name, const std::string& path, const ParameterList& o) {
                    deck.outputs.push_back(readOutput(name, path, o));
+                   checkTrackedPoint(deck, deck.outputs.back(), path);
                  });
   forEachSublist(deck.study->sublist("Plots"), deck.root + "/Plots", "a plot",
                  [&](const std::string& name, const std::string& path, const ParameterList& p) {
