@@ -102,6 +102,10 @@ class ContactGeometry {
   bool swapped(const ContactPointRecord& p) const {
     return p.line() && beams_->elements()[p.key.elementA].beam != pairs_[p.key.pair].beamA;
   }
+  // The point's elements on the pair's beams A and B, whatever its roles.
+  std::array<int, 2> pairElements(const ContactPointRecord& p) const {
+    return swapped(p) ? std::array<int, 2>{p.elementB, p.elementA} : std::array<int, 2>{p.elementA, p.elementB};
+  }
 
   // The input of closest points of line lA of element eA and line lB of element eB in `s`, and that
   // of the two elements' axes.

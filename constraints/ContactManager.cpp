@@ -186,9 +186,7 @@ bool ContactManager::held(int pi, int ea, int eb, const core::State& state, bool
   const auto& elems = geometry_.beams().elements();
   for (const auto& [key, p] : set_.current()) {
     if (p.key.pair != pi) continue;
-    // (A point with swapped roles has its elements the other way round.)
-    const bool swapped = geometry_.swapped(p);
-    const int onA = swapped ? p.elementB : p.elementA, onB = swapped ? p.elementA : p.elementB;
+    const auto [onA, onB] = geometry_.pairElements(p);
     if (std::abs(elems[onA].index - elems[ea].index) > 1 || std::abs(elems[onB].index - elems[eb].index) > 1) continue;
     if (p.node()) continue;
     const PointState* acting = actingState(p);

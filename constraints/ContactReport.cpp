@@ -63,8 +63,9 @@ std::vector<std::string> ContactReport::tableRows(const PointMap& committed) con
     // The segment (the elements, within their beams, the point lies on) and, for a line point, its
     // normal force per unit length of line A (0 for point contacts).
     const auto& elems = geometry_.beams().elements();
-    s << "," << elems[swapped ? p.elementB : p.elementA].index << "," << elems[swapped ? p.elementA : p.elementB].index
-      << "," << (p.line() && p.length > 0.0 ? -p.result.lambdaN / p.length : 0.0);
+    const auto [onA, onB] = geometry_.pairElements(p);
+    s << "," << elems[onA].index << "," << elems[onB].index << ","
+      << (p.line() && p.length > 0.0 ? -p.result.lambdaN / p.length : 0.0);
     // The strategy's own columns (the built-in ones: the penalty parameters the point used, 0 for none
     // or where it carried no force).
     const std::size_t columns = enforcer_.outputColumns().size();
@@ -99,9 +100,9 @@ void ContactReport::appendVtk(const PointMap& committed, core::VtkMesh& mesh) co
     // 0: both lines stick, 1 or 2: that many slip.
     mesh.setPointScalar("contact slip lines", point, (p.result.slip[0] ? 1 : 0) + (p.result.slip[1] ? 1 : 0));
     mesh.setPointScalar("line traction", point, p.line() && p.length > 0.0 ? -p.result.lambdaN / p.length : 0.0);
-    const bool swapped = geometry_.swapped(p);
-    mesh.setPointScalar("segment element A", point, elems[swapped ? p.elementB : p.elementA].index);
-    mesh.setPointScalar("segment element B", point, elems[swapped ? p.elementA : p.elementB].index);
+    const auto [onA, onB] = geometry_.pairElements(p);
+    mesh.setPointScalar("segment element A", point, elems[onA].index);
+    mesh.setPointScalar("segment element B", point, elems[onB].index);
     mesh.cellTypes.push_back(1);  // VTK_VERTEX
     mesh.cells.push_back({point});
     mesh.cellBeam.push_back(-1);

@@ -169,17 +169,24 @@ void LineContact::offerSegment(int pi, int ea, int eb, int edge, int face, doubl
   }
 }
 
+namespace {
+// A line point keeps its side (lineKinematics): where the axes have passed through each other since
+// the normal `kept`, the gap is the deep one beyond the other axis and the normal turns round.
+void keepSide(const LinePairInput& in, ClosestPoints& cp, const Vec3d& kept) {
+  if (!(lineSide(in, cp, kept) < 0.0)) return;
+  const double radiusSum = cp.distance - cp.gap;
+  cp.gap = -cp.distance - radiusSum;
+  cp.normal = -1.0 * cp.normal;
+}
+}  // namespace
+
 ClosestPoints LineContact::geometry(const ContactPointRecord& p, const core::State& s, double* segment) const {
   const LinePairInput in = input(p, s);
   const LineSegment seg = lineSegment(in);
   if (segment) *segment = seg.length();
   ClosestPoints cp = lineProjection(in, seg.lo + seg.length() * gaussXi_[p.gauss()]);
   cp.sinAngle = 1.0;  // a line point is defined at any angle
-  if (lineSide(in, cp, p.normal) < 0.0) {  // it keeps its side (lineKinematics)
-    const double radiusSum = cp.distance - cp.gap;
-    cp.gap = -cp.distance - radiusSum;
-    cp.normal = -1.0 * cp.normal;
-  }
+  keepSide(in, cp, p.normal);
   return cp;
 }
 
@@ -392,8 +399,11 @@ void LineContact::checkHeldEnds(const PointMap& points, const core::State& s) {
     load[p.key.pair].first += std::abs(p.result.lambdaN);
     load[p.key.pair].second += p.length;
   }
+  // (The end's gap is the same for every Gauss point of an element pair's line: judged once.)
+  std::set<std::tuple<int, int, int, int, int>> judged;  // (pair, element A, element B, edge, face)
   for (const auto& [key, p] : points) {
     if (!p.line() || !p.result.active) continue;
+    if (!judged.insert({p.key.pair, p.elementA, p.elementB, p.edge(), p.face()}).second) continue;
     const BeamElement &a = elems[p.elementA], &b = elems[p.elementB];
     const int last = static_cast<int>(beams[a.beam].nodes.size()) - 2;  // A's last element
     for (int side = 0; side < 2; ++side) {
@@ -408,7 +418,7 @@ void LineContact::checkHeldEnds(const PointMap& points, const core::State& s) {
       const LinePairInput in = input(p, s);
       ClosestPoints cp = lineProjection(in, static_cast<double>(side));
       if (!heldAlong(endA, cp.normal) || !heldAlong(endB, cp.normal)) continue;
-      if (lineSide(in, cp, p.normal) < 0.0) cp.gap = -cp.distance - (cp.distance - cp.gap);
+      keepSide(in, cp, p.normal);
       const double EI = std::min({a.data.EIy, a.data.EIz, b.data.EIy, b.data.EIz});
       const double h = a.data.L0;
       const double traction = EI * std::abs(std::min(cp.gap, 0.0)) / (h * h * h * h);
