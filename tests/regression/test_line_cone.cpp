@@ -149,50 +149,51 @@ Deck helix(const std::string& type) {
   return deck;
 }
 
-// Every active point slipping (at least `slipping` of them), each on the cone (|F_T| = mu |F_N| to
-// 1e-9) and their sums within it, with no cone warning.
-void expectOnTheCone(const core::RunResult& r, const Cone& c, const std::string& type, int slipping) {
-  for (const std::string& w : r.report.warnings) EXPECT_EQ(w.find("Coulomb cone"), std::string::npos) << w;
-  EXPECT_GE(c.slipping, slipping) << type;
-  EXPECT_EQ(c.slipping, c.active) << type;
-  EXPECT_LE(c.worst, 1.0 + 1e-9) << type;
-  EXPECT_NEAR(c.slipHigh, 1.0, 1e-9) << type;
-  EXPECT_NEAR(c.slipLow, 1.0, 1e-9) << type;
-  EXPECT_LE(c.sum, 1.0 + 1e-9) << type;
-  EXPECT_NEAR(c.slipSum, 1.0, 1e-9) << type;
+// Runs `deck` with each strategy; each must complete with every active point slipping (at least
+// `slipping` of them), each on the cone (|F_T| = mu |F_N| to 1e-9) and their sums within it, with no
+// cone warning. Then `more` (the problem, its result, the strategy) may check more.
+template <class DeckOf, class More>
+void expectEveryStrategyOnTheCone(const DeckOf& deckOf, const std::string& name, const std::string& what, int slipping,
+                                  const More& more) {
+  for (const std::string type : {"Penalty", "Augmented Lagrange", "Lagrange Multiplier"}) {
+    auto p = input::buildProblem(deckOf(type), name);
+    const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), name);
+    EXPECT_TRUE(r.report.completed) << type << ": " << r.report.failure;
+    if (!r.report.completed) continue;
+    const Cone c = cone(p, 0.3);
+    print(what, type, r, c);
+    for (const std::string& w : r.report.warnings) EXPECT_EQ(w.find("Coulomb cone"), std::string::npos) << w;
+    EXPECT_GE(c.slipping, slipping) << type;
+    EXPECT_EQ(c.slipping, c.active) << type;
+    EXPECT_LE(c.worst, 1.0 + 1e-9) << type;
+    EXPECT_NEAR(c.slipHigh, 1.0, 1e-9) << type;
+    EXPECT_NEAR(c.slipLow, 1.0, 1e-9) << type;
+    EXPECT_LE(c.sum, 1.0 + 1e-9) << type;
+    EXPECT_NEAR(c.slipSum, 1.0, 1e-9) << type;
+    more(p, r, type);
+  }
 }
 
 }  // namespace
 
 TEST(LineCone, DragAtThreeDegreesStaysOnTheCone) {
-  for (const std::string type : {"Penalty", "Augmented Lagrange", "Lagrange Multiplier"}) {
-    auto p = input::buildProblem(drag(type), "cone_drag");
-    const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "cone_drag");
-    EXPECT_TRUE(r.report.completed) << type << ": " << r.report.failure;
-    if (!r.report.completed) continue;
-    const Cone c = cone(p, 0.3);
-    print("drag at 3 degrees", type, r, c);
-    expectOnTheCone(r, c, type, 2);
-    // The tangent of the new residual: the rod dragged on by 1e-3 from the end, every line point
-    // slipping, against central differences of the contact residual.
-    core::State s = r.finalState;
-    for (int n : p.beams->beams()[1].nodes) s.applyNodeIncrement(n, std::array<double, 6>{1e-3, 0, 0, 0, 0, 0}.data());
-    double kmax = 0.0;
-    const double err = assembledContactTangentError(p, s, kmax);
-    std::printf("  %s, dragged on: contact tangent vs central differences, max error / max |K| = %.2e\n", type.c_str(),
-                err / kmax);
-    EXPECT_LT(err / kmax, 1e-6) << type;
-  }
+  expectEveryStrategyOnTheCone(
+      drag, "cone_drag", "drag at 3 degrees", 2,
+      [](const input::Problem& p, const core::RunResult& r, const std::string& type) {
+        // The tangent of the new residual: the rod dragged on by 1e-3 from the end, every line point
+        // slipping, against central differences of the contact residual.
+        core::State s = r.finalState;
+        for (int n : p.beams->beams()[1].nodes)
+          s.applyNodeIncrement(n, std::array<double, 6>{1e-3, 0, 0, 0, 0, 0}.data());
+        double kmax = 0.0;
+        const double err = assembledContactTangentError(p, s, kmax);
+        std::printf("  %s, dragged on: contact tangent vs central differences, max error / max |K| = %.2e\n",
+                    type.c_str(), err / kmax);
+        EXPECT_LT(err / kmax, 1e-6) << type;
+      });
 }
 
 TEST(LineCone, WireSlidOnACoreStaysOnTheCone) {
-  for (const std::string type : {"Penalty", "Augmented Lagrange", "Lagrange Multiplier"}) {
-    auto p = input::buildProblem(helix(type), "cone_helix");
-    const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "cone_helix");
-    EXPECT_TRUE(r.report.completed) << type << ": " << r.report.failure;
-    if (!r.report.completed) continue;
-    const Cone c = cone(p, 0.3);
-    print("wire on a core", type, r, c);
-    expectOnTheCone(r, c, type, 10);
-  }
+  expectEveryStrategyOnTheCone(helix, "cone_helix", "wire on a core", 10,
+                               [](const input::Problem&, const core::RunResult&, const std::string&) {});
 }

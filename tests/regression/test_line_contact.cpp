@@ -776,7 +776,9 @@ TEST(LineContact, AngleSweepEveryStrategyBothSectionsCompletesInEquilibriumWithi
         const std::string what =
             std::string(rectangles ? "rectangles" : "circles") + ", " + test::num(degrees) + " degrees, " + type;
         const bool asserted = type != "Augmented Lagrange";
-        if (asserted) EXPECT_TRUE(r.report.completed) << what << ": " << r.report.failure;
+        if (asserted) {
+          EXPECT_TRUE(r.report.completed) << what << ": " << r.report.failure;
+        }
         if (!r.report.completed) continue;
         // Equilibrium of the rod (beam B of the pair).
         core::Vec3d force{};
@@ -800,7 +802,7 @@ TEST(LineContact, AngleSweepEveryStrategyBothSectionsCompletesInEquilibriumWithi
             scale = std::max(scale, std::abs(v));
           }
         const double imbalance = math::norm(force + held);
-        const double inscribed = rectangles ? 0.5 : 0.5;
+        const double inscribed = 0.5;  // the circle's radius, and the 2 x 1 rectangle's inscribed radius
         bool warned = false;
         for (const auto& w : r.report.warnings) warned = warned || w.find("penetrat") != std::string::npos;
         std::printf(
@@ -811,6 +813,8 @@ TEST(LineContact, AngleSweepEveryStrategyBothSectionsCompletesInEquilibriumWithi
         EXPECT_GT(active, 0) << what;
         EXPECT_LT(imbalance, 1e-8 * scale) << what;
         EXPECT_LE(worstCone, 1.0 + 1e-9) << what;
-        if (!warned) EXPECT_LT(deepest, 0.05 * inscribed) << what;
+        if (!warned) {
+          EXPECT_LT(deepest, 0.05 * inscribed) << what;
+        }
       }
 }

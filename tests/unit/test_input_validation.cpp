@@ -12,10 +12,14 @@ using namespace bc;
 
 namespace {
 
-std::string deck(const std::string& beamExtra = "", const std::string& section = R"XML(
-      <Parameter name="Width" type="double" value="1"/><Parameter name="Height" type="double" value="1"/>)XML",
-                 const std::string& material = R"XML(<Parameter name="Young's Modulus" type="double" value="100"/>
-      <Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML",
+// The rod's default section (1 x 1) and material (E = 100, nu = 0.3).
+const std::string kSquare =
+    R"XML(<Parameter name="Width" type="double" value="1"/><Parameter name="Height" type="double" value="1"/>)XML";
+const std::string kMaterial =
+    R"XML(<Parameter name="Young's Modulus" type="double" value="100"/><Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML";
+
+std::string deck(const std::string& beamExtra = "", const std::string& section = kSquare,
+                 const std::string& material = kMaterial,
                  const std::string& elements = R"XML(<Parameter name="Elements" type="int" value="4"/>)XML",
                  const std::string& end = "{10,0,0}", const std::string& rest = "") {
   return R"XML(<ParameterList name="BeamContact"><ParameterList name="Beams"><ParameterList name="rod">
@@ -67,41 +71,26 @@ TEST(InputValidation, WrongTypeIsNamed) {
 TEST(InputValidation, NonPositiveYoungsModulus) {
   expectError(
       deck(
-          "",
-          R"XML(<Parameter name="Width" type="double" value="1"/><Parameter name="Height" type="double" value="1"/>)XML",
+          "", kSquare,
           R"XML(<Parameter name="Young's Modulus" type="double" value="-5"/><Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML"),
       R"XML("BeamContact/Beams/rod/Material/Young's Modulus": must be > 0, got -5)XML");
 }
 
 TEST(InputValidation, MissingRequiredParameter) {
-  expectError(
-      deck(
-          "",
-          R"XML(<Parameter name="Width" type="double" value="1"/><Parameter name="Height" type="double" value="1"/>)XML",
-          R"XML(<Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML"),
-      R"XML(missing required parameter "BeamContact/Beams/rod/Material/Young's Modulus")XML");
+  expectError(deck("", kSquare, R"XML(<Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML"),
+              R"XML(missing required parameter "BeamContact/Beams/rod/Material/Young's Modulus")XML");
   expectError(deck("", R"XML(<Parameter name="Width" type="double" value="1"/>)XML"),
               R"XML(missing required parameter "BeamContact/Beams/rod/Section/Height" for a Rectangle)XML");
 }
 
 TEST(InputValidation, ZeroElements) {
-  expectError(
-      deck(
-          "",
-          R"XML(<Parameter name="Width" type="double" value="1"/><Parameter name="Height" type="double" value="1"/>)XML",
-          R"XML(<Parameter name="Young's Modulus" type="double" value="100"/><Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML",
-          R"XML(<Parameter name="Elements" type="int" value="0"/>)XML"),
-      R"XML("BeamContact/Beams/rod/Elements": must be from 1 to 10000000, got 0)XML");
+  expectError(deck("", kSquare, kMaterial, R"XML(<Parameter name="Elements" type="int" value="0"/>)XML"),
+              R"XML("BeamContact/Beams/rod/Elements": must be from 1 to 10000000, got 0)XML");
 }
 
 TEST(InputValidation, ZeroLengthBeam) {
-  expectError(
-      deck(
-          "",
-          R"XML(<Parameter name="Width" type="double" value="1"/><Parameter name="Height" type="double" value="1"/>)XML",
-          R"XML(<Parameter name="Young's Modulus" type="double" value="100"/><Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML",
-          R"XML(<Parameter name="Elements" type="int" value="4"/>)XML", "{0,0,0}"),
-      R"XML(beam "BeamContact/Beams/rod" has zero length)XML");
+  expectError(deck("", kSquare, kMaterial, R"XML(<Parameter name="Elements" type="int" value="4"/>)XML", "{0,0,0}"),
+              R"XML(beam "BeamContact/Beams/rod" has zero length)XML");
 }
 
 TEST(InputValidation, UnknownBeamName) {
@@ -109,11 +98,7 @@ TEST(InputValidation, UnknownBeamName) {
       <Parameter name="Beam" type="string" value="bar"/><Parameter name="Node" type="string" value="end"/>
       <Parameter name="Force" type="Array(double)" value="{0,0,1}"/></ParameterList></ParameterList>)XML";
   expectError(
-      deck(
-          "",
-          R"XML(<Parameter name="Width" type="double" value="1"/><Parameter name="Height" type="double" value="1"/>)XML",
-          R"XML(<Parameter name="Young's Modulus" type="double" value="100"/><Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML",
-          R"XML(<Parameter name="Elements" type="int" value="4"/>)XML", "{10,0,0}", loads),
+      deck("", kSquare, kMaterial, R"XML(<Parameter name="Elements" type="int" value="4"/>)XML", "{10,0,0}", loads),
       R"XML("BeamContact/Loads/push/Beam": unknown beam "bar"; beams are "rod")XML");
 }
 
@@ -121,11 +106,7 @@ TEST(InputValidation, InvalidChoiceListsValidOnes) {
   const std::string solver =
       R"XML(<ParameterList name="Linear Solver"><Parameter name="Type" type="string" value="CG"/></ParameterList>)XML";
   expectError(
-      deck(
-          "",
-          R"XML(<Parameter name="Width" type="double" value="1"/><Parameter name="Height" type="double" value="1"/>)XML",
-          R"XML(<Parameter name="Young's Modulus" type="double" value="100"/><Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML",
-          R"XML(<Parameter name="Elements" type="int" value="4"/>)XML", "{10,0,0}", solver),
+      deck("", kSquare, kMaterial, R"XML(<Parameter name="Elements" type="int" value="4"/>)XML", "{10,0,0}", solver),
       R"XML("BeamContact/Linear Solver/Type": "CG" is not a valid choice; valid choices are "Direct", "GMRES")XML");
 }
 
@@ -134,11 +115,7 @@ TEST(InputValidation, NodeIndexOutOfRange) {
       <Parameter name="Beam" type="string" value="rod"/><Parameter name="Node" type="string" value="7"/>
       </ParameterList></ParameterList>)XML";
   expectError(
-      deck(
-          "",
-          R"XML(<Parameter name="Width" type="double" value="1"/><Parameter name="Height" type="double" value="1"/>)XML",
-          R"XML(<Parameter name="Young's Modulus" type="double" value="100"/><Parameter name="Poisson's Ratio" type="double" value="0.3"/>)XML",
-          R"XML(<Parameter name="Elements" type="int" value="4"/>)XML", "{10,0,0}", loads),
+      deck("", kSquare, kMaterial, R"XML(<Parameter name="Elements" type="int" value="4"/>)XML", "{10,0,0}", loads),
       R"XML("BeamContact/Loads/push/Node": "7" is not "start", "end", "middle" or an index 0..4)XML");
 }
 
