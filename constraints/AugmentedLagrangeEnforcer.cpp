@@ -25,8 +25,19 @@ const core::ParameterSpec& AugmentedLagrangeEnforcer::spec() {
   return s;
 }
 
+namespace {
+// The line nodes' Lagrange rows: this strategy's tolerance and passes, Lagrange's other defaults.
+Teuchos::ParameterList fieldParameters(const Teuchos::ParameterList& v) {
+  Teuchos::ParameterList l = LagrangeMultiplierEnforcer::spec().reference();
+  l.set("Gap Tolerance", v.get<double>("Gap Tolerance"));
+  l.set("Maximum Active Set Iterations", v.get<int>("Maximum Augmentations"));
+  return l;
+}
+}  // namespace
+
 AugmentedLagrangeEnforcer::AugmentedLagrangeEnforcer(const Teuchos::ParameterList& v)
-    : choice_(v),
+    : field_(fieldParameters(v)),
+      choice_(v),
       tolerance_(v.get<double>("Gap Tolerance")),
       regularization_(v.get<double>("Regularization Gap")),
       maxPasses_(v.get<int>("Maximum Augmentations")) {}
@@ -37,6 +48,37 @@ std::unique_ptr<PointState> AugmentedLagrangeEnforcer::newPointState() const {
   return s;
 }
 
+std::unique_ptr<PointState> AugmentedLagrangeEnforcer::newLineNodeState() const {
+  auto s = std::make_unique<State>();
+  s->lineNode = true;
+  return s;
+}
+
+int AugmentedLagrangeEnforcer::multipliers(const PointState& s) const {
+  const State& h = stateOf<State>(s);
+  return h.lineNode ? field_.multipliers(h.field) : 0;
+}
+
+double AugmentedLagrangeEnforcer::lineEpsN(const ContactPoint& node) const {
+  const double e = choice_.target(0);
+  const double modes = node.fieldCompliance > 0.0 ? (1.0 - e) / (e * node.fieldCompliance) : 0.0;
+  return std::max(modes, choice_.automatic() ? 0.0 : choice_.given()[0]);
+}
+
+void AugmentedLagrangeEnforcer::evaluateLineNode(const ContactPoint& node, const PointState& s, double length,
+                                                 double* f, double* K) const {
+  const State& h = stateOf<State>(s);
+  const double eps = lineEpsN(node);
+  if (!h.lineNode || !h.field.active || !(eps > 0.0) || !node.lambda) return;
+  f[0] -= length * (node.lambda[0] - h.lambdaN) / eps;
+  if (K) K[0] -= length / eps;
+}
+
+bool AugmentedLagrangeEnforcer::wantsCompliance(const PointState& s) const {
+  const State& h = stateOf<State>(s);
+  return !h.lineNode && h.penalties.waiting();
+}
+
 void AugmentedLagrangeEnforcer::setCompliance(PointState& s, const double compliance[3]) const {
   choice_.choose(compliance, stateOf<State>(s).penalties.eps);
 }
@@ -45,8 +87,16 @@ void AugmentedLagrangeEnforcer::relaxTangential(PointState& s, const double comp
   choice_.choose(compliance, stateOf<State>(s).penalties.eps, relaxations);
 }
 
+double AugmentedLagrangeEnforcer::activationGap(const PointState& s) const {
+  const State& h = stateOf<State>(s);
+  if (h.lineNode) return field_.activationGap(h.field);
+  h.penalties.require();
+  return 0.5 * regularization_ - h.lambdaN / choice_.at(h.penalties)[0];
+}
+
 bool AugmentedLagrangeEnforcer::contributes(double gapN, const PointState& s) const {
   const State& h = stateOf<State>(s);
+  if (h.lineNode) return field_.contributes(gapN, h.field);
   h.penalties.require();
   return h.lambdaN + choice_.at(h.penalties)[0] * (gapN - 0.5 * regularization_) <= 0.0;
 }
@@ -54,14 +104,33 @@ bool AugmentedLagrangeEnforcer::contributes(double gapN, const PointState& s) co
 PointResult AugmentedLagrangeEnforcer::evaluate(const ContactPoint& p, const PointState& s, double* f,
                                                 double* K) const {
   const State& h = stateOf<State>(s);
+  // A Gauss point of a line, acting through its field nodes' multipliers: Lagrange's rows.
+  if (h.lineNode) return field_.evaluate(p, h.field, f, K);
   h.penalties.require();
   const double* eps = choice_.at(h.penalties);
   const FrictionRegularization friction{{h.lambdaT[0], h.lambdaT[1]}, eps[1]};
   return regularizedEvaluate(p, smoothedAugmentedLaw(h.lambdaN, eps[0], regularization_), friction, f, K);
 }
 
+bool AugmentedLagrangeEnforcer::acceptNormal(const ContactPoint& p, PointState& s) const {
+  State& h = stateOf<State>(s);
+  if (!h.lineNode) return true;
+  const bool kept = field_.acceptNormal(p, h.field);
+  if (!h.field.active) h.lambdaN = 0.0;  // released (or still open): no estimate
+  return kept;
+}
+
 bool AugmentedLagrangeEnforcer::acceptPoint(const ContactPoint& p, PointState& s, double& worstViolation) const {
   State& h = stateOf<State>(s);
+  if (h.lineNode) {
+    // The field's stick/slip (Per Line), and its violation |g_a|; then the Uzawa update.
+    double violation = 0.0;
+    const bool settled = field_.acceptPoint(p, h.field, violation);
+    worstViolation = std::max(worstViolation, violation);
+    if (!h.field.active) return settled;
+    h.lambdaN = p.lambda ? p.lambda[0] : 0.0;
+    return settled && violation <= tolerance_;
+  }
   const ContactKinematics& k = p.kinematics;
   h.penalties.require();
   const double* eps = choice_.at(h.penalties);
@@ -91,8 +160,15 @@ bool AugmentedLagrangeEnforcer::acceptPoint(const ContactPoint& p, PointState& s
   return violation <= tolerance_;
 }
 
+std::vector<double> AugmentedLagrangeEnforcer::outputValues(const ContactPoint& p, const PointState& s) const {
+  const State& h = stateOf<State>(s);
+  if (!h.lineNode) return choice_.outputValues(h.penalties);
+  return {lineEpsN(p), 0.0};
+}
+
 PointResult AugmentedLagrangeEnforcer::reportedForces(const ContactPoint& p, const PointState& s) const {
   const State& h = stateOf<State>(s);
+  if (h.lineNode) return field_.reportedForces(p, h.field);
   PointResult r;
   r.active = h.lambdaN < 0.0;
   if (!r.active) return r;

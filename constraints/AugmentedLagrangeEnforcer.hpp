@@ -7,8 +7,23 @@
 // Parameters (sublist "Augmented Lagrange"): "Normal Penalty Parameter", "Tangential Penalty
 // Parameter" [force/length] (each a number or "Automatic", PenaltyChoice.hpp), "Gap Tolerance"
 // [length], "Maximum Augmentations".
+//
+// On lines (line contact) the multipliers live on the nodes of line A as Lagrange's do
+// (LineField::Nodal, docs/contact.md "Augmented Lagrange on lines"): a line node's normal row is
+// Lagrange's weighted gap, regularized by its estimate,
+//     int N_a g_N ds - L_a (Lambda_a - lambda_hat_a) / eps_N = 0   (L_a = int N_a ds, a constant),
+// so Lambda_a = lambda_hat_a + eps_N L_a g_a / W_a (the augmented law on the field's weighted gap);
+// after each Newton solve lambda_hat_a <- Lambda_a until every active node's |g_a| is within Gap
+// Tolerance. The fixed point is Lagrange's solution on the same field; eps_N enters the system as
+// 1 / eps_N beside the multipliers, so a stiff eps_N (fewer passes) costs no conditioning. Each pass
+// divides the error of a field mode of compliance c by 1 + eps_N c, and the shortest mode's c falls
+// as h^4 when the beams are refined; so a node's eps_N is at least (1 - e) / (e c_a), e the Normal
+// Target Error and c_a that mode's compliance there (ContactPoint::fieldCompliance): every mode's
+// error then falls by e per pass, on any mesh. The line nodes' active set and friction rows are
+// Lagrange's (its default Friction Complementarity Parameter).
 #pragma once
 #include "ConstraintEnforcer.hpp"
+#include "LagrangeMultiplierEnforcer.hpp"
 #include "PenaltyChoice.hpp"
 #include "core/Parameters.hpp"
 
@@ -25,11 +40,20 @@ class AugmentedLagrangeEnforcer : public ConstraintEnforcer {
 
   // The multiplier estimates lambda_hat (normal and friction), updated at each augmentation, and the
   // point's penalty parameters when they are chosen automatically.
+  // A line node (lineNode) keeps instead its field's active set and friction states (`field`) and
+  // its normal estimate lambda_hat_a (lambdaN).
   struct State : PointStateOf<State> {
     double lambdaN = 0.0;
     double lambdaT[2] = {0.0, 0.0};
     PointPenalties penalties;
+    bool lineNode = false;
+    LagrangeMultiplierEnforcer::State field;
     void fields(StateFields& v) override {
+      if (lineNode) {
+        field.fields(v);
+        v.real("lambda_hat_N", lambdaN);
+        return;
+      }
       v.real("lambda_N", lambdaN);
       v.real("lambda_T1", lambdaT[0]);
       v.real("lambda_T2", lambdaT[1]);
@@ -39,28 +63,35 @@ class AugmentedLagrangeEnforcer : public ConstraintEnforcer {
 
   std::string type() const override { return name(); }
   std::unique_ptr<PointState> newPointState() const override;
-  bool wantsCompliance(const PointState& s) const override { return stateOf<State>(s).penalties.waiting(); }
+  LineField lineField() const override { return LineField::Nodal; }
+  std::unique_ptr<PointState> newLineNodeState() const override;
+  int multipliers(const PointState& s) const override;
+  bool lineNodeRows() const override { return true; }
+  // A line node's regularization -L_a (Lambda_N - lambda_hat_N) / eps_N on its normal row.
+  void evaluateLineNode(const ContactPoint& node, const PointState& s, double length, double* f,
+                        double* K) const override;
+  bool wantsCompliance(const PointState& s) const override;
   void setCompliance(PointState& s, const double compliance[3]) const override;
   // Automatic eps_T: chosen again from the tangential compliances times 10^relaxations.
   void relaxTangential(PointState& s, const double compliance[3], int relaxations) const override;
   bool contributes(double gapN, const PointState& s) const override;
-  double activationGap(const PointState& s) const override {
-    const State& h = stateOf<State>(s);
-    h.penalties.require();
-    return 0.5 * regularization_ - h.lambdaN / choice_.at(h.penalties)[0];
-  }
+  double activationGap(const PointState& s) const override;
   PointResult evaluate(const ContactPoint& p, const PointState& s, double* f, double* K) const override;
+  bool acceptNormal(const ContactPoint& p, PointState& s) const override;
   bool acceptPoint(const ContactPoint& p, PointState& s, double& worstViolation) const override;
   int maximumPasses() const override { return maxPasses_; }
   // acceptPoint has already set the estimates to the converged forces: report and keep those
   // (recomputing lambda_hat + eps g would count the last augmentation twice).
   PointResult reportedForces(const ContactPoint& p, const PointState& s) const override;
-  // The point's (eps_N, eps_T), open or not.
-  std::vector<double> outputValues(const ContactPoint&, const PointState& s) const override {
-    return choice_.outputValues(stateOf<State>(s).penalties);
-  }
+  // The point's (eps_N, eps_T), open or not; a line node's (eps_N, 0).
+  std::vector<double> outputValues(const ContactPoint&, const PointState& s) const override;
 
  private:
+  // A line node's eps_N (lineEpsN).
+  double lineEpsN(const ContactPoint& node) const;
+  // The line nodes' active set and friction rows (Lagrange's, with this strategy's Gap Tolerance
+  // and Maximum Augmentations).
+  LagrangeMultiplierEnforcer field_;
   // The law's parameters: eps_N, eps_T (given once here, or chosen per point), the tolerance and g0.
   PenaltyChoice choice_;
   double tolerance_;

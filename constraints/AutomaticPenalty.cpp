@@ -18,7 +18,8 @@ void AutomaticPenalty::giveCompliance(PointMap& points, const ContactGeometry& g
   std::vector<core::SparseLoad> loads;
   std::vector<double> weights;
   for (auto& [key, p] : points) {
-    if (p.node() || !enforcer_.wantsCompliance(*p.state)) continue;
+    // (A Gauss point of a nodal line field acts through its nodes' state: it needs none.)
+    if (p.node() || (lines_.nodal() && p.line()) || !enforcer_.wantsCompliance(*p.state)) continue;
     const ContactKinematics k = kinematics(p);
     const auto d = geometry.pointDofs(p);
     for (const GapDerivatives* g : {&k.normal, &k.tangent1, &k.tangent2})

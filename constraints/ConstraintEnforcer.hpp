@@ -80,6 +80,11 @@ struct ContactPoint {
   // slip along the axes (g_T2) but none across them (g_T1 = 0, no variation): a strategy treats that
   // direction as frictionless (its multiplier row lambda_T1 = 0).
   bool measured[2] = {true, true};
+  // A node of a nodal line field (and a Gauss point acting through it): the beams' compliance to the
+  // field's shortest mode there, a traction alternating from node to node (wavelength 2 h, h the
+  // shortest of line A's elements at the node): (h / pi)^4 (1 / EI_A + 1 / EI_B) [length^2 / force],
+  // EI each beam's stiffer bending stiffness. 0 elsewhere.
+  double fieldCompliance = 0.0;
 };
 
 // The forces of a point: for output, the progress line and the stopping tests.
@@ -166,6 +171,17 @@ class ConstraintEnforcer {
   //    contact.
   enum class LineField { None, PerPoint, Nodal };
   virtual LineField lineField() const { return LineField::PerPoint; }
+  // Nodal fields: the state of a line node (by default a point's). A strategy whose points and line
+  // nodes differ (multipliers on the nodes only) tells them apart here.
+  virtual std::unique_ptr<PointState> newLineNodeState() const { return newPointState(); }
+  // Nodal fields: rows a line node adds of its own, beyond the integrals of its Gauss points' rows
+  // (e.g. a regularization of its multipliers). `length` is the node's share of line A's reference
+  // length (int N_a ds over beam A's elements, a constant); f (multipliers(s) entries) and K (square,
+  // row-major, over the node's multipliers; null for a residual only) arrive zeroed. The node's view
+  // carries its multipliers and fieldCompliance.
+  virtual bool lineNodeRows() const { return false; }
+  virtual void evaluateLineNode(const ContactPoint& node, const PointState& s, double length, double* f,
+                                double* K) const {}
   // Upper bound on the Newton solves of one increment (active-set or augmentation passes).
   virtual int maximumPasses() const { return 1; }
   // The forces at the converged state, for output (before commitPoint). By default the evaluation

@@ -81,7 +81,7 @@ void ContactManager::giveUpIdle(const core::State& state) {
     } else if (geometry_.blends(p.key.pair)) {
       idle = !(geometry_.blendWeightAt(p, state) > 0.0);
     }
-    if (idle) p.state = PointStateHolder(enforcer_->newPointState());
+    if (idle) p.state = PointStateHolder(p.node() ? enforcer_->newLineNodeState() : enforcer_->newPointState());
   }
 }
 
@@ -128,18 +128,48 @@ bool ContactManager::evaluatesHere(const Point& p, const std::vector<GlobalDof>&
   return owns(dofs[(mix >> 7) & 1u ? 12 : 0]);
 }
 
+std::vector<GlobalDof> ContactManager::nodeRows(const Point& p, const OwnsDof& owns) const {
+  // A line node's own rows (a strategy's regularization of its multipliers), on the rank that owns
+  // the node (connectivity and evaluate agree on it before and after the multipliers have owners).
+  std::vector<GlobalDof> dofs;
+  if (!(lines_.nodal() && p.node() && enforcer_->lineNodeRows())) return dofs;
+  if (!owns(GlobalDof(core::kDofsPerNode) * p.key.node)) return dofs;
+  for (int j = 0; j < p.extraCount; ++j) dofs.push_back(GlobalDof(core::kDofsPerNode) * numNodes_ + p.extraOffset + j);
+  return dofs;
+}
+
 void ContactManager::connectivity(const OwnsDof& owns, std::vector<std::vector<GlobalDof>>& blocks) const {
   for (const auto& [key, p] : set_.current()) {
+    if (p.node()) {
+      const auto rows = nodeRows(p, owns);
+      if (!rows.empty()) blocks.push_back(rows);
+      continue;
+    }
     const auto d = blockDofs(p);
     if (evaluatesHere(p, d, owns)) blocks.push_back(d);
   }
+}
+
+void ContactManager::evaluateNode(const Point& p, const std::vector<GlobalDof>& d, const core::State& state,
+                                  core::AssemblySink& sink, bool tangent) const {
+  const int n = static_cast<int>(d.size());
+  std::vector<double> f(n, 0.0), K(tangent ? std::size_t(n) * n : 0, 0.0);
+  const ContactKinematics none;
+  enforcer_->evaluateLineNode(lines_.nodeView(p, none, state), *p.state, lines_.fieldLength(p.key.node), f.data(),
+                              tangent ? K.data() : nullptr);
+  sink.add(d.data(), n, f.data(), tangent ? K.data() : nullptr);
 }
 
 void ContactManager::evaluate(const core::State& state, const OwnsDof& owns, core::AssemblySink& sink,
                               bool tangent) const {
   std::vector<double> f, K;
   for (const auto& [key, p] : set_.current()) {
-    if (p.node()) continue;  // a line node's rows come from its Gauss points
+    // A line node's rows come from its Gauss points, and some strategies add rows of its own.
+    if (p.node()) {
+      const auto rows = nodeRows(p, owns);
+      if (!rows.empty()) evaluateNode(p, rows, state, sink, tangent);
+      continue;
+    }
     const auto d = blockDofs(p);
     if (!evaluatesHere(p, d, owns)) continue;
     // The full kinematics (with their derivatives) only where the point acts.
@@ -247,7 +277,7 @@ bool ContactManager::acceptSolution(core::State& state) {
       all = enforcer_->acceptNormal(view(p, k), *p.state) && all;
     } else if (!p.line() && enforcer_->multipliers(*p.state) > 0) {
       // Multipliers of a point or line node that carries (almost) nothing: given up.
-      p.state = PointStateHolder(enforcer_->newPointState());
+      p.state = PointStateHolder(p.node() ? enforcer_->newLineNodeState() : enforcer_->newPointState());
       all = false;
     }
   }
@@ -285,9 +315,12 @@ void ContactManager::commitPoint(Point& p, const core::State& state) {
     std::vector<double> f;
     p.result = PointResult{};
     lines_.evaluateNodal(p, k, state, set_.current(), f, nullptr, &p.result);
-    const PointState* acting = actingState(p);
-    p.outputs =
-        acting ? enforcer_->outputValues(view, *acting) : std::vector<double>(enforcer_->outputColumns().size(), 0.0);
+    // (As its field node's, whose view carries the field's compliance there.)
+    const ContactPointRecord* host = lines_.fieldHost(p, set_.current());
+    ContactPoint hosted = view;
+    if (host) hosted.fieldCompliance = lines_.fieldCompliance(p.key.pair, host->key.node);
+    p.outputs = host ? enforcer_->outputValues(hosted, *host->state)
+                     : std::vector<double>(enforcer_->outputColumns().size(), 0.0);
   } else {
     p.result = enforcer_->reportedForces(view, *p.state);
     p.outputs = enforcer_->outputValues(view, *p.state);

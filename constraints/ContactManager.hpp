@@ -74,6 +74,8 @@ class ContactManager : public core::Contribution {
   using Point = ContactPointRecord;
   const std::map<PointKey, Point>& points() const { return set_.current(); }
   const ConstraintEnforcer& enforcer() const { return *enforcer_; }
+  // Whether the system gets rows of multipliers: the strategy's at points, or a nodal line field's.
+  bool addsMultiplierRows() const { return enforcer_->addsMultiplierRows() || lines_.nodal(); }
   const std::vector<ContactPairSpec>& pairs() const { return geometry_.pairs(); }
   // The contact search's candidates at `s` (swept from the last converged state): (pair, element of
   // beam A, element of beam B), sorted. For tests and benchmarks of the search.
@@ -112,6 +114,11 @@ class ContactManager : public core::Contribution {
   std::vector<core::GlobalDof> blockDofs(const Point& p) const;
   // Whether this rank evaluates point p (block dofs `dofs`): connectivity and evaluate agree on it.
   static bool evaluatesHere(const Point& p, const std::vector<core::GlobalDof>& dofs, const OwnsDof& owns);
+  // A line node's own rows (ConstraintEnforcer::lineNodeRows): its multipliers' dofs where this rank
+  // evaluates them, else none; and their evaluation.
+  std::vector<core::GlobalDof> nodeRows(const Point& p, const OwnsDof& owns) const;
+  void evaluateNode(const Point& p, const std::vector<core::GlobalDof>& rows, const core::State& state,
+                    core::AssemblySink& sink, bool tangent) const;
   // Whether an active point of pair `pi` near elements ea and eb holds them in `state` (they crossed):
   // one that penetrates, or with `penetrating` false any active one (it sees them).
   bool held(int pi, int ea, int eb, const core::State& state, bool penetrating = true) const;

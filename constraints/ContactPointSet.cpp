@@ -86,7 +86,7 @@ void ContactPointSet::addLineNodes(PointMap& next, bool& changed) const {
             changed = true;
             q.key = nk;
             q.elementA = q.elementB = p.elementA;
-            q.state = PointStateHolder(enforcer_.newPointState());
+            q.state = PointStateHolder(enforcer_.newLineNodeState());
           }
           next[nk] = q;
         }
@@ -160,7 +160,7 @@ ContactPointRecord ContactPointSet::readPoint(core::CheckpointIn& in, long long 
   for (int a = 0; a < 3; ++a) p.normal[a] = in.real();
   for (int a = 0; a < 3; ++a) p.compliance[a] = in.real();
   p.xi = p.xiPrev - geometry_.beams().elements()[p.elementA].index;
-  p.state = PointStateHolder(enforcer_.newPointState());
+  p.state = PointStateHolder(p.node() ? enforcer_.newLineNodeState() : enforcer_.newPointState());
   (*p.state).fields(reader);
   return p;
 }

@@ -45,6 +45,37 @@ LineContact::LineContact(const ContactGeometry& geometry, const ConstraintEnforc
       segmentPlanes_[e][side] = (1.0 / norm(m)) * m;
     }
   }
+  // Each field node's share of its beam's reference length: int N_a ds over the elements.
+  beamStiffness_.assign(geometry_.beams().beams().size(), 0.0);
+  if (nodal_)
+    for (std::size_t e = 0; e < elems.size(); ++e) {
+      const double EI = std::max(elems[e].data.EIy, elems[e].data.EIz), L = elems[e].data.L0;
+      beamStiffness_[elems[e].beam] = std::max(beamStiffness_[elems[e].beam], EI);
+      for (int side = 0; side < 2; ++side) {
+        const int node = fieldNode(static_cast<int>(e), side);
+        fieldLengths_[node] += 0.5 * L;
+        const auto [it, first] = fieldElements_.try_emplace(node, FieldElements{L, EI, elems[e].beam});
+        if (!first) {
+          it->second.shortest = std::min(it->second.shortest, L);
+          it->second.stiffness = std::max(it->second.stiffness, EI);
+        }
+      }
+    }
+}
+
+double LineContact::fieldLength(int node) const {
+  const auto it = fieldLengths_.find(node);
+  return it == fieldLengths_.end() ? 0.0 : it->second;
+}
+
+double LineContact::fieldCompliance(int pair, int node) const {
+  // A traction p sin(pi x / h) bends each beam by p (h / pi)^4 / EI, the two in opposite senses.
+  const auto it = fieldElements_.find(node);
+  if (it == fieldElements_.end()) return 0.0;
+  const auto& pr = geometry_.pairs()[pair];
+  const int other = it->second.beam == pr.beamA ? pr.beamB : pr.beamA;
+  const double h = it->second.shortest / M_PI;
+  return h * h * h * h * (1.0 / it->second.stiffness + 1.0 / beamStiffness_[other]);
 }
 
 std::pair<std::array<int, 2>, int> LineContact::facing(int eA, int eB, const core::State& s) const {
@@ -274,10 +305,11 @@ ContactPoint LineContact::nodeView(const ContactPointRecord& node, const Contact
   ContactPoint view{k, geometry_.pairs()[node.key.pair].friction, geometry_.options().frictionLaw,
                     pointMultipliers(node, s), 1.0};
   view.measured[0] = false;  // as its Gauss points: slip along the axes only
+  view.fieldCompliance = fieldCompliance(node.key.pair, node.key.node);
   return view;
 }
 
-const PointState* LineContact::fieldState(const ContactPointRecord& p, const PointMap& points) const {
+const ContactPointRecord* LineContact::fieldHost(const ContactPointRecord& p, const PointMap& points) const {
   // The field node with the largest share among those that have multipliers.
   const ContactPointRecord* host = nullptr;
   double best = -1.0;
@@ -286,6 +318,11 @@ const PointState* LineContact::fieldState(const ContactPointRecord& p, const Poi
       host = f.record;
       best = f.N;
     }
+  return host;
+}
+
+const PointState* LineContact::fieldState(const ContactPointRecord& p, const PointMap& points) const {
+  const ContactPointRecord* host = fieldHost(p, points);
   return host ? &*host->state : nullptr;
 }
 
@@ -322,6 +359,7 @@ bool LineContact::evaluateNodal(const ContactPointRecord& p, const ContactKinema
   std::vector<double> fp(np, 0.0), Kp(K ? std::size_t(np) * np : 0, 0.0);
   ContactPoint view = geometry_.strategyView(p, k, s);
   view.lambda = lambda.data();
+  view.fieldCompliance = fieldCompliance(p.key.pair, fieldHost(p, points)->key.node);
   const PointResult r = enforcer_.evaluate(view, *host, fp.data(), K ? Kp.data() : nullptr);
   if (result) *result = r;
   f.assign(nb, 0.0);

@@ -48,6 +48,11 @@ class LineContact {
   // distinct field nodes of a Gauss point with their shape values N (summing to 1) and their
   // records among `points` (null where none exists).
   int fieldNode(int element, int side) const;
+  // A field node's share of its beam's reference length, int N_a ds over all of the beam's elements.
+  double fieldLength(int node) const;
+  // The beams' compliance to the field's shortest mode at a field node of a pair
+  // (ContactPoint::fieldCompliance).
+  double fieldCompliance(int pair, int node) const;
   struct FieldShare {
     int node = -1;
     double N = 0.0, slope = 0.0;  // N at the point's xi and dN / dxi
@@ -63,7 +68,9 @@ class LineContact {
   std::map<PointKey, NodeGap> nodeGaps(const PointMap& points, const core::State& s) const;
   // The view a strategy gets of a line node (its weighted gap, its multipliers).
   ContactPoint nodeView(const ContactPointRecord& node, const ContactKinematics& k, const core::State& s) const;
-  // A Gauss point of a nodal field: the state of its nearer line node with multipliers (null: none has any).
+  // A Gauss point of a nodal field: its nearer line node with multipliers, and that node's state (null:
+  // none has any).
+  const ContactPointRecord* fieldHost(const ContactPointRecord& p, const PointMap& points) const;
   const PointState* fieldState(const ContactPointRecord& p, const PointMap& points) const;
   // Evaluates a Gauss point of a nodal line field: residual and tangent over its block's dofs (the
   // point's, then its field nodes' multipliers).
@@ -126,6 +133,15 @@ class LineContact {
   std::set<int> frictionless_;
   std::map<int, std::pair<double, Vec3d>> unresolved_, unseenBetween_;
   std::map<int, HeldEnd> heldEnds_;
+  std::map<int, double> fieldLengths_;  // field node -> fieldLength
+  // Field node -> the shortest element length and the largest bending stiffness of its beam's
+  // elements there; beam -> its largest bending stiffness (fieldCompliance).
+  struct FieldElements {
+    double shortest = 0.0, stiffness = 0.0;
+    int beam = 0;
+  };
+  std::map<int, FieldElements> fieldElements_;
+  std::vector<double> beamStiffness_;
 };
 
 // A held end is reported when closing its gap within one element would take more than this

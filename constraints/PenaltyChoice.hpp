@@ -43,6 +43,8 @@ class PenaltyChoice {
   // compliances count 10^relaxations times: an automatic eps_T is that much lower.
   void choose(const double compliance[3], double eps[2], int relaxations = 0) const;
   const double* given() const { return given_; }
+  // The Normal (0) and Tangential (1) Target Error.
+  double target(int i) const { return target_[i]; }
   // The (eps_N, eps_T) a point uses: the given values, kept here once for every point, or the point's
   // own when they are chosen automatically.
   const double* at(const PointPenalties& point) const;

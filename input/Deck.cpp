@@ -807,20 +807,20 @@ void readContact(Problem& p, ParameterList& deck, const std::string& top) {
     // (Multipliers, and a plug-in's strategy, at the larger cost per point.)
     const std::string type = deck.sublist("Contact").sublist("Enforcement").get<std::string>("Type");
     const bool builtIn = constraints::findEnforcer(type, top + "/Contact/Enforcement/Type").origin == "built-in";
-    checkModelSize(
-        p.beams->elements().size(), p.contact->points().size(),
-        builtIn && !p.contact->enforcer().addsMultiplierRows() ? kBytesPerPointPenalty : kBytesPerPointLagrange);
+    checkModelSize(p.beams->elements().size(), p.contact->points().size(),
+                   builtIn && !p.contact->addsMultiplierRows() ? kBytesPerPointPenalty : kBytesPerPointLagrange);
   }
   const ParameterList& linear = p.linearSolver;
   if (linear.get<std::string>("Type") == "GMRES" && linear.get<std::string>("Preconditioner") == "MueLu" && p.contact &&
-      p.contact->enforcer().addsMultiplierRows())
+      p.contact->addsMultiplierRows())
     throw InputError("parameter \"" + top +
                      "/Linear Solver/Preconditioner\" = \"MueLu\" preconditions matrices of "
                      "nodal dofs only, and \"" +
                      top + "/Contact/Enforcement/Type\" = \"" +
                      deck.sublist("Contact").sublist("Enforcement").get<std::string>("Type") +
-                     "\" adds multiplier rows: use Penalty or Augmented Lagrange with it, or Linear Solver/Type = "
-                     "Direct");
+                     "\" adds multiplier rows (Lagrange Multiplier at every point, Augmented Lagrange on the "
+                     "lines of line contact): use Penalty with it, or Augmented Lagrange with " +
+                     top + "/Contact/Line Contact Angle = 0, or Linear Solver/Type = Direct");
 }
 
 }  // namespace

@@ -69,10 +69,10 @@ TEST(ContactTangent, IsotropicStick) {
   }
 }
 
-// The assembled line-contact tangent against central differences of the residual, for Penalty and
-// Augmented Lagrange: non-matching meshes (ground 6 elements, rod 5 shifted by 2, 4 Gauss points, so
-// projections cross the rod's element boundaries), both beams clamped at their ends and touching, the
-// rod's inner nodes then pushed 0.05 into the ground with finite rotations and sideways motion.
+// The assembled line-contact tangent against central differences of the residual, for each strategy
+// (Lagrange's and Augmented Lagrange's multiplier fields on line A's nodes): non-matching meshes (ground 6 elements,
+// rod 5 shifted by 2, 4 Gauss points, so projections cross the rod's element boundaries), both beams clamped at their
+// ends and touching, the rod's inner nodes then pushed 0.05 into the ground with finite rotations and sideways motion.
 TEST(LineContact, TangentMatchesCentralDifferences) {
   // Parallel, and turned by 10 degrees (inside the blend of point and line contact, whose weight
   // depends on the angle: its gradient enters the tangent).
@@ -94,18 +94,21 @@ TEST(LineContact, TangentMatchesCentralDifferences) {
                                          {"Penalty", 0.0, true},
                                          {"Lagrange Multiplier", 0.0, true},
                                          {"Penalty", 0.0, true, 1.0, 2},
-                                         {"Lagrange Multiplier", 0.0, true, 1.0, 2}}) {
+                                         {"Lagrange Multiplier", 0.0, true, 1.0, 2},
+                                         {"Augmented Lagrange", 0.0, true, 1.0, 2}}) {
     const std::string& type = c.type;
     const double degrees = c.degrees;
     // (Lifted by 1e-6: touching at exactly zero gap, the crossing's point carries a round-off force
     // in an unloaded step, which Newton's relative tolerance cannot accept.)
     // (Lagrange multipliers act on line nodes' weighted gaps: at 10 degrees shorter elements and a
     // deeper push make some of them negative.)
-    const bool lm = type == "Lagrange Multiplier" && degrees > 0;
+    // (Lagrange and Augmented Lagrange carry multipliers on a field of line nodes.)
+    const bool field = type != "Penalty";
+    const bool lm = field && degrees > 0;
     const int nGround = lm ? 30 : 6, nRod = lm ? 25 : 5;
     auto deck = parallelBeams(type, nGround, nRod, 2.0, 1e5, c.gauss, degrees, 1e-6);
     if (c.rectangles) deck = toRectangles(deck, c.rodWidth);
-    // Friction along the axes (Penalty and Augmented Lagrange; Lagrange's line field is frictionless).
+    // Friction along the axes.
     input::replaceAtPath(deck, "Contact/Pairs/line/Friction Coefficient", 0.3);
     for (int i = 0; i <= nGround; ++i) support(deck, "ground", i, i == 0 || i == nGround ? "all" : "ux uy rx");
     support(deck, "rod", 0, "all");
@@ -122,9 +125,10 @@ TEST(LineContact, TangentMatchesCentralDifferences) {
       // At 10 degrees the rod's inner nodes go further down, so the crossing and its neighbourhood
       // penetrate (point contact and line points at once).
     }
-    if (type == "Lagrange Multiplier") {
+    if (field) {
       // The active set of the pushed state (penetrating points and line nodes), with multipliers
-      // of either sign so that every term of the tangent counts.
+      // of either sign so that every term of the tangent counts (Augmented Lagrange's estimates
+      // stay 0, so its nodes' rows hold their regularization).
       p.contact->prepareIteration(s);
       EXPECT_FALSE(p.contact->acceptSolution(s));
       p.contact->prepareIteration(s);
@@ -140,7 +144,7 @@ TEST(LineContact, TangentMatchesCentralDifferences) {
       active += on;
       swapped += on && q.line() && p.beams->elements()[q.elementA].beam != p.contact->pairs()[0].beamA;
       points += on && !q.line();
-      if (on && q.line() && type != "Lagrange Multiplier") {
+      if (on && q.line() && !field) {
         std::vector<double> f(constraints::kPairDofs, 0.0);
         slipping +=
             p.contact->enforcer().evaluate(p.contact->strategyView(q, k, s), *acting, f.data(), nullptr).slip[1];
@@ -159,7 +163,7 @@ TEST(LineContact, TangentMatchesCentralDifferences) {
     if (c.rodWidth < 2.0) {
       EXPECT_EQ(swapped, active - points);
     }
-    if (type != "Lagrange Multiplier" && degrees == 0) {
+    if (!field && degrees == 0) {
       EXPECT_GT(slipping, 0);  // friction along the axes, slipping ...
       EXPECT_LT(slipping, active);  // ... and sticking
     }

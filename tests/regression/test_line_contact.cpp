@@ -183,28 +183,34 @@ TEST(LineContact, ParallelPinnedBeamsMatchTheElasticFoundationClosedForm) {
     previous = error;
   }
   EXPECT_LT(previous, 1e-5);
-  // Augmented Lagrange enforces w_rod = w_ground at the Gauss points (cubic deflections equal at 6
-  // points per element: equal everywhere), so on every free dof the contact passes exactly half the
-  // rod's load. What passes through the ends is not determined: both beams' end nodes are held at the
-  // same place, and a force between them goes straight into the supports (the exact constraint does
-  // not fix it; a penalty does). So the total is checked to lie between the penalty's (softer
-  // contact, less load through it) and the continuum limit q L / 2, with the gaps closed.
-  double penaltyTotal = 0.0;
-  for (const std::string type : {"Penalty", "Augmented Lagrange"}) {
+  // Augmented Lagrange's multipliers on lines are Lagrange's field regularized by their estimates,
+  // augmented until the field's weighted gaps are within Gap Tolerance: it converges to Lagrange's
+  // solution, which carries more than the penalty's softer contact. How close: a weighted gap g left
+  // over moves the force by about the beams' stiffness to the smooth mode, (pi / L)^4 EI / 2 per
+  // unit length and gap (the two beams in series), times L: with Gap Tolerance 1e-8, 2.4e-5 (4.8e-5
+  // of the total). The passes do not grow with the mesh (each contracts every mode by the Normal
+  // Target Error, 1e-3: 3 to 6 passes).
+  double penaltyTotal = 0.0, lagrangeTotal = 0.0;
+  const double tolerance = 1e-8, smooth = std::pow(pi / (2 * l), 4) * EI / 2 * (2 * l) * tolerance;
+  for (const std::string type : {"Penalty", "Lagrange Multiplier", "Augmented Lagrange"}) {
     auto deck = pinnedDeck(type, 40);
-    input::setAtPath(deck, "Contact/Enforcement/Augmented Lagrange/Gap Tolerance", 1e-8);
+    input::setAtPath(deck, "Contact/Enforcement/Augmented Lagrange/Gap Tolerance", tolerance);
     auto p = input::buildProblem(deck, "foundation_al");
     const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "foundation_al");
     ASSERT_TRUE(r.report.completed) << r.report.failure;
     const auto s = lineSums(p);
-    std::printf("%s, 40 elements: contact force %.9f, gaps %.2e .. %.2e\n", type.c_str(), s.total, s.gapMin, s.gapMax);
+    std::printf("%s, 40 elements: contact force %.9f, gaps %.2e .. %.2e, %d Newton iterations\n", type.c_str(), s.total,
+                s.gapMin, s.gapMax, r.report.newtonIterations);
     if (type == "Penalty") {
       penaltyTotal = s.total;
       continue;
     }
     EXPECT_GT(s.total, penaltyTotal);
-    EXPECT_LT(s.total, 50.0 * q);
-    EXPECT_LT(std::max(std::abs(s.gapMin), std::abs(s.gapMax)), 1e-8);  // its Gap Tolerance
+    if (type == "Lagrange Multiplier") {
+      lagrangeTotal = s.total;
+      continue;
+    }
+    EXPECT_NEAR(s.total, lagrangeTotal, smooth);
   }
 }
 
