@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <map>
 #include <sstream>
 
 #include <Teuchos_XMLParameterListHelpers.hpp>
@@ -343,10 +344,20 @@ void ResultsWriter::writeStepFiles(const StepReport& step, const State& state, c
   tracked_.write(row.str());
   row.str("");
   row << step.step << "," << step.T;
-  for (const auto& s : model_.supports) {
+  // Each constrained dof's reaction is reported once, by the support that prescribes it: the last
+  // support (in the deck's order) that fixes it, whose motion is the one applied (StaticSolver). A node
+  // held by several supports that fix different components (press, then slide) has its reaction split
+  // between them by component, so the rows sum to the total reaction. A component no support fixes
+  // holds Newton's remainder, no reaction: it is not reported.
+  std::map<std::pair<int, int>, std::size_t> owner;
+  for (std::size_t i = 0; i < model_.supports.size(); ++i)
+    for (int n : model_.supports[i].nodes)
+      for (int k = 0; k < 6; ++k)
+        if (model_.supports[i].fixed[k]) owner[{n, k}] = i;
+  for (std::size_t i = 0; i < model_.supports.size(); ++i) {
     double sum[6] = {0, 0, 0, 0, 0, 0};
-    for (int n : s.nodes)
-      for (int k = 0; k < 6; ++k) sum[k] += r[std::size_t(kDofsPerNode) * n + k];
+    for (const auto& [dof, support] : owner)
+      if (support == i) sum[dof.second] += r[std::size_t(kDofsPerNode) * dof.first + dof.second];
     for (double v : sum) row << "," << v;
   }
   row << "\n";
