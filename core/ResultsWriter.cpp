@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
@@ -354,12 +355,11 @@ void ResultsWriter::writeStepFiles(const StepReport& step, const State& state, c
     for (int n : model_.supports[i].nodes)
       for (int k = 0; k < 6; ++k)
         if (model_.supports[i].fixed[k]) owner[{n, k}] = i;
-  for (std::size_t i = 0; i < model_.supports.size(); ++i) {
-    double sum[6] = {0, 0, 0, 0, 0, 0};
-    for (const auto& [dof, support] : owner)
-      if (support == i) sum[dof.second] += r[std::size_t(kDofsPerNode) * dof.first + dof.second];
+  std::vector<std::array<double, 6>> sums(model_.supports.size(), std::array<double, 6>{});
+  for (const auto& [dof, support] : owner)
+    sums[support][dof.second] += r[std::size_t(kDofsPerNode) * dof.first + dof.second];
+  for (const auto& sum : sums)
     for (double v : sum) row << "," << v;
-  }
   row << "\n";
   reactions_.write(row.str());
   for (std::size_t i = 0; i < model_.contributions.size(); ++i) {
