@@ -2,7 +2,7 @@
 // contact_points.csv, tracked_points.csv, steps.csv) with the deck's loads and reference nodes, at
 // every converged step of the paper's Examples 1-3, input/parallel_rods.xml, press-then-slide (two
 // supports on each end node of beam 2) and a line contact whose Augmented Lagrange points carry forces
-// at positive gaps, with every strategy.
+// at positive gaps (also slid with friction), with every strategy.
 //
 // What must hold (the source of each expected value: statics of the discrete model):
 //  1. The whole model: every residual contribution but the loads is internal (the beams' and the
@@ -314,13 +314,22 @@ TEST(CsvBalance, AugmentedLagrangePointsAtPositiveGapsReportTheirForce) {
   // Before, their force vectors were zero (0.77 % of the pair's N missing: the bodies off by 1.5e-2 of
   // the force scale), and points on slivers of a segment, which the strategy does not judge, reported
   // their stale multipliers (1e-5).
-  for (const std::string type : kStrategies) {
-    Deck d = inputDeck("parallel_rods.xml", type);
-    Deck& loads = input::sublistAtPath(d, "Loads", false);
-    for (int n = 0; n <= 10; ++n)
-      if (n != 5) loads.remove("q " + std::to_string(n));
-    input::replaceAtPath(d, "Loads/q 5/Force", vec("0, 0, -100"));
-    input::setAtPath(d, "Contact/Enforcement/Augmented Lagrange/Gap Tolerance", 1e-3);
-    runAndBalance(d, "rods_mid_load_" + tag(type));
-  }
+  // With friction 0.3 and the upper rod's ends also moved by 0.5 along X (slid along the lower rod: the
+  // line points slip along the axes), the same.
+  for (const bool slide : {false, true})
+    for (const std::string type : kStrategies) {
+      Deck d = inputDeck("parallel_rods.xml", type);
+      Deck& loads = input::sublistAtPath(d, "Loads", false);
+      for (int n = 0; n <= 10; ++n)
+        if (n != 5) loads.remove("q " + std::to_string(n));
+      input::replaceAtPath(d, "Loads/q 5/Force", vec("0, 0, -100"));
+      input::setAtPath(d, "Contact/Enforcement/Augmented Lagrange/Gap Tolerance", 1e-3);
+      if (slide) {
+        input::replaceAtPath(d, "Contact/Pairs/rods/Friction Coefficient", 0.3);
+        input::replaceAtPath(d, "Supports/upper end/Fixed", std::string("ux uy uz rx"));
+        for (const std::string end : {"upper start", "upper end"})
+          input::setAtPath(d, "Supports/" + end + "/Displacement", vec("0.5, 0, 0"));
+      }
+      runAndBalance(d, std::string(slide ? "rods_mid_load_slid_" : "rods_mid_load_") + tag(type));
+    }
 }
