@@ -2,7 +2,8 @@
 // contact_points.csv, tracked_points.csv, steps.csv) with the deck's loads and reference nodes, at
 // every converged step of the paper's Examples 1-3, input/parallel_rods.xml, press-then-slide (two
 // supports on each end node of beam 2) and a line contact whose Augmented Lagrange points carry forces
-// at positive gaps (also slid with friction), with every strategy.
+// at positive gaps (also slid with friction), with every strategy, and the twisting rods (three
+// supports on one node) with Penalty.
 //
 // What must hold (the source of each expected value: statics of the discrete model):
 //  1. The whole model: every residual contribution but the loads is internal (the beams' and the
@@ -332,4 +333,11 @@ TEST(CsvBalance, AugmentedLagrangePointsAtPositiveGapsReportTheirForce) {
       }
       runAndBalance(d, std::string(slide ? "rods_mid_load_slid_" : "rods_mid_load_") + tag(type));
     }
+}
+
+TEST(CsvBalance, TwistingRods) {
+  // input/twisting_rods.xml with Penalty: each rod's top node is held by three supports (ux and uy on
+  // load curves, and uz with the three rotations: the stretch and the half turn about z), the rods in
+  // line contact along a helix. The moments about the origin balance with the clamps' turned moments.
+  runAndBalance(inputDeck("twisting_rods.xml", "Penalty"), "twisting_Penalty");
 }
