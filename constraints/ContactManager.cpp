@@ -119,6 +119,12 @@ ContactKinematics ContactManager::judgedKinematics(const Point& p, const core::S
   return lines_.values(p, cp, segment, state);
 }
 
+bool ContactManager::actsAt(const Point& p, const ContactKinematics& k) const {
+  if (!p.line()) return true;
+  const PointState* acting = actingState(p);
+  return acting && enforcer_->contributes(k.normal.value, *acting);
+}
+
 bool ContactManager::evaluatesHere(const Point& p, const std::vector<GlobalDof>& dofs, const OwnsDof& owns) {
   // The rank of element A's first node or of element B's, alternating with the element pair: where
   // the two beams of a crossing lie on different ranks (layers, yarns), each rank takes about half
@@ -309,9 +315,9 @@ bool ContactManager::acceptSolution(core::State& state) {
 }
 
 void ContactManager::commitPoint(Point& p, const core::State& state) {
-  const ContactKinematics k = judgedKinematics(p, state);
-  const ContactPoint view = strategyView(p, k, state);
+  ContactKinematics k = judgedKinematics(p, state);
   if (lines_.nodal() && p.line()) {
+    const ContactPoint view = strategyView(p, k, state);
     std::vector<double> f;
     p.result = PointResult{};
     lines_.evaluateNodal(p, k, state, set_.current(), f, nullptr, &p.result);
@@ -322,7 +328,31 @@ void ContactManager::commitPoint(Point& p, const core::State& state) {
     p.outputs = host ? enforcer_->outputValues(hosted, *host->state)
                      : std::vector<double>(enforcer_->outputColumns().size(), 0.0);
   } else {
-    p.result = enforcer_->reportedForces(view, *p.state);
+    // The forces the residual applied at this state, so that the table and VTK report them. A point
+    // the strategy judged in the last pass reports what the strategy says it applied (Augmented
+    // Lagrange: its multipliers, updated to the applied force by that pass); a point it did not judge
+    // (one that carries almost nothing: judge()) kept its state, and its force is its evaluation
+    // (before: Augmented Lagrange reported such a point's stale multipliers, 0 for a new one). A line
+    // point judged by its values alone (its strategy's contributes() false at its gap now) may still
+    // have applied a force: Augmented Lagrange judges with the multiplier the last pass updated, and a
+    // point at a small positive gap that carried lambda_hat + eps_N g_N < 0 before that update
+    // reports it; it gets its first variations too, so its force vectors below are the applied ones
+    // (before: zero vectors).
+    const bool judged =
+        geometry_.blendWeight(p, k.axesCosine, nullptr, nullptr) > kCarries && (!p.line() || k.segment > kCarries);
+    const auto applied = [&] {
+      const ContactPoint view = strategyView(p, k, state);
+      if (judged) return enforcer_->reportedForces(view, *p.state);
+      if (!enforcer_->contributes(k.normal.value, *p.state)) return PointResult{};
+      std::vector<double> f(kPairDofs + enforcer_->multipliers(*p.state), 0.0);
+      return enforcer_->evaluate(view, *p.state, f.data(), nullptr);
+    };
+    p.result = applied();
+    if (p.line() && p.result.active && !actsAt(p, k)) {
+      k = kinematics(p, state, Variations::First);
+      p.result = applied();
+    }
+    const ContactPoint view = strategyView(p, k, state);
     p.outputs = enforcer_->outputValues(view, *p.state);
     enforcer_->commitPoint(view, *p.state);
   }

@@ -90,6 +90,8 @@ class ContactManager : public core::Contribution {
   // point contact); for a line point that does not act, only the values (gaps, xi, eta, segment, the
   // axes' cosine): what the active set and the step's end judge a point by, at a fraction of the cost.
   ContactKinematics judgedKinematics(const Point& p, const core::State& state) const;
+  // Whether judgedKinematics gave `p` its first variations at kinematics `k` (a point contact always).
+  bool actsAt(const Point& p, const ContactKinematics& k) const;
   std::array<core::GlobalDof, kPairDofs> pointDofs(const Point& p) const { return geometry_.pointDofs(p); }
   // The point's multipliers in `state` (null when it has none) and how many there are.
   const double* multipliers(const Point& p, const core::State& state, int* count = nullptr) const {

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
@@ -14,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <map>
 #include <sstream>
 
 #include <Teuchos_XMLParameterListHelpers.hpp>
@@ -343,12 +345,21 @@ void ResultsWriter::writeStepFiles(const StepReport& step, const State& state, c
   tracked_.write(row.str());
   row.str("");
   row << step.step << "," << step.T;
-  for (const auto& s : model_.supports) {
-    double sum[6] = {0, 0, 0, 0, 0, 0};
-    for (int n : s.nodes)
-      for (int k = 0; k < 6; ++k) sum[k] += r[std::size_t(kDofsPerNode) * n + k];
+  // Each constrained dof's reaction is reported once, by the support that prescribes it: the last
+  // support (in the deck's order) that fixes it, whose motion is the one applied (StaticSolver). A node
+  // held by several supports that fix different components (press, then slide) has its reaction split
+  // between them by component, so the rows sum to the total reaction. A component no support fixes
+  // holds Newton's remainder, no reaction: it is not reported.
+  std::map<std::pair<int, int>, std::size_t> owner;
+  for (std::size_t i = 0; i < model_.supports.size(); ++i)
+    for (int n : model_.supports[i].nodes)
+      for (int k = 0; k < 6; ++k)
+        if (model_.supports[i].fixed[k]) owner[{n, k}] = i;
+  std::vector<std::array<double, 6>> sums(model_.supports.size(), std::array<double, 6>{});
+  for (const auto& [dof, support] : owner)
+    sums[support][dof.second] += r[std::size_t(kDofsPerNode) * dof.first + dof.second];
+  for (const auto& sum : sums)
     for (double v : sum) row << "," << v;
-  }
   row << "\n";
   reactions_.write(row.str());
   for (std::size_t i = 0; i < model_.contributions.size(); ++i) {

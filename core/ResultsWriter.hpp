@@ -4,7 +4,8 @@
 //                            "interrupted: <signal> ..." or "failed: <cause>"
 //   steps.csv                step, T, cut level, Newton iterations, final residual, linear iterations
 //   tracked_points.csv       displacements and unwrapped rotation vectors of the named points
-//   reactions.csv            force and moment sums (f_int - f_ext) over each support's nodes
+//   reactions.csv            force and moment sums (f_int - f_ext) over each support's nodes, at the
+//                            components the support fixes (a component several supports fix: the last)
 //   <table>.csv              per-step tables of contributions (contact_points.csv: every contact point)
 //   vtk/step_NNNNN.vtu       the beams with their real cross-sections (point data: displacement, and
 //                            "contact force" at the active contact points, drawn as vertex cells)

@@ -168,25 +168,6 @@ TEST(Output, AppliedContactForceBalancesTheSupportReactionsOfBeamB) {
 // Lagrange method's friction complementarity parameter default went from 1000 to 100, its isotropic
 // friction rows cycled at this press's first contact (also without load curves).
 namespace {
-Deck pressThenSlide(const std::string& type, double mu, bool drag) {
-  Deck d = withLaw(circles(type, 0.6, 1e4, "", drag ? 20 : 10, mu), "Isotropic Coulomb");
-  const Teuchos::Array<double> press = vec("0, 0, 0.5, 1, 1, 1"), slide = vec("0, 0, 0.5, 0, 1, 1");
-  for (const std::string node : {"start", "end"}) {
-    const std::string s = "Supports/beam 2 " + node;
-    input::replaceAtPath(d, s + "/Fixed", std::string(drag ? "uz ry" : "ux uz ry"));
-    input::replaceAtPath(d, s + "/Displacement", vec("0, 0, -0.6"));
-    if (!drag) continue;
-    input::setAtPath(d, s + "/Load Curve", press);
-    Deck& move = input::sublistAtPath(d, s + " drag");
-    move.set("Beam", std::string("beam 2"));
-    move.set("Node", node);
-    move.set("Fixed", std::string("ux"));
-    move.set("Displacement", vec("1.0, 0, 0"));
-    move.set("Load Curve", slide);
-  }
-  return d;
-}
-
 // Normal force, tangential force and state of the active point in a run's contact_points.csv at T.
 struct CsvPoint {
   double N = -1.0, T = 0.0;  // normal force, tangential force length

@@ -206,6 +206,31 @@ inline Deck withLaw(Deck deck, const std::string& law) {
   return deck;
 }
 
+// Press, then slide by load curves (docs/input.md): Example 1's layout with circular sections and
+// friction `mu` (Isotropic Coulomb); beam 2's ends are pressed down by 0.6 while T goes from 0 to 0.5
+// (load curve 0, 0, 0.5, 1, 1, 1; supports "beam 2 start" and "beam 2 end" fixing uz ry) and, with
+// `drag`, moved by 1.0 along X while T goes to 1 by a second support on each end node ("beam 2 start
+// drag", "beam 2 end drag" fixing ux; load curve 0, 0, 0.5, 0, 1, 1), in 20 increments. Without
+// `drag` the press alone in 10 increments to T = 1, the ends held in ux.
+inline Deck pressThenSlide(const std::string& type, double mu, bool drag) {
+  Deck d = withLaw(circles(type, 0.6, 1e4, "", drag ? 20 : 10, mu), "Isotropic Coulomb");
+  const Teuchos::Array<double> press = vec("0, 0, 0.5, 1, 1, 1"), slide = vec("0, 0, 0.5, 0, 1, 1");
+  for (const std::string node : {"start", "end"}) {
+    const std::string s = "Supports/beam 2 " + node;
+    input::replaceAtPath(d, s + "/Fixed", std::string(drag ? "uz ry" : "ux uz ry"));
+    input::replaceAtPath(d, s + "/Displacement", vec("0, 0, -0.6"));
+    if (!drag) continue;
+    input::setAtPath(d, s + "/Load Curve", press);
+    Deck& move = input::sublistAtPath(d, s + " drag");
+    move.set("Beam", std::string("beam 2"));
+    move.set("Node", node);
+    move.set("Fixed", std::string("ux"));
+    move.set("Displacement", vec("1.0, 0, 0"));
+    move.set("Load Curve", slide);
+  }
+  return d;
+}
+
 // The last step's row of a run's reactions.csv (the forces the supports exert on the beams), by column.
 inline std::map<std::string, double> lastReactions(const std::string& directory) {
   std::ifstream csv(directory + "/reactions.csv");
