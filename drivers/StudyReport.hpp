@@ -31,6 +31,7 @@ struct StudyResults {
   int timing;  // --timing: runs of each case
   std::filesystem::path dir;
   core::OutputDirectory& out;
+  std::string command;  // the study's command line (its provenance)
 };
 
 // (Re)writes cases.csv (atomically): one row per case with its status, outputs, errors against the
@@ -41,7 +42,8 @@ void writeCaseTable(const StudyResults& r);
 void writeStudyJson(const StudyResults& r, int parallel);
 
 // Runs the report script (report.md and the figures), recording every file it writes in the
-// manifest. Throws when the script fails.
-void writeReport(const StudyResults& r);
+// manifest. Returns the script's exit code: 0 written, 4 a Python module is missing (the script said
+// which, in one line), else it failed.
+int writeReport(const StudyResults& r);
 
 }  // namespace bc::drivers::study
