@@ -9,7 +9,9 @@
   summary.csv ("# key: value" lines after its row, which csv.DictReader and awk readers skip: the
   header and the row are as before) and effective_parameters.xml (a processing instruction; the file
   parses as XML and runs as a deck to the same tracked_points.csv, byte for byte);
-- on 2 ranks status.txt says "ranks: 2".
+- on 2 ranks status.txt says "ranks: 2";
+- CITATION.cff and CHANGELOG.md's newest entry state the same version (and date), LICENSE and
+  CITATION.cff the BSD-3-Clause licence.
 
     provenance.py BEAMCONTACT SOURCE_DIR WORKDIR BUILD_TYPE "COMPILER_ID VERSION" [MPIEXEC ...]
 """
@@ -45,6 +47,21 @@ version = re.search(r'#define BEAMCONTACT_VERSION "([^"]+)"', open(os.path.join(
 project = re.search(r"project\(BeamContact VERSION ([0-9.]+)", open(os.path.join(src, "CMakeLists.txt")).read())[1]
 if version != project:
     fail(f"core/Version.hpp says {version}, CMakeLists.txt {project}")
+
+# The release files state the same version: CITATION.cff, CHANGELOG.md's newest entry (with the
+# CITATION.cff's release date); the licence is BSD-3-Clause in LICENSE and CITATION.cff.
+citation = open(os.path.join(src, "CITATION.cff")).read()
+changelog = open(os.path.join(src, "CHANGELOG.md")).read()
+cited = re.search(r"^version: (\S+)$", citation, re.M)
+released = re.search(r'^date-released: "?(\d{4}-\d{2}-\d{2})"?$', citation, re.M)
+entry = re.search(r"^## \[(\d+\.\d+\.\d+)\] - (\d{4}-\d{2}-\d{2})$", changelog, re.M)
+if not cited or cited[1] != version or not entry or entry[1] != version or not released or released[1] != entry[2]:
+    fail(f"CITATION.cff (version {cited and cited[1]}, released {released and released[1]}) and CHANGELOG.md's "
+         f"newest entry ({entry and entry.groups()}) do not state version {version}")
+if not open(os.path.join(src, "LICENSE")).read().startswith("BSD 3-Clause License") or \
+        not re.search(r"^license: BSD-3-Clause$", citation, re.M):
+    fail("LICENSE or CITATION.cff does not state BSD-3-Clause")
+print(f"ok: CITATION.cff and CHANGELOG.md state version {version}, released {entry[2]}; BSD-3-Clause")
 
 # The commit git reports for the source tree, when it is the top of a checkout.
 head = None
