@@ -7,9 +7,9 @@
 //   beamcontact --version (or version)
 //   beamcontact --help
 // Exit codes: 0 run complete; 1 usage or input error; 2 run incomplete (a step failed to converge, or
-// a results file could not be written); 3 unexpected error; 4 the results are complete but a Python
-// helper could not draw them (a study's report, render; a missing module is named with its Debian
-// package); 128 + N stopped by signal N (SIGTERM: 143, SIGINT: 130) after writing a checkpoint.
+// a results file could not be written); 3 unexpected error; 4 a Python module render needs is missing,
+// or a study's cases all completed but its report was not written (a missing module is named with its
+// Debian package); 128 + N stopped by signal N (SIGTERM: 143, SIGINT: 130) after writing a checkpoint.
 // Errors are one line on stderr naming the cause.
 #include <cstdio>
 #include <cstdlib>
@@ -83,8 +83,8 @@ const char* kUsage =
     "consistent with the deck's model; a checkpoint that is not is refused and nothing in DIR changes.\n"
     "Exit codes: 0 complete, 1 usage or input error, 2 run incomplete or a results file could not be\n"
     "written (a study: some case did not complete; every case is recorded), 3 unexpected error,\n"
-    "4 every case of a study complete but its report not written, or render without its picture (a\n"
-    "missing Python module: the message names the Debian package), 128 + N stopped by signal N\n"
+    "4 a Python module render needs is missing, or every case of a study is complete but its report\n"
+    "was not written (a missing module is named with its Debian package), 128 + N stopped by signal N\n"
     "(status.txt says so).\n";
 
 // The command line as typed (before MPI and Kokkos take their own arguments out), for the provenance.

@@ -5,7 +5,7 @@
   "-dirty" allowed; "unknown" outside a git checkout), the build type and compiler CMake configured,
   Trilinos x.y.z and the MPI library whose version `mpirun --version` prints;
 - a run of Example 1 carries the same version and commit, the date (UTC, within the test's run), this
-  host, the rank count and its command line in status.txt ("key: value" lines after the status),
+  host, the rank count and its command line (quoted as a shell would split it back) in status.txt ("key: value" lines after the status),
   summary.csv ("# key: value" lines after its row, which csv.DictReader and awk readers skip: the
   header and the row are as before) and effective_parameters.xml (a processing instruction; the file
   parses as XML and runs as a deck to the same tracked_points.csv, byte for byte);
@@ -19,6 +19,7 @@ import csv
 import datetime
 import os
 import re
+import shlex
 import shutil
 import socket
 import subprocess
@@ -132,7 +133,7 @@ def check_run(out, ranks, command_words):
         fail(f"date {fields['date']} is not between {started} and {now}")
     if fields["host"] != socket.gethostname() or fields["ranks"] != str(ranks):
         fail(f"host {fields['host']} (this is {socket.gethostname()}), ranks {fields['ranks']} (expected {ranks})")
-    if fields["command"].split() != command_words:
+    if shlex.split(fields["command"]) != command_words:
         fail(f"command {fields['command']!r}, expected {' '.join(command_words)!r}")
     # The readers of summary.csv read its header and first row as before.
     row = next(csv.DictReader(open(os.path.join(out, "summary.csv"))))
@@ -151,8 +152,9 @@ if r.returncode != 0:
 check_run(one, 1, [exe, "run", deck, "--output", one, "--quiet"])
 print("ok: status.txt, summary.csv and effective_parameters.xml carry the same provenance as --version")
 
-# effective_parameters.xml with its provenance runs as a deck, to the same results.
-again = os.path.join(work, "again")
+# effective_parameters.xml with its provenance runs as a deck, to the same results (into a folder
+# whose name needs quoting in the command line and escaping in XML).
+again = os.path.join(work, "again it's \"quoted\" & <escaped>")
 effective = os.path.join(one, "effective_parameters.xml")
 r = run("run", effective, "--output", again, "--quiet")
 if r.returncode != 0:
