@@ -10,8 +10,6 @@
 
 #include <Trilinos_version.h>
 
-#include "Version.hpp"
-
 namespace bc::core {
 
 namespace {
@@ -36,13 +34,8 @@ std::string trilinosVersion() {
   return std::to_string(v / 10000) + "." + std::to_string(v / 100 % 100) + "." + std::to_string(v % 100);
 }
 
-Fields buildProvenance() {
-  return {{"version", kVersion},           {"commit", kBuildCommit},     {"build_type", kBuildType},
-          {"trilinos", trilinosVersion()}, {"mpi", mpiLibraryVersion()}, {"compiler", kBuildCompiler}};
-}
-
-Fields runProvenance(int ranks, const std::string& command) {
-  Fields f = buildProvenance();
+Fields runProvenance(const Fields& build, int ranks, const std::string& command) {
+  Fields f = build;
   const std::time_t now = std::time(nullptr);
   std::tm utc{};
   gmtime_r(&now, &utc);

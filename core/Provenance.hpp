@@ -4,19 +4,14 @@
 // "key: value" lines in status.txt, "# key: value" lines after the data row of summary.csv and a
 // <?beamcontact ...?> processing instruction in effective_parameters.xml (which the deck reader skips,
 // so the file still runs as a deck); a study's cases.csv, study.json and report.md name it too.
-// The commit is captured at build time (cmake/BuildInfo.cmake): 12 hex digits, "-dirty" when tracked
-// files differed from it, "unknown" outside a git checkout.
+// The commit is captured at build time (cmake/BuildInfo.cmake, drivers/BuildInfo.hpp): 12 hex digits,
+// "-dirty" when tracked files differed from it, "unknown" outside a git checkout.
 #pragma once
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace bc::core {
-
-// Set by the generated BuildInfo.cpp (cmake/BuildInfo.cmake).
-extern const char* const kBuildCommit;
-extern const char* const kBuildType;
-extern const char* const kBuildCompiler;
 
 // Key and value, in the order they are written; keys are single words (version, commit, build_type,
 // trilinos, mpi, compiler; for a run also date, host, ranks, command).
@@ -27,10 +22,9 @@ using Fields = std::vector<std::pair<std::string, std::string>>;
 std::string mpiLibraryVersion();
 // The Trilinos version the program was compiled against ("13.2.0").
 std::string trilinosVersion();
-// version, commit, build_type, trilinos, mpi, compiler.
-Fields buildProvenance();
-// buildProvenance() and date (now, UTC, ISO 8601), host, ranks and the command line.
-Fields runProvenance(int ranks, const std::string& command);
+// `build` (the program's: drivers/BuildInfo.hpp) and the run's date (now, UTC, ISO 8601), host, ranks
+// and command line.
+Fields runProvenance(const Fields& build, int ranks, const std::string& command);
 // argv as one line a shell would split back into the same words (words quoted where needed).
 std::string commandLine(int argc, const char* const* argv);
 // The value of `key` in `fields`, else "".

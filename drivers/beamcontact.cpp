@@ -30,6 +30,7 @@
 #include "Generate.hpp"
 
 #include "core/Faults.hpp"
+#include "BuildInfo.hpp"
 #include "core/Provenance.hpp"
 #include "core/Simulation.hpp"
 #include "input/Deck.hpp"
@@ -92,7 +93,7 @@ std::string g_commandLine;
 
 // beamcontact --version: the version and how this program was built.
 int versionCommand() {
-  const auto fields = bc::core::buildProvenance();
+  const auto fields = bc::drivers::buildProvenance();
   std::printf("beamcontact %s\n", bc::core::field(fields, "version").c_str());
   for (const auto& [key, value] : fields)
     if (key != "version") std::printf("%s: %s\n", key.c_str(), value.c_str());
@@ -241,7 +242,7 @@ int runDeck(const std::string& deck, const std::string& output, bool quiet, cons
   options.overwrite = overwrite;
   for (const auto& p : bc::input::loadedPlugins())
     options.statusNotes.push_back("plug-in: " + p.path + " sha256 " + p.sha256);
-  options.provenance = bc::core::runProvenance(comm->getSize(), g_commandLine);
+  options.provenance = bc::core::runProvenance(bc::drivers::buildProvenance(), comm->getSize(), g_commandLine);
   options.writeVtk = problem.writeVtk;
   options.progress = !quiet;
   options.effective = &problem.effective;
