@@ -10,6 +10,8 @@
   header and the row are as before) and effective_parameters.xml (a processing instruction; the file
   parses as XML and runs as a deck to the same tracked_points.csv, byte for byte);
 - on 2 ranks status.txt says "ranks: 2";
+- cmake/BuildInfo.cmake records "unknown" for a folder inside a checkout (not its top), and for a
+  checkout of its own its HEAD, with "-dirty" while a tracked file is changed (not for an untracked one);
 - CITATION.cff and CHANGELOG.md's newest entry state the same version (and date), LICENSE and
   CITATION.cff the BSD-3-Clause licence.
 
@@ -99,6 +101,39 @@ if not mpi_version or mpi_version[1] not in build["mpi"]:
     fail(f"mpi: {build['mpi']!r}, mpirun --version says {mpirun.splitlines()[:1]}")
 print(f"ok: --version: {version}, commit {commit}, {build['build_type']}, Trilinos {build['trilinos']}, "
       f"{build['mpi']}, {build['compiler']}")
+
+
+# cmake/BuildInfo.cmake on other trees: a folder inside a checkout but not its top (a tarball unpacked
+# there) is "unknown"; a checkout of its own is its HEAD, "-dirty" with a tracked file changed, clean
+# again with it restored, and an untracked file does not count.
+def recorded_commit(tree):
+    out = os.path.join(work, "BuildInfo.cpp")
+    subprocess.run(["cmake", f"-DSOURCE_DIR={tree}", f"-DOUTPUT={out}", "-DBUILD_TYPE=x", "-DCOMPILER=y", "-P",
+                    os.path.join(src, "cmake", "BuildInfo.cmake")], check=True)
+    text = open(out).read()
+    os.remove(out)
+    return re.search(r'\{"commit", "([^"]*)"\}', text)[1]
+
+
+tree = os.path.join(work, "tree")
+os.makedirs(tree)
+open(os.path.join(tree, "a.txt"), "w").write("a\n")
+inside = recorded_commit(tree)
+git = ["git", "-C", tree, "-c", "user.name=t", "-c", "user.email=t@example.org"]
+subprocess.run(git + ["init", "-q"], check=True)
+subprocess.run(git + ["add", "a.txt"], check=True)
+subprocess.run(git + ["commit", "-qm", "a"], check=True)
+tree_head = subprocess.run(git + ["rev-parse", "--short=12", "HEAD"], capture_output=True, text=True).stdout.strip()
+clean = recorded_commit(tree)
+open(os.path.join(tree, "a.txt"), "w").write("b\n")
+dirty = recorded_commit(tree)
+open(os.path.join(tree, "a.txt"), "w").write("a\n")
+open(os.path.join(tree, "untracked.txt"), "w").write("u\n")
+untracked = recorded_commit(tree)
+if (inside, clean, dirty, untracked) != ("unknown", tree_head, tree_head + "-dirty", tree_head):
+    fail(f"BuildInfo.cmake: inside a checkout {inside}, clean {clean}, dirty {dirty}, untracked {untracked}; "
+         f"HEAD {tree_head}")
+print(f"ok: BuildInfo.cmake: unknown inside another checkout, {clean}, {dirty}, untracked files not dirty")
 
 
 def check_run(out, ranks, command_words):
