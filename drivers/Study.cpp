@@ -361,7 +361,9 @@ int reportStopped(const StudyResults& results, int stopSignal) {
 // A study whose cases all ran: the table, study.json and (unless --no-report) the report. Exit code 2
 // when a case did not complete; else 4 when the report could not be written (the cases and their
 // table are complete: one line says so, or the report script's own line names a missing module).
-int reportFinished(const StudyResults& results, int parallel, bool report) {
+// `report` is false with --no-report, `modules` false when the report's Python modules were found
+// missing before the cases ran (the report is then not attempted: that line was the message).
+int reportFinished(const StudyResults& results, int parallel, bool report, bool modules) {
   study::writeCaseTable(results);
   study::writeStudyJson(results, parallel);
   const auto& all = results.all;
@@ -370,7 +372,7 @@ int reportFinished(const StudyResults& results, int parallel, bool report) {
   std::printf("study %s: %zu cases, %td complete, %td not; table %s\n", results.deck.stem.c_str(), all.size(),
               static_cast<std::ptrdiff_t>(all.size()) - failed, failed, table.c_str());
   std::fflush(stdout);
-  const int reportCode = report ? study::writeReport(results) : 0;
+  const int reportCode = !report ? 0 : !modules ? 4 : study::writeReport(results);
   if (reportCode != 0 && reportCode != 4)
     std::fprintf(stderr, "beamcontact: study report not written: the report script %s failed (exit code %d)%s\n",
                  bc::drivers::scriptPath("study_report.py").c_str(), reportCode,
@@ -403,11 +405,14 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
   const StudyResults results{deck, all, reference, options.timing, dir, out, options.command};
   const int parallel = parallelCases(deck, options);
   CaseRunner runner(all, results, plugins, options, parallel);
+  // A report that cannot be written is known before the cases run: the report script's one line (the
+  // missing Python module, its Debian package and --no-report) comes first, not after the last case.
+  const bool modules = !options.report || study::reportModulesPresent();
   printStart(deck, all.size(), dir, parallel, options.timing, kept);
   core::installSignalHandlers(false);
   const int stopSignal = runner.run(kept);
   if (stopSignal) return reportStopped(results, stopSignal);
-  return reportFinished(results, parallel, options.report);
+  return reportFinished(results, parallel, options.report, modules);
 }
 
 }  // namespace bc::drivers

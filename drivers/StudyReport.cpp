@@ -311,6 +311,11 @@ void writeStudyJson(const StudyResults& r, int parallel) {
   j << "}\n}\n";
 }
 
+bool reportModulesPresent() {
+  // Exit code 4: a module is missing (the script said which); any other failure shows in the report.
+  return runProgram({"/usr/bin/python3", scriptPath("study_report.py"), "--check-modules"}) != 4;
+}
+
 int writeReport(const StudyResults& r) {
   const std::string script = scriptPath("study_report.py");
   r.out.add("report.md");

@@ -45,5 +45,8 @@ void writeStudyJson(const StudyResults& r, int parallel);
 // manifest. Returns the script's exit code: 0 written, 4 a Python module is missing (the script said
 // which, in one line), else it failed.
 int writeReport(const StudyResults& r);
+// Whether the report script finds the Python modules it needs (study_report.py --check-modules); when
+// not, the script has printed one line naming the missing one and its Debian package.
+bool reportModulesPresent();
 
 }  // namespace bc::drivers::study

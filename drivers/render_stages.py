@@ -22,15 +22,20 @@ DEBIAN_PACKAGES = {"numpy": "python3-numpy", "matplotlib": "python3-matplotlib",
 
 
 def need(module):
-    """Imports `module`; when it cannot be, one line naming the Debian package to install and exit 4."""
+    """Imports `module`; when it cannot be (not installed, or broken: any error while importing it), one
+    line naming the Debian package to install and exit 4."""
     try:
         return importlib.import_module(module)
-    except ImportError as e:
+    except Exception as e:  # noqa: BLE001 - one line, not a traceback
         missing = isinstance(e, ModuleNotFoundError) and e.name
         top = (e.name if missing else module).split(".")[0]
         package = DEBIAN_PACKAGES.get(top)
-        how = f"install the Debian package {package} (apt install {package})" if package else f"install {top}"
-        why = "is not installed" if missing else f"cannot be loaded ({str(e).splitlines()[0] if str(e) else e})"
+        if missing:
+            why, verb, flag = "is not installed", "install", ""
+        else:
+            why, verb, flag = f"cannot be loaded ({type(e).__name__}: {(str(e) + chr(10)).splitlines()[0]})", \
+                "reinstall", " --reinstall"
+        how = f"{verb} the Debian package {package} (apt install{flag} {package})" if package else f"{verb} {top}"
         print(f"beamcontact: render: the Python module {top} {why}; {how}", file=sys.stderr)
         sys.exit(4)
 
