@@ -18,6 +18,7 @@
 #include <map>
 #include <thread>
 
+#include "BuildInfo.hpp"
 #include "StudyDeck.hpp"
 #include "StudyReport.hpp"
 #include "core/Faults.hpp"
@@ -402,7 +403,8 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
   int kept = 0;
   for (Case& c : all) kept += prepareCase(out, dir, deck, c, options) ? 1 : 0;
 
-  const StudyResults results{deck, all, reference, options.timing, dir, out, options.command};
+  const StudyResults results{
+      deck, all, reference, options.timing, dir, out, core::runProvenance(buildProvenance(), 1, options.command)};
   const int parallel = parallelCases(deck, options);
   CaseRunner runner(all, results, plugins, options, parallel);
   // A report that cannot be written is known before the cases run: the report script's one line (the

@@ -7,7 +7,6 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "BuildInfo.hpp"
 #include "Study.hpp"
 #include "core/Faults.hpp"
 #include "core/Provenance.hpp"
@@ -304,8 +303,7 @@ void writeStudyJson(const StudyResults& r, int parallel) {
   j << "},\n  \"plots\": [";
   jsonPlots(j, deck.plots);
   j << "\n  ],\n  \"provenance\": {";
-  // The study's own: it runs no MPI; each case runs on one rank.
-  const auto provenance = core::runProvenance(buildProvenance(), 1, r.command);
+  const auto& provenance = r.provenance;
   for (std::size_t i = 0; i < provenance.size(); ++i)
     j << (i ? ", " : "") << jsonString(provenance[i].first) << ": " << jsonString(provenance[i].second);
   j << "}\n}\n";

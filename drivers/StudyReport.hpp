@@ -8,6 +8,7 @@
 
 #include "StudyDeck.hpp"
 #include "core/OutputDirectory.hpp"
+#include "core/Provenance.hpp"
 
 namespace bc::drivers::study {
 
@@ -31,7 +32,7 @@ struct StudyResults {
   int timing;  // --timing: runs of each case
   std::filesystem::path dir;
   core::OutputDirectory& out;
-  std::string command;  // the study's command line (its provenance)
+  core::Fields provenance;  // the study's (when it started; it runs no MPI, each case one rank)
 };
 
 // (Re)writes cases.csv (atomically): one row per case with its status, outputs, errors against the
