@@ -8,8 +8,12 @@ Usage:
 
 A fingerprint is the SHA-256 of each result file. Measured times and memory are left out: timers.txt,
 and in CSV files every column whose name holds "seconds", "memory" or "_mb" (summary.csv, study
-tables); the checkout's path in study reports. Figures (png, pdf, svg) are left out (their metadata carry dates). Everything else, the VTK
-files and the status lines included, must be byte-identical.
+tables); the checkout's path in study reports. Figures (png, pdf, svg) are left out (their metadata carry dates).
+So is the provenance (core/Provenance.hpp: commit, date, host, command line), which differs between
+any two builds and runs: its lines in status.txt, the "# " lines of summary.csv, the <?beamcontact?>
+instruction of effective_parameters.xml, the commit column of cases.csv, study.json's "provenance"
+and report.md's Provenance section. Everything else, the VTK files and the status lines included,
+must be byte-identical.
 
 The cases cover the contact layer's paths: the seed paper's three examples (Lagrange multiplier) and
 Example 1 with each strategy and with automatic penalties, line contact of parallel rods with each
@@ -82,11 +86,12 @@ def fingerprint_file(path):
         return None
     with open(path, "rb") as f:
         data = f.read()
+    data = without_provenance(name, data)
     if name.endswith(".csv"):
         rows = list(csv.reader(io.StringIO(data.decode())))
         if rows:
             keep = [i for i, h in enumerate(rows[0])
-                    if not any(w in h for w in ("seconds", "memory", "_mb"))]
+                    if not any(w in h for w in ("seconds", "memory", "_mb")) and h != "commit"]
             buf = io.StringIO()
             w = csv.writer(buf, lineterminator="\n")
             for r in rows:
@@ -100,6 +105,29 @@ def fingerprint_file(path):
         data = re.sub(rb"solve [0-9.e+-]+ s", b"solve - s", data)
         data = data.replace(WORK[0].encode(), b"WORK")
     return hashlib.sha256(data).hexdigest()
+
+
+PROVENANCE_KEYS = ("version", "commit", "build_type", "trilinos", "mpi", "compiler", "date", "host", "ranks",
+                   "command")
+
+
+def without_provenance(name, data):
+    """A results file without its provenance (core/Provenance.hpp)."""
+    text = data.decode(errors="replace")
+    if name == "status.txt":
+        lines = text.splitlines(True)
+        text = "".join(lines[:1] + [l for l in lines[1:] if l.split(": ", 1)[0] not in PROVENANCE_KEYS])
+    elif name == "summary.csv":
+        text = "".join(l for l in text.splitlines(True) if not l.startswith("# "))
+    elif name == "effective_parameters.xml":
+        text = re.sub(r"<\?beamcontact\b.*?\?>\n", "", text, flags=re.S)
+    elif name == "report.md":
+        text = text.split("## Provenance")[0]
+    elif name == "study.json":
+        text = re.sub(r',\n  "provenance": \{.*?\}\n', "\n", text, flags=re.S)
+    else:
+        return data
+    return text.encode()
 
 
 def markdown_without_times(text):

@@ -10,6 +10,7 @@
 #include <csignal>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <vector>
 
 #include <mpi.h>
@@ -230,7 +231,17 @@ bool rewriteInPlace(const fs::path& path, const std::string& text) noexcept {
 }
 
 void recordFailureInStatus(const std::string& text) noexcept {
-  if (g_statusFile[0]) rewriteInPlace(g_statusFile, text + "\n");
+  if (!g_statusFile[0]) return;
+  // The first line replaced; the lines after it (warnings, notes, provenance) kept.
+  std::string rest;
+  try {
+    std::ifstream f(g_statusFile);
+    std::string line;
+    if (std::getline(f, line))
+      while (std::getline(f, line)) rest += line + "\n";
+  } catch (...) {
+  }
+  rewriteInPlace(g_statusFile, text + "\n" + rest);
 }
 
 namespace {

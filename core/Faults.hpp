@@ -119,7 +119,7 @@ bool faultInjection();
 
 // The status file of the run in progress (rank 0; "" when none), for a last word when the process is
 // ended from outside the normal path (an exit() in a plug-in): recordFailureInStatus rewrites it in
-// place with `text` (no allocation of new blocks, never throws).
+// place: its first line becomes `text`, the lines after it stay (no allocation of new blocks, never throws).
 void setStatusFile(const std::string& path);
 void recordFailureInStatus(const std::string& text) noexcept;
 // Replaces the content of the existing file `path` by `text` in place: no new file, and no new blocks

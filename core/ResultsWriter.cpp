@@ -66,11 +66,37 @@ long livePid(const fs::path& status) {
   return command.empty() || command.find("beamcontact") != std::string::npos ? pid : 0;
 }
 
+// The provenance as an XML processing instruction, one pseudo-attribute per line:
+//   <?beamcontact version="0.1.0" commit="..." ... command="beamcontact run deck.xml --output out"?>
+// (not a comment: XML forbids "--" in comments, and command lines have them). The deck reader skips it.
+std::string provenanceInstruction(const Fields& fields) {
+  if (fields.empty()) return "";
+  std::string s = "<?beamcontact";
+  for (const auto& [key, value] : fields) {
+    s += "\n  " + key + "=\"";
+    for (char c : value) {
+      if (c == '&') s += "&amp;";
+      else if (c == '<') s += "&lt;";
+      else if (c == '>') s += "&gt;";
+      else if (c == '"') s += "&quot;";
+      else s += c;
+    }
+    s += '"';
+  }
+  return s + "?>\n";
+}
+
 }  // namespace
 
 ResultsWriter::ResultsWriter(const Where& where, const Model& model, Teuchos::RCP<const Comm> comm, bool writeVtk,
                              int resumeStep, double resumeT)
-    : dir_(where.directory), notes_(where.notes), model_(model), comm_(comm), rank_(comm->getRank()), vtk_(writeVtk) {
+    : dir_(where.directory),
+      notes_(where.notes),
+      provenance_(where.provenance),
+      model_(model),
+      comm_(comm),
+      rank_(comm->getRank()),
+      vtk_(writeVtk) {
   collectively(*comm_, [&] {
     if (!root()) return;
     if (dir_.empty()) throw InputError("the results directory is empty; give Output/Directory or --output");
@@ -260,6 +286,7 @@ void ResultsWriter::openTables(bool append) {
 void ResultsWriter::writeStatus(const std::string& text) {
   std::string all = text + "\n";
   for (const auto& n : notes_) all += n + "\n";
+  all += fieldLines(provenance_);
   const fs::path path = own("status.txt");
   try {
     writeFileAtomically(path, all);
@@ -283,7 +310,7 @@ void ResultsWriter::writeEffective(const Teuchos::ParameterList& effective) {
     if (!root()) return;
     std::ostringstream xml;
     Teuchos::writeParameterListToXmlOStream(effective, xml);
-    writeFileAtomically(own("effective_parameters.xml"), xml.str());
+    writeFileAtomically(own("effective_parameters.xml"), provenanceInstruction(provenance_) + xml.str());
   });
 }
 
@@ -489,6 +516,8 @@ void ResultsWriter::writeSummary(const RunSummary& summary) {
       << summary.solveSeconds << ',' << usage.ru_maxrss / 1024.0;
     for (const auto& [column, seconds] : summary.stages) f << ',' << seconds;
     f << ',' << summary.run.warnings.size() << '\n';
+    // After the row, so readers of the header and the first row (csv.DictReader, awk) read it as before.
+    f << fieldLines(provenance_, "# ");
     writeFileAtomically(own("summary.csv"), f.str());
   });
 }

@@ -1,7 +1,8 @@
 // The results directory of a run, written by rank 0 as steps converge, so nothing of a converged step
 // is lost when a later step fails:
 //   status.txt               "running (pid N)", then "complete: ...", "incomplete: <cause>",
-//                            "interrupted: <signal> ..." or "failed: <cause>"
+//                            "interrupted: <signal> ..." or "failed: <cause>"; then the warnings, the
+//                            notes (loaded plug-ins) and the provenance ("key: value", Provenance.hpp)
 //   steps.csv                step, T, cut level, Newton iterations, final residual, linear iterations
 //   tracked_points.csv       displacements and unwrapped rotation vectors of the named points
 //   reactions.csv            force and moment sums (f_int - f_ext) over each support's nodes, at the
@@ -12,10 +13,12 @@
 //   results.pvd              ParaView collection of the .vtu files with their T (rewritten each step)
 //   timers.txt               StackedTimer summary
 //   summary.csv              one row: completed, last T, steps, Newton iterations (total and largest per
-//                            step), passes, solve wall time [s], peak memory [MB]; for studies and scripts
+//                            step), passes, solve wall time [s], peak memory [MB]; for studies and scripts;
+//                            after the row, the provenance as "# key: value" lines
 //   checkpoint.txt           the state after a converged step (Output/Checkpoint Every, and when a
 //                            signal stops the run), for --restart (Checkpoint.hpp)
-//   effective_parameters.xml the deck with every default filled in
+//   effective_parameters.xml the deck with every default filled in, the provenance in a
+//                            <?beamcontact ...?> processing instruction before it (a valid deck)
 // Every write is checked (Faults.hpp): a failure is an OutputError naming the file, raised on every
 // rank. Whole files (status, summary, results.pvd, checkpoint) are replaced atomically, CSV rows are
 // appended and flushed per step. The directory's manifest (OutputDirectory.hpp) names every file a
@@ -32,6 +35,7 @@
 #include "Faults.hpp"
 #include "Model.hpp"
 #include "OutputDirectory.hpp"
+#include "Provenance.hpp"
 #include "StaticSolver.hpp"
 #include "TpetraTypes.hpp"
 
@@ -56,6 +60,7 @@ class ResultsWriter {
     bool fromDeck = false;  // the deck's Output/Directory: relative, no "..", no symbolic links
     bool overwrite = false;  // write beside files beamcontact did not write (--overwrite)
     std::vector<std::string> notes;  // lines status.txt carries after its first (e.g. the loaded plug-ins)
+    Fields provenance;  // what produced the results (Provenance.hpp), in status, summary and effective deck
   };
   ResultsWriter(const Where& where, const Model& model, Teuchos::RCP<const Comm> comm, bool writeVtk = true,
                 int resumeStep = -1, double resumeT = 0.0);
@@ -93,6 +98,7 @@ class ResultsWriter {
 
   std::string dir_;
   std::vector<std::string> notes_;
+  Fields provenance_;
   OutputDirectory out_;  // rank 0: the directory and its manifest
   const Model& model_;
   Teuchos::RCP<const Comm> comm_;

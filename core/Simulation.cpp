@@ -108,6 +108,7 @@ ResultsWriter::Where where(const RunOptions& options) {
   w.fromDeck = options.outputFromDeck;
   w.overwrite = options.overwrite;
   w.notes = options.statusNotes;
+  w.provenance = options.provenance;
   return w;
 }
 

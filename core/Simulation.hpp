@@ -10,6 +10,7 @@
 #include <Teuchos_ParameterList.hpp>
 
 #include "Model.hpp"
+#include "Provenance.hpp"
 #include "StaticSolver.hpp"
 
 namespace bc::core {
@@ -19,6 +20,7 @@ struct RunOptions {
   bool outputFromDeck = false;  // the directory is the deck's Output/Directory (relative, no "..", no links)
   bool overwrite = false;  // --overwrite: write beside files beamcontact did not write (OutputDirectory.hpp)
   std::vector<std::string> statusNotes;  // lines status.txt carries after its first (the loaded plug-ins)
+  Fields provenance;  // what produced the run (Provenance.hpp): in status.txt, summary.csv, effective_parameters.xml
   bool writeVtk = true;
   bool progress = true;  // one line per step on rank 0
   const Teuchos::ParameterList* effective = nullptr;  // written as effective_parameters.xml

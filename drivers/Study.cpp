@@ -18,6 +18,7 @@
 #include <map>
 #include <thread>
 
+#include "BuildInfo.hpp"
 #include "StudyDeck.hpp"
 #include "StudyReport.hpp"
 #include "core/Faults.hpp"
@@ -358,19 +359,32 @@ int reportStopped(const StudyResults& results, int stopSignal) {
   return 128 + stopSignal;
 }
 
-// A study whose cases all ran: the table, study.json and (unless --no-report) the report.
-int reportFinished(const StudyResults& results, int parallel, bool report) {
+// A study whose cases all ran: the table, study.json and (unless --no-report) the report. Exit code 2
+// when a case did not complete; else 4 when the report could not be written (the cases and their
+// table are complete: one line says so, or the report script's own line names a missing module).
+// `report` is false with --no-report, `modules` false when the report's Python modules were found
+// missing before the cases ran (the report is then not attempted: that line was the message).
+int reportFinished(const StudyResults& results, int parallel, bool report, bool modules) {
   study::writeCaseTable(results);
   study::writeStudyJson(results, parallel);
   const auto& all = results.all;
   const auto failed = std::count_if(all.begin(), all.end(), [](const Case& c) { return c.status != "complete"; });
+  const std::string table = (results.dir / "cases.csv").string();
   std::printf("study %s: %zu cases, %td complete, %td not; table %s\n", results.deck.stem.c_str(), all.size(),
-              static_cast<std::ptrdiff_t>(all.size()) - failed, failed, (results.dir / "cases.csv").string().c_str());
-  if (report) study::writeReport(results);
+              static_cast<std::ptrdiff_t>(all.size()) - failed, failed, table.c_str());
+  std::fflush(stdout);
+  const int reportCode = !report ? 0 : !modules ? 4 : study::writeReport(results);
+  if (reportCode != 0 && reportCode != 4)
+    std::fprintf(stderr, "beamcontact: study report not written: the report script %s failed (exit code %d)%s\n",
+                 bc::drivers::scriptPath("study_report.py").c_str(), reportCode,
+                 failed ? "" : "; every case is complete and in cases.csv");
+  if (reportCode != 0 && !failed)
+    std::printf("study %s: every case complete, the report not written; table %s\n", results.deck.stem.c_str(),
+                table.c_str());
   if (failed)
     std::fprintf(stderr, "beamcontact: study incomplete: %td of %zu cases did not complete (their causes are in %s)\n",
-                 static_cast<std::ptrdiff_t>(failed), all.size(), (results.dir / "cases.csv").string().c_str());
-  return failed == 0 ? 0 : 2;
+                 static_cast<std::ptrdiff_t>(failed), all.size(), table.c_str());
+  return failed ? 2 : reportCode != 0 ? 4 : 0;
 }
 
 }  // namespace
@@ -389,14 +403,18 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
   int kept = 0;
   for (Case& c : all) kept += prepareCase(out, dir, deck, c, options) ? 1 : 0;
 
-  const StudyResults results{deck, all, reference, options.timing, dir, out};
+  const StudyResults results{
+      deck, all, reference, options.timing, dir, out, core::runProvenance(buildProvenance(), 1, options.command)};
   const int parallel = parallelCases(deck, options);
   CaseRunner runner(all, results, plugins, options, parallel);
+  // A report that cannot be written is known before the cases run: the report script's one line (the
+  // missing Python module, its Debian package and --no-report) comes first, not after the last case.
+  const bool modules = !options.report || study::reportModulesPresent();
   printStart(deck, all.size(), dir, parallel, options.timing, kept);
   core::installSignalHandlers(false);
   const int stopSignal = runner.run(kept);
   if (stopSignal) return reportStopped(results, stopSignal);
-  return reportFinished(results, parallel, options.report);
+  return reportFinished(results, parallel, options.report, modules);
 }
 
 }  // namespace bc::drivers

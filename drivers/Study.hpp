@@ -10,7 +10,9 @@
 //                       at "At T" (with their error against the "Reference Group"), Newton
 //                       iterations (total, largest per step), passes, solve time (with --timing:
 //                       the median and spread of several runs)
-//   report.md, *.png    the table and the plots (drivers/study_report.py, matplotlib)
+//                       and the version and commit that ran each case (its status.txt)
+//   study.json          what the report script needs, and the study's provenance (core/Provenance.hpp)
+//   report.md, *.png    the table and the plots (drivers/study_report.py, matplotlib), the provenance
 // The study deck format is in docs/studies.md. StudyDeck.hpp reads the study deck and expands its
 // cases; StudyReport.hpp writes the table, study.json and the report; Study.cpp runs the cases.
 #pragma once
@@ -26,6 +28,7 @@ struct StudyOptions {
   int timing = 0;  // > 0: fair timing: one case at a time, VTK off, each run this many times
   std::vector<std::string> plugins;  // --plugin libraries, passed on to every case
   bool overwrite = false;  // --overwrite: write beside files beamcontact did not write (passed on to every case)
+  std::string command;  // the study's command line, for its provenance (study.json, report.md)
 };
 
 // The installed helper script `name` (share/beamcontact beside the program's bin folder; in the
@@ -36,8 +39,9 @@ std::string scriptPath(const std::string& name);
 // when killed); throws when it cannot be started.
 int runProgram(const std::vector<std::string>& command);
 
-// Runs the study; returns 0 when every case completed, 2 when some did not (all are recorded),
-// throws core::InputError on a bad study deck.
+// Runs the study; returns 0 when every case completed, 2 when some did not (all are recorded), 4 when
+// every case completed but the report could not be written (cases.csv is), throws core::InputError on
+// a bad study deck.
 int runStudy(const std::string& studyFile, const StudyOptions& options);
 
 }  // namespace bc::drivers

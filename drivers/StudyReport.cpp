@@ -9,6 +9,7 @@
 
 #include "Study.hpp"
 #include "core/Faults.hpp"
+#include "core/Provenance.hpp"
 
 namespace bc::drivers::study {
 
@@ -107,7 +108,7 @@ std::string tableHeader(const StudyResults& r) {
       csv << ',' << csvField(o.name + " error") << ',' << csvField(o.name + " relative error");
   for (const auto& c : kRunColumns) csv << ',' << c;
   if (r.timing) csv << ",solve_seconds_median,solve_seconds_min,solve_seconds_max,timing_runs";
-  csv << ",cause\n";
+  csv << ",version,commit,cause\n";
   return csv.str();
 }
 
@@ -157,6 +158,9 @@ void writeRow(std::ostream& csv, const StudyResults& r, const Case& c,
     csv << ',' << (it == summary.end() ? "" : it->second);
   }
   if (r.timing) writeTimings(csv, c);
+  // What ran the case (a case kept from an earlier study may have run on another build).
+  const auto provenance = core::readFieldLines(readText(c.dir / "status.txt"));
+  csv << ',' << csvField(core::field(provenance, "version")) << ',' << csvField(core::field(provenance, "commit"));
   csv << ',' << csvField(c.cause) << '\n';
 }
 
@@ -298,10 +302,19 @@ void writeStudyJson(const StudyResults& r, int parallel) {
   jsonOutputs(j, deck.outputs);
   j << "},\n  \"plots\": [";
   jsonPlots(j, deck.plots);
-  j << "\n  ]\n}\n";
+  j << "\n  ],\n  \"provenance\": {";
+  const auto& provenance = r.provenance;
+  for (std::size_t i = 0; i < provenance.size(); ++i)
+    j << (i ? ", " : "") << jsonString(provenance[i].first) << ": " << jsonString(provenance[i].second);
+  j << "}\n}\n";
 }
 
-void writeReport(const StudyResults& r) {
+bool reportModulesPresent() {
+  // Exit code 4: a module is missing (the script said which); any other failure shows in the report.
+  return runProgram({"/usr/bin/python3", scriptPath("study_report.py"), "--check-modules"}) != 4;
+}
+
+int writeReport(const StudyResults& r) {
   const std::string script = scriptPath("study_report.py");
   r.out.add("report.md");
   // The figures the script writes are named after they appear (it names them from the plots).
@@ -311,9 +324,7 @@ void writeReport(const StudyResults& r) {
   for (const auto& e : fs::directory_iterator(r.dir))
     if (!before.count(e.path().filename().string()) && fs::is_regular_file(fs::symlink_status(e.path())))
       r.out.add(e.path().filename().string());
-  if (code != 0)
-    throw std::runtime_error("the report script " + script + " failed; the table is in " +
-                             (r.dir / "cases.csv").string());
+  return code;
 }
 
 }  // namespace bc::drivers::study

@@ -8,6 +8,7 @@
 
 #include "StudyDeck.hpp"
 #include "core/OutputDirectory.hpp"
+#include "core/Provenance.hpp"
 
 namespace bc::drivers::study {
 
@@ -31,6 +32,7 @@ struct StudyResults {
   int timing;  // --timing: runs of each case
   std::filesystem::path dir;
   core::OutputDirectory& out;
+  core::Fields provenance;  // the study's (when it started; it runs no MPI, each case one rank)
 };
 
 // (Re)writes cases.csv (atomically): one row per case with its status, outputs, errors against the
@@ -41,7 +43,11 @@ void writeCaseTable(const StudyResults& r);
 void writeStudyJson(const StudyResults& r, int parallel);
 
 // Runs the report script (report.md and the figures), recording every file it writes in the
-// manifest. Throws when the script fails.
-void writeReport(const StudyResults& r);
+// manifest. Returns the script's exit code: 0 written, 4 a Python module is missing (the script said
+// which, in one line), else it failed.
+int writeReport(const StudyResults& r);
+// Whether the report script finds the Python modules it needs (study_report.py --check-modules); when
+// not, the script has printed one line naming the missing one and its Debian package.
+bool reportModulesPresent();
 
 }  // namespace bc::drivers::study

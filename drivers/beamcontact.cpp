@@ -4,10 +4,13 @@
 //   beamcontact study STUDY.xml [--output DIR] [--parallel N] [--timing [N]] [--no-report]
 //   beamcontact render RESULTS_DIR OUT.png [--stages T1,T2,...] [--view ELEV,AZIM] [--title TEXT]
 //   beamcontact --print-valid-parameters
+//   beamcontact --version (or version)
 //   beamcontact --help
 // Exit codes: 0 run complete; 1 usage or input error; 2 run incomplete (a step failed to converge, or
-// a results file could not be written); 3 unexpected error; 128 + N stopped by signal N (SIGTERM:
-// 143, SIGINT: 130) after writing a checkpoint. Errors are one line on stderr naming the cause.
+// a results file could not be written); 3 unexpected error; 4 a Python module render needs is missing,
+// or a study's cases all completed but its report was not written (a missing module is named with its
+// Debian package); 128 + N stopped by signal N (SIGTERM: 143, SIGINT: 130) after writing a checkpoint.
+// Errors are one line on stderr naming the cause.
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -27,6 +30,8 @@
 #include "Generate.hpp"
 
 #include "core/Faults.hpp"
+#include "BuildInfo.hpp"
+#include "core/Provenance.hpp"
 #include "core/Simulation.hpp"
 #include "input/Deck.hpp"
 
@@ -45,6 +50,7 @@ const char* kUsage =
     "                [--min-angle DEG] [--compress C] [--seed S] [--radius R] [--gap G] [--elements E] ...\n"
     "       beamcontact generate strand [--wires W] [--core 0|1] [--lay-length L] [--turns T] [--stretch S] ...\n"
     "       beamcontact --print-valid-parameters [--plugin LIB]...\n"
+    "       beamcontact --version\n"
     "       beamcontact --help\n"
     "\n"
     "Runs a BeamContact XML deck: geometrically nonlinear 3D beams, load factor T from 0 to 1.\n"
@@ -67,13 +73,32 @@ const char* kUsage =
     "(default 5), and reports the median solve time with its spread.\n"
     "render draws a run's beams and contact forces at four stages of loading (default T = 0.25, 0.5,\n"
     "0.75, 1) into a PNG, from the run's VTK files.\n"
+    "study reports and render need Python 3 with matplotlib (Debian: python3-matplotlib), render also\n"
+    "numpy and vtk (python3-numpy, python3-vtk9); a missing one is named (a study without it: --no-report).\n"
+    "--version prints the version, git commit, build type, Trilinos, MPI library and compiler; every\n"
+    "results directory records them with the date, host, ranks and command line (status.txt,\n"
+    "summary.csv, effective_parameters.xml; a study's cases.csv, study.json and report.md).\n"
     "--restart DIR continues the run whose results are in DIR from its checkpoint.txt (written every\n"
     "Output/Checkpoint Every steps and when SIGTERM or SIGINT stops a run); the deck must be the same\n"
     "outside its Output sublist, and the checkpoint as written (its last line is its SHA-256) and\n"
     "consistent with the deck's model; a checkpoint that is not is refused and nothing in DIR changes.\n"
     "Exit codes: 0 complete, 1 usage or input error, 2 run incomplete or a results file could not be\n"
     "written (a study: some case did not complete; every case is recorded), 3 unexpected error,\n"
-    "128 + N stopped by signal N (status.txt says so).\n";
+    "4 a Python module render needs is missing, or every case of a study is complete but its report\n"
+    "was not written (a missing module is named with its Debian package), 128 + N stopped by signal N\n"
+    "(status.txt says so).\n";
+
+// The command line as typed (before MPI and Kokkos take their own arguments out), for the provenance.
+std::string g_commandLine;
+
+// beamcontact --version: the version and how this program was built.
+int versionCommand() {
+  const auto fields = bc::drivers::buildProvenance();
+  std::printf("beamcontact %s\n", bc::core::field(fields, "version").c_str());
+  for (const auto& [key, value] : fields)
+    if (key != "version") std::printf("%s: %s\n", key.c_str(), value.c_str());
+  return 0;
+}
 
 // Runs `body` and maps its errors to the exit codes above, each as one line on stderr (printed when
 // `print`: on rank 0 under MPI).
@@ -126,6 +151,7 @@ int studyCommand(const std::vector<std::string>& args, const std::vector<std::st
   }
   bc::drivers::StudyOptions options;
   options.plugins = plugins;
+  options.command = g_commandLine;
   for (std::size_t i = 2; i < args.size(); ++i) {
     if (args[i] == "--output" && i + 1 < args.size()) {
       options.output = args[++i];
@@ -216,6 +242,7 @@ int runDeck(const std::string& deck, const std::string& output, bool quiet, cons
   options.overwrite = overwrite;
   for (const auto& p : bc::input::loadedPlugins())
     options.statusNotes.push_back("plug-in: " + p.path + " sha256 " + p.sha256);
+  options.provenance = bc::core::runProvenance(bc::drivers::buildProvenance(), comm->getSize(), g_commandLine);
   options.writeVtk = problem.writeVtk;
   options.progress = !quiet;
   options.effective = &problem.effective;
@@ -270,9 +297,10 @@ int renderCommand(const std::vector<std::string>& args) {
   }
   std::vector<std::string> command = {"/usr/bin/python3", bc::drivers::scriptPath("render_stages.py")};
   command.insert(command.end(), args.begin() + 1, args.end());
-  // The script exits 1 (2 from its argument parser) on a usage error, 3 otherwise.
+  // The script exits 1 (2 from its argument parser) on a usage error, 4 when a Python module is missing
+  // (one line naming its Debian package), 3 otherwise.
   const int code = bc::drivers::runProgram(command);
-  return code == 0 ? 0 : (code == 1 || code == 2) ? 1 : 3;
+  return code == 0 ? 0 : (code == 1 || code == 2) ? 1 : code == 4 ? 4 : 3;
 }
 
 // beamcontact check DECK.xml: reads the deck and builds the model without running it.
@@ -375,10 +403,12 @@ int main(int argc, char** argv) {
   mallopt(M_MMAP_MAX, 0);
   mallopt(M_TRIM_THRESHOLD, -1);
   std::vector<std::string> args(argv + 1, argv + argc);
+  g_commandLine = bc::core::commandLine(argc, argv);
   guardExit();
   std::vector<std::string> plugins;
   if (!takePlugins(args, plugins)) return 1;
   if (args.empty() || args[0] == "--help" || args[0] == "-h") return helpCommand(args);
+  if ((args[0] == "--version" || args[0] == "version") && args.size() == 1) return versionCommand();
   if (args[0] == "render") return renderCommand(args);
   // A study only starts and watches case processes: no MPI in this process.
   if (args[0] == "study") return studyCommand(args, plugins);

@@ -6,23 +6,47 @@ at four stages of loading (the seed paper's Figs. 4, 6 and 11), from the run's V
                                               [--view ELEVATION,AZIMUTH] [--title TEXT]
 
 Reads results.pvd and, for each stage, the step whose load factor T is nearest, with VTK's XML reader
-(python3-vtk9); draws the faces of every beam cell (hexahedra for rectangles, wedges for circles)
+(python3-vtk9; a missing module is one line naming its Debian package, exit 4); draws the faces of every beam cell (hexahedra for rectangles, wedges for circles)
 with matplotlib and each active contact point's force (on beam B) as an arrow scaled to the largest
 force of the run's stages.
 """
 import argparse
+import importlib
 import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
-import matplotlib
+# The Debian package of each third-party module these scripts import.
+DEBIAN_PACKAGES = {"numpy": "python3-numpy", "matplotlib": "python3-matplotlib", "mpl_toolkits": "python3-matplotlib",
+                   "vtk": "python3-vtk9", "vtkmodules": "python3-vtk9"}
 
+
+def need(module):
+    """Imports `module`; when it cannot be (not installed, or broken: any error while importing it), one
+    line naming the Debian package to install and exit 4."""
+    try:
+        return importlib.import_module(module)
+    except Exception as e:  # noqa: BLE001 - one line, not a traceback
+        missing = isinstance(e, ModuleNotFoundError) and e.name
+        top = (e.name if missing else module).split(".")[0]
+        package = DEBIAN_PACKAGES.get(top)
+        if missing:
+            why, verb, flag = "is not installed", "install", ""
+        else:
+            why, verb, flag = f"cannot be loaded ({type(e).__name__}: {(str(e) + chr(10)).splitlines()[0]})", \
+                "reinstall", " --reinstall"
+        how = f"{verb} the Debian package {package} (apt install{flag} {package})" if package else f"{verb} {top}"
+        print(f"beamcontact: render: the Python module {top} {why}; {how}", file=sys.stderr)
+        sys.exit(4)
+
+
+np = need("numpy")
+matplotlib = need("matplotlib")
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-import vtk  # noqa: E402
-from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
-from vtk.util.numpy_support import vtk_to_numpy  # noqa: E402
+plt = need("matplotlib.pyplot")
+vtk = need("vtk")
+Poly3DCollection = need("mpl_toolkits.mplot3d.art3d").Poly3DCollection
+vtk_to_numpy = need("vtk.util.numpy_support").vtk_to_numpy
 
 COLOURS = ["#8fb3d9", "#e3a16f", "#9fcf8f", "#d98fb3", "#c9c36a"]
 
@@ -121,7 +145,8 @@ def main():
 
 
 if __name__ == "__main__":
-    # Usage errors exit 1 (argparse: 2) with one line; anything else is one line and exit 3.
+    # Usage errors exit 1 (argparse: 2) with one line, a missing module exit 4 (need); anything else is
+    # one line and exit 3.
     try:
         main()
     except SystemExit:

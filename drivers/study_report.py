@@ -19,18 +19,44 @@ time with its spread) and the figures:
   dash-dot lines without X, on the same scale;
 - load-displacement curves of every tracked-point output, one line per case;
 - Newton iterations per step, and the residual history of each case's last converged step.
+It needs matplotlib (python3-matplotlib): without it, one line naming the package and exit 4
+(`study_report.py --check-modules` checks only that, for `beamcontact study` before its cases run).
 """
 import csv
+import importlib
 import json
 import math
 import os
 import sys
 
-import matplotlib
+# The Debian package of each third-party module these scripts import.
+DEBIAN_PACKAGES = {"numpy": "python3-numpy", "matplotlib": "python3-matplotlib", "mpl_toolkits": "python3-matplotlib",
+                   "vtk": "python3-vtk9", "vtkmodules": "python3-vtk9"}
 
+
+def need(module):
+    """Imports `module`; when it cannot be (not installed, or broken: any error while importing it), one
+    line naming the Debian package to install and exit 4."""
+    try:
+        return importlib.import_module(module)
+    except Exception as e:  # noqa: BLE001 - one line, not a traceback
+        missing = isinstance(e, ModuleNotFoundError) and e.name
+        top = (e.name if missing else module).split(".")[0]
+        package = DEBIAN_PACKAGES.get(top)
+        if missing:
+            why, verb, flag = "is not installed", "install", ""
+        else:
+            why, verb, flag = f"cannot be loaded ({type(e).__name__}: {(str(e) + chr(10)).splitlines()[0]})", \
+                "reinstall", " --reinstall"
+        how = f"{verb} the Debian package {package} (apt install{flag} {package})" if package else f"{verb} {top}"
+        print(f"beamcontact: study report: the Python module {top} {why}; {how}, or run the study with --no-report", file=sys.stderr)
+        sys.exit(4)
+
+
+matplotlib = need("matplotlib")
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-from matplotlib.lines import Line2D  # noqa: E402
+plt = need("matplotlib.pyplot")
+Line2D = need("matplotlib.lines").Line2D
 
 
 def number(text):
@@ -277,6 +303,23 @@ def curves(study):
     return figures
 
 
+def provenance(meta, rows):
+    """The report's last section: what wrote it (study.json's provenance), and the cases that another
+    version or commit ran (cases kept from an earlier study run; cases.csv's version and commit)."""
+    p = meta.get("provenance", {})
+    if not p:
+        return []
+    lines = ["## Provenance", "",
+             f"BeamContact {p.get('version')}, commit {p.get('commit')} ({p.get('build_type')} build; Trilinos "
+             f"{p.get('trilinos')}; {p.get('mpi')}; {p.get('compiler')}), on {p.get('host')} at {p.get('date')}: "
+             f"`{p.get('command')}`.", ""]
+    other = [r["case"] for r in rows if (r.get("version"), r.get("commit")) != (p.get("version"), p.get("commit"))
+             and r.get("commit")]
+    if other:
+        lines += [f"Cases run by another version or commit (see cases.csv): {', '.join(other)}.", ""]
+    return lines
+
+
 def main(directory):
     study = Study(directory)
     meta, rows, columns, outputs = study.meta, study.rows, study.columns, study.meta["outputs"]
@@ -361,12 +404,15 @@ def main(directory):
         lines += ["## Curves", ""]
         for title, stem in figures:
             lines += [f"### {title}", "", f"![{title}]({stem}.png) ([PDF]({stem}.pdf))", ""]
+    lines += provenance(meta, rows)
     with open(os.path.join(directory, "report.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
     print(f"report: {os.path.join(directory, 'report.md')}")
 
 
 if __name__ == "__main__":
+    if sys.argv[1:] == ["--check-modules"]:  # beamcontact study, before its cases: the imports above ran
+        sys.exit(0)
     if len(sys.argv) != 2:
         sys.exit("usage: study_report.py STUDY_DIR")
     try:

@@ -3,12 +3,23 @@
 # build tree to a scratch prefix, build the plug-in with find_package(BeamContact), check its tangent
 # against central differences, run its study with the installed program from a folder holding only
 # the two decks, check the study's normal forces against their closed form, and render a case.
+# The installed libraries' SONAME versions are checked first.
 # Usage: external_strategy.sh BUILD_DIR SOURCE_DIR WORK_DIR
 set -eu
 build=$1 src=$2 work=$3
 rm -rf "$work"
 mkdir -p "$work/decks"
 cmake --install "$build" --prefix "$work/prefix" > "$work/install.log"
+# Each installed library carries its version: the file libbeamcontact_X.so.0.1.0 and the SONAME
+# libbeamcontact_X.so.0.1 (major.minor while the major version is 0; CHANGELOG.md, "Versions").
+version=$("$work/prefix/bin/beamcontact" --version | sed -n 's/^beamcontact //p')
+case $version in 0.*) soversion=${version%.*} ;; *) soversion=${version%%.*} ;; esac
+for lib in core linalg elements constraints input; do
+  file=$(find "$work/prefix" -name "libbeamcontact_$lib.so.$version")
+  test -n "$file" || { echo "libbeamcontact_$lib.so.$version is not installed"; exit 1; }
+  readelf -d "$file" | grep -q "(SONAME) .*\[libbeamcontact_$lib.so.$soversion\]" ||
+    { echo "libbeamcontact_$lib: SONAME is not libbeamcontact_$lib.so.$soversion"; exit 1; }
+done
 cmake -S "$src/examples/external-strategy" -B "$work/example" -DCMAKE_PREFIX_PATH="$work/prefix" \
   > "$work/configure.log" 2>&1 || { cat "$work/configure.log"; exit 1; }
 cmake --build "$work/example" -j 2 > "$work/build.log" 2>&1 || { cat "$work/build.log"; exit 1; }

@@ -105,7 +105,7 @@ for k in range(kills):
         print(f"kill {k:2d}: {signal.Signals(sig).name:7s} at {moment:5.2f} s: killed while starting, no results")
         continue
     with open(os.path.join(d, "status.txt")) as f:
-        status = f.read().strip()
+        status = f.readline().strip()  # the status (the provenance follows it)
     if status.startswith("complete"):
         verdict = "finished before the signal"
         if code not in (0, -sig, 128 + sig):  # a signal while exiting after the last write is harmless
