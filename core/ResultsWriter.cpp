@@ -510,14 +510,25 @@ void ResultsWriter::writeSummary(const RunSummary& summary) {
     f << "completed,last_T,steps,newton_iterations,max_newton_per_step,passes,solve_seconds,peak_memory_mb";
     for (const auto& [column, seconds] : summary.stages) f << ',' << column;
     f << ",warnings";  // how many warnings status.txt lists (e.g. a beam strained beyond the model's 5 %)
+    // Then the provenance, a column each (after the figures, so readers by name or position read
+    // those as before; values with a comma or a quote are quoted as CSV does).
+    for (const auto& [key, value] : provenance_) f << ',' << key;
     f << '\n'
       << (summary.run.completed ? 1 : 0) << ',' << summary.run.lastT << ',' << summary.run.steps << ','
       << summary.run.newtonIterations << ',' << summary.maxIterationsPerStep << ',' << summary.passes << ','
       << summary.solveSeconds << ',' << usage.ru_maxrss / 1024.0;
     for (const auto& [column, seconds] : summary.stages) f << ',' << seconds;
-    f << ',' << summary.run.warnings.size() << '\n';
-    // After the row, so readers of the header and the first row (csv.DictReader, awk) read it as before.
-    f << fieldLines(provenance_, "# ");
+    f << ',' << summary.run.warnings.size();
+    for (const auto& [key, value] : provenance_) {
+      std::string quoted = value;
+      if (value.find_first_of(",\"\n") != std::string::npos) {
+        quoted = "\"";
+        for (char c : value) quoted += c == '"' ? std::string("\"\"") : std::string(1, c == '\n' ? ' ' : c);
+        quoted += '"';
+      }
+      f << ',' << quoted;
+    }
+    f << '\n';
     writeFileAtomically(own("summary.csv"), f.str());
   });
 }

@@ -6,8 +6,8 @@
   Trilinos x.y.z and the MPI library whose version `mpirun --version` prints;
 - a run of Example 1 carries the same version and commit, the date (UTC, within the test's run), this
   host, the rank count and its command line (quoted as a shell would split it back) in status.txt ("key: value" lines after the status),
-  summary.csv ("# key: value" lines after its row, which csv.DictReader and awk readers skip: the
-  header and the row are as before) and effective_parameters.xml (a processing instruction; the file
+  summary.csv (a column each after its figures, quoted as CSV where needed: the figures' columns
+  are as before) and effective_parameters.xml (a processing instruction; the file
   parses as XML and runs as a deck to the same tracked_points.csv, byte for byte);
 - on 2 ranks status.txt says "ranks: 2";
 - cmake/BuildInfo.cmake records "unknown" for a folder inside a checkout (not its top), and for a
@@ -143,7 +143,11 @@ def check_run(out, ranks, command_words):
         fail(f"{out}: status {status[0]!r}")
     fields = dict(line.split(": ", 1) for line in status[1:] if ": " in line)
     summary_lines = open(os.path.join(out, "summary.csv")).read().splitlines()
-    comments = dict(line[2:].split(": ", 1) for line in summary_lines if line.startswith("# "))
+    if len(summary_lines) != 2:
+        fail(f"{out}/summary.csv has {len(summary_lines)} lines (a header and a row)")
+    row = next(csv.DictReader(open(os.path.join(out, "summary.csv"))))
+    columns = {k: v for k, v in row.items() if k in ("version", "commit", "build_type", "trilinos", "mpi",
+                                                        "compiler", "date", "host", "ranks", "command")}
     xml = open(os.path.join(out, "effective_parameters.xml")).read()
     pi = re.search(r"<\?beamcontact(.*?)\?>", xml, re.S)
     if not pi:
@@ -151,7 +155,7 @@ def check_run(out, ranks, command_words):
     unescape = {"&quot;": '"', "&lt;": "<", "&gt;": ">", "&amp;": "&"}
     in_xml = {k: re.sub("&(quot|lt|gt|amp);", lambda m: unescape[m[0]], v)
               for k, v in re.findall(r'(\w+)="([^"]*)"', pi[1])}
-    for name, got in (("status.txt", fields), ("summary.csv", comments), ("effective_parameters.xml", in_xml)):
+    for name, got in (("status.txt", fields), ("summary.csv", columns), ("effective_parameters.xml", in_xml)):
         for key in ("version", "commit", "build_type", "trilinos", "mpi", "compiler", "date", "host", "ranks",
                     "command"):
             if key not in got:
@@ -170,9 +174,8 @@ def check_run(out, ranks, command_words):
         fail(f"host {fields['host']} (this is {socket.gethostname()}), ranks {fields['ranks']} (expected {ranks})")
     if shlex.split(fields["command"]) != command_words:
         fail(f"command {fields['command']!r}, expected {' '.join(command_words)!r}")
-    # The readers of summary.csv read its header and first row as before.
-    row = next(csv.DictReader(open(os.path.join(out, "summary.csv"))))
-    if summary_lines[0].split(",")[0] != "completed" or summary_lines[0].split(",")[-1] != "warnings":
+    # The figures come first, as before; the provenance columns after "warnings".
+    if summary_lines[0].split(",")[0] != "completed" or summary_lines[0].split(",")[-11] != "warnings":
         fail(f"summary.csv header: {summary_lines[0]}")
     if row["completed"] != "1" or not summary_lines[1].startswith("1,1,50,"):
         fail(f"summary.csv row: {summary_lines[1]}")
