@@ -160,7 +160,7 @@ void ContactReport::lineWarnings(std::vector<std::string>& w) const {
       << " of the thinner section's inscribed radius: the contact zone there is short against the elements (beams "
          "crossing at a "
          "small angle, or a beam end on the other beam), so the contact force is not resolved; refine beam \""
-      << beams[pairs[pair].beamA].name << "\" or use Penalty or Augmented Lagrange";
+      << beams[pairs[pair].beamA].name << "\" or use Penalty (whose Gauss points each hold their own gap)";
     w.push_back(s.str());
   }
   for (const auto& [pair, held] : lines_.heldEnds()) {
