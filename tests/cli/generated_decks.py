@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """A generator's deck (beamcontact generate KIND: grid and weave 3 x 3, network of 20 fibres, strand of
-3 wires stretched by 0.4) run with each strategy (the strand: Penalty and Lagrange multipliers), and
+3 wires stretched by 0.4) run with each strategy, and
 with Penalty on 2 ranks. Checks:
   - every run completes, with contact;
   - equilibrium at T = 1 of every beam: the forces its contact points apply on it (on a pair's beam B
@@ -8,7 +8,8 @@ with Penalty on 2 ranks. Checks:
     support reactions, component by component (1e-6 of the largest reaction: the beams carry
     nothing else);
   - the contact pattern is the same for every strategy (the same points active; not for the strand);
-  - Lagrange and augmented Lagrange (Gap Tolerance 1e-9) agree (total normal force, 1e-4);
+  - Lagrange and augmented Lagrange (Gap Tolerance 1e-9; the strand its default) agree (total normal
+    force, 1e-4);
   - 2 ranks give the 1-rank contact rows (1e-8 of the largest value).
 The strand's three pairs of wires are in line contact along the lay (10 line points or more over
 half the length or more), with each of its strategies, and Lagrange and Penalty agree on the total
@@ -40,10 +41,8 @@ GENERATOR_OPTIONS = {"grid": ["--n", "3", "--m", "3"], "weave": ["--n", "3", "--
                      "strand": ["--wires", "3", "--stretch", "0.4"], "network": ["--fibres", "20", "--penalty", "1e5", "--friction", "0"]}
 
 
-# The strand's wires are in line contact. Penalty and Lagrange multipliers; augmented Lagrange's
-# augmentations converge slowly on it (per Gauss point, over contact zones shorter than an element: with
-# its default Gap Tolerance 1e-6 it stops at T = 0.019 after 50 passes), so it is left out here.
-STRATEGIES = {"strand": ["Penalty", "Lagrange Multiplier"]}
+# The strand's wires are in line contact, with every strategy.
+STRATEGIES = {"strand": ["Penalty", "Lagrange Multiplier", "Augmented Lagrange"]}
 
 
 def run(exe, deck, out, mpi=None):
@@ -126,8 +125,11 @@ def main():
         set_parameter(tree.getroot(), "Contact/Enforcement/Type", "string", strategy)
         set_parameter(tree.getroot(), "Output/Write VTK", "bool", "false")
         # Augmented Lagrange stops at |g_N| <= Gap Tolerance: its force differs from the Lagrange one
-        # by about the contact stiffness times that gap, so the comparison below needs it small.
-        set_parameter(tree.getroot(), "Contact/Enforcement/Augmented Lagrange/Gap Tolerance", "double", "1e-9")
+        # by about the contact stiffness times that gap, so the comparison below needs it small. (The
+        # strand's lines: its default, 1e-6, gives Lagrange's total to 5e-7; its weighted gaps stay
+        # near 2e-9, the floor Newton's tolerance leaves, so 1e-9 is not met there.)
+        if kind != "strand":
+            set_parameter(tree.getroot(), "Contact/Enforcement/Augmented Lagrange/Gap Tolerance", "double", "1e-9")
         deck = os.path.join(work, strategy.replace(" ", "_") + ".xml")
         tree.write(deck)
         active, total, balance, contact = run(exe, deck, os.path.join(work, strategy.replace(" ", "_")))
