@@ -812,3 +812,48 @@ TEST(LineContact, AngleSweepEveryStrategyBothSectionsCompletesInEquilibriumWithi
         }
       }
 }
+
+// A pass after the first solves at least once. A rod (E = 1e9, r = 0.5) from x = -10 to 110, pinned at
+// its ends off the ground (0 to 100, held at every node and loaded there by 1e6, which its supports
+// take), starts 1e-5 into the ground (Allow Initial Penetration). The first pass, without contact,
+// is in equilibrium at once; the next activates the line nodes, whose rows (gaps of 1e-5 times their
+// lengths, about 1e-4) lie below a residual measured against the load of 1e6 (1e-9 of it). Accepted
+// unsolved, their multipliers stayed 0 and the run ended "complete" with no contact force and the rod
+// still 1e-5 in. Solved: the contact pushes the rod out (a force, balanced by the rod's pins to 1e-9
+// of it) and every active line node's weighted gap is closed (Lagrange: to 1e-9 of delta; Augmented
+// Lagrange: within its Gap Tolerance).
+TEST(LineContact, APassAfterAnActiveSetChangeSolvesItsNewRows) {
+  const double E = 1e9, delta = 1e-5, a = 10.0;
+  for (const std::string type : {"Lagrange Multiplier", "Augmented Lagrange"}) {
+    auto deck = parallelBeams(type, 10, 12, 0.0, E, 6, 0.0, -delta);
+    input::replaceAtPath(deck, "Beams/rod/Start", Teuchos::Array<double>(std::vector<double>{-a, 0.0, 1.0 - delta}));
+    input::replaceAtPath(deck, "Beams/rod/End", Teuchos::Array<double>(std::vector<double>{100 + a, 0.0, 1.0 - delta}));
+    input::setAtPath(deck, "Contact/Allow Initial Penetration", true);
+    for (int i = 0; i <= 10; ++i) support(deck, "ground", i, "all");
+    support(deck, "rod", 0, "ux uy uz rx");
+    support(deck, "rod", 12, "uy uz rx");
+    Teuchos::ParameterList& load = deck.sublist("Loads").sublist("held");
+    load.set("Beam", std::string("ground"));
+    load.set("Node", std::string("5"));
+    load.set("Force", Teuchos::Array<double>(std::vector<double>{0.0, 0.0, -1e6}));
+    auto p = input::buildProblem(deck, "pass_solves");
+    const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "pass_solves");
+    ASSERT_TRUE(r.report.completed) << type << ": " << r.report.failure;
+    const auto s = lineSums(p);
+    double nodeGap = 0.0;
+    int nodes = 0;
+    for (const auto& [key, q] : p.contact->points())
+      if (q.node() && q.extraCount > 0) {
+        ++nodes;
+        nodeGap = std::max(nodeGap, std::abs(q.gap));
+      }
+    const auto reactions = lastReactions(test::scratchDirectory("pass_solves_np1"));
+    const double pins = -(reactions.at("rod 0_Fz") + reactions.at("rod 12_Fz"));
+    std::printf("%s: contact force %.9e, the rod's pins %.9e, %d active line nodes, weighted gaps within %.1e\n",
+                type.c_str(), s.total, pins, nodes, nodeGap);
+    EXPECT_GT(s.total, 0.0) << type;
+    EXPECT_NEAR(s.total, pins, 1e-9 * 1e6) << type;
+    EXPECT_GT(nodes, 0) << type;
+    EXPECT_LT(nodeGap, type == "Lagrange Multiplier" ? 1e-9 * delta : 1e-6) << type;
+  }
+}
