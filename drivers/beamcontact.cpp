@@ -95,7 +95,8 @@ const Command& runSpec() {
        {"overwrite", 0, "", "",
         "write into a directory that holds files beamcontact did not write (beside them; only its own "
         "files are replaced)"},
-       {"quiet", 'q', "", "", "print nothing but errors and warnings (no header, step lines, cuts or results)"},
+       {"quiet", 'q', "", "",
+        "print nothing but errors and warnings (no header, no step, cut or Newton iteration lines, no results)"},
        {"timers", 0, "", "", "print the timer table at the end (it is always written to timers.txt)"},
        {"restart", 0, "DIR", "none: start at T = 0",
         "continue the run whose results are in DIR from its checkpoint.txt (written every Output/Checkpoint "
