@@ -50,7 +50,7 @@ def timers(path):
 
 
 def run_once(exe, deck, out, ranks, mpiexec):
-    cmd = [exe, "run", deck, "--output", out, "--quiet"]
+    cmd = [exe, "run", deck, "--output", out]  # not --quiet: the header line gives the node count
     if ranks > 1:
         cmd = [mpiexec, "-np", str(ranks), "--oversubscribe"] + cmd
     # The child's own resource use (wait4): its peak resident memory, or with mpirun that of its

@@ -88,19 +88,43 @@ double resume(StaticSolver& solver, RunSummary& summary, const RunOptions& optio
   return earlierSeconds;
 }
 
-// One line per converged step on rank 0.
-void printProgress(const StepReport& step, const Model& model) {
-  std::printf("step %4d  T = %.6f  Newton %2d  |r| %.3e", step.step, step.T, step.iterations,
-              step.history.back().residualNorm);
-  for (const auto& c : model.contributions) {
-    const std::string text = c->progressSummary();
-    if (!text.empty()) std::printf("  %s", text.c_str());
-  }
-  if (step.cutLevel) std::printf("  (cut level %d)", step.cutLevel);
-  std::printf("\n");
-  std::fflush(stdout);
+// A duration for the progress line: "85 ms", "4.2 s", "3 min 05 s", "2 h 07 min".
+std::string shortDuration(double seconds) {
+  char text[32];
+  if (seconds < 1.0) std::snprintf(text, sizeof text, "%.0f ms", 1e3 * seconds);
+  else if (seconds < 60.0) std::snprintf(text, sizeof text, "%.1f s", seconds);
+  else if (seconds < 3600.0) std::snprintf(text, sizeof text, "%d min %02d s", int(seconds / 60), int(seconds) % 60);
+  else std::snprintf(text, sizeof text, "%d h %02d min", int(seconds / 3600), int(seconds / 60) % 60);
+  return text;
 }
 
+// One line per converged step on rank 0: T, Newton iterations, the residual, the contributions' counts,
+// the step's wall time and the time left, estimated from the pace so far: elapsed (1 - T) / (T - T0),
+// T0 the load factor this process started from.
+struct Progress {
+  using Clock = std::chrono::steady_clock;
+  double T0 = 0.0;
+  Clock::time_point start = Clock::now(), last = start;
+
+  void print(const StepReport& step, const Model& model) {
+    const auto now = Clock::now();
+    const double stepSeconds = std::chrono::duration<double>(now - last).count();
+    const double elapsed = std::chrono::duration<double>(now - start).count();
+    last = now;
+    std::printf("step %4d  T = %.6f  Newton %2d  |r| %.3e", step.step, step.T, step.iterations,
+                step.history.back().residualNorm);
+    for (const auto& c : model.contributions) {
+      const std::string text = c->progressSummary();
+      if (!text.empty()) std::printf("  %s", text.c_str());
+    }
+    if (step.cutLevel) std::printf("  (cut level %d)", step.cutLevel);
+    std::printf("  %s/step", shortDuration(stepSeconds).c_str());
+    if (step.T > T0 && step.T < 1.0)
+      std::printf(", %s left", shortDuration(elapsed * (1.0 - step.T) / (step.T - T0)).c_str());
+    std::printf("\n");
+    std::fflush(stdout);
+  }
+};
 // Where the results go, and what status.txt says beside its first line.
 ResultsWriter::Where where(const RunOptions& options) {
   ResultsWriter::Where w;
@@ -112,7 +136,7 @@ ResultsWriter::Where where(const RunOptions& options) {
   return w;
 }
 
-// The run closed: the run's timer stopped, its summary (timers.txt, printed when `print`), what the
+// The run closed: the run's timer stopped, its summary (timers.txt, printed when `print`: --timers), what the
 // contributions could not model among the run's warnings, the main stages' times in summary.csv
 // (this process's times; a restart counts its own part only), the status.
 void finish(ResultsWriter& writer, RunSummary& summary, const Model& model, Teuchos::StackedTimer& timer,
@@ -122,6 +146,8 @@ void finish(ResultsWriter& writer, RunSummary& summary, const Model& model, Teuc
   Teuchos::StackedTimer::OutputOptions opts;
   opts.output_fraction = true;
   opts.output_minmax = comm->getSize() > 1;
+  // Teuchos' three-line note on timers missing on some ranks means nothing on one rank.
+  opts.print_warnings = comm->getSize() > 1;
   timer.report(report, comm, opts);
   for (const auto& c : model.contributions)
     for (const auto& w : c->warnings()) summary.run.warnings.push_back(w);
@@ -173,13 +199,15 @@ RunResult simulate(Model& model, const SolverSettings& settings, const Teuchos::
     };
 
     const auto t0 = std::chrono::steady_clock::now();
+    Progress progress;
+    progress.T0 = options.restart ? solver.runReport().lastT : 0.0;
     RunReport run = solver.run([&](const StepReport& step, const State& state, const Assembler& assembler) {
       writer.writeStep(step, state, assembler.fullResidual());
       result.steps.push_back(step);
       summary.maxIterationsPerStep = std::max(summary.maxIterationsPerStep, step.iterations);
       summary.passes += step.passes;
       if (options.checkpointEvery > 0 && step.step % options.checkpointEvery == 0) checkpoint();
-      if (root && options.progress) printProgress(step, model);
+      if (root && options.progress) progress.print(step, model);
     });
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     // A run stopped by a signal keeps its last converged step for --restart.
@@ -189,7 +217,7 @@ RunResult simulate(Model& model, const SolverSettings& settings, const Teuchos::
     }
     summary.run = run;
     summary.solveSeconds = earlierSeconds + (run.interrupted ? 0.0 : seconds);
-    finish(writer, summary, model, *timer, comm, root && options.progress);
+    finish(writer, summary, model, *timer, comm, root && options.printTimers);
     result.report = summary.run;
     result.solveSeconds = summary.solveSeconds;
     result.finalState = solver.state();

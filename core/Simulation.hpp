@@ -22,7 +22,8 @@ struct RunOptions {
   std::vector<std::string> statusNotes;  // lines status.txt carries after its first (the loaded plug-ins)
   Fields provenance;  // what produced the run (Provenance.hpp): in status.txt, summary.csv, effective_parameters.xml
   bool writeVtk = true;
-  bool progress = true;  // one line per step on rank 0
+  bool progress = true;  // one line per step on rank 0 (T, iterations, time per step, time left)
+  bool printTimers = false;  // the timer table on stdout (rank 0) as well as in timers.txt
   const Teuchos::ParameterList* effective = nullptr;  // written as effective_parameters.xml
   int checkpointEvery = 0;  // write checkpoint.txt after every this many converged steps (0: never)
   bool restart = false;  // continue from outputDirectory/checkpoint.txt

@@ -209,7 +209,8 @@ bool StaticSolver::increment(const StepCallback& onStep) {
       run_.failure = s.str();
       return false;
     }
-    if (comm_->getRank() == 0) std::printf("  cutting increment T = %.6g -> %.6g (%s)\n", at.T, Tn, failure.c_str());
+    if (settings_.printCuts && comm_->getRank() == 0)
+      std::printf("  cutting increment T = %.6g -> %.6g (%s)\n", at.T, Tn, failure.c_str());
     ++at.level;
   }
   progress_ = Progress{i + 1, Tb, 0, 0};

@@ -78,6 +78,7 @@ struct SolverSettings {
   double incrementTolerance = 1e-8;
   double divergenceFactor = 1e10;  // ||r|| above this times the reference is divergence
   bool printIterations = false;  // one line per Newton iteration on rank 0
+  bool printCuts = true;  // one line per step cut on rank 0
   bool extrapolate = true;  // predictor: the free dofs continue the last step's increment
   LineSearch lineSearch = LineSearch::WhenStalled;  // backtracking on ||r||
   int maxBacktracks = 8;

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <map>
+#include <optional>
 #include <random>
 #include <sstream>
 
@@ -18,6 +19,7 @@
 #include "core/Parameters.hpp"
 #include "core/PointGrid.hpp"
 #include "core/SmallMath.hpp"
+#include "CommandLine.hpp"
 
 namespace bc::drivers {
 
@@ -438,34 +440,61 @@ Options optionsOf(const std::string& kind) {
   return o;
 }
 
-// Reads the --option value pairs of `args` (after the kind) into `o`; returns --output (empty: none).
-std::string readOptions(const std::vector<std::string>& args, const std::string& kind, Options& o) {
-  std::string output;
-  for (std::size_t i = 2; i < args.size(); i += 2) {
-    const std::string key = args[i].rfind("--", 0) == 0 ? args[i].substr(2) : "";
-    if (key == "output" && i + 1 < args.size()) {
-      output = args[i + 1];
-      continue;
-    }
-    const auto it = o.values.find(key);
-    if (it == o.values.end() || i + 1 >= args.size()) {
-      std::string names;
-      for (const auto& [k, v] : o.values) names += " --" + k;
-      throw InputError("generate " + kind + ": unknown or incomplete option \"" + args[i] + "\"; options are" + names +
-                       " --output");
-    }
+// A default as the --help shows it: the shortest text that reads back as the same number.
+std::string shortNumber(double v) {
+  char text[32];
+  if (v == std::floor(v) && std::abs(v) < 1e7) {
+    std::snprintf(text, sizeof text, "%.0f", v);
+    return text;
+  }
+  for (int digits = 1; digits <= 17; ++digits) {
+    std::snprintf(text, sizeof text, "%.*g", digits, v);
+    if (std::stod(text) == v) break;
+  }
+  return text;
+}
+
+// The options of `kind` as a command-line table (CommandLine.hpp): its parsing and its --help.
+cli::Command commandOf(const std::string& kind, const Options& o) {
+  cli::Command c;
+  c.name = "generate " + kind;
+  c.summary = kind == "grid"      ? "Two layers of crossing circular beams pressed together."
+              : kind == "weave"   ? "A plain-weave mat of undulating yarns whose warps are pulled."
+              : kind == "network" ? "Random straight fibres in a box, compressed."
+                                  : "Helical wires around an axis (and a core), pulled.";
+  c.summary +=
+      "\nWrites the deck to FILE, or prints it. Units are those of the options (consistent length and "
+      "force); docs/input.md describes each generator.";
+  for (const auto& [name, value] : o.values)
+    c.options.push_back({name, 0, "X", shortNumber(value.first), value.second});
+  c.options.push_back({"output", 'o', "FILE", "print the deck on standard output", "the deck file to write"});
+  return c;
+}
+
+// Reads the options of `args` (after the kind) into `o`; returns --output (empty: none), or nullopt
+// when --help was printed.
+std::optional<std::string> readOptions(const std::vector<std::string>& args, const std::string& kind, Options& o) {
+  const cli::Command command = commandOf(kind, o);
+  const cli::Parsed parsed = cli::parse(command, std::vector<std::string>(args.begin() + 2, args.end()));
+  if (parsed.help) {
+    std::fputs(cli::help(command).c_str(), stdout);
+    return std::nullopt;
+  }
+  for (const auto& [key, values] : parsed.values) {
+    if (key == "output") continue;
+    const std::string& text = values.back();
     std::size_t used = 0;
     double v = 0;
     try {
-      v = std::stod(args[i + 1], &used);
+      v = std::stod(text, &used);
     } catch (...) {
       used = 0;
     }
-    if (used != args[i + 1].size() || !std::isfinite(v))
-      throw InputError("generate " + kind + ": --" + key + " takes a number, got \"" + args[i + 1] + "\"");
-    it->second.first = v;
+    if (used != text.size() || !std::isfinite(v))
+      throw cli::UsageError(command.name, "--" + key + " takes a number, got \"" + text + "\"");
+    o.values.at(key).first = v;
   }
-  return output;
+  return parsed.get("output");
 }
 
 // The deck as XML, headed by the options it was generated with.
@@ -500,15 +529,30 @@ void writeDeck(const std::string& xml, const std::string& output) {
 }  // namespace
 
 int generateDeck(const std::vector<std::string>& args) {
-  if (args.size() < 2) throw InputError("generate needs a kind: grid, weave, network or strand");
+  const std::string kinds = "grid, weave, network or strand";
+  if (args.size() < 2 || args[1] == "--help" || args[1] == "-h") {
+    if (args.size() < 2) throw cli::UsageError("generate", "a kind is needed: " + kinds);
+    std::printf(
+        "usage: beamcontact generate KIND [--OPTION VALUE]... [-o FILE]\n\n"
+        "Writes a many-beam deck from a few parameters (docs/input.md). KIND is one of\n"
+        "  grid      two layers of crossing beams pressed together\n"
+        "  weave     a plain-weave mat of undulating yarns whose warps are pulled\n"
+        "  network   random fibres in a box, compressed\n"
+        "  strand    helical wires, pulled\n"
+        "beamcontact generate KIND --help lists KIND's options with their defaults and meaning.\n");
+    return 0;
+  }
   const std::string kind = args[1];
+  if (kind != "grid" && kind != "weave" && kind != "network" && kind != "strand")
+    throw cli::UsageError("generate", "unknown kind \"" + kind + "\"; kinds are " + kinds);
   Options o = optionsOf(kind);
-  const std::string output = readOptions(args, kind, o);
+  const auto output = readOptions(args, kind, o);
+  if (!output) return 0;
   const ParameterList deck = kind == "grid"     ? grid(o)
                              : kind == "weave"  ? weave(o)
                              : kind == "strand" ? strand(o)
                                                 : network(o);
-  writeDeck(deckXml(kind, o, deck), output);
+  writeDeck(deckXml(kind, o, deck), *output);
   return 0;
 }
 

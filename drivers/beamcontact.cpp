@@ -1,11 +1,14 @@
 // beamcontact: command-line driver. Parses arguments, reads and validates the deck, runs it.
-//   beamcontact run DECK.xml [--output DIR] [--quiet] [--restart DIR]
-//   beamcontact check DECK.xml
-//   beamcontact study STUDY.xml [--output DIR] [--parallel N] [--timing [N]] [--no-report]
+//   beamcontact run DECK.xml [-o DIR] [-q] [--overwrite] [--timers] [--restart DIR] [--plugin LIB]...
+//   beamcontact check DECK.xml [--plugin LIB]...
+//   beamcontact study STUDY.xml [-o DIR] [--parallel N] [--timing [N]] [--no-report] [--plugin LIB]...
 //   beamcontact render RESULTS_DIR OUT.png [--stages T1,T2,...] [--view ELEV,AZIM] [--title TEXT]
+//   beamcontact generate KIND [--OPTION VALUE]... [-o FILE]
 //   beamcontact --print-valid-parameters
 //   beamcontact --version (or version)
-//   beamcontact --help
+//   beamcontact --help, beamcontact COMMAND --help
+// Each command's options are a table (CommandLine.hpp) that drives its parsing and its --help; the
+// options are read before MPI and Kokkos start, so --help and usage errors come first and alone.
 // Exit codes: 0 run complete; 1 usage or input error; 2 run incomplete (a step failed to converge, or
 // a results file could not be written); 3 unexpected error; 4 a Python module render needs is missing,
 // or a study's cases all completed but its report was not written (a missing module is named with its
@@ -28,6 +31,7 @@
 #include "constraints/EnforcerRegistry.hpp"
 #include "input/Plugins.hpp"
 #include "Generate.hpp"
+#include "CommandLine.hpp"
 
 #include "core/Faults.hpp"
 #include "BuildInfo.hpp"
@@ -38,55 +42,145 @@
 namespace {
 
 const char* kUsage =
-    "usage: beamcontact run DECK.xml [--output DIR] [--overwrite] [--quiet] [--restart DIR] [--plugin LIB]...\n"
+    "usage: beamcontact run DECK.xml [-o DIR] [-q] [--overwrite] [--timers] [--restart DIR] [--plugin LIB]...\n"
     "       beamcontact check DECK.xml [--plugin LIB]...\n"
-    "       beamcontact study STUDY.xml [--output DIR] [--overwrite] [--parallel N] [--timing [N]] [--no-report] "
+    "       beamcontact study STUDY.xml [-o DIR] [--overwrite] [--parallel N] [--timing [N]] [--no-report] "
     "[--plugin LIB]...\n"
     "       beamcontact render RESULTS_DIR OUT.png [--stages T1,T2,...] [--view ELEV,AZIM] [--title TEXT]\n"
-    "       beamcontact generate grid|weave [--n N] [--m M] [--spacing S] [--radius R] [--gap G]\n"
-    "                [--press P (grid) | --pull P (weave)] [--elements E] [--youngs-modulus Y] [--friction MU]\n"
-    "                [--penalty EPS] [--increments K] [--output FILE]\n"
-    "       beamcontact generate network [--fibres N] [--box B] [--height H] [--length L] [--tilt DEG]\n"
-    "                [--min-angle DEG] [--compress C] [--seed S] [--radius R] [--gap G] [--elements E] ...\n"
-    "       beamcontact generate strand [--wires W] [--core 0|1] [--lay-length L] [--turns T] [--stretch S] ...\n"
+    "       beamcontact generate grid|weave|network|strand [--OPTION VALUE]... [-o FILE]\n"
     "       beamcontact --print-valid-parameters [--plugin LIB]...\n"
-    "       beamcontact --version\n"
-    "       beamcontact --help\n"
+    "       beamcontact version (or --version)\n"
+    "       beamcontact COMMAND --help (or -h): every option of COMMAND with its default and meaning\n"
     "\n"
     "Runs a BeamContact XML deck: geometrically nonlinear 3D beams, load factor T from 0 to 1.\n"
-    "Results (CSV, VTK, status, effective parameters) go to the deck's Output/Directory, by\n"
-    "default results/<deck name>, or to DIR.\n"
-    "--plugin LIB loads a shared library with strategies of its own (a study passes it to every case);\n"
-    "a deck's Plugins list only names what it needs: each must be given with --plugin too, since a\n"
-    "plug-in runs code. docs/contact.md shows how to write one.\n"
-    "A results or study directory holds beamcontact-manifest.txt, the files beamcontact wrote there; a\n"
-    "directory holding anything else is refused, unless --overwrite, which writes beside the other\n"
-    "files and replaces only beamcontact's own. A deck's output paths are relative, without \"..\" and\n"
-    "links; --output may name any directory.\n"
-    "generate writes a many-beam deck (grid: two layers of crossing beams pressed together; weave: a\n"
-    "plain-weave mat of undulating yarns whose warps are pulled; network: random fibres in a box,\n"
-    "compressed; strand: helical wires, pulled); docs/input.md lists the options.\n"
+    "Options may come before or after the deck, as --option VALUE or --option=VALUE; -o is --output,\n"
+    "-q is --quiet. A usage error is one line naming the problem and exit code 1.\n"
+    "run: results (CSV, VTK, status, effective parameters, timers.txt) go to the deck's Output/Directory,\n"
+    "by default results/<deck name>, or to DIR.\n"
     "check reads and validates a deck and checks the model (supports, duplicates) without running it.\n"
-    "A study runs every case of a study deck (a base deck and the parameters to vary), N at a time\n"
-    "(default: one per core), and writes cases.csv, report.md and plots (docs/studies.md); its timings\n"
-    "are indicative. --timing [N] runs the cases one at a time without VTK output, each N times\n"
-    "(default 5), and reports the median solve time with its spread.\n"
-    "render draws a run's beams and contact forces at four stages of loading (default T = 0.25, 0.5,\n"
-    "0.75, 1) into a PNG, from the run's VTK files.\n"
+    "study runs every case of a study deck (a base deck and the parameters to vary) and writes cases.csv,\n"
+    "report.md and plots (docs/studies.md).\n"
+    "render draws a run's beams and contact forces at stages of loading into a PNG.\n"
+    "generate writes a many-beam deck (grid, weave, network, strand; docs/input.md).\n"
+    "--plugin LIB loads a shared library with strategies of its own (docs/contact.md); a deck's Plugins\n"
+    "list only names what it needs: each must be given with --plugin too, since a plug-in runs code.\n"
     "study reports and render need Python 3 with matplotlib (Debian: python3-matplotlib), render also\n"
     "numpy and vtk (python3-numpy, python3-vtk9); a missing one is named (a study without it: --no-report).\n"
     "--version prints the version, git commit, build type, Trilinos, MPI library and compiler; every\n"
     "results directory records them with the date, host, ranks and command line (status.txt,\n"
     "summary.csv, effective_parameters.xml; a study's cases.csv, study.json and report.md).\n"
-    "--restart DIR continues the run whose results are in DIR from its checkpoint.txt (written every\n"
-    "Output/Checkpoint Every steps and when SIGTERM or SIGINT stops a run); the deck must be the same\n"
-    "outside its Output sublist, and the checkpoint as written (its last line is its SHA-256) and\n"
-    "consistent with the deck's model; a checkpoint that is not is refused and nothing in DIR changes.\n"
     "Exit codes: 0 complete, 1 usage or input error, 2 run incomplete or a results file could not be\n"
     "written (a study: some case did not complete; every case is recorded), 3 unexpected error,\n"
     "4 a Python module render needs is missing, or every case of a study is complete but its report\n"
     "was not written (a missing module is named with its Debian package), 128 + N stopped by signal N\n"
     "(status.txt says so).\n";
+
+// The subcommands' options: each table drives both the parsing and the command's --help.
+using bc::drivers::cli::Command;
+using bc::drivers::cli::UsageError;
+
+const bc::drivers::cli::Option kPlugin{
+    "plugin", 0, "LIB", "none", "load a shared library of strategies (a deck's Plugins must be named here too)", true};
+
+const Command& runSpec() {
+  static const Command c{
+      "run",
+      "Runs a BeamContact XML deck: geometrically nonlinear 3D beams, load factor T from 0 to 1. Results\n"
+      "(steps.csv, tracked_points.csv, VTK, status.txt, summary.csv, effective_parameters.xml, timers.txt)\n"
+      "go to the results directory. One line per converged step shows T, Newton iterations, the step's\n"
+      "time and the estimated time left; a complete run ends with its tracked points at T = 1.",
+      {{"DECK.xml", "the deck (docs/input.md; beamcontact --print-valid-parameters lists every parameter)"}},
+      {{"output", 'o', "DIR", "the deck's Output/Directory, else results/<deck name>",
+        "results directory (any directory; a deck's own paths are relative, without \"..\" and links)"},
+       {"overwrite", 0, "", "",
+        "write into a directory that holds files beamcontact did not write (beside them; only its own "
+        "files are replaced)"},
+       {"quiet", 'q', "", "",
+        "print nothing but errors and warnings (no header, no step, cut or Newton iteration lines, no results)"},
+       {"timers", 0, "", "", "print the timer table at the end (it is always written to timers.txt)"},
+       {"restart", 0, "DIR", "none: start at T = 0",
+        "continue the run whose results are in DIR from its checkpoint.txt (written every Output/Checkpoint "
+        "Every steps and when SIGTERM or SIGINT stops a run); the deck must be the same outside Output"},
+       kPlugin},
+      "Exit codes: 0 complete, 1 usage or input error, 2 incomplete (a step did not converge, or a results\n"
+      "file could not be written), 3 unexpected error, 128 + N stopped by signal N after a checkpoint."};
+  return c;
+}
+
+const Command& checkSpec() {
+  static const Command c{"check",
+                         "Reads and validates a deck and builds its model (supports, duplicates, contact points at "
+                         "the\n"
+                         "start) without running it; prints one line of counts. Exit code 0 when the deck is valid, 1 "
+                         "if not.",
+                         {{"DECK.xml", "the deck"}},
+                         {kPlugin}};
+  return c;
+}
+
+const Command& studySpec() {
+  static const Command c{
+      "study",
+      "Runs every case of a study deck (a base deck and the parameters to vary, docs/studies.md) as a\n"
+      "process of its own, N at a time, and writes cases.csv, study.json, report.md and plots. Run it\n"
+      "without mpirun. Exit codes: 0 every case complete, 1 usage or input error, 2 some case did not\n"
+      "complete, 4 every case complete but the report not written.",
+      {{"STUDY.xml", "the study deck"}},
+      {{"output", 'o', "DIR", "results/<study name>", "study directory"},
+       {"overwrite", 0, "", "", "write beside files beamcontact did not write (passed on to every case)"},
+       {"parallel", 0, "N", "the deck's Parallel Cases, else one per core", "cases run at once (1 to 1024)"},
+       {"timing", 0, "N", "off; N = 5 when given without N",
+        "fair timing: one case at a time without VTK output, each run N times (1 to 100); solve_seconds "
+        "is the median, with its spread",
+        false, true, "5"},
+       {"no-report", 0, "", "", "write cases.csv and study.json only (no report.md, no plots: no matplotlib needed)"},
+       kPlugin}};
+  return c;
+}
+
+const Command& renderSpec() {
+  static const Command c{"render",
+                         "Draws a run's beams and contact forces at stages of loading into a PNG, from the run's VTK "
+                         "files\n"
+                         "(needs python3-matplotlib, python3-numpy, python3-vtk9). Exit code 4 when a module is "
+                         "missing.",
+                         {{"RESULTS_DIR", "a run's results directory"}, {"OUT.png", "the picture to write"}},
+                         {{"stages", 0, "T1,T2,...", "0.25,0.5,0.75,1", "load factors to draw, one panel each"},
+                          {"view", 0, "ELEV,AZIM", "22,-60", "camera elevation and azimuth [degrees]"},
+                          {"title", 0, "TEXT", "the results directory's name", "title above the panels"}}};
+  return c;
+}
+
+const Command& versionSpec() {
+  static const Command c{
+      "version", "Prints the version, git commit, build type, Trilinos, MPI library and compiler.", {}, {}};
+  return c;
+}
+
+const Command& parametersSpec() {
+  static const Command c{"--print-valid-parameters",
+                         "Prints every deck parameter with its type, default and meaning (with the plug-ins' "
+                         "strategies).",
+                         {},
+                         {kPlugin}};
+  return c;
+}
+
+// Reads `args` (from the command's name on) by `spec`; an empty optional when --help was printed.
+bool parseOrHelp(const Command& spec, const std::vector<std::string>& args, bc::drivers::cli::Parsed& parsed) {
+  parsed = bc::drivers::cli::parse(spec, std::vector<std::string>(args.begin() + 1, args.end()));
+  if (parsed.help) std::fputs(bc::drivers::cli::help(spec).c_str(), stdout);
+  return !parsed.help;
+}
+
+// Before MPI starts, whether this process is rank 0 (or not under mpirun): it prints the usage errors.
+bool firstRankByEnvironment() {
+  for (const char* var : {"OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK"}) {
+    const char* rank = std::getenv(var);
+    if (rank && std::atoi(rank) != 0) return false;
+  }
+  return true;
+}
 
 // The command line as typed (before MPI and Kokkos take their own arguments out), for the provenance.
 std::string g_commandLine;
@@ -105,6 +199,11 @@ int versionCommand() {
 int withExitCodes(bool print, const std::function<int()>& body) {
   try {
     return body();
+  } catch (const UsageError& e) {
+    if (print)
+      std::fprintf(stderr, "beamcontact: %s: %s (see beamcontact %s --help)\n", e.command.c_str(), e.what(),
+                   e.command.c_str());
+    return 1;
   } catch (const bc::core::InputError& e) {
     if (print) std::fprintf(stderr, "beamcontact: input error: %s\n", e.what());
     return 1;
@@ -144,73 +243,72 @@ struct Working {
 };
 
 // beamcontact study STUDY.xml [options]: the options, then the study.
-int studyCommand(const std::vector<std::string>& args, const std::vector<std::string>& plugins) {
-  if (args.size() < 2) {
-    std::fprintf(stderr, "beamcontact: study needs a study deck; see beamcontact --help\n");
-    return 1;
-  }
+int studyCommand(const std::vector<std::string>& args) {
+  bc::drivers::cli::Parsed p;
+  if (!parseOrHelp(studySpec(), args, p)) return 0;
   bc::drivers::StudyOptions options;
-  options.plugins = plugins;
+  options.plugins = p.all("plugin");
   options.command = g_commandLine;
-  for (std::size_t i = 2; i < args.size(); ++i) {
-    if (args[i] == "--output" && i + 1 < args.size()) {
-      options.output = args[++i];
-    } else if (args[i] == "--parallel" && i + 1 < args.size()) {
-      const std::string& v = args[++i];
-      options.parallel = -1;
-      if (!v.empty() && v.size() <= 4 && v.find_first_not_of("0123456789") == std::string::npos)
-        options.parallel = std::stoi(v);
-      if (options.parallel < 1 || options.parallel > 1024) {
-        std::fprintf(stderr, "beamcontact: --parallel takes a whole number from 1 to 1024, got \"%s\"\n",
-                     args[i].c_str());
-        return 1;
-      }
-    } else if (args[i] == "--timing") {
-      // Optional count: the next argument when it is a whole number.
-      options.timing = 5;
-      const bool count = i + 1 < args.size() && !args[i + 1].empty() &&
-                         args[i + 1].find_first_not_of("0123456789") == std::string::npos;
-      if (count) {
-        const std::string& v = args[++i];
-        options.timing = v.size() <= 3 ? std::stoi(v) : 0;
-        if (options.timing < 1 || options.timing > 100) {
-          std::fprintf(stderr, "beamcontact: --timing takes a whole number of runs from 1 to 100, got \"%s\"\n",
-                       v.c_str());
-          return 1;
-        }
-      }
-    } else if (args[i] == "--no-report") {
-      options.report = false;
-    } else if (args[i] == "--overwrite") {
-      options.overwrite = true;
-    } else {
-      std::fprintf(stderr, "beamcontact: unknown option \"%s\"; see beamcontact --help\n", args[i].c_str());
-      return 1;
-    }
+  options.output = p.get("output");
+  options.report = !p.has("no-report");
+  options.overwrite = p.has("overwrite");
+  if (p.has("parallel")) {
+    const std::string v = p.get("parallel");
+    options.parallel = -1;
+    if (!v.empty() && v.size() <= 4 && v.find_first_not_of("0123456789") == std::string::npos)
+      options.parallel = std::stoi(v);
+    if (options.parallel < 1 || options.parallel > 1024)
+      throw UsageError("study", "--parallel takes a whole number from 1 to 1024, got \"" + v + "\"");
   }
-  return withExitCodes(true, [&] { return bc::drivers::runStudy(args[1], options); });
+  if (p.has("timing")) {
+    const std::string v = p.get("timing");
+    const bool whole = !v.empty() && v.size() <= 3 && v.find_first_not_of("0123456789") == std::string::npos;
+    options.timing = whole ? std::stoi(v) : 0;
+    if (options.timing < 1 || options.timing > 100)
+      throw UsageError("study", "--timing takes a whole number of runs from 1 to 100, got \"" + v + "\"");
+  }
+  return withExitCodes(true, [&] { return bc::drivers::runStudy(p.positionals[0], options); });
 }
 
-// The closing lines of a run (on rank 0): complete, interrupted (how to continue), or incomplete, and
-// the run's warnings.
-void printRunResult(const bc::core::RunResult& result, const std::string& deck, const std::string& directory) {
-  if (result.restartedAtStep >= 0)
+// The closing lines of a run (on rank 0): complete (unless `quiet`) with the tracked points at T = 1,
+// interrupted (how to continue), or incomplete, and the run's warnings.
+void printRunResult(const bc::core::RunResult& result, const bc::input::Problem& problem, const std::string& deck,
+                    bool quiet) {
+  const std::string& directory = problem.outputDirectory;
+  if (result.restartedAtStep >= 0 && !quiet)
     std::printf("restarted after step %d from %s/checkpoint.txt\n", result.restartedAtStep, directory.c_str());
-  if (result.report.completed)
+  if (result.report.completed && !quiet) {
+    // At most kShown points, one line each (the rest are in tracked_points.csv).
+    constexpr std::size_t kShown = 8;
+    const auto& tracked = problem.model.tracked;
+    for (std::size_t i = 0; i < tracked.size() && i < kShown; ++i) {
+      const auto u = result.finalState.displacement(tracked[i].node);
+      std::printf("at T = 1: %s: u = (%.6g, %.6g, %.6g)\n", tracked[i].name.c_str(), u[0], u[1], u[2]);
+    }
+    if (tracked.size() > kShown)
+      std::printf("at T = 1: %zu more tracked points in tracked_points.csv\n", tracked.size() - kShown);
     std::printf("complete: %d steps, %d Newton iterations, solve %.3f s; results in %s\n", result.report.steps,
                 result.report.newtonIterations, result.solveSeconds, directory.c_str());
-  else if (result.report.interrupted)
+  } else if (result.report.interrupted) {
     std::fprintf(stderr, "beamcontact: interrupted by %s at T = %g; continue with: beamcontact run %s --restart %s\n",
                  bc::core::signalName(result.report.interrupted).c_str(), result.report.lastT, deck.c_str(),
                  directory.c_str());
-  else
+  } else if (!result.report.completed) {
     std::fprintf(stderr, "beamcontact: run incomplete: stopped at T = %g: %s (converged steps are in %s)\n",
                  result.report.lastT, result.report.failure.c_str(), directory.c_str());
+  }
   for (const auto& w : result.report.warnings) std::fprintf(stderr, "beamcontact: warning: %s\n", w.c_str());
 }
 
-int runDeck(const std::string& deck, const std::string& output, bool quiet, const std::string& restart, bool overwrite,
-            const std::vector<std::string>& plugins) {
+// What `beamcontact run` was asked (its options read before MPI starts).
+struct RunRequest {
+  std::string deck, output, restart;
+  bool quiet = false, overwrite = false, timers = false;
+  std::vector<std::string> plugins;
+};
+
+int runDeck(const RunRequest& request) {
+  const std::string& deck = request.deck;
   auto comm = Tpetra::getDefaultComm();
   const bool root = comm->getRank() == 0;
   const std::string stem = std::filesystem::path(deck).stem().string();
@@ -222,81 +320,61 @@ int runDeck(const std::string& deck, const std::string& output, bool quiet, cons
     bc::core::injectFault("deck");
     list = bc::input::readDeckFile(deck);
     // The deck's Plugins (and digests) against --plugin before any library is loaded.
-    bc::input::checkDeckPlugins(list, deck, plugins);
+    bc::input::checkDeckPlugins(list, deck, request.plugins);
   });
   // Loaded on every rank; a library that fails on one rank only ends every rank with its message.
   bc::core::collectively(*comm, [&] {
     bc::core::injectFault("plugin");
-    for (const auto& plugin : plugins) bc::input::loadPlugin(plugin);
+    for (const auto& plugin : request.plugins) bc::input::loadPlugin(plugin);
   });
   bc::core::collectively(*comm, [&] {
     bc::core::injectFault("strategy");
     // (The list handed over, not copied: a deck's lists take about 4 bytes per deck byte.)
     problem = bc::input::buildProblem(std::exchange(list, Teuchos::ParameterList()), stem);
   });
-  if (!restart.empty()) problem.outputDirectory = restart;
-  else if (!output.empty()) problem.outputDirectory = output;
+  if (!request.restart.empty()) problem.outputDirectory = request.restart;
+  else if (!request.output.empty()) problem.outputDirectory = request.output;
   bc::core::RunOptions options;
   options.outputDirectory = problem.outputDirectory;
-  options.outputFromDeck = restart.empty() && output.empty();
-  options.overwrite = overwrite;
+  options.outputFromDeck = request.restart.empty() && request.output.empty();
+  options.overwrite = request.overwrite;
   for (const auto& p : bc::input::loadedPlugins())
     options.statusNotes.push_back("plug-in: " + p.path + " sha256 " + p.sha256);
   options.provenance = bc::core::runProvenance(bc::drivers::buildProvenance(), comm->getSize(), g_commandLine);
   options.writeVtk = problem.writeVtk;
-  options.progress = !quiet;
+  options.progress = !request.quiet;
+  options.printTimers = request.timers;
   options.effective = &problem.effective;
   options.checkpointEvery = problem.checkpointEvery;
-  options.restart = !restart.empty();
+  options.restart = !request.restart.empty();
   options.fingerprint = bc::input::deckFingerprint(problem);
-  if (root)
+  if (request.quiet) {
+    // Neither the Newton iterations (the deck's Print Iterations) nor the step cuts.
+    problem.solver.printIterations = false;
+    problem.solver.printCuts = false;
+  }
+  if (root && !request.quiet)
     std::printf("BeamContact: %s, %d nodes, %zu elements, %d ranks\n", deck.c_str(), problem.model.initial.numNodes(),
                 problem.beams->elements().size(), comm->getSize());
   const auto result = bc::core::simulate(problem.model, problem.solver, problem.linearSolver, options, comm);
-  if (root) printRunResult(result, deck, problem.outputDirectory);
+  if (root) printRunResult(result, problem, deck, request.quiet);
   if (result.report.interrupted) return 128 + result.report.interrupted;
   return result.report.completed ? 0 : 2;
 }
 
-// The --plugin LIB pairs (any number, after the command), taken out of `args` into `plugins`; false
-// (with the message) when one lacks its library.
-bool takePlugins(std::vector<std::string>& args, std::vector<std::string>& plugins) {
-  for (std::size_t i = 1; i < args.size();) {
-    if (args[i] != "--plugin") {
-      ++i;
-      continue;
-    }
-    if (i + 1 >= args.size()) {
-      std::fprintf(stderr, "beamcontact: missing library after \"--plugin\"; see beamcontact --help\n");
-      return false;
-    }
-    plugins.push_back(args[i + 1]);
-    args.erase(args.begin() + i, args.begin() + i + 2);
-  }
-  return true;
-}
-
-// No command (an error) or --help.
-int helpCommand(const std::vector<std::string>& args) {
-  if (args.empty())
-    std::fputs("beamcontact: a command is needed (run, check, study, render, generate); see beamcontact --help\n",
-               stderr);
-  else std::fputs(kUsage, stdout);
-  return args.empty() ? 1 : 0;
-}
-
 // beamcontact render RESULTS_DIR OUT.png [options]: the render script draws it.
 int renderCommand(const std::vector<std::string>& args) {
-  if (args.size() < 3) {
-    std::fprintf(stderr, "beamcontact: render needs a results directory and an output file; see beamcontact --help\n");
+  bc::drivers::cli::Parsed p;
+  if (!parseOrHelp(renderSpec(), args, p)) return 0;
+  if (!std::filesystem::is_directory(p.positionals[0])) {
+    std::fprintf(stderr, "beamcontact: render: \"%s\" is not a results directory\n", p.positionals[0].c_str());
     return 1;
   }
-  if (!std::filesystem::is_directory(args[1])) {
-    std::fprintf(stderr, "beamcontact: render: \"%s\" is not a results directory\n", args[1].c_str());
-    return 1;
-  }
-  std::vector<std::string> command = {"/usr/bin/python3", bc::drivers::scriptPath("render_stages.py")};
-  command.insert(command.end(), args.begin() + 1, args.end());
+  std::vector<std::string> command = {"/usr/bin/python3", bc::drivers::scriptPath("render_stages.py"), "--",
+                                      p.positionals[0], p.positionals[1]};
+  // Options as --name=value, so that a value starting with "-" (a view's azimuth) stays a value.
+  for (const char* name : {"stages", "view", "title"})
+    if (p.has(name)) command.insert(command.begin() + 2, std::string("--") + name + "=" + p.get(name));
   // The script exits 1 (2 from its argument parser) on a usage error, 4 when a Python module is missing
   // (one line naming its Debian package), 3 otherwise.
   const int code = bc::drivers::runProgram(command);
@@ -304,21 +382,21 @@ int renderCommand(const std::vector<std::string>& args) {
 }
 
 // beamcontact check DECK.xml: reads the deck and builds the model without running it.
-int checkCommand(const std::vector<std::string>& args, const std::vector<std::string>& plugins) {
-  if (args.size() != 2) {
-    std::fprintf(stderr, "beamcontact: check takes one deck; see beamcontact --help\n");
-    return 1;
-  }
+int checkCommand(const std::vector<std::string>& args) {
+  bc::drivers::cli::Parsed p;
+  if (!parseOrHelp(checkSpec(), args, p)) return 0;
+  const std::string deck = p.positionals[0];
+  const auto plugins = p.all("plugin");
   return withExitCodes(true, [&] {
     const Working working;
     bc::constraints::registerBuiltinEnforcers();
-    Teuchos::ParameterList list = bc::input::readDeckFile(args[1]);
-    bc::input::checkDeckPlugins(list, args[1], plugins);  // before any library is loaded
+    Teuchos::ParameterList list = bc::input::readDeckFile(deck);
+    bc::input::checkDeckPlugins(list, deck, plugins);  // before any library is loaded
     for (const auto& plugin : plugins) bc::input::loadPlugin(plugin);
     const auto problem = bc::input::buildProblem(std::exchange(list, Teuchos::ParameterList()),
-                                                 std::filesystem::path(args[1]).stem().string());
+                                                 std::filesystem::path(deck).stem().string());
     std::printf("ok: %s: %d nodes, %zu elements, %d joints, %zu supports, %zu loads, %zu contact points at the start\n",
-                args[1].c_str(), problem.model.initial.numNodes(), problem.beams->elements().size(), problem.joints,
+                deck.c_str(), problem.model.initial.numNodes(), problem.beams->elements().size(), problem.joints,
                 problem.model.supports.size(), problem.model.loads.size(),
                 problem.contact ? problem.contact->points().size() : std::size_t(0));
     return 0;
@@ -338,40 +416,31 @@ int printValidParameters(const bc::core::Comm& comm, const std::vector<std::stri
   return 0;
 }
 
-// beamcontact run DECK.xml [options]: the options (messages on rank 0), then the run.
-int runCommand(const std::vector<std::string>& args, const std::vector<std::string>& plugins, bool root) {
-  std::string output, restart;
-  bool quiet = false, overwrite = false, outputGiven = false;
-  for (std::size_t i = 2; i < args.size(); ++i) {
-    if (args[i] == "--output" && i + 1 < args.size()) {
-      output = args[++i];
-      outputGiven = true;
-    } else if (args[i] == "--restart" && i + 1 < args.size()) restart = args[++i];
-    else if (args[i] == "--quiet") quiet = true;
-    else if (args[i] == "--overwrite") overwrite = true;
-    else {
-      if (root)
-        std::fprintf(stderr, "beamcontact: %s \"%s\"; see beamcontact --help\n",
-                     args[i] == "--output" || args[i] == "--restart" ? "missing directory after" : "unknown option",
-                     args[i].c_str());
-      return 1;
-    }
-  }
-  if (!restart.empty() && !output.empty() &&
-      std::filesystem::path(restart).lexically_normal() != std::filesystem::path(output).lexically_normal()) {
-    if (root) std::fprintf(stderr, "beamcontact: --restart continues in its own directory; leave out --output\n");
-    return 1;
-  }
-  if (outputGiven && output.find_first_not_of(' ') == std::string::npos) {
-    if (root) std::fprintf(stderr, "beamcontact: --output names no directory\n");
-    return 1;
-  }
-  return runDeck(args[1], output, quiet, restart, overwrite, plugins);
+// beamcontact run DECK.xml [options]: the options, checked before MPI starts (false: --help printed).
+bool readRunRequest(const std::vector<std::string>& args, RunRequest& request) {
+  bc::drivers::cli::Parsed p;
+  if (!parseOrHelp(runSpec(), args, p)) return false;
+  request.deck = p.positionals[0];
+  request.output = p.get("output");
+  request.restart = p.get("restart");
+  request.quiet = p.has("quiet");
+  request.overwrite = p.has("overwrite");
+  request.timers = p.has("timers");
+  request.plugins = p.all("plugin");
+  if (p.has("output") && request.output.find_first_not_of(' ') == std::string::npos)
+    throw UsageError("run", "--output names no directory");
+  if (p.has("restart") && request.restart.find_first_not_of(' ') == std::string::npos)
+    throw UsageError("run", "--restart names no directory");
+  if (!request.restart.empty() && !request.output.empty() &&
+      std::filesystem::path(request.restart).lexically_normal() !=
+          std::filesystem::path(request.output).lexically_normal())
+    throw UsageError("run", "--restart continues in its own directory; leave out --output");
+  return true;
 }
 
-// The commands that run under MPI (run, --print-valid-parameters; any other is unknown), with MPI and
-// Kokkos initialized, the signal handlers and the built-in strategies.
-int mpiCommand(int& argc, char**& argv, const std::vector<std::string>& args, const std::vector<std::string>& plugins) {
+// The commands that run under MPI (run, --print-valid-parameters), with MPI and Kokkos initialized
+// (their options read before), the signal handlers and the built-in strategies.
+int mpiCommand(int& argc, char**& argv, const RunRequest* run, const std::vector<std::string>& plugins) {
   Tpetra::ScopeGuard scope(&argc, &argv);
   guardExit();
   bc::core::installSignalHandlers();
@@ -380,17 +449,34 @@ int mpiCommand(int& argc, char**& argv, const std::vector<std::string>& args, co
   const bool root = comm->getRank() == 0;
   return withExitCodes(root, [&] {
     const Working working;
-    if (args[0] == "--print-valid-parameters") return printValidParameters(*comm, plugins, root);
-    if (args[0] == "run" && args.size() < 2) {
-      if (root) std::fprintf(stderr, "beamcontact: run needs a deck; see beamcontact --help\n");
-      return 1;
-    }
-    if (args[0] != "run") {
-      if (root) std::fprintf(stderr, "beamcontact: unknown command \"%s\"; see beamcontact --help\n", args[0].c_str());
-      return 1;
-    }
-    return runCommand(args, plugins, root);
+    return run ? runDeck(*run) : printValidParameters(*comm, plugins, root);
   });
+}
+
+// The command `args[0]` with its arguments; throws UsageError.
+int command(int& argc, char**& argv, const std::vector<std::string>& args) {
+  const std::string& name = args[0];
+  bc::drivers::cli::Parsed p;
+  if (name == "version" || name == "--version") return parseOrHelp(versionSpec(), args, p) ? versionCommand() : 0;
+  if (name == "render") return renderCommand(args);
+  // A study only starts and watches case processes: no MPI in this process.
+  if (name == "study") return studyCommand(args);
+  // generate writes a deck from a few parameters: no MPI in this process.
+  if (name == "generate") return withExitCodes(true, [&] { return bc::drivers::generateDeck(args); });
+  // check builds the model only: no MPI in this process (so it is quick to call many times).
+  if (name == "check") return checkCommand(args);
+  if (name == "--print-valid-parameters") {
+    if (!parseOrHelp(parametersSpec(), args, p)) return 0;
+    return mpiCommand(argc, argv, nullptr, p.all("plugin"));
+  }
+  if (name == "run") {
+    RunRequest request;
+    // --help is printed here, before MPI and Kokkos start (Kokkos would print its own).
+    if (!readRunRequest(args, request)) return 0;
+    return mpiCommand(argc, argv, &request, {});
+  }
+  throw UsageError("",
+                   "unknown command \"" + name + "\"; the commands are run, check, study, render, generate, version");
 }
 
 }  // namespace
@@ -405,16 +491,22 @@ int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
   g_commandLine = bc::core::commandLine(argc, argv);
   guardExit();
-  std::vector<std::string> plugins;
-  if (!takePlugins(args, plugins)) return 1;
-  if (args.empty() || args[0] == "--help" || args[0] == "-h") return helpCommand(args);
-  if ((args[0] == "--version" || args[0] == "version") && args.size() == 1) return versionCommand();
-  if (args[0] == "render") return renderCommand(args);
-  // A study only starts and watches case processes: no MPI in this process.
-  if (args[0] == "study") return studyCommand(args, plugins);
-  // generate writes a deck from a few parameters: no MPI in this process.
-  if (args[0] == "generate") return withExitCodes(true, [&] { return bc::drivers::generateDeck(args); });
-  // check builds the model only: no MPI in this process (so it is quick to call many times).
-  if (args[0] == "check") return checkCommand(args, plugins);
-  return mpiCommand(argc, argv, args, plugins);
+  if (args.empty()) {
+    std::fputs("beamcontact: a command is needed (run, check, study, render, generate); see beamcontact --help\n",
+               stderr);
+    return 1;
+  }
+  if (args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
+    std::fputs(kUsage, stdout);
+    return 0;
+  }
+  try {
+    return command(argc, argv, args);
+  } catch (const UsageError& e) {
+    // Under mpirun every rank reads the command line: rank 0 says what is wrong.
+    if (firstRankByEnvironment())
+      std::fprintf(stderr, "beamcontact: %s%s%s (see beamcontact %s--help)\n", e.command.c_str(),
+                   e.command.empty() ? "" : ": ", e.what(), e.command.empty() ? "" : (e.command + " ").c_str());
+    return 1;
+  }
 }
