@@ -154,9 +154,9 @@ class ConstraintEnforcer {
   // points along line A (each standing for a length of it; the manager weights the residual and
   // tangent by that length, so the law acts per unit length). Where the strategy's multipliers live:
   //  - PerPoint: each Gauss point is a point like any other, with its own state and multipliers.
-  //    Right for strategies without multipliers (Penalty) or with point-local history only
-  //    (Augmented Lagrange). A multiplier per Gauss point over-constrains a line (more constraints
-  //    than the beams have dofs there: not a stable discretization).
+  //    Right for strategies without multipliers (Penalty). A multiplier (or an augmented estimate) per
+  //    Gauss point over-constrains a line (more constraints than the beams have dofs there: not a
+  //    stable discretization).
   //  - Nodal: a mortar field on the nodes of line A. Each node of beam A in line contact with a pair
   //    is a "line node": it has a state (newPointState) and multipliers(state) unknowns Lambda_a. A
   //    Gauss point at xi of an element with nodes a, b sees lambda = N_a Lambda_a + N_b Lambda_b

@@ -333,10 +333,10 @@ void ContactManager::commitPoint(Point& p, const core::State& state) {
     // Lagrange: its multipliers, updated to the applied force by that pass); a point it did not judge
     // (one that carries almost nothing: judge()) kept its state, and its force is its evaluation
     // (before: Augmented Lagrange reported such a point's stale multipliers, 0 for a new one). A line
-    // point judged by its values alone (its strategy's contributes() false at its gap now) may still
-    // have applied a force: Augmented Lagrange judges with the multiplier the last pass updated, and a
-    // point at a small positive gap that carried lambda_hat + eps_N g_N < 0 before that update
-    // reports it; it gets its first variations too, so its force vectors below are the applied ones
+    // point of a per-point strategy judged by its values alone (its strategy's contributes() false at
+    // its gap now) may still have applied a force: a law with an estimate per point, updated by the
+    // last pass, acts at a small positive gap (lambda_hat + eps_N g_N < 0 before that update); it
+    // reports it and gets its first variations too, so its force vectors below are the applied ones
     // (before: zero vectors).
     const bool judged =
         geometry_.blendWeight(p, k.axesCosine, nullptr, nullptr) > kCarries && (!p.line() || k.segment > kCarries);
