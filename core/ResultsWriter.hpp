@@ -26,7 +26,9 @@
 // removes only an earlier run's files named there, and a directory in which a live run is writing is
 // refused. A restarted run keeps the rows up to its checkpoint's step and appends after them.
 #pragma once
+#include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -61,6 +63,9 @@ class ResultsWriter {
     bool overwrite = false;  // write beside files beamcontact did not write (--overwrite)
     std::vector<std::string> notes;  // lines status.txt carries after its first (e.g. the loaded plug-ins)
     Fields provenance;  // what produced the results (Provenance.hpp), in status, summary and effective deck
+    int vtkEvery = 1;  // Output/VTK Every: steps whose number it divides (0: none of them)
+    std::vector<double> vtkAt;  // Output/VTK At: the first converged step at or beyond each of these T
+    bool vtkCompression = true;  // Output/VTK Compression: zlib-compressed appended data
   };
   ResultsWriter(const Where& where, const Model& model, Teuchos::RCP<const Comm> comm, bool writeVtk = true,
                 int resumeStep = -1, double resumeT = 0.0);
@@ -91,8 +96,9 @@ class ResultsWriter {
   std::filesystem::path own(const std::string& name);
   void openTables(bool append);
   void writeStepFiles(const StepReport& step, const State& state, const std::vector<double>& fullResidual);
+  bool vtkSelected(int step, double T) const;
   void writeVtk(int step, double T, const State& state);
-  void writePvd();
+  void writePvds();
   void writeStatus(const std::string& text);
   bool root() const { return rank_ == 0; }
 
@@ -106,7 +112,19 @@ class ResultsWriter {
   bool vtk_ = true;
   OutputFile steps_, newton_, tracked_, reactions_;
   std::vector<std::unique_ptr<OutputFile>> tables_;  // one per contribution with a table
-  std::vector<std::pair<double, std::string>> vtkFiles_;
+  int vtkEvery_ = 1;
+  std::vector<double> vtkAt_;
+  bool vtkCompression_ = true;
+  double lastT_ = 0.0;  // the last converged step's load factor (VTK At)
+  // Each VTK series (Output::vtkSeries; "" the beams') with its files' load factors and names.
+  std::map<std::string, std::vector<std::pair<double, std::string>>> vtkFiles_;
+  // rank 0: the last converged step when its VTK files were not written (finish writes them).
+  struct Unwritten {
+    int step;
+    double T;
+    State state;
+  };
+  std::optional<Unwritten> unwritten_;
 };
 
 }  // namespace bc::core

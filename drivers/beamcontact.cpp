@@ -244,6 +244,9 @@ int runDeck(const std::string& deck, const std::string& output, bool quiet, cons
     options.statusNotes.push_back("plug-in: " + p.path + " sha256 " + p.sha256);
   options.provenance = bc::core::runProvenance(bc::drivers::buildProvenance(), comm->getSize(), g_commandLine);
   options.writeVtk = problem.writeVtk;
+  options.vtkEvery = problem.vtkEvery;
+  options.vtkAt = problem.vtkAt;
+  options.vtkCompression = problem.vtkCompression;
   options.progress = !quiet;
   options.effective = &problem.effective;
   options.checkpointEvery = problem.checkpointEvery;
