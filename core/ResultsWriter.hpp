@@ -8,9 +8,12 @@
 //   reactions.csv            force and moment sums (f_int - f_ext) over each support's nodes, at the
 //                            components the support fixes (a component several supports fix: the last)
 //   <table>.csv              per-step tables of contributions (contact_points.csv: every contact point)
-//   vtk/step_NNNNN.vtu       the beams with their real cross-sections (point data: displacement, and
-//                            "contact force" at the active contact points, drawn as vertex cells)
-//   results.pvd              ParaView collection of the .vtu files with their T (rewritten each step)
+//   vtk/step_NNNNN.vtu       the beams with their real cross-sections (point data: displacement, triads;
+//                            cell data: section forces), zlib-compressed unless Output/VTK Compression
+//                            is false; the steps of Output/VTK Every and VTK At, T = 0 and the last
+//   vtk/contact_NNNNN.vtu    the active contact points of the same steps, vertex cells (their own series:
+//                            Output::vtkSeries)
+//   results.pvd, contact.pvd ParaView collections of those .vtu files with their T (rewritten with each)
 //   timers.txt               StackedTimer summary
 //   summary.csv              one row: completed, last T, steps, Newton iterations (total and largest per
 //                            step), passes, solve wall time [s], peak memory [MB]; for studies and scripts;
