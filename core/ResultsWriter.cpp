@@ -384,7 +384,7 @@ void ResultsWriter::writeStep(const StepReport& step, const State& state, const 
         files.resize(vtkBefore[series]);
       }
       try {
-        writePvds();
+        if (vtk_) writePvds();  // without the files just removed
       } catch (...) {
       }
       throw;
