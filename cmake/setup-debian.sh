@@ -12,6 +12,7 @@ PACKAGES=(
   libopenmpi-dev openmpi-bin
   libsuitesparse-dev libopenblas0-serial   # UMFPACK, with an optimized BLAS for its dense kernels
   libmumps-dev   # MUMPS, the parallel Direct Solver (also a dependency of trilinos-all-dev)
+  zlib1g-dev   # the VTK files' compression (Output/VTK Compression)
   libgtest-dev libgmock-dev libbenchmark-dev
   python3-numpy python3-matplotlib
   procps util-linux   # pgrep, prlimit: the fault tests

@@ -69,6 +69,7 @@ class ContactManager : public core::Contribution {
   std::string progressSummary() const override { return report_.progressSummary(set_.committed(), lastPasses_); }
   std::vector<std::string> warnings() const override { return report_.warnings(); }
   void appendVtk(const core::State& state, core::VtkMesh& mesh) const override;
+  std::string vtkSeries() const override { return "contact"; }  // vtk/contact_N.vtu, contact.pvd
 
   // For tests: the current points and their results of the last commit.
   using Point = ContactPointRecord;

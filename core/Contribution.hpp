@@ -137,6 +137,10 @@ class Output {
  public:
   virtual ~Output() = default;
   virtual void appendVtk(const State& state, VtkMesh& mesh) const {}
+  // The VTK series appendVtk draws into: "" the beams' (vtk/step_N.vtu, results.pvd), else a lower-case
+  // word other than "step", its own files vtk/<series>_N.vtu and <series>.pvd (contact: "contact"), so
+  // that ParaView shows each on its own. Contributions of one series share its files.
+  virtual std::string vtkSeries() const { return ""; }
   virtual std::string tableName() const { return ""; }
   virtual std::string tableHeader() const { return ""; }
   virtual std::vector<std::string> tableRows() const { return {}; }

@@ -8,9 +8,12 @@
 //   reactions.csv            force and moment sums (f_int - f_ext) over each support's nodes, at the
 //                            components the support fixes (a component several supports fix: the last)
 //   <table>.csv              per-step tables of contributions (contact_points.csv: every contact point)
-//   vtk/step_NNNNN.vtu       the beams with their real cross-sections (point data: displacement, and
-//                            "contact force" at the active contact points, drawn as vertex cells)
-//   results.pvd              ParaView collection of the .vtu files with their T (rewritten each step)
+//   vtk/step_NNNNN.vtu       the beams with their real cross-sections (point data: displacement, triads;
+//                            cell data: section forces), zlib-compressed unless Output/VTK Compression
+//                            is false; the steps of Output/VTK Every and VTK At, T = 0 and the last
+//   vtk/contact_NNNNN.vtu    the active contact points of the same steps, vertex cells (their own series:
+//                            Output::vtkSeries)
+//   results.pvd, contact.pvd ParaView collections of those .vtu files with their T (rewritten with each)
 //   timers.txt               StackedTimer summary
 //   summary.csv              one row: completed, last T, steps, Newton iterations (total and largest per
 //                            step), passes, solve wall time [s], peak memory [MB]; for studies and scripts;
@@ -26,7 +29,9 @@
 // removes only an earlier run's files named there, and a directory in which a live run is writing is
 // refused. A restarted run keeps the rows up to its checkpoint's step and appends after them.
 #pragma once
+#include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -61,6 +66,9 @@ class ResultsWriter {
     bool overwrite = false;  // write beside files beamcontact did not write (--overwrite)
     std::vector<std::string> notes;  // lines status.txt carries after its first (e.g. the loaded plug-ins)
     Fields provenance;  // what produced the results (Provenance.hpp), in status, summary and effective deck
+    int vtkEvery = 1;  // Output/VTK Every: steps whose number it divides (0: none of them)
+    std::vector<double> vtkAt;  // Output/VTK At: the first converged step at or beyond each of these T
+    bool vtkCompression = true;  // Output/VTK Compression: zlib-compressed appended data
   };
   ResultsWriter(const Where& where, const Model& model, Teuchos::RCP<const Comm> comm, bool writeVtk = true,
                 int resumeStep = -1, double resumeT = 0.0);
@@ -91,8 +99,9 @@ class ResultsWriter {
   std::filesystem::path own(const std::string& name);
   void openTables(bool append);
   void writeStepFiles(const StepReport& step, const State& state, const std::vector<double>& fullResidual);
+  bool vtkSelected(int step, double T) const;
   void writeVtk(int step, double T, const State& state);
-  void writePvd();
+  void writePvds();
   void writeStatus(const std::string& text);
   bool root() const { return rank_ == 0; }
 
@@ -106,7 +115,19 @@ class ResultsWriter {
   bool vtk_ = true;
   OutputFile steps_, newton_, tracked_, reactions_;
   std::vector<std::unique_ptr<OutputFile>> tables_;  // one per contribution with a table
-  std::vector<std::pair<double, std::string>> vtkFiles_;
+  int vtkEvery_ = 1;
+  std::vector<double> vtkAt_;
+  bool vtkCompression_ = true;
+  double lastT_ = 0.0;  // the last converged step's load factor (VTK At)
+  // Each VTK series (Output::vtkSeries; "" the beams') with its files' load factors and names.
+  std::map<std::string, std::vector<std::pair<double, std::string>>> vtkFiles_;
+  // rank 0: the last converged step when its VTK files were not written (finish writes them).
+  struct Unwritten {
+    int step;
+    double T;
+    State state;
+  };
+  std::optional<Unwritten> unwritten_;
 };
 
 }  // namespace bc::core

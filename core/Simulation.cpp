@@ -133,6 +133,9 @@ ResultsWriter::Where where(const RunOptions& options) {
   w.overwrite = options.overwrite;
   w.notes = options.statusNotes;
   w.provenance = options.provenance;
+  w.vtkEvery = options.vtkEvery;
+  w.vtkAt = options.vtkAt;
+  w.vtkCompression = options.vtkCompression;
   return w;
 }
 

@@ -22,6 +22,9 @@ struct RunOptions {
   std::vector<std::string> statusNotes;  // lines status.txt carries after its first (the loaded plug-ins)
   Fields provenance;  // what produced the run (Provenance.hpp): in status.txt, summary.csv, effective_parameters.xml
   bool writeVtk = true;
+  int vtkEvery = 1;  // Output/VTK Every (0: only vtkAt; T = 0 and the last converged step always)
+  std::vector<double> vtkAt;  // Output/VTK At
+  bool vtkCompression = true;  // Output/VTK Compression
   bool progress = true;  // one line per step on rank 0 (T, iterations, time per step, time left)
   bool printTimers = false;  // the timer table on stdout (rank 0) as well as in timers.txt
   const Teuchos::ParameterList* effective = nullptr;  // written as effective_parameters.xml

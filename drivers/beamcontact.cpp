@@ -344,6 +344,9 @@ int runDeck(const RunRequest& request) {
   options.writeVtk = problem.writeVtk;
   options.progress = !request.quiet;
   options.printTimers = request.timers;
+  options.vtkEvery = problem.vtkEvery;
+  options.vtkAt = problem.vtkAt;
+  options.vtkCompression = problem.vtkCompression;
   options.effective = &problem.effective;
   options.checkpointEvery = problem.checkpointEvery;
   options.restart = !request.restart.empty();

@@ -5,7 +5,8 @@ at four stages of loading (the seed paper's Figs. 4, 6 and 11), from the run's V
     /usr/bin/python3 drivers/render_stages.py RESULTS_DIR OUT.png [--stages 0.25,0.5,0.75,1]
                                               [--view ELEVATION,AZIMUTH] [--title TEXT]
 
-Reads results.pvd and, for each stage, the step whose load factor T is nearest, with VTK's XML reader
+Reads results.pvd (the beams) and contact.pvd (the contact points; older results: vertex cells in the
+beams' files) and, for each stage, the step whose load factor T is nearest, with VTK's XML reader
 (python3-vtk9; a missing module is one line naming its Debian package, exit 4); draws the faces of every beam cell (hexahedra for rectangles, wedges for circles)
 with matplotlib and each active contact point's force (on beam B) as an arrow scaled to the largest
 force of the run's stages.
@@ -51,12 +52,21 @@ vtk_to_numpy = need("vtk.util.numpy_support").vtk_to_numpy
 COLOURS = ["#8fb3d9", "#e3a16f", "#9fcf8f", "#d98fb3", "#c9c36a"]
 
 
-def read(path):
+def read(path, contact_path=None):
+    faces, contacts, points = read_grid(path)
+    if contact_path is not None:
+        contacts += read_grid(contact_path)[1]
+    return faces, contacts, points
+
+
+def read_grid(path):
     reader = vtk.vtkXMLUnstructuredGridReader()
     reader.SetFileName(str(path))
     reader.Update()
     grid = reader.GetOutput()
     # The files hold the reference places and the displacement (Warp By Vector in ParaView).
+    if grid.GetNumberOfPoints() == 0:  # a step without contact points
+        return [], [], np.zeros((0, 3))
     points = vtk_to_numpy(grid.GetPoints().GetData()) + vtk_to_numpy(grid.GetPointData().GetArray("displacement"))
     beam_array = grid.GetCellData().GetArray("beam")
     force_array = grid.GetPointData().GetArray("contact force")
@@ -105,7 +115,13 @@ def main():
     if not steps:
         sys.exit(f"beamcontact: render: {pvd} lists no step")
     chosen = [min(steps, key=lambda s: abs(s[0] - t)) for t in stages]
-    data = [read(results / f) for _, f in chosen]
+    # The contact points of the same step (the same load factor), in their own series.
+    contact_pvd = results / "contact.pvd"
+    contact = {}
+    if contact_pvd.exists():
+        contact = {d.get("timestep"): d.get("file") for d in ET.parse(contact_pvd).getroot().iter("DataSet")}
+    timestep = {f: d.get("timestep") for d in ET.parse(pvd).getroot().iter("DataSet") for f in [d.get("file")]}
+    data = [read(results / f, results / contact[timestep[f]] if timestep[f] in contact else None) for _, f in chosen]
     allpts = np.vstack([d[2] for d in data])
     lo, hi = allpts.min(axis=0), allpts.max(axis=0)
     span = float((hi - lo).max())

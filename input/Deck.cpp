@@ -158,7 +158,18 @@ const ParameterSpec& outputSpec() {
     ParameterSpec p;
     p.addOptional("Directory", std::string("results/<deck name>"),
                   "results directory (default results/<deck file name without .xml>); --output overrides it");
-    p.add("Write VTK", true, "write vtk/step_*.vtu and results.pvd");
+    p.add("Write VTK", true,
+          "write VTK files: the beams in vtk/step_*.vtu with results.pvd, the contact points in "
+          "vtk/contact_*.vtu with contact.pvd");
+    p.add("VTK Every", 1,
+          "write the VTK files of every this many converged steps (step numbers divisible by it); 0: only those "
+          "of VTK At; T = 0 and the last converged step are always written",
+          core::atLeast(0), ">= 0");
+    p.addOptional("VTK At", Array<double>(),
+                  "load factors T, increasing, in (0, 1]: the first converged step at or beyond each is written too "
+                  "(besides those of VTK Every)");
+    p.add("VTK Compression", true,
+          "compress the VTK files' data with zlib (lossless; false: raw binary, about twice the size)");
     p.add("Checkpoint Every", 0,
           "write checkpoint.txt (the complete state, for --restart) after every this many converged steps; 0: "
           "only when a signal stops the run",
@@ -794,6 +805,20 @@ void readOutput(Problem& p, ParameterList& deck, const std::string& top, const s
                      "parameter out for results/" +
                      deckName + ")");
   p.checkpointEvery = out.get<int>("Checkpoint Every");
+  p.vtkEvery = out.get<int>("VTK Every");
+  p.vtkCompression = out.get<bool>("VTK Compression");
+  if (out.isParameter("VTK At")) {
+    const auto& at = out.get<Array<double>>("VTK At");
+    const std::string where = "parameter \"" + top + "/Output/VTK At\"";
+    for (double T : at) {
+      if (!(T > 0.0 && T <= 1.0))
+        throw InputError(where + ": load factors must lie in (0, 1], got " + core::shortest(T));
+      if (!p.vtkAt.empty() && !(T > p.vtkAt.back()))
+        throw InputError(where + ": load factors must increase, got " + core::shortest(p.vtkAt.back()) + " then " +
+                         core::shortest(T));
+      p.vtkAt.push_back(T);
+    }
+  }
   forEachItem(out.sublist("Tracked Points"), top + "/Output/Tracked Points", trackedSpec(),
               [&](ParameterList& t, const std::string& name, const std::string& path) {
                 p.model.tracked.push_back({name, locate.nodes(t, path, false).front()});

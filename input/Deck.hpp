@@ -33,6 +33,9 @@ struct Problem {
   std::string outputDirectory;
   bool writeVtk = true;
   int checkpointEvery = 0;  // Output/Checkpoint Every
+  int vtkEvery = 1;  // Output/VTK Every (0: only vtkAt)
+  std::vector<double> vtkAt;  // Output/VTK At: increasing load factors in (0, 1]
+  bool vtkCompression = true;  // Output/VTK Compression
   Teuchos::ParameterList effective;  // the whole deck with defaults filled in
 };
 

@@ -26,6 +26,8 @@ inline int klu_scale(int scale, int n, int Ap[], int Ai[], double Ax[], double R
 #include <klu2_diagnostics.hpp>
 }  // namespace KLU2
 
+#include "Errors.hpp"
+
 namespace bc::core {
 
 struct SerialKlu::Data {
@@ -63,10 +65,24 @@ void SerialKlu::factor(const Matrix& A, bool refactor, const double* given) {
     pattern_.take(A);
     auto& p = pattern_;
     d_->symbolic = ::KLU2::klu_analyze<double, int>(p.n, p.rowStart.data(), p.columns.data(), &d_->common);
-    if (!d_->symbolic) throw std::runtime_error("KLU2 analysis failed");
+    // KLU2 returns null also when an allocation fails (its status says which): that is the memory's
+    // limit, not the matrix's.
+    const auto outOfMemory = [&](const char* stage) {
+      if (d_->common.status == KLU_OUT_OF_MEMORY)
+        throw LinearSolverOutOfMemory(std::string("out of memory (KLU2 could not allocate its ") + stage + " of " +
+                                      std::to_string(p.n) +
+                                      " rows; the model is too large for this machine's or this process's memory)");
+    };
+    if (!d_->symbolic) {
+      outOfMemory("analysis");
+      throw std::runtime_error("KLU2 analysis failed");
+    }
     d_->numeric =
         ::KLU2::klu_factor<double, int>(p.rowStart.data(), p.columns.data(), values, d_->symbolic, &d_->common);
-    if (!d_->numeric) throw std::runtime_error("KLU2 numeric factorization failed (singular matrix)");
+    if (!d_->numeric) {
+      outOfMemory("factorization");
+      throw std::runtime_error("KLU2 numeric factorization failed (singular matrix)");
+    }
     ::KLU2::klu_flops<double, int>(d_->symbolic, d_->numeric, &d_->common);
     setIterationsWorth(d_->common.flops, double(d_->numeric->lnz) + d_->numeric->unz + d_->numeric->nzoff,
                        double(p.columns.size()));

@@ -1,5 +1,5 @@
-"""Reads Example 1's last VTK file with VTK's XML reader and checks the contact points drawn in it
-against contact_points.csv of the same step: one vertex cell per active point, at the point's
+"""Reads Example 1's last VTK file of the contact points (contact.pvd) with VTK's XML reader and checks
+the points drawn in it against contact_points.csv of the same step: one vertex cell per active point, at the point's
 position, with a contact force whose magnitude is sqrt(N^2 + T1^2 + T2^2) (the normal and the two
 friction forces act along orthogonal-enough directions: normal vs. line tangents exactly, tangents
 at the crossing angle; the check uses the exact composition |N n + T1 t1 + T2 t2|), split into its
@@ -14,7 +14,7 @@ import vtk
 from vtk.util.numpy_support import vtk_to_numpy
 
 results = Path(sys.argv[1])
-last = ET.parse(results / "results.pvd").getroot().findall("./Collection/DataSet")[-1]
+last = ET.parse(results / "contact.pvd").getroot().findall("./Collection/DataSet")[-1]
 reader = vtk.vtkXMLUnstructuredGridReader()
 reader.SetFileName(str(results / last.get("file")))
 reader.Update()
