@@ -12,33 +12,17 @@ with matplotlib and each active contact point's force (on beam B) as an arrow sc
 force of the run's stages.
 """
 import argparse
-import importlib
+import os
 import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
-# The Debian package of each third-party module these scripts import.
-DEBIAN_PACKAGES = {"numpy": "python3-numpy", "matplotlib": "python3-matplotlib", "mpl_toolkits": "python3-matplotlib",
-                   "vtk": "python3-vtk9", "vtkmodules": "python3-vtk9"}
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from python_modules import need as need_module  # noqa: E402
 
 
 def need(module):
-    """Imports `module`; when it cannot be (not installed, or broken: any error while importing it), one
-    line naming the Debian package to install and exit 4."""
-    try:
-        return importlib.import_module(module)
-    except Exception as e:  # noqa: BLE001 - one line, not a traceback
-        missing = isinstance(e, ModuleNotFoundError) and e.name
-        top = (e.name if missing else module).split(".")[0]
-        package = DEBIAN_PACKAGES.get(top)
-        if missing:
-            why, verb, flag = "is not installed", "install", ""
-        else:
-            why, verb, flag = f"cannot be loaded ({type(e).__name__}: {(str(e) + chr(10)).splitlines()[0]})", \
-                "reinstall", " --reinstall"
-        how = f"{verb} the Debian package {package} (apt install{flag} {package})" if package else f"{verb} {top}"
-        print(f"beamcontact: render: the Python module {top} {why}; {how}", file=sys.stderr)
-        sys.exit(4)
+    return need_module(module, "render")
 
 
 np = need("numpy")

@@ -23,34 +23,17 @@ It needs matplotlib (python3-matplotlib): without it, one line naming the packag
 (`study_report.py --check-modules` checks only that, for `beamcontact study` before its cases run).
 """
 import csv
-import importlib
 import json
 import math
 import os
 import sys
 
-# The Debian package of each third-party module these scripts import.
-DEBIAN_PACKAGES = {"numpy": "python3-numpy", "matplotlib": "python3-matplotlib", "mpl_toolkits": "python3-matplotlib",
-                   "vtk": "python3-vtk9", "vtkmodules": "python3-vtk9"}
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from python_modules import need as need_module  # noqa: E402
 
 
 def need(module):
-    """Imports `module`; when it cannot be (not installed, or broken: any error while importing it), one
-    line naming the Debian package to install and exit 4."""
-    try:
-        return importlib.import_module(module)
-    except Exception as e:  # noqa: BLE001 - one line, not a traceback
-        missing = isinstance(e, ModuleNotFoundError) and e.name
-        top = (e.name if missing else module).split(".")[0]
-        package = DEBIAN_PACKAGES.get(top)
-        if missing:
-            why, verb, flag = "is not installed", "install", ""
-        else:
-            why, verb, flag = f"cannot be loaded ({type(e).__name__}: {(str(e) + chr(10)).splitlines()[0]})", \
-                "reinstall", " --reinstall"
-        how = f"{verb} the Debian package {package} (apt install{flag} {package})" if package else f"{verb} {top}"
-        print(f"beamcontact: study report: the Python module {top} {why}; {how}, or run the study with --no-report", file=sys.stderr)
-        sys.exit(4)
+    return need_module(module, "study report", ", or run the study with --no-report")
 
 
 matplotlib = need("matplotlib")
