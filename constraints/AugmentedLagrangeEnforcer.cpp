@@ -16,9 +16,9 @@ const core::ParameterSpec& AugmentedLagrangeEnforcer::spec() {
           core::positive(), "> 0");
     p.add("Maximum Augmentations", 50, "Newton solves allowed per increment (passes)", core::atLeast(1), ">= 1");
     p.add("Regularization Gap", 0.0,
-          "width g0 of a C1 onset of the normal force centred on the augmented law's kink (0: the kinked law); "
-          "lets flat faces or parallel rods that touch along their length at once converge, and the "
-          "augmentations still close the gap where the force exceeds eps_N g0 / 2 [length]",
+          "width g0 of a C1 onset of the normal force centred on the augmented law's kink (0: the kinked law) "
+          "at point contacts (line contact uses Lagrange's field rows); the augmentations still close the gap "
+          "where the force exceeds eps_N g0 / 2 [length]",
           core::nonNegative(), ">= 0");
     return p;
   }();
