@@ -53,8 +53,8 @@ LineContact::LineContact(const ContactGeometry& geometry, const ConstraintEnforc
       beamStiffness_[elems[e].beam] = std::max(beamStiffness_[elems[e].beam], EI);
       for (int side = 0; side < 2; ++side) {
         const int node = fieldNode(static_cast<int>(e), side);
-        fieldLengths_[node] += 0.5 * L;
-        const auto [it, first] = fieldElements_.try_emplace(node, FieldElements{L, EI, elems[e].beam});
+        const auto [it, first] = fieldElements_.try_emplace(node, FieldElements{0.0, L, EI, elems[e].beam});
+        it->second.length += 0.5 * L;
         if (!first) {
           it->second.shortest = std::min(it->second.shortest, L);
           it->second.stiffness = std::max(it->second.stiffness, EI);
@@ -64,8 +64,8 @@ LineContact::LineContact(const ContactGeometry& geometry, const ConstraintEnforc
 }
 
 double LineContact::fieldLength(int node) const {
-  const auto it = fieldLengths_.find(node);
-  return it == fieldLengths_.end() ? 0.0 : it->second;
+  const auto it = fieldElements_.find(node);
+  return it == fieldElements_.end() ? 0.0 : it->second.length;
 }
 
 double LineContact::fieldCompliance(int pair, int node) const {
@@ -333,7 +333,8 @@ bool LineContact::evaluateNodal(const ContactPointRecord& p, const ContactKinema
   // nodes' with the same N (block = E^T point E with E the interpolation). The Gauss point xi moves
   // with its segment, so N does too: the tangent also holds the rows E'^T f xi' and the columns
   // (d f / d lambda) (N' Lambda) xi'.
-  const PointState* host = fieldState(p, points);
+  const ContactPointRecord* hostRecord = fieldHost(p, points);
+  const PointState* host = hostRecord ? &*hostRecord->state : nullptr;
   if (!host || !enforcer_.contributes(k.normal.value, *host)) return false;
   const int m = enforcer_.multipliers(*host);
   std::vector<double> lambda(m, 0.0), lambdaSlope(m, 0.0);  // lambda and d lambda / d xi
@@ -359,7 +360,7 @@ bool LineContact::evaluateNodal(const ContactPointRecord& p, const ContactKinema
   std::vector<double> fp(np, 0.0), Kp(K ? std::size_t(np) * np : 0, 0.0);
   ContactPoint view = geometry_.strategyView(p, k, s);
   view.lambda = lambda.data();
-  view.fieldCompliance = fieldCompliance(p.key.pair, fieldHost(p, points)->key.node);
+  view.fieldCompliance = fieldCompliance(p.key.pair, hostRecord->key.node);
   const PointResult r = enforcer_.evaluate(view, *host, fp.data(), K ? Kp.data() : nullptr);
   if (result) *result = r;
   f.assign(nb, 0.0);

@@ -133,11 +133,11 @@ class LineContact {
   std::set<int> frictionless_;
   std::map<int, std::pair<double, Vec3d>> unresolved_, unseenBetween_;
   std::map<int, HeldEnd> heldEnds_;
-  std::map<int, double> fieldLengths_;  // field node -> fieldLength
-  // Field node -> the shortest element length and the largest bending stiffness of its beam's
-  // elements there; beam -> its largest bending stiffness (fieldCompliance).
+  // Field node -> its length share (fieldLength), the shortest element length and the largest
+  // bending stiffness of its beam's elements there; beam -> its largest bending stiffness
+  // (fieldCompliance).
   struct FieldElements {
-    double shortest = 0.0, stiffness = 0.0;
+    double length = 0.0, shortest = 0.0, stiffness = 0.0;
     int beam = 0;
   };
   std::map<int, FieldElements> fieldElements_;
