@@ -142,12 +142,13 @@ const Command& renderSpec() {
   static const Command c{"render",
                          "Draws a run's beams and contact forces at stages of loading into a PNG, from the run's VTK "
                          "files\n"
-                         "(needs python3-matplotlib, python3-numpy, python3-vtk9). Exit code 4 when a module is "
-                         "missing.",
+                         "(needs python3-matplotlib, python3-numpy, python3-vtk9 or python3-paraview). Exit code 4 "
+                         "when a module is missing.",
                          {{"RESULTS_DIR", "a run's results directory"}, {"OUT.png", "the picture to write"}},
-                         {{"stages", 0, "T1,T2,...", "0.25,0.5,0.75,1", "load factors to draw, one panel each"},
+                         {{"stages", 0, "T1,T2,...", "0.25,0.5,0.75,1",
+                           "load factors to draw, one panel each (1 x N up to 3, then about square), 200 dpi"},
                           {"view", 0, "ELEV,AZIM", "22,-60", "camera elevation and azimuth [degrees]"},
-                          {"title", 0, "TEXT", "the results directory's name", "title above the panels"}}};
+                          {"title", 0, "TEXT", "the deck's file name", "title above the panels"}}};
   return c;
 }
 

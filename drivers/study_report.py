@@ -1,7 +1,7 @@
 #!/usr/bin/python3
-"""Report of a BeamContact study: report.md with one PNG (150 dpi) and one PDF per figure, from the
-study directory's cases.csv and study.json (both written by `beamcontact study`) and the cases'
-own results (steps.csv, newton.csv, tracked_points.csv).
+"""Report of a BeamContact study: report.md with one PNG (200 dpi) and one PDF (TrueType fonts, no
+Type 3) per figure, from the study directory's cases.csv and study.json (both written by
+`beamcontact study`) and the cases' own results (steps.csv, newton.csv, tracked_points.csv).
 
     /usr/bin/python3 drivers/study_report.py STUDY_DIR
 
@@ -15,10 +15,14 @@ time with its spread) and the figures:
   dashed vertical lines at their X in their curve's colour (one legend entry says so), as the paper
   marks its non-converging penalty parameters; complete cases without X (another strategy) are
   horizontal lines, or a shaded band from the smallest to the largest value where a group has several;
-  the study deck's published values (the paper's) are crosses at (Published X, Published Y) or
-  dash-dot lines without X, on the same scale;
+  the study deck's published values (the paper's) are hollow markers, one legend entry each with its
+  label and value, at (Published X, Published Y) or, without X, side by side near the right edge, on
+  the same scale;
 - load-displacement curves of every tracked-point output, one line per case;
 - Newton iterations per step, and the residual history of each case's last converged step.
+Every figure is titled with the study's title; every series has a colour, marker and line style of its
+own (figure_style.py); a case's legend entry is its group and the values its group varies; every axis
+has a unit (the study deck's, a count, seconds, or "(model units)" where the deck states none).
 It needs matplotlib (python3-matplotlib): without it, one line naming the package and exit 4
 (`study_report.py --check-modules` checks only that, for `beamcontact study` before its cases run).
 """
@@ -30,6 +34,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from python_modules import need as need_module  # noqa: E402
+import figure_style  # noqa: E402
 
 
 def need(module):
@@ -38,8 +43,14 @@ def need(module):
 
 matplotlib = need("matplotlib")
 matplotlib.use("Agg")
+figure_style.setup(matplotlib)
 plt = need("matplotlib.pyplot")
 Line2D = need("matplotlib.lines").Line2D
+MaxNLocator = need("matplotlib.ticker").MaxNLocator
+
+
+# Columns and contact totals that count things: their axes say "[count]".
+COUNTS = {"newton_iterations", "max_newton_per_step", "passes", "steps", "Active Points", "Stick Lines", "Slip Lines"}
 
 
 def number(text):
@@ -90,17 +101,34 @@ class Study:
         unit = self.units.get(name)
         return f"{name} [{unit}]" if unit else name
 
+    def axis_label(self, name):
+        """`name` with its unit for an axis: the study deck's (or its default), a count, seconds, or
+        "(model units)" where the deck states none."""
+        unit = self.units.get(name)
+        if unit:
+            return f"{name} [{unit}]"
+        if name in COUNTS or self.meta.get("output_sources", {}).get(name, {}).get("contact") in COUNTS:
+            return f"{name} [count]"
+        if name.startswith("solve_seconds"):
+            return f"{name} [s]"
+        return f"{name} (model units)"
+
     def case_label(self, r):
-        values = [f"{c}={fmt(r[c])}" for c in self.columns if r.get(c)]
-        return " ".join([r["group"]] + values)
+        """A case in a legend: its group's name and the values of the parameters that the group varies
+        (those with more than one value in it), not those it sets once."""
+        group = next((g for g in self.meta.get("groups", []) if g["name"] == r["group"]), None)
+        varied = [v["name"] for v in group["variables"] if len(v["values"]) > 1] if group else self.columns
+        return " ".join([r["group"]] + [f"{c}={fmt(r[c])}" for c in varied if r.get(c)])
 
     def case_dir(self, r):
         return os.path.join(self.dir, "cases", f"{int(r['case']):03d}")
 
     def save(self, fig, title):
+        """Writes the figure as PNG (200 dpi) and PDF (TrueType fonts) under the study's title."""
         stem = "".join(c if c.isalnum() or c in "-_" else "_" for c in title)
+        fig.suptitle(self.meta["title"], fontsize=10)
         fig.tight_layout()
-        fig.savefig(os.path.join(self.dir, stem + ".png"), dpi=150)
+        fig.savefig(os.path.join(self.dir, stem + ".png"), dpi=figure_style.DPI)
         fig.savefig(os.path.join(self.dir, stem + ".pdf"))
         plt.close(fig)
         return stem
@@ -146,10 +174,9 @@ def plot_one(study, plot):
         if k not in keys:
             keys.append(k)
     keys.sort(key=lambda k: (number(k) is None, number(k) or 0.0, k))
-    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     failed_any = False
     for i, k in enumerate(keys):
-        colour = colours[i % len(colours)]
+        style = figure_style.series_style(i)
         members = [r for r in rows if number(r.get(x)) is not None and (not series or r.get(series, "") == k)]
         ok = sorted((number(r[x]), value(r)) for r in members if r["status"] == "complete" and value(r) is not None)
         if error:
@@ -160,10 +187,10 @@ def plot_one(study, plot):
             if s is not None:
                 label += f" (slope {s:.2f})"
         if ok:
-            ax.plot([p[0] for p in ok], [p[1] for p in ok], "o-", color=colour, label=label)
+            ax.plot([p[0] for p in ok], [p[1] for p in ok], label=label, markersize=5, **style)
         for r in members:
             if r["status"] != "complete":
-                ax.axvline(number(r[x]), color=colour, linestyle="--", linewidth=1)
+                ax.axvline(number(r[x]), color=style["color"], linestyle="--", linewidth=1)
                 failed_any = True
     # Complete cases without X, per group: one case is a horizontal line, several a band from their
     # smallest to their largest value; each labelled with its group at the left.
@@ -185,7 +212,10 @@ def plot_one(study, plot):
     for r in rows:
         if number(r.get(x)) is None and r["status"] != "complete" and r["group"] != ref_group:
             failed_any = True  # another strategy that did not complete: in the table's causes
-    # Published values, on the same scale as the cases (relative to the reference where the plot is).
+    # Published values, on the same scale as the cases (relative to the reference where the plot is):
+    # one hollow marker and one legend entry each, its label and value ("paper: Lagrange: A uz =
+    # -9.89"); at (Published X, Y), or without X side by side in a strip at the right (the X axis is
+    # widened for it below) at their Y. Their styles go on from the cases' so that none repeats.
     published_y = plot.get("published_y", [])
     published_x = plot.get("published_x", [])
     published_labels = plot.get("published_labels", []) or ["published"] * len(published_y)
@@ -193,23 +223,40 @@ def plot_one(study, plot):
         v = scaled(py)
         if error and v <= 0.0:
             continue
-        first = published_labels[k] not in published_labels[:k]
+        style = figure_style.series_style(len(keys) + k)
+        label = f"{published_labels[k]}: {y} = {fmt(py)}"
+        marker = {"marker": style["marker"], "color": style["color"], "linestyle": "none", "markersize": 9,
+                  "markerfacecolor": "none", "markeredgewidth": 2, "label": label}
         if published_x:
-            ax.plot([published_x[k]], [v], "kx", markersize=8, mew=2, label=published_labels[k] if first else None)
+            ax.plot([published_x[k]], [v], **marker)
         else:
-            ax.axhline(v, color="crimson", linestyle="-.", linewidth=1.0, label=published_labels[k] if first else None)
+            at = STRIP + 0.02 + (0.96 - STRIP) * (k + 0.5) / len(published_y)
+            ax.plot([at], [v], transform=ax.get_yaxis_transform(), clip_on=False, **marker)
     if plot["log_x"] or error:
         ax.set_xscale("log")
     if error:
         ax.set_yscale("log")
-    ax.set_xlabel(study.label(x))
+    if published_y and not published_x and keys:  # the strip for published values without X
+        lo, hi = ax.get_xlim()
+        ticks = [ax.get_xticks(), ax.get_xticks(minor=True)]
+        if ax.get_xscale() == "log":
+            ax.set_xlim(lo, lo * (hi / lo) ** (1.0 / STRIP))
+        else:
+            ax.set_xlim(lo, lo + (hi - lo) / STRIP)
+        # No X ticks over the strip (its markers have no X); a thin line and a word set it apart.
+        for minor, t in enumerate(ticks):
+            ax.set_xticks([v for v in t if lo <= v <= hi], minor=bool(minor))
+        ax.plot([STRIP, STRIP], [0.0, 1.0], transform=ax.transAxes, color="0.5", linewidth=0.8)
+        ax.text(0.5 * (1.0 + STRIP), 0.01, "published", transform=ax.transAxes, fontsize=7, color="0.3",
+                ha="center", va="bottom")
+    ax.set_xlabel(study.axis_label(x))
     if error:
-        ax.set_ylabel(f"|{y} - {y} of {ref_group}| / |{y} of {ref_group}|")
+        ax.set_ylabel(f"|{y} - {y} of {ref_group}| / |{y} of {ref_group}| [-]")
     elif ref_group:
-        ax.set_ylabel(f"{y}: % difference vs {ref_group}")
+        ax.set_ylabel(f"{y}: difference vs {ref_group} [%]")
         ax.axhline(0.0, color="k", linewidth=0.6)
     else:
-        ax.set_ylabel(study.label(y))
+        ax.set_ylabel(study.axis_label(y))
     ax.set_title(plot["name"])
     ax.grid(True, alpha=0.3, which="both" if error else "major")
     handles, labels = ax.get_legend_handles_labels()
@@ -217,8 +264,19 @@ def plot_one(study, plot):
         handles.append(Line2D([], [], color="0.4", linestyle="--", linewidth=1))
         labels.append("did not complete (at its X)")
     if handles:
-        ax.legend(handles, labels, fontsize=8)
+        ax.legend(handles, labels, **legend_options(len(handles)))
     return study.save(fig, plot["name"]), None
+
+
+# The share of a plot's width for its cases when published values without X sit in a strip at the right.
+STRIP = 0.88
+
+
+def legend_options(entries):
+    """A legend inside the axes for a few entries; beside them, in columns of at most 30, for more."""
+    if entries <= 6:
+        return {"fontsize": 8}
+    return {"fontsize": 7, "loc": "center left", "bbox_to_anchor": (1.01, 0.5), "ncol": 1 + (entries - 1) // 30}
 
 
 def curves(study):
@@ -228,13 +286,13 @@ def curves(study):
     rows = [r for r in study.rows if os.path.isdir(study.case_dir(r))]
     if not rows:
         return figures
-    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    styles = ["-", "--", "-.", ":"]
 
-    def style(i):
-        return {"color": colours[i % len(colours)], "linestyle": styles[(i // len(colours)) % len(styles)]}
+    def style(i, points):
+        """Case i's colour, marker and line style, with a marker on about eight of its points (staggered
+        from case to case, so that curves on top of each other still show their markers)."""
+        every = max(1, points // 8)
+        return dict(figure_style.series_style(i), markersize=3, markevery=(i % every, every))
 
-    legend = {"fontsize": 6, "loc": "center left", "bbox_to_anchor": (1.01, 0.5)}
     sources = study.meta.get("output_sources", {})
     for name, src in sources.items():
         if not src.get("tracked_point"):
@@ -248,14 +306,14 @@ def curves(study):
             data = [d for d in data if d[0] is not None and d[1] is not None]
             if data:
                 label = study.case_label(r) + ("" if r["status"] == "complete" else f" ({r['status']})")
-                ax.plot([d[0] for d in data], [d[1] for d in data], label=label, linewidth=1.2, **style(i))
+                ax.plot([d[0] for d in data], [d[1] for d in data], label=label, linewidth=1.2, **style(i, len(data)))
                 drawn += 1
         if drawn:
-            ax.set_xlabel("load factor T")
-            ax.set_ylabel(study.label(name))
+            ax.set_xlabel("load factor T [-]")
+            ax.set_ylabel(study.axis_label(name))
             ax.set_title(f"{name} against the load factor")
             ax.grid(True, alpha=0.3)
-            ax.legend(**legend)
+            ax.legend(**legend_options(max(drawn, 7)))
             figures.append((f"{name} against the load factor", study.save(fig, f"curve {name}")))
         else:
             plt.close(fig)
@@ -265,23 +323,25 @@ def curves(study):
         pts = [(number(s["T"]), number(s["newton_iterations"])) for s in steps]
         pts = [p for p in pts if p[0] is not None and p[1] is not None]
         if pts:
-            a1.plot([p[0] for p in pts], [p[1] for p in pts], label=study.case_label(r), linewidth=1.0, **style(i))
+            a1.plot([p[0] for p in pts], [p[1] for p in pts], label=study.case_label(r), linewidth=1.0,
+                    **style(i, len(pts)))
         history = read_csv(os.path.join(study.case_dir(r), "newton.csv"))
         if history:
             last = history[-1]["step"]
             res = [number(h["residual_norm"]) for h in history if h["step"] == last]
             res = [v for v in res if v is not None and v > 0.0]
             if res:
-                a2.semilogy(range(len(res)), res, "o", markersize=3, label=study.case_label(r), **style(i))
-    a1.set_xlabel("load factor T")
-    a1.set_ylabel("Newton iterations in the step (all passes)")
+                a2.semilogy(range(len(res)), res, label=study.case_label(r), linewidth=0.8, **style(i, 8))
+    a1.set_xlabel("load factor T [-]")
+    a1.set_ylabel("Newton iterations in the step (all passes) [count]")
     a1.set_title("Newton iterations per step")
     a1.grid(True, alpha=0.3)
-    a2.set_xlabel("iteration (all passes)")
+    a2.set_xlabel("iteration (all passes) [count]")
+    a2.xaxis.set_major_locator(MaxNLocator(integer=True))
     a2.set_ylabel("||r|| [force]")
     a2.set_title("Residual history of the last converged step")
     a2.grid(True, alpha=0.3, which="both")
-    a2.legend(**legend)
+    a2.legend(**legend_options(max(len(a2.get_lines()), 7)))
     figures.append(("Newton iterations per step and residual histories", study.save(fig, "newton_per_step")))
     return figures
 
