@@ -18,19 +18,32 @@ PACKAGES=(
   procps util-linux   # pgrep, prlimit: the fault tests
 )
 
+installed() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"; }
 missing=()
 for p in "${PACKAGES[@]}"; do
-  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+  if ! installed "$p"; then
     missing+=("$p")
   fi
 done
-# VTK for Python (reading results back, render): any package that provides the module will do.
+# VTK for Python (reading results back, render): any package that provides the module will do:
+# python3-vtk9, or ParaView's python3-paraview (installed with paraview; it has its own vtk module and
+# conflicts with python3-vtk9). Where python3-paraview is installed, python3-vtk9 is never asked for.
+vtk_note="Python's vtk module importable"
 if ! /usr/bin/python3 -c "import vtk" >/dev/null 2>&1; then
-  missing+=(python3-vtk9)
+  vtk_note="but not Python's vtk module"
+  if installed python3-paraview; then
+    echo "setup: python3-paraview is installed but /usr/bin/python3 cannot import its vtk module;" \
+         "python3-vtk9 conflicts with it and is not installed; reinstall it" \
+         "(apt-get install --reinstall python3-paraview): until then render and the VTK tests fail" >&2
+  else
+    missing+=(python3-vtk9)
+  fi
+elif installed python3-paraview; then
+  echo "setup: Python's vtk module from python3-paraview (ParaView's; python3-vtk9 is not needed)"
 fi
 
 if [ ${#missing[@]} -eq 0 ]; then
-  echo "setup: all packages present (Python's vtk module importable)"
+  echo "setup: all packages present ($vtk_note)"
   exit 0
 fi
 
@@ -39,6 +52,7 @@ SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update
-# --no-remove: apt stops with an error instead of removing a package of yours to make room.
+# Only what is missing is asked for, and --no-remove: apt stops with an error instead of removing a
+# package of yours to make room (this script never removes a package).
 $SUDO apt-get install -y --no-install-recommends --no-remove -o Dpkg::Progress-Fancy=0 "${missing[@]}"
 echo "setup: done"

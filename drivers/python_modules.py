@@ -1,11 +1,17 @@
-"""The third-party Python modules of BeamContact's scripts (render_stages.py, study_report.py): a module
-that cannot be imported is one line naming the Debian package to install, and exit code 4."""
+"""The third-party Python modules of BeamContact's scripts (render_stages.py, study_report.py,
+paraview_views.py): a module that cannot be imported is one line naming the Debian package to install,
+and exit code 4."""
 import importlib
+import os
 import sys
 
 # The Debian package of each third-party module these scripts import.
 DEBIAN_PACKAGES = {"numpy": "python3-numpy", "matplotlib": "python3-matplotlib", "mpl_toolkits": "python3-matplotlib",
-                   "vtk": "python3-vtk9", "vtkmodules": "python3-vtk9"}
+                   "vtk": "python3-vtk9", "vtkmodules": "python3-vtk9", "paraview": "paraview"}
+# ParaView's Python package (python3-paraview, pulled in by paraview) has its own vtk module and conflicts
+# with python3-vtk9: where it is installed, its vtk is the one to (re)install.
+if os.path.exists("/var/lib/dpkg/info/python3-paraview.list"):
+    DEBIAN_PACKAGES.update({"vtk": "python3-paraview", "vtkmodules": "python3-paraview"})
 
 
 def need(module, who, hint=""):

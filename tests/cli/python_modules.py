@@ -13,6 +13,8 @@ and a study's report names who wrote it:
   the line comes before the first case runs (the study checks the report's modules first);
 - vtk for render, matplotlib for the study, broken (their import raises RuntimeError): exit 4, one line
   saying the module cannot be loaded and to reinstall its package;
+- paraview_views.py without ParaView's Python (paraview unimportable): exit 4, one line naming the
+  Debian package paraview and pvpython;
 - the report script failing after its imports (matplotlib's Figure.savefig raises): exit 4 and a line
   saying the report was not written and every case is complete, no report.md.
 
@@ -107,6 +109,15 @@ if r.returncode != 4 or "module vtk cannot be loaded (RuntimeError: " not in lin
         "apt install --reinstall python3-vtk9" not in line:
     fail(f"render with vtk broken: exit {r.returncode}, {line!r}")
 print(f"ok: render with vtk broken: exit 4, {line!r}")
+# ParaView's views script run without ParaView's Python (here made unimportable): the package and pvpython.
+views = os.path.join(os.path.dirname(exe), "..", "share", "beamcontact", "paraview_views.py")
+env = dict(os.environ, PYTHONPATH=hooks, BC_TEST_MISSING_MODULES="paraview")
+r = subprocess.run(["/usr/bin/python3", views, results, work], capture_output=True, text=True, env=env)
+line = one_line(r)
+if r.returncode != 4 or "module paraview is not installed" not in line or "apt install paraview" not in line or \
+        "pvpython" not in line:
+    fail(f"paraview_views.py without paraview: exit {r.returncode}, {line!r}")
+print(f"ok: paraview_views.py without paraview: exit 4, {line!r}")
 
 commit = dict(l.split(": ", 1) for l in run(["--version"]).stdout.splitlines()[1:])["commit"]
 version = run(["--version"]).stdout.splitlines()[0].split()[1]
