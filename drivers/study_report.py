@@ -264,7 +264,7 @@ def plot_one(study, plot):
         handles.append(Line2D([], [], color="0.4", linestyle="--", linewidth=1))
         labels.append("did not complete (at its X)")
     if handles:
-        ax.legend(handles, labels, **legend_options(len(handles)))
+        legend(fig, ax, len(handles), handles, labels)
     return study.save(fig, plot["name"]), None
 
 
@@ -272,11 +272,18 @@ def plot_one(study, plot):
 STRIP = 0.88
 
 
-def legend_options(entries):
-    """A legend inside the axes for a few entries; beside them, in columns of at most 30, for more."""
-    if entries <= 6:
-        return {"fontsize": 8}
-    return {"fontsize": 7, "loc": "center left", "bbox_to_anchor": (1.01, 0.5), "ncol": 1 + (entries - 1) // 30}
+def legend(fig, ax, entries, handles=None, labels=None, beside=False):
+    """A legend inside the axes for a few entries; beside them (or always with `beside`), in columns of
+    at most 30, for more; the figure is widened by 3.2 inches for each column after the first."""
+    if entries <= 6 and not beside:
+        options = {"fontsize": 8}
+    else:
+        options = {"fontsize": 7, "loc": "center left", "bbox_to_anchor": (1.01, 0.5), "ncol": 1 + (entries - 1) // 30}
+        fig.set_size_inches(fig.get_figwidth() + 3.2 * (options["ncol"] - 1), fig.get_figheight())
+    if handles is None:
+        ax.legend(**options)
+    else:
+        ax.legend(handles, labels, **options)
 
 
 def curves(study):
@@ -313,7 +320,7 @@ def curves(study):
             ax.set_ylabel(study.axis_label(name))
             ax.set_title(f"{name} against the load factor")
             ax.grid(True, alpha=0.3)
-            ax.legend(**legend_options(max(drawn, 7)))
+            legend(fig, ax, drawn, beside=True)
             figures.append((f"{name} against the load factor", study.save(fig, f"curve {name}")))
         else:
             plt.close(fig)
@@ -341,7 +348,7 @@ def curves(study):
     a2.set_ylabel("||r|| [force]")
     a2.set_title("Residual history of the last converged step")
     a2.grid(True, alpha=0.3, which="both")
-    a2.legend(**legend_options(max(len(a2.get_lines()), 7)))
+    legend(fig, a2, len(a2.get_lines()), beside=True)
     figures.append(("Newton iterations per step and residual histories", study.save(fig, "newton_per_step")))
     return figures
 
