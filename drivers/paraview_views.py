@@ -91,7 +91,8 @@ def main():
     shown = pv.Show(warp, view)
     pv.ColorBy(shown, ("POINTS", "displacement", "Magnitude"))
     shown.SetScalarBarVisibility(view, True)
-    pv.GetScalarBar(pv.GetColorTransferFunction("displacement"), view).Title = "|displacement| (model units)"
+    bar = pv.GetScalarBar(pv.GetColorTransferFunction("displacement"), view)
+    bar.Title, bar.ComponentTitle = "|displacement| (model units)", ""
 
     glyph = None
     if os.path.isfile(contact_pvd) and timesteps(contact_pvd):
