@@ -12,10 +12,11 @@ beams' files) and, for each stage, the step whose load factor T is nearest, with
 package, exit 4); draws the faces of every beam cell (hexahedra for rectangles, wedges for circles)
 with matplotlib and each active contact point's force (on beam B) as an arrow scaled to the largest
 force of the run's stages. One panel per stage (1 -> 1 x 1, 2 -> 1 x 2, 3 -> 1 x 3, 4 -> 2 x 2,
-5 and 6 -> 2 x 3, ...), 200 dpi, titled with the deck's file name (from the run's status.txt) unless
---title is given; the axes are in the model's units, which the decks do not state.
+5 and 6 -> 2 x 3, ...), 200 dpi, titled with the deck's file name (from the run's status.txt; for a
+study's case, the study's title and the case number) unless --title is given; the axes are in the model's units, which the decks do not state.
 """
 import argparse
+import json
 import math
 import os
 import shlex
@@ -90,8 +91,15 @@ def layout(stages):
 
 
 def deck_title(results):
-    """The title of the run's deck: its top-level "Title" parameter if it has one, else the deck's file
-    name without its folder (from the command line the run recorded), else the results folder's name."""
+    """The title of the run's deck: its top-level "Title" parameter if it has one; for a case of a study
+    (STUDY_DIR/cases/NNN) the study's title and the case; else the deck's file name without its folder
+    (from the command line the run recorded), else the results folder's name."""
+    study = results.resolve().parent.parent / "study.json"
+    if results.resolve().parent.name == "cases" and study.is_file():
+        try:
+            return f"{json.loads(study.read_text())['title']}, case {results.resolve().name}"
+        except (OSError, ValueError, KeyError):
+            pass
     effective = results / "effective_parameters.xml"
     try:
         root = ET.parse(effective).getroot()

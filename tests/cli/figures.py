@@ -18,9 +18,9 @@
   (colour, marker, line style) of its own within its figure (the old cycle repeated at 11 cases in
   the plot and at 41 in the curves);
 - render of the Lagrange case for 1, 2, 3, 4 and 6 stages: 1 x 1, 1 x 2, 1 x 3, 2 x 2, 2 x 3 panels,
-  the PNG's width 5.2 inches per column at 200 dpi, the title the deck's file name ("deck.xml", the
-  study's case deck), axes in "(model units)"; and `beamcontact render` with one stage writes a PNG
-  one panel wide.
+  the PNG's width 5.2 inches per column at 200 dpi, the title the study's title and the case
+  ("Figures test: Example 1, case 001"), axes in "(model units)"; `beamcontact render` with one stage
+  writes a PNG one panel wide; and a run outside a study is titled with its deck's file name.
 
     figures.py BEAMCONTACT SCRIPTS_DIR DECK WORKDIR
 """
@@ -28,6 +28,7 @@ import csv
 import importlib.util
 import json
 import os
+import pathlib
 import re
 import shutil
 import subprocess
@@ -218,11 +219,16 @@ for stages, rows, cols in (("1", 1, 1), ("0.5,1", 1, 2), ("0.3,0.6,1", 1, 3), ("
               abs(png.size[1] - round(fig.get_size_inches()[1] * 200)) <= 1 and
               all(abs(d - 200) < 1 for d in png.info.get("dpi", (0, 0))),
               f"render {stages}: {png.size} pixels, {png.info.get('dpi')} dpi, for {cols} columns at 200 dpi")
-    check(fig._suptitle is not None and fig._suptitle.get_text().startswith("deck.xml: "),
+    check(fig._suptitle is not None and fig._suptitle.get_text().startswith(f"{title}, case 001: "),
           f"render {stages}: title {fig._suptitle.get_text() if fig._suptitle else None!r}")
     check(all("(model units)" in label for ax in fig.axes
               for label in (ax.get_xlabel(), ax.get_ylabel(), ax.get_zlabel())), f"render {stages}: axis labels")
 Figure.savefig = original_savefig
+plain = os.path.join(work, "plain_run")
+r = subprocess.run([exe, "run", os.path.join(os.path.dirname(deck), "..", "..", "..", "input", "example1.xml"),
+                    "--output", plain, "--quiet"], capture_output=True, text=True)
+check(r.returncode == 0 and render.deck_title(pathlib.Path(plain)) == "example1.xml",
+      f"a run of example1.xml: exit {r.returncode}, render's title {render.deck_title(pathlib.Path(plain))!r}")
 out = os.path.join(work, "render_cli.png")
 r = subprocess.run([exe, "render", case, out, "--stages", "1"], capture_output=True, text=True)
 if check(r.returncode == 0, f"beamcontact render --stages 1: exit {r.returncode}: {r.stderr}"):
