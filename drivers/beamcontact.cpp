@@ -4,7 +4,7 @@
 //   beamcontact study STUDY.xml [-o DIR] [--parallel N] [--timing [N]] [--no-report] [--plugin LIB]...
 //   beamcontact render RESULTS_DIR OUT.png [--stages T1,T2,...] [--view ELEV,AZIM] [--title TEXT]
 //   beamcontact generate KIND [--OPTION VALUE]... [-o FILE]
-//   beamcontact --print-valid-parameters
+//   beamcontact --print-valid-parameters [--format text|xml|yaml] [--plugin LIB]...
 //   beamcontact --version (or version)
 //   beamcontact --help, beamcontact COMMAND --help
 // Each command's options are a table (CommandLine.hpp) that drives its parsing and its --help; the
@@ -38,6 +38,7 @@
 #include "core/Provenance.hpp"
 #include "core/Simulation.hpp"
 #include "input/Deck.hpp"
+#include "input/Reference.hpp"
 
 namespace {
 
@@ -48,7 +49,7 @@ const char* kUsage =
     "[--plugin LIB]...\n"
     "       beamcontact render RESULTS_DIR OUT.png [--stages T1,T2,...] [--view ELEV,AZIM] [--title TEXT]\n"
     "       beamcontact generate grid|weave|network|strand [--OPTION VALUE]... [-o FILE]\n"
-    "       beamcontact --print-valid-parameters [--plugin LIB]...\n"
+    "       beamcontact --print-valid-parameters [--format text|xml|yaml] [--plugin LIB]...\n"
     "       beamcontact version (or --version)\n"
     "       beamcontact COMMAND --help (or -h): every option of COMMAND with its default and meaning\n"
     "\n"
@@ -159,10 +160,15 @@ const Command& versionSpec() {
 
 const Command& parametersSpec() {
   static const Command c{"--print-valid-parameters",
-                         "Prints every deck parameter with its type, default and meaning (with the plug-ins' "
-                         "strategies).",
+                         "Prints every deck parameter with its type, its default (or, for a required or optional "
+                         "value, a valid\n"
+                         "example) and its meaning, with the plug-ins' strategies; values as a deck writes them.",
                          {},
-                         {kPlugin}};
+                         {{"format", 0, "FORMAT", "text",
+                           "text (for people); xml (the deck format, with use=\"default|required|optional\" and "
+                           "docString) or\n"
+                           "yaml (lists of name, type, use, value, doc), for editors and scripts"},
+                          kPlugin}};
   return c;
 }
 
@@ -407,16 +413,21 @@ int checkCommand(const std::vector<std::string>& args) {
 }
 
 // beamcontact --print-valid-parameters: the deck reference, with the plug-ins' strategies (printed on rank 0).
-int printValidParameters(const bc::core::Comm& comm, const std::vector<std::string>& plugins, bool root) {
+int printValidParameters(const bc::core::Comm& comm, const std::vector<std::string>& plugins,
+                         bc::input::ReferenceFormat format, bool root) {
   bc::core::collectively(comm, [&] {
     for (const auto& plugin : plugins) bc::input::loadPlugin(plugin);
   });
-  if (root) {
-    std::cout << "BeamContact deck reference (ParameterList \"BeamContact\"):\n";
-    bc::input::referenceParameters().print(
-        std::cout, Teuchos::ParameterList::PrintOptions().showDoc(true).indent(2).showTypes(true));
-  }
+  if (root) bc::input::writeReference(bc::input::referenceParameters(), format, std::cout);
   return 0;
+}
+
+// --format of --print-valid-parameters; throws UsageError.
+bc::input::ReferenceFormat referenceFormat(const std::string& name) {
+  if (name == "text") return bc::input::ReferenceFormat::Text;
+  if (name == "xml") return bc::input::ReferenceFormat::Xml;
+  if (name == "yaml") return bc::input::ReferenceFormat::Yaml;
+  throw UsageError("--print-valid-parameters", "--format takes text, xml or yaml, got \"" + name + "\"");
 }
 
 // beamcontact run DECK.xml [options]: the options, checked before MPI starts (false: --help printed).
@@ -443,7 +454,8 @@ bool readRunRequest(const std::vector<std::string>& args, RunRequest& request) {
 
 // The commands that run under MPI (run, --print-valid-parameters), with MPI and Kokkos initialized
 // (their options read before), the signal handlers and the built-in strategies.
-int mpiCommand(int& argc, char**& argv, const RunRequest* run, const std::vector<std::string>& plugins) {
+int mpiCommand(int& argc, char**& argv, const RunRequest* run, const std::vector<std::string>& plugins,
+               bc::input::ReferenceFormat format = bc::input::ReferenceFormat::Text) {
   Tpetra::ScopeGuard scope(&argc, &argv);
   guardExit();
   bc::core::installSignalHandlers();
@@ -452,7 +464,7 @@ int mpiCommand(int& argc, char**& argv, const RunRequest* run, const std::vector
   const bool root = comm->getRank() == 0;
   return withExitCodes(root, [&] {
     const Working working;
-    return run ? runDeck(*run) : printValidParameters(*comm, plugins, root);
+    return run ? runDeck(*run) : printValidParameters(*comm, plugins, format, root);
   });
 }
 
@@ -470,7 +482,8 @@ int command(int& argc, char**& argv, const std::vector<std::string>& args) {
   if (name == "check") return checkCommand(args);
   if (name == "--print-valid-parameters") {
     if (!parseOrHelp(parametersSpec(), args, p)) return 0;
-    return mpiCommand(argc, argv, nullptr, p.all("plugin"));
+    const auto format = referenceFormat(p.get("format", "text"));
+    return mpiCommand(argc, argv, nullptr, p.all("plugin"), format);
   }
   if (name == "run") {
     RunRequest request;

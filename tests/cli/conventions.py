@@ -51,7 +51,7 @@ EXPECTED = {
     ("study",): ["--output", "-o", "--overwrite", "--parallel", "--timing", "--no-report"] + PLUGIN,
     ("render",): ["--stages", "--view", "--title"],
     ("version",): [],
-    ("--print-valid-parameters",): PLUGIN,
+    ("--print-valid-parameters",): ["--format"] + PLUGIN,
     ("generate",): ["grid", "weave", "network", "strand"],
     ("generate", "grid"): COMMON + ["--spacing", "--n", "--m", "--gap", "--press", "--load", "--elements"],
     ("generate", "weave"): COMMON + ["--spacing", "--n", "--m", "--gap", "--pull", "--elements"],
