@@ -561,7 +561,8 @@ int generateDeck(const std::vector<std::string>& args) {
         "  weave     a plain-weave mat of undulating yarns whose warps are pulled\n"
         "  network   random fibres in a box, compressed\n"
         "  strand    helical wires, pulled\n"
-        "beamcontact generate KIND --help lists KIND's options with their defaults and meaning.\n");
+        "beamcontact generate KIND --help lists KIND's options with their defaults and meaning.\n\n%s",
+        cli::documentationNote().c_str());
     return 0;
   }
   const std::string kind = args[1];

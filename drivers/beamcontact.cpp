@@ -1,7 +1,7 @@
 // beamcontact: command-line driver. Parses arguments, reads and validates the deck, runs it.
 //   beamcontact run DECK.xml [-o DIR] [-q] [--overwrite] [--timers] [--restart DIR] [--plugin LIB]...
 //   beamcontact check DECK.xml [--plugin LIB]...
-//   beamcontact study STUDY.xml [-o DIR] [--parallel N] [--timing [N]] [--no-report] [--plugin LIB]...
+//   beamcontact study STUDY.xml [-o DIR] [-q] [--parallel N] [--timing [N]] [--no-report] [--plugin LIB]...
 //   beamcontact render RESULTS_DIR OUT.png [--stages T1,T2,...] [--view ELEV,AZIM] [--title TEXT]
 //   beamcontact generate KIND [--OPTION VALUE]... [-o FILE]
 //   beamcontact --print-valid-parameters [--format text|xml|yaml] [--plugin LIB]...
@@ -14,6 +14,7 @@
 // or a study's cases all completed but its report was not written (a missing module is named with its
 // Debian package); 128 + N stopped by signal N (SIGTERM: 143, SIGINT: 130) after writing a checkpoint.
 // Errors are one line on stderr naming the cause.
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -45,7 +46,7 @@ namespace {
 const char* kUsage =
     "usage: beamcontact run DECK.xml [-o DIR] [-q] [--overwrite] [--timers] [--restart DIR] [--plugin LIB]...\n"
     "       beamcontact check DECK.xml [--plugin LIB]...\n"
-    "       beamcontact study STUDY.xml [-o DIR] [--overwrite] [--parallel N] [--timing [N]] [--no-report] "
+    "       beamcontact study STUDY.xml [-o DIR] [-q] [--overwrite] [--parallel N] [--timing [N]] [--no-report] "
     "[--plugin LIB]...\n"
     "       beamcontact render RESULTS_DIR OUT.png [--stages T1,T2,...] [--view ELEV,AZIM] [--title TEXT]\n"
     "       beamcontact generate grid|weave|network|strand [--OPTION VALUE]... [-o FILE]\n"
@@ -135,6 +136,9 @@ const Command& studySpec() {
         "is the median, with its spread",
         false, true, "5"},
        {"no-report", 0, "", "", "write cases.csv and study.json only (no report.md, no plots: no matplotlib needed)"},
+       {"quiet", 'q', "", "",
+        "print nothing but errors and warnings (no start line, no line per case, no closing lines) when every "
+        "case completes"},
        kPlugin}};
   return c;
 }
@@ -258,6 +262,7 @@ int studyCommand(const std::vector<std::string>& args) {
   options.output = p.get("output");
   options.report = !p.has("no-report");
   options.overwrite = p.has("overwrite");
+  options.quiet = p.has("quiet");
   if (p.has("parallel")) {
     const std::string v = p.get("parallel");
     options.parallel = -1;
@@ -276,6 +281,31 @@ int studyCommand(const std::vector<std::string>& args) {
   return withExitCodes(true, [&] { return bc::drivers::runStudy(p.positionals[0], options); });
 }
 
+// A tracked point's published values (Output/Tracked Points/NAME/Reference ux, uy, uz) beside the
+// run's `u` at T = 1: "SOURCE: ux X (diff +Y %), ...", Y = 100 (run - X) / X (+: the run's value is
+// larger in magnitude); empty when the deck gives none.
+template <class U> std::string referenceLine(const bc::input::Problem& problem, const std::string& point, const U& u) {
+  const Teuchos::ParameterList& all = problem.effective.sublist("Output").sublist("Tracked Points");
+  if (!all.isSublist(point)) return "";
+  const Teuchos::ParameterList& p = all.sublist(point);
+  std::string line;
+  const char* names[] = {"ux", "uy", "uz"};
+  for (int k = 0; k < 3; ++k) {
+    const std::string key = std::string("Reference ") + names[k];
+    if (!p.isParameter(key)) continue;
+    const double reference = p.get<double>(key);
+    char text[128];
+    if (reference != 0.0)
+      std::snprintf(text, sizeof text, "%s %.6g (diff %+.2f %%)", names[k], reference,
+                    100.0 * (u[k] - reference) / reference);
+    else std::snprintf(text, sizeof text, "%s 0 (diff %+.3g)", names[k], u[k]);
+    line += (line.empty() ? "" : ", ") + std::string(text);
+  }
+  if (line.empty()) return "";
+  return (p.isParameter("Reference Source") ? p.get<std::string>("Reference Source") : std::string("reference")) +
+         ": " + line;
+}
+
 // The closing lines of a run (on rank 0): complete (unless `quiet`) with the tracked points at T = 1,
 // interrupted (how to continue), or incomplete, and the run's warnings.
 void printRunResult(const bc::core::RunResult& result, const bc::input::Problem& problem, const std::string& deck,
@@ -290,6 +320,8 @@ void printRunResult(const bc::core::RunResult& result, const bc::input::Problem&
     for (std::size_t i = 0; i < tracked.size() && i < kShown; ++i) {
       const auto u = result.finalState.displacement(tracked[i].node);
       std::printf("at T = 1: %s: u = (%.6g, %.6g, %.6g)\n", tracked[i].name.c_str(), u[0], u[1], u[2]);
+      const std::string published = referenceLine(problem, tracked[i].name, u);
+      if (!published.empty()) std::printf("at T = 1: %s: %s\n", tracked[i].name.c_str(), published.c_str());
     }
     if (tracked.size() > kShown)
       std::printf("at T = 1: %zu more tracked points in tracked_points.csv\n", tracked.size() - kShown);
@@ -506,6 +538,7 @@ int main(int argc, char** argv) {
   mallopt(M_TRIM_THRESHOLD, -1);
   std::vector<std::string> args(argv + 1, argv + argc);
   g_commandLine = bc::core::commandLine(argc, argv);
+  bc::core::setDocumentationDirectory(bc::drivers::findDocumentation());
   guardExit();
   if (args.empty()) {
     std::fputs("beamcontact: a command is needed (run, check, study, render, generate); see beamcontact --help\n",
@@ -514,6 +547,7 @@ int main(int argc, char** argv) {
   }
   if (args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
     std::fputs(kUsage, stdout);
+    std::fputs(bc::drivers::cli::documentationNote().c_str(), stdout);
     return 0;
   }
   try {

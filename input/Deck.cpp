@@ -158,6 +158,13 @@ const ParameterSpec& trackedSpec() {
   static const ParameterSpec s = [] {
     ParameterSpec p;
     addLocation(p);
+    for (const char* u : {"ux", "uy", "uz"})
+      p.addOptional(std::string("Reference ") + u, 1.0,
+                    std::string("a published value of the point's ") + u +
+                        " at T = 1 (e.g. a paper's): a complete run prints it beside its own, with the difference "
+                        "(run - reference) / reference in % [length]");
+    p.addOptional("Reference Source", std::string("paper (Table 1)"),
+                  "where the Reference values come from; printed before them (default: \"reference\")");
     return p;
   }();
   return s;
