@@ -170,7 +170,7 @@ const Command& parametersSpec() {
                          {},
                          {{"format", 0, "FORMAT", "text",
                            "text (for people); xml (the deck format, with use=\"default|required|optional\" and "
-                           "docString) or\n"
+                           "docString) or "
                            "yaml (lists of name, type, use, value, doc), for editors and scripts"},
                           kPlugin}};
   return c;
