@@ -13,6 +13,20 @@ std::string joinNames(const std::vector<std::string>& names) {
   return s;
 }
 
+ParameterUse parameterUse(const Teuchos::ParameterEntry& entry) {
+  const std::string& doc = entry.docString();
+  if (doc.rfind(kRequiredMark, 0) == 0) return ParameterUse::Required;
+  if (doc.rfind(kOptionalMark, 0) == 0) return ParameterUse::Optional;
+  return ParameterUse::Default;
+}
+
+std::string parameterDoc(const Teuchos::ParameterEntry& entry) {
+  const ParameterUse use = parameterUse(entry);
+  return use == ParameterUse::Required   ? entry.docString().substr(kRequiredMark.size())
+         : use == ParameterUse::Optional ? entry.docString().substr(kOptionalMark.size())
+                                         : entry.docString();
+}
+
 ParameterSpec& ParameterSpec::addChoice(const std::string& name, const std::string& defaultValue,
                                         const std::vector<std::string>& choices, const std::string& doc) {
   Check check = [choices](const Teuchos::ParameterEntry& e) -> std::string {

@@ -21,6 +21,17 @@ class InputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// How a reference list (ParameterSpec::reference()) shows a parameter: its value is the default the
+// reader fills in, or an example of a value the user must give (Required) or may give (Optional; no
+// fixed default: its doc says what leaving it out does). The doc string of a reference entry starts
+// with kRequiredMark or kOptionalMark for the last two.
+enum class ParameterUse { Default, Required, Optional };
+inline const std::string kRequiredMark = "(required) ";
+inline const std::string kOptionalMark = "(optional) ";
+ParameterUse parameterUse(const Teuchos::ParameterEntry& entry);
+// The entry's doc string without its kRequiredMark or kOptionalMark.
+std::string parameterDoc(const Teuchos::ParameterEntry& entry);
+
 class ParameterSpec {
  public:
   // Returns an empty string when the value is acceptable, otherwise what is wrong ("must be > 0").
@@ -34,23 +45,21 @@ class ParameterSpec {
     if (check) checks_.push_back({name, check});
     return *this;
   }
-  // A value the user must give. `example` fixes its type and is a typical value: the reference shows
-  // it as an example, never as a default (example() uses it, e.g. to construct a strategy in tests).
+  // A value the user must give. `example` fixes its type and is a typical, valid value: the reference
+  // shows it as an example, never as a default (example() uses it, e.g. to construct a strategy in tests).
   template <class T>
   ParameterSpec& addRequired(const std::string& name, const T& example, const std::string& doc, Check check = {},
                              const std::string& rule = "") {
-    add(name, example, "(required) " + doc, check, rule);
+    add(name, example, kRequiredMark + doc, check, rule);
     required_.insert(name);
-    std::ostringstream e;
-    e << example;
-    const Teuchos::ParameterEntry& entry = valid_.getEntry(name);
-    reference_.set(name, "<required " + entry.getAny().typeName() + ", e.g. " + e.str() + ">", entry.docString());
     return *this;
   }
+  // A value the user may leave out, with no fixed default (the component decides, as `doc` says):
+  // `sample` fixes its type and is a valid example.
   template <class T>
   ParameterSpec& addOptional(const std::string& name, const T& sample, const std::string& doc, Check check = {},
                              const std::string& rule = "") {
-    add(name, sample, "(optional) " + doc, check, rule);
+    add(name, sample, kOptionalMark + doc, check, rule);
     optional_.insert(name);
     return *this;
   }
@@ -69,8 +78,8 @@ class ParameterSpec {
 
   // Validates `user` (at `path`, e.g. "BeamContact/Beams/beam 1") and fills the defaults.
   void apply(Teuchos::ParameterList& user, const std::string& path) const;
-  // The documented reference list (for --print-valid-parameters): defaults, and required values as
-  // "<required TYPE, e.g. EXAMPLE>".
+  // The documented reference list (for --print-valid-parameters): every parameter with its type and
+  // its default, or, for a required or optional one (parameterUse()), an example of its type.
   const Teuchos::ParameterList& reference() const { return reference_; }
   // A complete valid list: the defaults and, for required values, their examples (optional values
   // left out). For tests and templates.

@@ -97,4 +97,15 @@ Fields readFieldLines(const std::string& text, const std::string& prefix) {
   return f;
 }
 
+namespace {
+std::string& documentation() {
+  static std::string directory = "docs";
+  return directory;
+}
+}  // namespace
+
+void setDocumentationDirectory(const std::string& directory) { documentation() = directory; }
+const std::string& documentationDirectory() { return documentation(); }
+std::string documentationPage(const std::string& page) { return documentation() + "/" + page; }
+
 }  // namespace bc::core

@@ -34,4 +34,11 @@ std::string fieldLines(const Fields& fields, const std::string& prefix = "");
 // The fields of "key: value" lines of `text` whose key is one of the provenance keys (others are skipped).
 Fields readFieldLines(const std::string& text, const std::string& prefix = "");
 
+// The documentation the messages cite (docs/*.md): "docs" until the program sets where it is (its
+// installed share/beamcontact/docs, or the source tree's docs in a build tree).
+void setDocumentationDirectory(const std::string& directory);
+const std::string& documentationDirectory();
+// `page` ("beam-element.md") in the documentation directory.
+std::string documentationPage(const std::string& page);
+
 }  // namespace bc::core

@@ -6,11 +6,14 @@
 #include <cmath>
 #include <map>
 #include <iomanip>
+#include <iterator>
 #include <sstream>
 
 #include "Checkpoint.hpp"
 #include "Faults.hpp"
 #include "ScopedTimer.hpp"
+
+#include <iterator>
 
 #include <Teuchos_Array.hpp>
 
@@ -21,7 +24,8 @@ const ParameterSpec& loadSteppingSpec() {
     ParameterSpec s;
     s.add("Number of Increments", 10, "equal increments of the load factor T from 0 to 1", wholeBetween(1, 10000000),
           "1 to 1e7");
-    s.addOptional("Load Factors", Teuchos::Array<double>(),
+    const double factors[] = {0.25, 0.5, 1.0};  // the reference's example
+    s.addOptional("Load Factors", Teuchos::Array<double>(std::begin(factors), std::end(factors)),
                   "explicit increasing list of T values ending at 1 (non-uniform stepping); replaces "
                   "Number of Increments");
     s.add("Maximum Step Cuts", 5, "how many times a failing increment may be halved", wholeBetween(0, 30), "0 to 30");

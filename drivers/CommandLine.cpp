@@ -3,6 +3,8 @@
 #include <cctype>
 #include <sstream>
 
+#include "core/Provenance.hpp"
+
 namespace bc::drivers::cli {
 
 namespace {
@@ -129,7 +131,12 @@ std::string help(const Command& command) {
   }
   row("-h, --help", "print this help and exit");
   if (!command.notes.empty()) s << "\n" << command.notes << (command.notes.back() == '\n' ? "" : "\n");
+  if (s.str().find("docs/") != std::string::npos) s << "\n" << documentationNote();
   return s.str();
+}
+
+std::string documentationNote() {
+  return "docs/ above is " + core::documentationDirectory() + " (the documentation)\n";
 }
 
 }  // namespace bc::drivers::cli

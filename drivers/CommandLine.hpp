@@ -78,7 +78,11 @@ struct Parsed {
 // Reads `args` (the words after the command's name) by `command`'s table; throws UsageError.
 Parsed parse(const Command& command, const std::vector<std::string>& args);
 
-// The command's --help text: usage line, summary, positionals, every option with its default and meaning.
+// The command's --help text: usage line, summary, positionals, every option with its default and
+// meaning, and, where it cites docs/, the documentationNote().
 std::string help(const Command& command);
+// "docs/ above is DIR\n": where the documentation that help texts cite as docs/ is (installed:
+// share/beamcontact/docs; core::documentationDirectory()).
+std::string documentationNote();
 
 }  // namespace bc::drivers::cli

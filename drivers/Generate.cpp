@@ -21,11 +21,13 @@
 #include "core/Parameters.hpp"
 #include "core/PointGrid.hpp"
 #include "core/SmallMath.hpp"
+#include "input/XmlDeck.hpp"
 #include "CommandLine.hpp"
 
 namespace bc::drivers {
 
 using core::InputError;
+using input::xmlEscaped;
 using Teuchos::Array;
 using Teuchos::ParameterList;
 
@@ -499,58 +501,20 @@ std::optional<std::string> readOptions(const std::vector<std::string>& args, con
   return parsed.get("output");
 }
 
-// XML text for a double-quoted attribute: &, <, > and " escaped.
-std::string xmlEscaped(const std::string& text) {
-  std::string e;
-  for (const char c : text) {
-    if (c == '&') e += "&amp;";
-    else if (c == '<') e += "&lt;";
-    else if (c == '>') e += "&gt;";
-    else if (c == '"') e += "&quot;";
-    else e += c;
-  }
-  return e;
-}
-
-// An array as the reader takes it: {a, b, c}, numbers in their shortest exact form.
-template <class T, class F> std::string arrayText(const Teuchos::Array<T>& a, F text) {
-  std::string s = "{";
-  for (std::size_t i = 0; i < a.size(); ++i) s += (i ? ", " : "") + text(a[i]);
-  return s + "}";
-}
-
 // A parameter list as plain XML, a person can edit: each parameter's name, type and value (numbers in
 // their shortest exact form), nested lists indented; nothing else (Teuchos' own writer adds ids, doc
 // strings and flags, and 17 digits).
 void writePlainXml(const ParameterList& list, const std::string& name, std::ostream& out, int depth) {
   const std::string pad(2 * depth, ' ');
   out << pad << "<ParameterList name=\"" << xmlEscaped(name) << "\">\n";
-  const auto number = [](double v) { return core::shortest(v); };
   for (auto it = list.begin(); it != list.end(); ++it) {
     const Teuchos::ParameterEntry& e = list.entry(it);
     if (e.isList()) {
       writePlainXml(Teuchos::getValue<ParameterList>(e), list.name(it), out, depth + 1);
       continue;
     }
-    std::string type, value;
-    if (e.isType<double>()) {
-      type = "double", value = number(Teuchos::getValue<double>(e));
-    } else if (e.isType<int>()) {
-      type = "int", value = std::to_string(Teuchos::getValue<int>(e));
-    } else if (e.isType<bool>()) {
-      type = "bool", value = Teuchos::getValue<bool>(e) ? "true" : "false";
-    } else if (e.isType<std::string>()) {
-      type = "string", value = xmlEscaped(Teuchos::getValue<std::string>(e));
-    } else if (e.isType<Teuchos::Array<double>>()) {
-      type = "Array(double)", value = arrayText(Teuchos::getValue<Teuchos::Array<double>>(e), number);
-    } else if (e.isType<Teuchos::Array<int>>()) {
-      type = "Array(int)",
-      value = arrayText(Teuchos::getValue<Teuchos::Array<int>>(e), [](int v) { return std::to_string(v); });
-    } else {
-      throw std::logic_error("generate: parameter \"" + list.name(it) + "\" has a type the deck writer does not know");
-    }
-    out << pad << "  <Parameter name=\"" << xmlEscaped(list.name(it)) << "\" type=\"" << type << "\" value=\"" << value
-        << "\"/>\n";
+    out << pad << "  <Parameter name=\"" << xmlEscaped(list.name(it)) << "\" type=\"" << input::deckType(e)
+        << "\" value=\"" << xmlEscaped(input::deckValue(e)) << "\"/>\n";
   }
   out << pad << "</ParameterList>\n";
 }
@@ -597,7 +561,8 @@ int generateDeck(const std::vector<std::string>& args) {
         "  weave     a plain-weave mat of undulating yarns whose warps are pulled\n"
         "  network   random fibres in a box, compressed\n"
         "  strand    helical wires, pulled\n"
-        "beamcontact generate KIND --help lists KIND's options with their defaults and meaning.\n");
+        "beamcontact generate KIND --help lists KIND's options with their defaults and meaning.\n\n%s",
+        cli::documentationNote().c_str());
     return 0;
   }
   const std::string kind = args[1];

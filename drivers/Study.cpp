@@ -112,6 +112,18 @@ std::string scriptPath(const std::string& name) {
   return script.string();
 }
 
+std::string findDocumentation() {
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  std::vector<fs::path> candidates;
+  if (!ec) candidates.push_back(exe.parent_path().parent_path() / "share" / "beamcontact" / "docs");
+  candidates.push_back(BC_SOURCE_DOCS);
+  candidates.push_back(BC_INSTALLED_DOCS);
+  for (const auto& dir : candidates)
+    if (fs::is_regular_file(dir / "input.md", ec)) return fs::canonical(dir, ec).string();
+  return "docs";
+}
+
 int runProgram(const std::vector<std::string>& command) {
   const pid_t pid = spawn(command);
   int status = 0;
@@ -318,6 +330,7 @@ class CaseRunner {
   void printProgress(const Case& c) const {
     const int width = 30, filled = static_cast<int>(width * done_ / all_.size());
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+    if (options_.quiet) return;
     std::printf("[%s%s] %3zu/%zu  %6.1f s  case %03d %-10s %s\n", std::string(filled, '#').c_str(),
                 std::string(width - filled, '.').c_str(), done_, all_.size(), elapsed, c.index, c.status.c_str(),
                 describe(c, results_.deck.columns).c_str());
@@ -364,16 +377,17 @@ int reportStopped(const StudyResults& results, int stopSignal) {
 // table are complete: one line says so, or the report script's own line names a missing module).
 // `report` is false with --no-report, `modules` false when the report's Python modules were found
 // missing before the cases ran (the report is then not attempted: that line was the message).
-int reportFinished(const StudyResults& results, int parallel, bool report, bool modules) {
+int reportFinished(const StudyResults& results, int parallel, bool report, bool modules, bool quiet) {
   study::writeCaseTable(results);
   study::writeStudyJson(results, parallel);
   const auto& all = results.all;
   const auto failed = std::count_if(all.begin(), all.end(), [](const Case& c) { return c.status != "complete"; });
   const std::string table = (results.dir / "cases.csv").string();
-  std::printf("study %s: %zu cases, %td complete, %td not; table %s\n", results.deck.stem.c_str(), all.size(),
-              static_cast<std::ptrdiff_t>(all.size()) - failed, failed, table.c_str());
+  if (!quiet)
+    std::printf("study %s: %zu cases, %td complete, %td not; table %s\n", results.deck.stem.c_str(), all.size(),
+                static_cast<std::ptrdiff_t>(all.size()) - failed, failed, table.c_str());
   std::fflush(stdout);
-  const int reportCode = !report ? 0 : !modules ? 4 : study::writeReport(results);
+  const int reportCode = !report ? 0 : !modules ? 4 : study::writeReport(results, quiet);
   if (reportCode != 0 && reportCode != 4)
     std::fprintf(stderr, "beamcontact: study report not written: the report script %s failed (exit code %d)%s\n",
                  bc::drivers::scriptPath("study_report.py").c_str(), reportCode,
@@ -410,11 +424,11 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
   // A report that cannot be written is known before the cases run: the report script's one line (the
   // missing Python module, its Debian package and --no-report) comes first, not after the last case.
   const bool modules = !options.report || study::reportModulesPresent();
-  printStart(deck, all.size(), dir, parallel, options.timing, kept);
+  if (!options.quiet) printStart(deck, all.size(), dir, parallel, options.timing, kept);
   core::installSignalHandlers(false);
   const int stopSignal = runner.run(kept);
   if (stopSignal) return reportStopped(results, stopSignal);
-  return reportFinished(results, parallel, options.report, modules);
+  return reportFinished(results, parallel, options.report, modules, options.quiet);
 }
 
 }  // namespace bc::drivers

@@ -25,6 +25,7 @@ struct StudyOptions {
   std::string output;  // study directory; default results/<study name>
   int parallel = 0;  // cases run at once; 0: the deck's "Parallel Cases", else the core count
   bool report = true;  // write report.md and the plots
+  bool quiet = false;  // --quiet: nothing on stdout when every case completes (errors and warnings on stderr)
   int timing = 0;  // > 0: fair timing: one case at a time, VTK off, each run this many times
   std::vector<std::string> plugins;  // --plugin libraries, passed on to every case
   bool overwrite = false;  // --overwrite: write beside files beamcontact did not write (passed on to every case)
@@ -34,6 +35,11 @@ struct StudyOptions {
 // The installed helper script `name` (share/beamcontact beside the program's bin folder; in the
 // build tree, build/share/beamcontact). Throws when it is missing.
 std::string scriptPath(const std::string& name);
+
+// The documentation's folder: share/beamcontact/docs beside the program's bin folder when installed
+// (wherever the install went), else the source tree's docs (a build tree), else the configured
+// install prefix's; what --help and the messages cite (core::setDocumentationDirectory).
+std::string findDocumentation();
 
 // Runs `command` (program path and arguments, no shell) and returns its exit code (128 + signal
 // when killed); throws when it cannot be started.

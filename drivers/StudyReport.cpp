@@ -314,13 +314,15 @@ bool reportModulesPresent() {
   return runProgram({"/usr/bin/python3", scriptPath("study_report.py"), "--check-modules"}) != 4;
 }
 
-int writeReport(const StudyResults& r) {
+int writeReport(const StudyResults& r, bool quiet) {
   const std::string script = scriptPath("study_report.py");
   r.out.add("report.md");
   // The figures the script writes are named after they appear (it names them from the plots).
   std::set<std::string> before;
   for (const auto& e : fs::directory_iterator(r.dir)) before.insert(e.path().filename().string());
-  const int code = runProgram({"/usr/bin/python3", script, r.dir.string()});
+  std::vector<std::string> command = {"/usr/bin/python3", script, r.dir.string()};
+  if (quiet) command.insert(command.begin() + 2, "--quiet");
+  const int code = runProgram(command);
   for (const auto& e : fs::directory_iterator(r.dir))
     if (!before.count(e.path().filename().string()) && fs::is_regular_file(fs::symlink_status(e.path())))
       r.out.add(e.path().filename().string());

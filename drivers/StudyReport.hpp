@@ -45,7 +45,7 @@ void writeStudyJson(const StudyResults& r, int parallel);
 // Runs the report script (report.md and the figures), recording every file it writes in the
 // manifest. Returns the script's exit code: 0 written, 4 a Python module is missing (the script said
 // which, in one line), else it failed.
-int writeReport(const StudyResults& r);
+int writeReport(const StudyResults& r, bool quiet = false);  // quiet: the script prints nothing on stdout
 // Whether the report script finds the Python modules it needs (study_report.py --check-modules); when
 // not, the script has printed one line naming the missing one and its Debian package.
 bool reportModulesPresent();

@@ -1,10 +1,10 @@
 // beamcontact: command-line driver. Parses arguments, reads and validates the deck, runs it.
 //   beamcontact run DECK.xml [-o DIR] [-q] [--overwrite] [--timers] [--restart DIR] [--plugin LIB]...
 //   beamcontact check DECK.xml [--plugin LIB]...
-//   beamcontact study STUDY.xml [-o DIR] [--parallel N] [--timing [N]] [--no-report] [--plugin LIB]...
+//   beamcontact study STUDY.xml [-o DIR] [-q] [--parallel N] [--timing [N]] [--no-report] [--plugin LIB]...
 //   beamcontact render RESULTS_DIR OUT.png [--stages T1,T2,...] [--view ELEV,AZIM] [--title TEXT]
 //   beamcontact generate KIND [--OPTION VALUE]... [-o FILE]
-//   beamcontact --print-valid-parameters
+//   beamcontact --print-valid-parameters [--format text|xml|yaml] [--plugin LIB]...
 //   beamcontact --version (or version)
 //   beamcontact --help, beamcontact COMMAND --help
 // Each command's options are a table (CommandLine.hpp) that drives its parsing and its --help; the
@@ -14,6 +14,7 @@
 // or a study's cases all completed but its report was not written (a missing module is named with its
 // Debian package); 128 + N stopped by signal N (SIGTERM: 143, SIGINT: 130) after writing a checkpoint.
 // Errors are one line on stderr naming the cause.
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -38,17 +39,18 @@
 #include "core/Provenance.hpp"
 #include "core/Simulation.hpp"
 #include "input/Deck.hpp"
+#include "input/Reference.hpp"
 
 namespace {
 
 const char* kUsage =
     "usage: beamcontact run DECK.xml [-o DIR] [-q] [--overwrite] [--timers] [--restart DIR] [--plugin LIB]...\n"
     "       beamcontact check DECK.xml [--plugin LIB]...\n"
-    "       beamcontact study STUDY.xml [-o DIR] [--overwrite] [--parallel N] [--timing [N]] [--no-report] "
+    "       beamcontact study STUDY.xml [-o DIR] [-q] [--overwrite] [--parallel N] [--timing [N]] [--no-report] "
     "[--plugin LIB]...\n"
     "       beamcontact render RESULTS_DIR OUT.png [--stages T1,T2,...] [--view ELEV,AZIM] [--title TEXT]\n"
     "       beamcontact generate grid|weave|network|strand [--OPTION VALUE]... [-o FILE]\n"
-    "       beamcontact --print-valid-parameters [--plugin LIB]...\n"
+    "       beamcontact --print-valid-parameters [--format text|xml|yaml] [--plugin LIB]...\n"
     "       beamcontact version (or --version)\n"
     "       beamcontact COMMAND --help (or -h): every option of COMMAND with its default and meaning\n"
     "\n"
@@ -134,6 +136,9 @@ const Command& studySpec() {
         "is the median, with its spread",
         false, true, "5"},
        {"no-report", 0, "", "", "write cases.csv and study.json only (no report.md, no plots: no matplotlib needed)"},
+       {"quiet", 'q', "", "",
+        "print nothing but errors and warnings (no start line, no line per case, no closing lines) when every "
+        "case completes"},
        kPlugin}};
   return c;
 }
@@ -160,10 +165,15 @@ const Command& versionSpec() {
 
 const Command& parametersSpec() {
   static const Command c{"--print-valid-parameters",
-                         "Prints every deck parameter with its type, default and meaning (with the plug-ins' "
-                         "strategies).",
+                         "Prints every deck parameter with its type, its default (or, for a required or optional "
+                         "value, a valid\n"
+                         "example) and its meaning, with the plug-ins' strategies; values as a deck writes them.",
                          {},
-                         {kPlugin}};
+                         {{"format", 0, "FORMAT", "text",
+                           "text (for people); xml (the deck format, with use=\"default|required|optional\" and "
+                           "docString) or "
+                           "yaml (lists of name, type, use, value, doc), for editors and scripts"},
+                          kPlugin}};
   return c;
 }
 
@@ -253,6 +263,7 @@ int studyCommand(const std::vector<std::string>& args) {
   options.output = p.get("output");
   options.report = !p.has("no-report");
   options.overwrite = p.has("overwrite");
+  options.quiet = p.has("quiet");
   if (p.has("parallel")) {
     const std::string v = p.get("parallel");
     options.parallel = -1;
@@ -271,6 +282,31 @@ int studyCommand(const std::vector<std::string>& args) {
   return withExitCodes(true, [&] { return bc::drivers::runStudy(p.positionals[0], options); });
 }
 
+// A tracked point's published values (Output/Tracked Points/NAME/Reference ux, uy, uz) beside the
+// run's `u` at T = 1: "SOURCE: ux X (diff +Y %), ...", Y = 100 (run - X) / X (+: the run's value is
+// larger in magnitude); empty when the deck gives none.
+template <class U> std::string referenceLine(const bc::input::Problem& problem, const std::string& point, const U& u) {
+  const Teuchos::ParameterList& all = problem.effective.sublist("Output").sublist("Tracked Points");
+  if (!all.isSublist(point)) return "";
+  const Teuchos::ParameterList& p = all.sublist(point);
+  std::string line;
+  const char* names[] = {"ux", "uy", "uz"};
+  for (int k = 0; k < 3; ++k) {
+    const std::string key = std::string("Reference ") + names[k];
+    if (!p.isParameter(key)) continue;
+    const double reference = p.get<double>(key);
+    char text[128];
+    if (reference != 0.0)
+      std::snprintf(text, sizeof text, "%s %.6g (diff %+.2f %%)", names[k], reference,
+                    100.0 * (u[k] - reference) / reference);
+    else std::snprintf(text, sizeof text, "%s 0 (diff %+.3g)", names[k], u[k]);
+    line += (line.empty() ? "" : ", ") + std::string(text);
+  }
+  if (line.empty()) return "";
+  return (p.isParameter("Reference Source") ? p.get<std::string>("Reference Source") : std::string("reference")) +
+         ": " + line;
+}
+
 // The closing lines of a run (on rank 0): complete (unless `quiet`) with the tracked points at T = 1,
 // interrupted (how to continue), or incomplete, and the run's warnings.
 void printRunResult(const bc::core::RunResult& result, const bc::input::Problem& problem, const std::string& deck,
@@ -285,6 +321,8 @@ void printRunResult(const bc::core::RunResult& result, const bc::input::Problem&
     for (std::size_t i = 0; i < tracked.size() && i < kShown; ++i) {
       const auto u = result.finalState.displacement(tracked[i].node);
       std::printf("at T = 1: %s: u = (%.6g, %.6g, %.6g)\n", tracked[i].name.c_str(), u[0], u[1], u[2]);
+      const std::string published = referenceLine(problem, tracked[i].name, u);
+      if (!published.empty()) std::printf("at T = 1: %s: %s\n", tracked[i].name.c_str(), published.c_str());
     }
     if (tracked.size() > kShown)
       std::printf("at T = 1: %zu more tracked points in tracked_points.csv\n", tracked.size() - kShown);
@@ -408,16 +446,21 @@ int checkCommand(const std::vector<std::string>& args) {
 }
 
 // beamcontact --print-valid-parameters: the deck reference, with the plug-ins' strategies (printed on rank 0).
-int printValidParameters(const bc::core::Comm& comm, const std::vector<std::string>& plugins, bool root) {
+int printValidParameters(const bc::core::Comm& comm, const std::vector<std::string>& plugins,
+                         bc::input::ReferenceFormat format, bool root) {
   bc::core::collectively(comm, [&] {
     for (const auto& plugin : plugins) bc::input::loadPlugin(plugin);
   });
-  if (root) {
-    std::cout << "BeamContact deck reference (ParameterList \"BeamContact\"):\n";
-    bc::input::referenceParameters().print(
-        std::cout, Teuchos::ParameterList::PrintOptions().showDoc(true).indent(2).showTypes(true));
-  }
+  if (root) bc::input::writeReference(bc::input::referenceParameters(), format, std::cout);
   return 0;
+}
+
+// --format of --print-valid-parameters; throws UsageError.
+bc::input::ReferenceFormat referenceFormat(const std::string& name) {
+  if (name == "text") return bc::input::ReferenceFormat::Text;
+  if (name == "xml") return bc::input::ReferenceFormat::Xml;
+  if (name == "yaml") return bc::input::ReferenceFormat::Yaml;
+  throw UsageError("--print-valid-parameters", "--format takes text, xml or yaml, got \"" + name + "\"");
 }
 
 // beamcontact run DECK.xml [options]: the options, checked before MPI starts (false: --help printed).
@@ -444,7 +487,8 @@ bool readRunRequest(const std::vector<std::string>& args, RunRequest& request) {
 
 // The commands that run under MPI (run, --print-valid-parameters), with MPI and Kokkos initialized
 // (their options read before), the signal handlers and the built-in strategies.
-int mpiCommand(int& argc, char**& argv, const RunRequest* run, const std::vector<std::string>& plugins) {
+int mpiCommand(int& argc, char**& argv, const RunRequest* run, const std::vector<std::string>& plugins,
+               bc::input::ReferenceFormat format = bc::input::ReferenceFormat::Text) {
   Tpetra::ScopeGuard scope(&argc, &argv);
   guardExit();
   bc::core::installSignalHandlers();
@@ -453,7 +497,7 @@ int mpiCommand(int& argc, char**& argv, const RunRequest* run, const std::vector
   const bool root = comm->getRank() == 0;
   return withExitCodes(root, [&] {
     const Working working;
-    return run ? runDeck(*run) : printValidParameters(*comm, plugins, root);
+    return run ? runDeck(*run) : printValidParameters(*comm, plugins, format, root);
   });
 }
 
@@ -471,7 +515,8 @@ int command(int& argc, char**& argv, const std::vector<std::string>& args) {
   if (name == "check") return checkCommand(args);
   if (name == "--print-valid-parameters") {
     if (!parseOrHelp(parametersSpec(), args, p)) return 0;
-    return mpiCommand(argc, argv, nullptr, p.all("plugin"));
+    const auto format = referenceFormat(p.get("format", "text"));
+    return mpiCommand(argc, argv, nullptr, p.all("plugin"), format);
   }
   if (name == "run") {
     RunRequest request;
@@ -494,6 +539,7 @@ int main(int argc, char** argv) {
   mallopt(M_TRIM_THRESHOLD, -1);
   std::vector<std::string> args(argv + 1, argv + argc);
   g_commandLine = bc::core::commandLine(argc, argv);
+  bc::core::setDocumentationDirectory(bc::drivers::findDocumentation());
   guardExit();
   if (args.empty()) {
     std::fputs("beamcontact: a command is needed (run, check, study, render, generate); see beamcontact --help\n",
@@ -502,6 +548,7 @@ int main(int argc, char** argv) {
   }
   if (args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
     std::fputs(kUsage, stdout);
+    std::fputs(bc::drivers::cli::documentationNote().c_str(), stdout);
     return 0;
   }
   try {

@@ -457,16 +457,23 @@ def main(directory):
     lines += provenance(meta, rows)
     with open(os.path.join(directory, "report.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
-    print(f"report: {os.path.join(directory, 'report.md')}")
+    if not QUIET:
+        print(f"report: {os.path.join(directory, 'report.md')}")
 
+
+QUIET = False  # --quiet (beamcontact study --quiet): nothing on stdout
 
 if __name__ == "__main__":
     if sys.argv[1:] == ["--check-modules"]:  # beamcontact study, before its cases: the imports above ran
         sys.exit(0)
-    if len(sys.argv) != 2:
-        sys.exit("usage: study_report.py STUDY_DIR")
+    args = sys.argv[1:]
+    if args[:1] == ["--quiet"]:
+        QUIET = True
+        args = args[1:]
+    if len(args) != 1:
+        sys.exit("usage: study_report.py [--quiet] STUDY_DIR")
     try:
-        main(sys.argv[1])
+        main(args[0])
     except SystemExit:
         raise
     except Exception as e:  # noqa: BLE001 - reported as one line, not a traceback

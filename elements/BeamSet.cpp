@@ -1,5 +1,7 @@
 #include "BeamSet.hpp"
 
+#include "core/Provenance.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
@@ -95,7 +97,7 @@ std::vector<std::string> BeamSet::warnings() const {
       << 100.0 * (axial ? x.first.axial : x.first.bending) << " %; largest " << 100.0 * x.largest
       << " % at T = " << x.largestT
       << "): the model assumes small strains, so its results from there are not the material's "
-      << "(docs/beam-element.md)";
+      << "(" << core::documentationPage("beam-element.md") << ")";
     w.push_back(s.str());
   }
   return w;

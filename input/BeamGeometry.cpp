@@ -17,6 +17,8 @@ using Teuchos::ParameterList;
 
 namespace {
 Array<double> zero3() { return Array<double>(3, 0.0); }
+// An array of the values given (examples of the reference).
+Array<double> values(std::initializer_list<double> v) { return Array<double>(v.begin(), v.end()); }
 }  // namespace
 
 const ParameterSpec& arcSpec() {
@@ -24,8 +26,10 @@ const ParameterSpec& arcSpec() {
     ParameterSpec p;
     p.addRequired("Centre", zero3(), "centre of the circle [length]", core::vector3());
     p.addRequired("Radius", 1.0, "radius [length]", core::positive(), "> 0");
-    p.addRequired("Normal", zero3(), "normal of the arc's plane; angles turn about it (right hand)", core::vector3());
-    p.addRequired("Reference Direction", zero3(), "direction of angle 0 (projected on the plane)", core::vector3());
+    p.addRequired("Normal", values({0, 0, 1}), "normal of the arc's plane; angles turn about it (right hand)",
+                  core::vector3());
+    p.addRequired("Reference Direction", values({1, 0, 0}), "direction of angle 0 (projected on the plane)",
+                  core::vector3());
     p.addRequired("Start Angle", 0.0, "angle of the first node [degrees]");
     p.addRequired("End Angle", 90.0, "angle of the last node [degrees]; |End - Start| <= 360");
     return p;
@@ -38,12 +42,12 @@ const ParameterSpec& helixSpec() {
     ParameterSpec p;
     p.addRequired("Axis Point", zero3(), "a point of the helix axis, where the first node's height is 0 [length]",
                   core::vector3());
-    p.addRequired("Axis Direction", zero3(), "direction of the axis; the helix turns about it (right hand)",
+    p.addRequired("Axis Direction", values({0, 0, 1}), "direction of the axis; the helix turns about it (right hand)",
                   core::vector3());
     p.addRequired("Radius", 1.0, "radius [length]", core::positive(), "> 0");
     p.addRequired("Pitch", 1.0, "rise along the axis per turn [length]", core::positive(), "> 0");
     p.addRequired("Turns", 1.0, "number of turns (any positive real)", core::positive(), "> 0");
-    p.addRequired("Reference Direction", zero3(), "direction of the first node from the axis (projected)",
+    p.addRequired("Reference Direction", values({1, 0, 0}), "direction of the first node from the axis (projected)",
                   core::vector3());
     p.add("Start Angle", 0.0, "angle of the first node from the reference direction [degrees]");
     return p;

@@ -39,16 +39,22 @@ using Teuchos::ParameterList;
 namespace {
 
 Array<double> zero3() { return Array<double>(3, 0.0); }
+// An array of the values given (examples of the reference).
+Array<double> values(std::initializer_list<double> v) { return Array<double>(v.begin(), v.end()); }
 
 const ParameterSpec& sectionSpec() {
   static const ParameterSpec s = [] {
     ParameterSpec p;
     p.addChoice("Shape", "Rectangle", {"Rectangle", "Circle"}, "cross-section shape");
-    p.addOptional("Width", 1.0, "Rectangle: side b along the section's local y axis [length]", core::positive(), "> 0");
-    p.addOptional("Height", 1.0, "Rectangle: side h along the section's local z axis [length]", core::positive(),
+    p.addOptional("Width", 0.1,
+                  "Rectangle (required there; not for a Circle): side b along the section's local y axis [length]",
+                  core::positive(), "> 0");
+    p.addOptional("Height", 0.1,
+                  "Rectangle (required there; not for a Circle): side h along the section's local z axis [length]",
+                  core::positive(), "> 0");
+    p.addOptional("Radius", 0.05, "Circle (required there; not for a Rectangle): radius [length]", core::positive(),
                   "> 0");
-    p.addOptional("Radius", 1.0, "Circle: radius [length]", core::positive(), "> 0");
-    p.addOptional("Torsion Constant", 1.0,
+    p.addOptional("Torsion Constant", 1.406e-5,
                   "J [length^4]; default: Saint-Venant's value for the shape (set it where a benchmark states GJ)",
                   core::positive(), "> 0");
     return p;
@@ -86,17 +92,21 @@ const ParameterSpec& jointSpec() {
 const ParameterSpec& beamSpec() {
   static const ParameterSpec s = [] {
     ParameterSpec p;
-    p.addOptional("Start", zero3(), "straight beam: coordinates of the first node [length]", core::vector3());
-    p.addOptional("End", zero3(), "straight beam: coordinates of the last node [length]", core::vector3());
-    p.addOptional("Points", Array<double>(),
+    p.addOptional("Start", zero3(),
+                  "straight beam: coordinates of the first node (a beam is Start and End, or Points, or an Arc or a "
+                  "Helix) [length]",
+                  core::vector3());
+    p.addOptional("End", values({1, 0, 0}), "straight beam: coordinates of the last node [length]", core::vector3());
+    p.addOptional("Points", values({1, 0, 0, 2, 0, 0, 2, 0, 1}),
                   "polyline: x1, y1, z1, x2, y2, z2, ... (at least two points), Elements per segment [length]");
     p.addSublist("Arc", arcSpec().reference(), "circular arc (instead of Start and End), Elements in all");
     p.addSublist("Helix", helixSpec().reference(), "helix (instead of Start and End), Elements in all");
     p.addRequired("Elements", 10, "number of elements along the beam (a polyline: per segment)",
                   core::wholeBetween(1, 10000000), "1 to 1e7");
-    p.addOptional("Section Orientation", zero3(),
+    p.addOptional("Section Orientation", values({0, 0, 1}),
                   "direction of the section's local y axis (the Width side), projected on each element's normal "
-                  "plane; default: normal to the axis and to global Z (for a beam along Z: global Y), for an arc "
+                  "plane; default: normal to the axis (a polyline: its first segment) and to global Z (for an axis "
+                  "along Z: global Y), for an arc "
                   "its plane's normal, for a helix its axis",
                   core::vector3());
     p.addSublist("Section", sectionSpec().reference(), "cross-section");
@@ -122,7 +132,7 @@ const ParameterSpec& supportSpec() {
     p.add("Displacement", zero3(), "prescribed displacement at T = 1 of the fixed ux uy uz [length]", core::vector3());
     p.add("Rotation", zero3(),
           "prescribed rotation at T = 1 of the fixed rx ry rz, as spins about the global axes [rad]", core::vector3());
-    p.addOptional("Load Curve", Array<double>(),
+    p.addOptional("Load Curve", values({0, 0, 0.5, 1, 1, 1}),
                   "load history: T1, f1, T2, f2, ... (T from 0 to 1, increasing): the value at T is the value given "
                   "here times f, linear between the points; default f = T");
     return p;
@@ -136,7 +146,7 @@ const ParameterSpec& loadSpec() {
     addLocation(p);
     p.add("Force", zero3(), "point force at T = 1 (fixed direction) [force]", core::vector3());
     p.add("Moment", zero3(), "point moment at T = 1 about fixed global axes [force*length]", core::vector3());
-    p.addOptional("Load Curve", Array<double>(),
+    p.addOptional("Load Curve", values({0, 0, 0.5, 1, 1, 1}),
                   "load history: T1, f1, T2, f2, ... (T from 0 to 1, increasing): the value at T is the value given "
                   "here times f, linear between the points; default f = T");
     return p;
@@ -148,6 +158,13 @@ const ParameterSpec& trackedSpec() {
   static const ParameterSpec s = [] {
     ParameterSpec p;
     addLocation(p);
+    for (const char* u : {"ux", "uy", "uz"})
+      p.addOptional(std::string("Reference ") + u, 1.0,
+                    std::string("a published value of the point's ") + u +
+                        " at T = 1 (e.g. a paper's): a complete run prints it beside its own, with the difference "
+                        "(run - reference) / reference in % [length]");
+    p.addOptional("Reference Source", std::string("paper (Table 1)"),
+                  "where the Reference values come from; printed before them (default: \"reference\")");
     return p;
   }();
   return s;
@@ -156,7 +173,7 @@ const ParameterSpec& trackedSpec() {
 const ParameterSpec& outputSpec() {
   static const ParameterSpec s = [] {
     ParameterSpec p;
-    p.addOptional("Directory", std::string("results/<deck name>"),
+    p.addOptional("Directory", std::string("results/my_run"),
                   "results directory (default results/<deck file name without .xml>); --output overrides it");
     p.add("Write VTK", true,
           "write VTK files: the beams in vtk/step_*.vtu with results.pvd, the contact points in "
@@ -165,7 +182,7 @@ const ParameterSpec& outputSpec() {
           "write the VTK files of every this many converged steps (step numbers divisible by it); 0: only those "
           "of VTK At; T = 0 and the last converged step are always written",
           core::atLeast(0), ">= 0");
-    p.addOptional("VTK At", Array<double>(),
+    p.addOptional("VTK At", values({0.5, 1}),
                   "load factors T, increasing, in (0, 1]: the first converged step at or beyond each is written too "
                   "(besides those of VTK Every)");
     p.add("VTK Compression", true,
@@ -186,7 +203,7 @@ const ParameterSpec& contactPairSpec() {
     ParameterSpec p;
     p.addRequired("Beam A", std::string("beam name"), "first beam of the pair");
     p.addRequired("Beam B", std::string("beam name"), "second beam of the pair");
-    p.addRequired("Friction Coefficient", 0.0, "Coulomb friction coefficient mu (0: frictionless)", core::nonNegative(),
+    p.addRequired("Friction Coefficient", 0.3, "Coulomb friction coefficient mu (0: frictionless)", core::nonNegative(),
                   ">= 0");
     return p;
   }();
@@ -197,9 +214,9 @@ const ParameterSpec& contactSpec() {
   static const ParameterSpec s = [] {
     ParameterSpec p;
     p.add("All Pairs", false, "every pair of beams may come into contact (then give Friction Coefficient here)");
-    p.addOptional("Friction Coefficient", 0.0, "with All Pairs: Coulomb friction coefficient of every pair",
+    p.addOptional("Friction Coefficient", 0.3, "with All Pairs: Coulomb friction coefficient of every pair",
                   core::nonNegative(), ">= 0");
-    p.addOptional("Search Margin", 1.0,
+    p.addOptional("Search Margin", 0.05,
                   "distance added to the elements' bounding boxes in the contact search [length]; default: half "
                   "the largest section dimension",
                   core::nonNegative(), ">= 0");
@@ -905,6 +922,7 @@ ParameterList referenceParameters() {
   ref.sublist("Output").sublist("Tracked Points").sublist("<point name>").setParameters(trackedSpec().reference());
   ref.sublist("Contact").sublist("Pairs").sublist("<pair name>").setParameters(contactPairSpec().reference());
   ref.sublist("Contact").sublist("Enforcement").setParameters(constraints::enforcementReference());
+  ref.sublist("Joints").sublist("<joint name>").setParameters(jointSpec().reference());
   return ref;
 }
 

@@ -17,6 +17,7 @@
 
 #include <Teuchos_Array.hpp>
 
+#include "core/Checkpoint.hpp"
 #include "core/Parameters.hpp"
 
 namespace bc::input {
@@ -480,6 +481,51 @@ ParameterList readParameterXmlFile(const std::string& path) {
     if (text.size() > kMaxBytes) throw InputError("file \"" + path + "\" is " + kTooLarge);
   }
   return parseParameterXml(text, path);
+}
+
+namespace {
+template <class T, class F> std::string arrayText(const Array<T>& a, F text) {
+  std::string s = "{";
+  for (std::size_t i = 0; i < std::size_t(a.size()); ++i) s += (i ? ", " : "") + text(a[i]);
+  return s + "}";
+}
+}  // namespace
+
+std::string deckType(const Teuchos::ParameterEntry& e) {
+  if (e.isType<double>()) return "double";
+  if (e.isType<int>()) return "int";
+  if (e.isType<bool>()) return "bool";
+  if (e.isType<std::string>()) return "string";
+  if (e.isType<Array<double>>()) return "Array(double)";
+  if (e.isType<Array<int>>()) return "Array(int)";
+  if (e.isType<Array<std::string>>()) return "Array(string)";
+  throw std::logic_error("a parameter of type " + e.getAny().typeName() + ", which decks do not have");
+}
+
+std::string deckValue(const Teuchos::ParameterEntry& e) {
+  const auto number = [](double v) { return core::shortest(v); };
+  const auto whole = [](int v) { return std::to_string(v); };
+  if (e.isType<double>()) return number(Teuchos::getValue<double>(e));
+  if (e.isType<int>()) return whole(Teuchos::getValue<int>(e));
+  if (e.isType<bool>()) return Teuchos::getValue<bool>(e) ? "true" : "false";
+  if (e.isType<std::string>()) return Teuchos::getValue<std::string>(e);
+  if (e.isType<Array<double>>()) return arrayText(Teuchos::getValue<Array<double>>(e), number);
+  if (e.isType<Array<int>>()) return arrayText(Teuchos::getValue<Array<int>>(e), whole);
+  if (e.isType<Array<std::string>>())
+    return arrayText(Teuchos::getValue<Array<std::string>>(e), [](const std::string& v) { return v; });
+  throw std::logic_error("a parameter of type " + e.getAny().typeName() + ", which decks do not have");
+}
+
+std::string xmlEscaped(const std::string& text) {
+  std::string e;
+  for (const char c : text) {
+    if (c == '&') e += "&amp;";
+    else if (c == '<') e += "&lt;";
+    else if (c == '>') e += "&gt;";
+    else if (c == '"') e += "&quot;";
+    else e += c;
+  }
+  return e;
 }
 
 Teuchos::ParameterList& sublistAtPath(Teuchos::ParameterList& list, const std::string& path, bool create) {

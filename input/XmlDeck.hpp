@@ -48,6 +48,14 @@ template <class T> void replaceAtPath(Teuchos::ParameterList& list, const std::s
   parent.set(name, value);
 }
 
+// The writer's side of the reader: a parameter's type as a deck names it ("double", "Array(double)")
+// and its value as the reader takes it back: numbers in their shortest exact form, bools true or
+// false, arrays {a, b, c} (not XML-escaped). Throws std::logic_error for a type decks do not have.
+std::string deckType(const Teuchos::ParameterEntry& entry);
+std::string deckValue(const Teuchos::ParameterEntry& entry);
+// `text` for a double-quoted XML attribute: &, <, > and " escaped.
+std::string xmlEscaped(const std::string& text);
+
 // The machine's physical memory in bytes.
 double physicalMemory();
 // What this process may use: the machine's memory, or less under an address-space limit (ulimit -v,

@@ -13,7 +13,9 @@
 - --quiet prints nothing on a complete run; without --timers the timer table is not on stdout (nor
   Teuchos' three-line note on 1 rank) but in timers.txt, with --timers on stdout too;
 - the step lines show T, Newton iterations, the step's time and the time left; a complete run ends with
-  its tracked points at T = 1: example1's A and B, the values of tracked_points.csv's last row.
+  its tracked points at T = 1: example1's A and B, the values of tracked_points.csv's last row, each
+  followed by the paper's values (docs/paper-comparison.md) with the difference from the run's;
+- study --quiet prints nothing when every case completes.
 """
 import csv
 import os
@@ -48,10 +50,10 @@ COMMON = ["--radius", "--youngs-modulus", "--friction", "--penalty", "--incremen
 EXPECTED = {
     ("run",): ["--output", "-o", "--overwrite", "--quiet", "-q", "--timers", "--restart"] + PLUGIN,
     ("check",): PLUGIN,
-    ("study",): ["--output", "-o", "--overwrite", "--parallel", "--timing", "--no-report"] + PLUGIN,
+    ("study",): ["--output", "-o", "--overwrite", "--parallel", "--timing", "--no-report", "--quiet", "-q"] + PLUGIN,
     ("render",): ["--stages", "--view", "--title"],
     ("version",): [],
-    ("--print-valid-parameters",): PLUGIN,
+    ("--print-valid-parameters",): ["--format"] + PLUGIN,
     ("generate",): ["grid", "weave", "network", "strand"],
     ("generate", "grid"): COMMON + ["--spacing", "--n", "--m", "--gap", "--press", "--load", "--elements"],
     ("generate", "weave"): COMMON + ["--spacing", "--n", "--m", "--gap", "--pull", "--elements"],
@@ -138,7 +140,36 @@ for point in ("A", "B"):
             want = float(last[f"{point}_u{c}"])
             check(abs(value - want) <= 1e-5 * max(1.0, abs(want)), f"{point} u{c}: shown {value}, csv {want}")
 check(lines and lines[-1].startswith("complete: 50 steps"), f"last line {lines[-1]!r}")
-check(not any(l.startswith("at T = 1") for l in lines[:-3]), "tracked points before the end")
+check(not any(l.startswith("at T = 1") for l in lines[:-5]), "tracked points before the end")
+# The paper's values beside A's and B's (the deck's Reference ux, uz): those of docs/paper-comparison.md's
+# "paper, Lagrange" row (magnitudes; A ux, A uz, B ux, B uz) with the signs of our axes, and the
+# difference (run - paper) / paper of the values shown.
+paper_row = re.search(r"^\| paper, Lagrange \|[^|]*\|[^|]*\| ([0-9.]+) \| ([0-9.]+) \| ([0-9.]+) \| ([0-9.]+) \|",
+                      read(os.path.join(src, "docs", "paper-comparison.md")), re.M)
+check(paper_row is not None, "docs/paper-comparison.md has no 'paper, Lagrange' row")
+published = [float(x) for x in paper_row.groups()] if paper_row else [0, 0, 0, 0]
+for point, table, (ux, uz) in (("A", 1, published[0:2]), ("B", 2, published[2:4])):
+    row = [l for l in lines if l.startswith(f"at T = 1: {point}: u = (")]
+    shown = [float(x) for x in row[0].split("(")[1].rstrip(")").split(",")] if row else [0, 0, 0]
+    line = [l for l in lines if l.startswith(f"at T = 1: {point}: paper (Table {table}, Lagrange): ")]
+    check(len(line) == 1, f"no paper line for {point}: {lines[-6:]}")
+    if not line:
+        continue
+    values = re.findall(r"(u[xyz]) (-?[0-9.]+) \(diff ([+-][0-9.]+) %\)", line[0])
+    check([v[0] for v in values] == ["ux", "uz"], f"{point}: paper line {line[0]!r}")
+    for (component, value, diff), magnitude in zip(values, (ux, uz)):
+        k = "xyz".index(component[1])
+        check(abs(abs(float(value)) - magnitude) < 1e-12 and float(value) * shown[k] > 0,
+              f"{point} {component}: paper {value}, docs {magnitude}, run {shown[k]}")
+        want = 100 * (shown[k] - float(value)) / float(value)
+        check(abs(float(diff) - want) <= 0.01, f"{point} {component}: diff {diff} %, expected {want:.3f} %")
+
+# study --quiet: nothing printed when every case completes (report included), the table written.
+out = os.path.join(work, "study_quiet")
+r = run("study", "-q", "-o", out, os.path.join(src, "tests", "cli", "decks", "tiny_timing_study.xml"))
+check(r.returncode == 0 and r.stdout == "" and r.stderr == "", f"study -q: {r.returncode} {r.stdout!r} {r.stderr!r}")
+check(os.path.isfile(os.path.join(out, "cases.csv")) and os.path.isfile(os.path.join(out, "report.md")),
+      "study -q: no cases.csv or report.md")
 
 # With --timers the table is on stdout too, and no banner on 1 rank.
 r = run("run", deck, "--output", os.path.join(work, "timers"), "--timers", "--quiet")

@@ -3,7 +3,8 @@
 # build tree to a scratch prefix, build the plug-in with find_package(BeamContact), check its tangent
 # against central differences, run its study with the installed program from a folder holding only
 # the two decks, check the study's normal forces against their closed form, and render a case.
-# The installed libraries' SONAME versions are checked first.
+# The installed libraries' SONAME versions, docs and decks, and the docs folder --help names are
+# checked first.
 # Usage: external_strategy.sh BUILD_DIR SOURCE_DIR WORK_DIR
 set -eu
 build=$1 src=$2 work=$3
@@ -20,6 +21,28 @@ for lib in core linalg elements constraints input; do
   readelf -d "$file" | grep -q "(SONAME) .*\[libbeamcontact_$lib.so.$soversion\]" ||
     { echo "libbeamcontact_$lib: SONAME is not libbeamcontact_$lib.so.$soversion"; exit 1; }
 done
+# The documentation (with the figures it shows), the example decks and the study decks are installed
+# in share/beamcontact, and the installed program's --help names that docs folder (the build tree's
+# names the sources').
+share="$work/prefix/share/beamcontact"
+for f in "$src"/docs/*.md; do
+  test -f "$share/docs/${f##*/}" || { echo "docs/${f##*/} is not installed"; exit 1; }
+done
+for figure in $(grep -oh 'figures/[A-Za-z0-9_.-]*\.png' "$src"/docs/*.md | sort -u); do
+  test -f "$src/docs/$figure" || { echo "docs cite $figure, which docs/ lacks"; exit 1; }
+  test -f "$share/docs/$figure" || { echo "docs/$figure is not installed"; exit 1; }
+done
+for deck in "$src"/input/*.xml "$src"/input/studies/*.xml; do
+  test -f "$share/input/${deck#"$src/input/"}" || { echo "${deck#"$src/"} is not installed"; exit 1; }
+done
+docs=$("$work/prefix/bin/beamcontact" --help | sed -n 's/^docs\/ above is \(.*\) (the documentation)$/\1/p')
+test "$docs" = "$(cd "$share/docs" && pwd -P)" || { echo "installed --help names docs \"$docs\""; exit 1; }
+test -f "$docs/input.md"
+"$work/prefix/bin/beamcontact" study --help | grep -q "^docs/ above is $docs "
+docs=$("$build/drivers/beamcontact" --help | sed -n 's/^docs\/ above is \(.*\) (the documentation)$/\1/p')
+test "$docs" = "$(cd "$src/docs" && pwd -P)" || { echo "the build tree's --help names docs \"$docs\""; exit 1; }
+# An installed study deck finds its base deck (input/studies/../example1.xml) and the example decks read.
+"$work/prefix/bin/beamcontact" check "$share/input/example1.xml" > /dev/null
 cmake -S "$src/examples/external-strategy" -B "$work/example" -DCMAKE_PREFIX_PATH="$work/prefix" \
   > "$work/configure.log" 2>&1 || { cat "$work/configure.log"; exit 1; }
 cmake --build "$work/example" -j 2 > "$work/build.log" 2>&1 || { cat "$work/build.log"; exit 1; }

@@ -81,7 +81,7 @@ inline ContactSums sums(const input::Problem& p) {
   return c;
 }
 
-// Linear closed form of the pressing-only case (shared EXAMPLES.md): compliances of beam 1 at
+// Linear closed form of the pressing-only case (derived here): compliances of beam 1 at
 // mid-span 1/600 and of beam 2 centre-to-ends 1/75, and here the penalty springs of the `points`
 // contact points in parallel: N = (W - 0.5) / (1/600 + 1/75 + 1/(points eps_N)).
 inline double pressingForce(double W, double epsN, int points) {
@@ -159,7 +159,7 @@ inline Deck circles(const std::string& type, double W, double epsN, const std::s
   return d;
 }
 
-// Crossed cantilevers (shared EXAMPLES.md): beam 2 (circle r = 2.5, length 100) clamped at
+// Crossed cantilevers (derived here): beam 2 (circle r = 2.5, length 100) clamped at
 // y = -50, its tip moved down by Delta; beam 1 (circle r = 5) as in Example 1. Contact at a1 = 50
 // on beam 1 and a2 = 50 from beam 2's clamp, both nodes, so Euler-Bernoulli is exact:
 // N = (c Delta - g0) / (f11 + f22), c = a2^2 (3 L2 - a2) / (2 L2^3), f11 = a1^3 / (3 E I1),
