@@ -58,6 +58,8 @@ void ContactManager::initialize(core::State& state) {
 }
 
 bool ContactManager::prepareIteration(core::State& state) {
+  if (clearLevels_) lines_.clearLevels();
+  clearLevels_ = false;
   const bool changed = set_.update(detect(state));
   giveUpIdle(state);
   penalty_.giveCompliance(set_.current(), geometry_,
@@ -139,7 +141,7 @@ std::vector<GlobalDof> ContactManager::nodeRows(const Point& p, const OwnsDof& o
   // the node (connectivity and evaluate agree on it before and after the multipliers have owners).
   std::vector<GlobalDof> dofs;
   if (!(lines_.nodal() && p.node() && enforcer_->lineNodeRows())) return dofs;
-  if (!owns(GlobalDof(core::kDofsPerNode) * p.key.node)) return dofs;
+  if (!owns(GlobalDof(core::kDofsPerNode) * lines_.fieldHome(p.key.node))) return dofs;
   for (int j = 0; j < p.extraCount; ++j) dofs.push_back(GlobalDof(core::kDofsPerNode) * numNodes_ + p.extraOffset + j);
   return dofs;
 }
@@ -161,7 +163,7 @@ void ContactManager::evaluateNode(const Point& p, const std::vector<GlobalDof>& 
   const int n = static_cast<int>(d.size());
   std::vector<double> f(n, 0.0), K(tangent ? std::size_t(n) * n : 0, 0.0);
   const ContactKinematics none;
-  enforcer_->evaluateLineNode(lines_.nodeView(p, none, state), *p.state, lines_.fieldLength(p.key.node), f.data(),
+  enforcer_->evaluateLineNode(lines_.nodeView(p, none, state), *p.state, lines_.fieldLength(p.key), f.data(),
                               tangent ? K.data() : nullptr);
   sink.add(d.data(), n, f.data(), tangent ? K.data() : nullptr);
 }
@@ -303,6 +305,9 @@ bool ContactManager::acceptSolution(core::State& state) {
     search_.checkNoUnseenContact(state, false, enforcer_->type(),
                                  [&](int pi, int ea, int eb) { return held(pi, ea, eb, state, false); });
   }
+  // On a converged active set, a nodal field that does not resolve a contact zone (the beams
+  // penetrate between its nodes) is refined there, and Newton goes on with the finer field.
+  if (all && lines_.nodal() && lines_.refineField(set_.current(), state)) all = false;
   if (passes_ == 1) violations_.clear();
   violations_.push_back(worstViolation_);
   if (!all && passes_ >= enforcer_->maximumPasses()) {
@@ -324,7 +329,7 @@ void ContactManager::commitPoint(Point& p, const core::State& state) {
     // (As its field node's, whose view carries the field's compliance there.)
     const ContactPointRecord* host = lines_.fieldHost(p, set_.current());
     ContactPoint hosted = view;
-    if (host) hosted.fieldCompliance = lines_.fieldCompliance(p.key.pair, host->key.node);
+    if (host) hosted.fieldCompliance = lines_.fieldCompliance(host->key);
     p.outputs = host ? enforcer_->outputValues(hosted, *host->state)
                      : std::vector<double>(enforcer_->outputColumns().size(), 0.0);
   } else {
@@ -410,10 +415,13 @@ void ContactManager::commitStep(const core::State& state) {
     p.outputs = enforcer_->outputValues(view, *p.state);
     enforcer_->commitPoint(view, *p.state);
     p.gap = k.normal.value;
-    p.position = state.position[p.key.node];
+    p.position = lines_.fieldPosition(p.key.node, state);
   }
   lines_.checkResolution(set_.current(), state);
   set_.commit();
+  // Each step starts from the unrefined field: at its first iteration, whose update of the points
+  // drops the interior nodes (until then the field stays as the matrix graph has it).
+  clearLevels_ = true;
   geometry_.setReference(state);
   lastPasses_ = passes_;
   passes_ = 0;
@@ -446,6 +454,7 @@ void ContactManager::loadCommitted(core::CheckpointIn& in, const core::State& co
   // (The line-contact warnings are not in the checkpoint: they are renewed from the steps that
   // follow, and the frictionless one also from the restored points.)
   lines_.noteRestored(set_.committed());
+  lines_.clearLevels();
   passes_ = 0;
 }
 
@@ -512,6 +521,8 @@ double ContactManager::lineStepBound(const Point& p, const core::State& state,
 void ContactManager::restoreStep() {
   penalty_.relaxAfterFailure(set_.committed());
   set_.restore();
+  lines_.clearLevels(true);
+  clearLevels_ = false;
   passes_ = 0;
   penalty_.forgetFriction();
 }

@@ -82,6 +82,12 @@ class ContactManager : public core::Contribution {
   // beam A, element of beam B), sorted. For tests and benchmarks of the search.
   std::vector<std::tuple<int, int, int>> candidates(const core::State& s) const { return search_.candidates(s); }
   int passes() const { return passes_; }
+  // For tests of the refined line field: refines it at `state` as after a converged pass
+  // (LineContact::refineField); the interior nodes come at the next prepareIteration.
+  bool refineLineField(const core::State& state) { return lines_.nodal() && lines_.refineField(set_.current(), state); }
+  // For tests of the refined field's tangent: the field of an element of a pair's beam A (edge 0) at
+  // a level, whatever the gaps.
+  void refineLineFieldAt(int pair, int element, int level) { lines_.setFieldLevel(pair, 0, element, level); }
   // The largest constraint violation (|g_N| of active points, |g_T| of sticking lines for the
   // strategies that enforce them exactly) after each pass of the increment solved last.
   const std::vector<double>& passViolations() const { return violations_; }
@@ -149,6 +155,7 @@ class ContactManager : public core::Contribution {
   ContactReport report_;
   int numNodes_ = 0;
   int passes_ = 0;
+  bool clearLevels_ = false;  // the line field's refinement goes at the next prepareIteration
   int lastPasses_ = 0;
   double worstViolation_ = 0.0;
   std::vector<double> violations_;

@@ -53,6 +53,8 @@ bool ContactPointSet::update(const std::map<PointKey, Candidate>& candidates) {
     if (it != points_.end()) {
       p = it->second;
       changed = changed || p.elementA != c.elementA || p.elementB != c.elementB;
+      // (A Gauss point of a refined field that moves into another part changes its field nodes.)
+      changed = changed || (p.line() && lines_.nodal() && lines_.fieldPart(p, p.xi) != lines_.fieldPart(p, c.cp.xi));
     } else {
       changed = true;
       p = newPoint(key, c);
@@ -75,9 +77,9 @@ bool ContactPointSet::update(const std::map<PointKey, Candidate>& candidates) {
 void ContactPointSet::addLineNodes(PointMap& next, bool& changed) const {
   for (const auto& [key, p] : next)
     if (p.line())
-      for (int n : {lines_.fieldNode(p.elementA, 0), lines_.fieldNode(p.elementA, 1)})
-        if (!next.count(PointKey::lineNode(p.key.pair, p.edge(), n))) {
-          const PointKey nk = PointKey::lineNode(p.key.pair, p.edge(), n);
+      for (const LineContact::FieldShare& share : lines_.fieldShares(p, p.xi, next))
+        if (!next.count(PointKey::lineNode(p.key.pair, p.edge(), share.node))) {
+          const PointKey nk = PointKey::lineNode(p.key.pair, p.edge(), share.node);
           const auto it = points_.find(nk);
           ContactPointRecord q;
           if (it != points_.end()) {

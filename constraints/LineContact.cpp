@@ -1,6 +1,8 @@
 #include "LineContact.hpp"
 
 #include <algorithm>
+#include <climits>
+#include <cmath>
 #include <stdexcept>
 
 namespace bc::constraints {
@@ -45,37 +47,188 @@ LineContact::LineContact(const ContactGeometry& geometry, const ConstraintEnforc
       segmentPlanes_[e][side] = (1.0 / norm(m)) * m;
     }
   }
-  // Each field node's share of its beam's reference length: int N_a ds over the elements.
+  // Each field node's elements, and each beam's largest bending stiffness.
   beamStiffness_.assign(geometry_.beams().beams().size(), 0.0);
   if (nodal_)
     for (std::size_t e = 0; e < elems.size(); ++e) {
-      const double EI = std::max(elems[e].data.EIy, elems[e].data.EIz), L = elems[e].data.L0;
+      const double EI = std::max(elems[e].data.EIy, elems[e].data.EIz);
       beamStiffness_[elems[e].beam] = std::max(beamStiffness_[elems[e].beam], EI);
       for (int side = 0; side < 2; ++side) {
-        const int node = fieldNode(static_cast<int>(e), side);
-        const auto [it, first] = fieldElements_.try_emplace(node, FieldElements{0.0, L, EI, elems[e].beam});
-        it->second.length += 0.5 * L;
-        if (!first) {
-          it->second.shortest = std::min(it->second.shortest, L);
-          it->second.stiffness = std::max(it->second.stiffness, EI);
-        }
+        FieldElements& f = fieldElements_[fieldNode(static_cast<int>(e), side)];
+        f.beam = elems[e].beam;
+        if (f.elements.empty() || f.elements.back() != static_cast<int>(e)) f.elements.push_back(static_cast<int>(e));
       }
     }
 }
 
-double LineContact::fieldLength(int node) const {
-  const auto it = fieldElements_.find(node);
-  return it == fieldElements_.end() ? 0.0 : it->second.length;
+namespace {
+// An interior node's number: element, level and place (j of 2^level) packed above kInteriorNode.
+constexpr int kPlaces = 1 << LineContact::kMaxFieldLevel;
+constexpr int kLevels = LineContact::kMaxFieldLevel + 1;
+int interiorNumber(int element, int level, int j) {
+  return LineContact::kInteriorNode + (element * kLevels + level) * kPlaces + j;
+}
+void interiorParts(int node, int& element, int& level, int& j) {
+  const int code = node - LineContact::kInteriorNode;
+  j = code % kPlaces;
+  level = (code / kPlaces) % kLevels;
+  element = code / (kPlaces * kLevels);
+}
+// The largest element a packed interior number can name.
+constexpr int kRefinableElements = (INT_MAX - LineContact::kInteriorNode) / (kPlaces * kLevels);
+}  // namespace
+
+int LineContact::fieldLevel(int pair, int edge, int element) const {
+  const auto it = levels_.find({pair, edge, element});
+  return it == levels_.end() ? 0 : it->second;
 }
 
-double LineContact::fieldCompliance(int pair, int node) const {
-  // A traction p sin(pi x / h) bends each beam by p (h / pi)^4 / EI, the two in opposite senses.
-  const auto it = fieldElements_.find(node);
-  if (it == fieldElements_.end()) return 0.0;
-  const auto& pr = geometry_.pairs()[pair];
-  const int other = it->second.beam == pr.beamA ? pr.beamB : pr.beamA;
-  const double h = it->second.shortest / M_PI;
-  return h * h * h * h * (1.0 / it->second.stiffness + 1.0 / beamStiffness_[other]);
+int LineContact::fieldNodeAt(int pair, int edge, int element, int j) const {
+  const int level = fieldLevel(pair, edge, element), m = 1 << level;
+  if (m == 1) return fieldNode(element, j);
+  const BeamElement& e = geometry_.beams().elements()[element];
+  const int last = static_cast<int>(geometry_.beams().beams()[e.beam].nodes.size()) - 2;
+  // At a beam's end the outer part's end merges into its inner neighbour (no multiplier at the end).
+  if (j == 0 && e.index == 0) j = 1;
+  if (j == m && e.index == last) j = m - 1;
+  if (j == 0) return fieldNode(element, 0);
+  if (j == m) return fieldNode(element, 1);
+  return interiorNumber(element, level, j);
+}
+
+std::vector<LineContact::FieldPart> LineContact::fieldParts(int pair, int edge, int element) const {
+  const int m = 1 << fieldLevel(pair, edge, element);
+  const double L = geometry_.beams().elements()[element].data.L0 / m;
+  std::vector<FieldPart> parts;
+  for (int j = 0; j < m; ++j)
+    parts.push_back({fieldNodeAt(pair, edge, element, j), fieldNodeAt(pair, edge, element, j + 1), L});
+  return parts;
+}
+
+Vec3d LineContact::fieldPosition(int node, const core::State& s) const {
+  if (!interiorNode(node)) return s.position[node];
+  int element = 0, level = 0, j = 0;
+  interiorParts(node, element, level, j);
+  const BeamElement& e = geometry_.beams().elements()[element];
+  const double t = static_cast<double>(j) / (1 << level);
+  return (1.0 - t) * s.position[e.node1] + t * s.position[e.node2];
+}
+
+int LineContact::fieldHome(int node) const {
+  if (!interiorNode(node)) return node;
+  int element = 0, level = 0, j = 0;
+  interiorParts(node, element, level, j);
+  return geometry_.beams().elements()[element].node1;
+}
+
+bool LineContact::refineField(const PointMap& points, const core::State& s) {
+  if (refinementFailed_) return false;
+  // Refined are the elements in which a contact zone ends: some Gauss points penetrate by more than
+  // kResolveLine of the thinner inscribed radius, and some are open by as much. Where the beams
+  // touch along a whole element the field's weighted gaps already hold its points (and more nodes
+  // there would constrain the gap more often than the beams' cubic elements can follow: dependent
+  // rows, a singular matrix).
+  std::map<std::tuple<int, int, int>, std::pair<double, double>> range;  // -> (deepest, most open)
+  std::set<std::tuple<int, int, int>> held;
+  for (const auto& [key, p] : points) {
+    if (!p.line() || p.elementA > kRefinableElements) continue;
+    if (!(geometry_.blendWeightAt(p, s) > kCarries)) continue;
+    // (Where supports hold both beams' ends the gap they hold is no field's to close: heldEnds.)
+    if (heldEnd(p, 0, s) || heldEnd(p, 1, s)) {
+      range[{p.key.pair, p.edge(), p.elementA}] = {0.0, 0.0};
+      held.insert({p.key.pair, p.edge(), p.elementA});
+      continue;
+    }
+    if (held.count({p.key.pair, p.edge(), p.elementA})) continue;
+    const double gap = geometry(p, s).gap / geometry_.thinner(p.key.pair);
+    const auto [it, first] = range.try_emplace({p.key.pair, p.edge(), p.elementA}, gap, gap);
+    if (!first) it->second = {std::min(it->second.first, gap), std::max(it->second.second, gap)};
+  }
+  // Only where the zone ends: beside the element, on A, an element whose points are all open by as
+  // much (or none touches). (A
+  // zone along many elements whose gap waves about zero between the field's nodes, as a wire's on a
+  // core whose helix the cubic elements follow only approximately, is the beams' discretization, not
+  // the field's: refining it would constrain the cubic elements' gap more often than they can follow.)
+  const auto& elems = geometry_.beams().elements();
+  const auto open = [&](int pair, int edge, int e) {
+    const auto it = range.find({pair, edge, e});
+    return it == range.end() || it->second.first > kResolveLine;
+  };
+  const auto neighbour = [&](int e, int step) {
+    const int n = e + step;
+    return n >= 0 && n < static_cast<int>(elems.size()) && elems[n].beam == elems[e].beam &&
+                   elems[n].index == elems[e].index + step
+               ? n
+               : -1;
+  };
+  bool refined = false;
+  for (const auto& [where, r] : range)
+    if (r.first < -kResolveLine && r.second > kResolveLine) {
+      const auto [pair, edge, e] = where;
+      const int before = neighbour(e, -1), after = neighbour(e, 1);
+      if (!(before >= 0 && open(pair, edge, before)) && !(after >= 0 && open(pair, edge, after))) continue;
+      if (fieldLevel(pair, edge, e) >= kMaxFieldLevel) continue;
+      if (before < 0 || after < 0) continue;  // (a beam's end element: see docs/contact.md)
+      // A refinement must pay: the deepest penetration down by a quarter since the last one.
+      const auto last = refinedAt_.find(where);
+      if (last != refinedAt_.end() && !(r.first > 0.75 * last->second)) continue;
+      refinedAt_[where] = r.first;
+      ++levels_[where];
+      refined = true;
+    }
+  return refined;
+}
+
+void LineContact::clearLevels(bool failed) {
+  // A step that failed after its field was refined is retried (cut) without refinement: its
+  // refined field may have constrained the beams' gap more often than their elements can follow
+  // (a singular matrix) or kept changing the active set.
+  refinementFailed_ = failed && (refinementFailed_ || !refinedAt_.empty());
+  levels_.clear();
+  refinedAt_.clear();
+}
+
+double LineContact::fieldLength(const PointKey& node) const {
+  // int N_a ds: half of each part the node ends.
+  std::vector<int> elements;
+  if (interiorNode(node.node)) {
+    int element = 0, level = 0, j = 0;
+    interiorParts(node.node, element, level, j);
+    elements.push_back(element);
+  } else if (const auto it = fieldElements_.find(node.node); it != fieldElements_.end()) {
+    elements = it->second.elements;
+  }
+  double length = 0.0;
+  for (int e : elements)
+    for (const FieldPart& part : fieldParts(node.pair, node.edge, e))
+      length += 0.5 * part.length * ((part.from == node.node) + (part.to == node.node));
+  return length;
+}
+
+double LineContact::fieldCompliance(const PointKey& node) const {
+  // A traction p sin(pi x / h) bends each beam by p (h / pi)^4 / EI, the two in opposite senses; h
+  // the shortest part of the field at the node.
+  std::vector<int> elements;
+  if (interiorNode(node.node)) {
+    int element = 0, level = 0, j = 0;
+    interiorParts(node.node, element, level, j);
+    elements.push_back(element);
+  } else if (const auto it = fieldElements_.find(node.node); it != fieldElements_.end()) {
+    elements = it->second.elements;
+  }
+  if (elements.empty()) return 0.0;
+  const auto& elems = geometry_.beams().elements();
+  double shortest = 0.0, stiffness = 0.0;
+  for (int e : elements) {
+    const double h = elems[e].data.L0 / (1 << fieldLevel(node.pair, node.edge, e));
+    shortest = shortest > 0.0 ? std::min(shortest, h) : h;
+    stiffness = std::max(stiffness, std::max(elems[e].data.EIy, elems[e].data.EIz));
+  }
+  const auto& pr = geometry_.pairs()[node.pair];
+  const int beam = elems[elements.front()].beam;
+  const int other = beam == pr.beamA ? pr.beamB : pr.beamA;
+  const double h = shortest / M_PI;
+  return h * h * h * h * (1.0 / stiffness + 1.0 / beamStiffness_[other]);
 }
 
 std::pair<std::array<int, 2>, int> LineContact::facing(int eA, int eB, const core::State& s) const {
@@ -252,12 +405,22 @@ int LineContact::fieldNode(int element, int side) const {
   return nodes[i];
 }
 
+int LineContact::fieldPart(const ContactPointRecord& p, double xi) const {
+  const int m = 1 << fieldLevel(p.key.pair, p.edge(), p.elementA);
+  return std::max(0, std::min(m - 1, static_cast<int>(std::floor(xi * m))));
+}
+
 std::vector<LineContact::FieldShare> LineContact::fieldShares(const ContactPointRecord& p, double xi,
                                                               const PointMap& points) const {
+  // The part of the (refined) field the point lay in at the last update of the points (p.xi: the
+  // matrix graph's), its two nodes' hat functions at `xi` (beyond the part's ends, their lines).
   std::vector<FieldShare> shares;
+  const int m = 1 << fieldLevel(p.key.pair, p.edge(), p.elementA);
+  const int part = fieldPart(p, p.xi);
+  const double t = xi * m - part;
   for (int side = 0; side < 2; ++side) {
-    const int node = fieldNode(p.elementA, side);
-    const double N = side == 0 ? 1.0 - xi : xi, slope = side == 0 ? -1.0 : 1.0;
+    const int node = fieldNodeAt(p.key.pair, p.edge(), p.elementA, part + side);
+    const double N = side == 0 ? 1.0 - t : t, slope = side == 0 ? -m : m;
     if (!shares.empty() && shares.back().node == node) {
       shares.back().N += N;
       shares.back().slope += slope;
@@ -305,7 +468,7 @@ ContactPoint LineContact::nodeView(const ContactPointRecord& node, const Contact
   ContactPoint view{k, geometry_.pairs()[node.key.pair].friction, geometry_.options().frictionLaw,
                     pointMultipliers(node, s), 1.0};
   view.measured[0] = false;  // as its Gauss points: slip along the axes only
-  view.fieldCompliance = fieldCompliance(node.key.pair, node.key.node);
+  view.fieldCompliance = fieldCompliance(node.key);
   return view;
 }
 
@@ -360,7 +523,7 @@ bool LineContact::evaluateNodal(const ContactPointRecord& p, const ContactKinema
   std::vector<double> fp(np, 0.0), Kp(K ? std::size_t(np) * np : 0, 0.0);
   ContactPoint view = geometry_.strategyView(p, k, s);
   view.lambda = lambda.data();
-  view.fieldCompliance = fieldCompliance(p.key.pair, hostRecord->key.node);
+  view.fieldCompliance = fieldCompliance(hostRecord->key);
   const PointResult r = enforcer_.evaluate(view, *host, fp.data(), K ? Kp.data() : nullptr);
   if (result) *result = r;
   f.assign(nb, 0.0);
@@ -422,6 +585,28 @@ bool LineContact::heldAlong(int n, const Vec3d& normal) const {
   return true;
 }
 
+bool LineContact::heldEnd(const ContactPointRecord& p, int side, const core::State& s, ClosestPoints* at,
+                          int* end) const {
+  const auto& elems = geometry_.beams().elements();
+  const BeamElement &a = elems[p.elementA], &b = elems[p.elementB];
+  const int last = static_cast<int>(geometry_.beams().beams()[a.beam].nodes.size()) - 2;  // A's last element
+  if ((side == 0 && a.index != 0) || (side == 1 && a.index != last)) return false;
+  const int endA = side == 0 ? a.node1 : a.node2;
+  // B's node at the same place along the axes (within 1e-3 of A's element).
+  const Vec3d t = s.position[a.node2] - s.position[a.node1];
+  int endB = -1;
+  for (int nb : {b.node1, b.node2})
+    if (std::abs(dot(s.position[nb] - s.position[endA], t)) <= 1e-3 * dot(t, t)) endB = nb;
+  if (endB < 0) return false;
+  const LinePairInput in = input(p, s);
+  ClosestPoints cp = lineProjection(in, static_cast<double>(side));
+  if (!heldAlong(endA, cp.normal) || !heldAlong(endB, cp.normal)) return false;
+  keepSide(in, cp, p.normal);
+  if (at) *at = cp;
+  if (end) *end = endA;
+  return true;
+}
+
 void LineContact::checkHeldEnds(const PointMap& points, const core::State& s) {
   // Two beams held by supports at the same place (two rods pinned at the same x) keep their gap
   // there: when they bend, their slope turns the contact normal, and the gap the supports hold
@@ -431,7 +616,6 @@ void LineContact::checkHeldEnds(const PointMap& points, const core::State& s) {
   // grow as the elements are refined, and so do the errors of the total force and the reactions.
   // A penalty law takes the same gap with a force eps_N |g|.
   const auto& elems = geometry_.beams().elements();
-  const auto& beams = geometry_.beams().beams();
   std::map<int, std::pair<double, double>> load;  // pair -> (sum |lambda_N|, sum of lengths)
   for (const auto& [key, p] : points) {
     if (!p.line() || !p.result.active || p.length <= 0.0) continue;
@@ -444,20 +628,10 @@ void LineContact::checkHeldEnds(const PointMap& points, const core::State& s) {
     if (!p.line() || !p.result.active) continue;
     if (!judged.insert({p.key.pair, p.elementA, p.elementB, p.edge(), p.face()}).second) continue;
     const BeamElement &a = elems[p.elementA], &b = elems[p.elementB];
-    const int last = static_cast<int>(beams[a.beam].nodes.size()) - 2;  // A's last element
     for (int side = 0; side < 2; ++side) {
-      if ((side == 0 && a.index != 0) || (side == 1 && a.index != last)) continue;
-      const int endA = side == 0 ? a.node1 : a.node2;
-      // B's node at the same place along the axes (within 1e-3 of A's element).
-      const Vec3d t = s.position[a.node2] - s.position[a.node1];
-      int endB = -1;
-      for (int nb : {b.node1, b.node2})
-        if (std::abs(dot(s.position[nb] - s.position[endA], t)) <= 1e-3 * dot(t, t)) endB = nb;
-      if (endB < 0) continue;
-      const LinePairInput in = input(p, s);
-      ClosestPoints cp = lineProjection(in, static_cast<double>(side));
-      if (!heldAlong(endA, cp.normal) || !heldAlong(endB, cp.normal)) continue;
-      keepSide(in, cp, p.normal);
+      ClosestPoints cp;
+      int endA = -1;
+      if (!heldEnd(p, side, s, &cp, &endA)) continue;
       const double EI = std::min({a.data.EIy, a.data.EIz, b.data.EIy, b.data.EIz});
       const double h = a.data.L0;
       const double traction = EI * std::abs(std::min(cp.gap, 0.0)) / (h * h * h * h);

@@ -48,17 +48,44 @@ class LineContact {
   // distinct field nodes of a Gauss point with their shape values N (summing to 1) and their
   // records among `points` (null where none exists).
   int fieldNode(int element, int side) const;
+  // Local refinement. Where the contact zone is shorter than an element, the beams penetrate between
+  // the field's nodes; the element's field is then refined (refineField): level l cuts it into 2^l
+  // equal parts whose inner ends are field nodes of their own (interior nodes, numbered from
+  // kInteriorNode: element, level and place). At a beam's end element the outer part's node merges
+  // into its neighbour, as the end node does without refinement. fieldNodeAt(pair, edge, element, j)
+  // is the node at j / 2^l of the element (j = 0 .. 2^l).
+  static constexpr int kInteriorNode = 1 << 30;
+  static constexpr int kMaxFieldLevel = 4;
+  static bool interiorNode(int node) { return node >= kInteriorNode; }
+  int fieldLevel(int pair, int edge, int element) const;
+  int fieldNodeAt(int pair, int edge, int element, int j) const;
+  // Where a field node is in `s` (an interior node: on the element's chord) and the beam node whose
+  // rank evaluates its own rows.
+  Vec3d fieldPosition(int node, const core::State& s) const;
+  int fieldHome(int node) const;
+  // After Newton has converged on an active set: refines the field of every element with a Gauss
+  // point deeper than kResolveLine of the thinner inscribed radius, up to kMaxFieldLevel. Returns
+  // whether it refined one (the points then change at the next iteration).
+  bool refineField(const PointMap& points, const core::State& s);
+  // Back to the unrefined field: at the start of each step, and after a failed attempt at one
+  // (`failed`: if that attempt refined the field, the step is retried without refinement).
+  void clearLevels(bool failed = false);
+  void setFieldLevel(int pair, int edge, int element, int level) { levels_[{pair, edge, element}] = level; }
   // A field node's share of its beam's reference length, int N_a ds over all of the beam's elements.
-  double fieldLength(int node) const;
+  double fieldLength(const PointKey& node) const;
   // The beams' compliance to the field's shortest mode at a field node of a pair
   // (ContactPoint::fieldCompliance).
-  double fieldCompliance(int pair, int node) const;
+  double fieldCompliance(const PointKey& node) const;
   struct FieldShare {
     int node = -1;
     double N = 0.0, slope = 0.0;  // N at the point's xi and dN / dxi
     const ContactPointRecord* record = nullptr;
   };
   std::vector<FieldShare> fieldShares(const ContactPointRecord& p, double xi, const PointMap& points) const;
+  // The part of its element's (refined) field a Gauss point at `xi` lies in. fieldShares takes the part
+  // at the point's `xi` of the last update of the points (the matrix graph's) and evaluates its hat
+  // functions at the `xi` given; a point that moves into another part changes the points (an update).
+  int fieldPart(const ContactPointRecord& p, double xi) const;
   // Per field node: the weighted gap int N_a g_N ds / int N_a ds and the weight int N_a ds (Gauss
   // weights times lengths times the line points' blend weights) at `s`.
   struct NodeGap {
@@ -120,6 +147,10 @@ class LineContact {
   double slip(const ContactPointRecord& p, const ClosestPoints& cp, const core::State& s) const;
   // After a step (nodal fields): the gaps supports hold at beam ends (heldEnds).
   void checkHeldEnds(const PointMap& points, const core::State& s);
+  // Whether a Gauss point's element pair has beam A's end `side` (0, 1) where supports hold both
+  // beams along the normal (B's node at the same place); there, the closest points and A's end node.
+  bool heldEnd(const ContactPointRecord& p, int side, const core::State& s, ClosestPoints* at = nullptr,
+               int* end = nullptr) const;
   // Whether node `n`'s supports hold it along `normal` (every free translation is across it).
   bool heldAlong(int n, const Vec3d& normal) const;
 
@@ -133,13 +164,24 @@ class LineContact {
   std::set<int> frictionless_;
   std::map<int, std::pair<double, Vec3d>> unresolved_, unseenBetween_;
   std::map<int, HeldEnd> heldEnds_;
-  // Field node -> its length share (fieldLength), the shortest element length and the largest
-  // bending stiffness of its beam's elements there; beam -> its largest bending stiffness
-  // (fieldCompliance).
+  // Field node (a beam node) -> the elements its shape function reaches and its beam; beam -> its
+  // largest bending stiffness (fieldLength, fieldCompliance).
   struct FieldElements {
-    double length = 0.0, shortest = 0.0, stiffness = 0.0;
+    std::vector<int> elements;  // the elements the node's shape function reaches without refinement
     int beam = 0;
   };
+  // (pair, edge, element) -> refinement level (absent: 0).
+  std::map<std::tuple<int, int, int>, int> levels_;
+  // (pair, edge, element) -> its deepest penetration (per thinner inscribed radius) when it was last
+  // refined in this step.
+  std::map<std::tuple<int, int, int>, double> refinedAt_;
+  bool refinementFailed_ = false;
+  // The field's parts of an element: (node at the part's start, node at its end, length).
+  struct FieldPart {
+    int from = 0, to = 0;
+    double length = 0.0;
+  };
+  std::vector<FieldPart> fieldParts(int pair, int edge, int element) const;
   std::map<int, FieldElements> fieldElements_;
   std::vector<double> beamStiffness_;
 };
@@ -152,6 +194,9 @@ constexpr double kHeldEndTraction = 1e-2;
 // nodal multiplier field's point, or the gap between Gauss points beyond the deepest one's) is
 // reported: the contact zone is not resolved (warnings()).
 constexpr double kUnresolvedLine = 1e-3;
+// The local refinement of a nodal field aims at penetrations below this fraction of the thinner
+// section's inscribed radius (refineField).
+constexpr double kResolveLine = 1e-4;
 // A Newton step that would carry a line point deeper than this fraction of the thinner section's
 // inscribed radius below its gap (or 0) is shortened to half that depth (ContactManager::stepBound).
 constexpr double kLineStepDepth = 0.2;

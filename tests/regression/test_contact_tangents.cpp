@@ -129,14 +129,27 @@ TEST(LineContact, TangentMatchesCentralDifferences) {
       // The active set of the pushed state (penetrating points and line nodes), with multipliers
       // of either sign so that every term of the tangent counts (Augmented Lagrange's estimates
       // stay 0, so its nodes' rows hold their regularization).
+      // At 10 degrees the ground's field is refined at the crossing (its middle elements, to 2 and
+      // 4 parts: interior field nodes, and Gauss points whose parts' hat functions are those of
+      // interior and beam nodes).
+      p.contact->prepareIteration(s);  // (the run's last step's refinement goes here)
+      if (degrees > 0) {
+        const auto& ground = p.beams->beams()[p.contact->pairs()[0].beamA].nodes;
+        const int middle = static_cast<int>(ground.size()) / 2 - 1;
+        const auto& elems = p.beams->elements();
+        for (std::size_t e = 0; e < elems.size(); ++e)
+          if (elems[e].beam == p.contact->pairs()[0].beamA && std::abs(elems[e].index - middle) <= 1)
+            p.contact->refineLineFieldAt(0, static_cast<int>(e), elems[e].index == middle ? 2 : 1);
+      }
       p.contact->prepareIteration(s);
       EXPECT_FALSE(p.contact->acceptSolution(s));
       p.contact->prepareIteration(s);
       ASSERT_GT(s.extra.size(), 0u);
       for (std::size_t i = 0; i < s.extra.size(); ++i) s.extra[i] = -0.1 * (1.0 + 0.37 * i) * (i % 4 == 3 ? -1 : 1);
     }
-    int active = 0, points = 0, slipping = 0, swapped = 0;
+    int active = 0, points = 0, slipping = 0, swapped = 0, interior = 0;
     for (const auto& [key, q] : p.contact->points()) {
+      interior += q.node() && constraints::LineContact::interiorNode(q.key.node) && q.extraCount > 0;
       if (q.node()) continue;
       const auto* acting = p.contact->actingState(q);
       const auto k = p.contact->kinematics(q, s);
@@ -154,9 +167,13 @@ TEST(LineContact, TangentMatchesCentralDifferences) {
     const double err = assembledContactTangentError(p, s, kmax);
     std::printf(
         "%s, %s, %.0f degrees: line contact tangent vs central differences: max error / max |K| = %.2e (%d "
-        "points active, %d of them point contacts, %d with swapped roles, %d line points slipping)\n",
+        "points active, %d of them point contacts, %d with swapped roles, %d line points slipping, %d interior field "
+        "nodes)\n",
         type.c_str(), c.rectangles ? (c.rodWidth < 2.0 ? "narrow rod on rectangle" : "rectangles") : "circles", degrees,
-        err / kmax, active, points, swapped, slipping);
+        err / kmax, active, points, swapped, slipping, interior);
+    if (field && degrees > 0) {
+      EXPECT_GT(interior, 0) << type;
+    }
     // The narrow rod's edges on the ground's face carry the contact, with the roles swapped. (With
     // equal widths the push turns the rod's nodes by up to 0.12 about z, and where its edges swing
     // inside the ground's face they carry the contact there: 27 of Lagrange's 65 points.)
