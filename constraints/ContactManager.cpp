@@ -58,8 +58,9 @@ void ContactManager::initialize(core::State& state) {
 }
 
 bool ContactManager::prepareIteration(core::State& state) {
-  if (clearLevels_) lines_.clearLevels();
-  clearLevels_ = false;
+  // A step starts from the refinement of the line field that its last converged points still need.
+  if (resumeLevels_) lines_.resumeLevels(set_.current(), geometry_.reference());
+  resumeLevels_ = false;
   const bool changed = set_.update(detect(state));
   giveUpIdle(state);
   penalty_.giveCompliance(set_.current(), geometry_,
@@ -419,9 +420,9 @@ void ContactManager::commitStep(const core::State& state) {
   }
   lines_.checkResolution(set_.current(), state);
   set_.commit();
-  // Each step starts from the unrefined field: at its first iteration, whose update of the points
-  // drops the interior nodes (until then the field stays as the matrix graph has it).
-  clearLevels_ = true;
+  // The next step's field: at its first iteration (until then the field stays as the matrix graph
+  // has it), whose update of the points drops the interior nodes no longer needed.
+  resumeLevels_ = true;
   geometry_.setReference(state);
   lastPasses_ = passes_;
   passes_ = 0;
@@ -455,6 +456,7 @@ void ContactManager::loadCommitted(core::CheckpointIn& in, const core::State& co
   // follow, and the frictionless one also from the restored points.)
   lines_.noteRestored(set_.committed());
   lines_.clearLevels();
+  resumeLevels_ = true;
   passes_ = 0;
 }
 
@@ -522,7 +524,7 @@ void ContactManager::restoreStep() {
   penalty_.relaxAfterFailure(set_.committed());
   set_.restore();
   lines_.clearLevels(true);
-  clearLevels_ = false;
+  resumeLevels_ = true;
   passes_ = 0;
   penalty_.forgetFriction();
 }

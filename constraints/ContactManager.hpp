@@ -155,7 +155,7 @@ class ContactManager : public core::Contribution {
   ContactReport report_;
   int numNodes_ = 0;
   int passes_ = 0;
-  bool clearLevels_ = false;  // the line field's refinement goes at the next prepareIteration
+  bool resumeLevels_ = false;  // the line field's refinement is renewed at the next prepareIteration
   int lastPasses_ = 0;
   double worstViolation_ = 0.0;
   std::vector<double> violations_;

@@ -121,39 +121,32 @@ int LineContact::fieldHome(int node) const {
   return geometry_.beams().elements()[element].node1;
 }
 
-bool LineContact::refineField(const PointMap& points, const core::State& s) {
-  if (refinementFailed_) return false;
-  // Refined are the elements in which a contact zone ends: some Gauss points penetrate by more than
-  // kResolveLine of the thinner inscribed radius, and some are open by as much. Where the beams
-  // touch along a whole element the field's weighted gaps already hold its points (and more nodes
-  // there would constrain the gap more often than the beams' cubic elements can follow: dependent
-  // rows, a singular matrix).
-  std::map<std::tuple<int, int, int>, std::pair<double, double>> range;  // -> (deepest, most open)
+std::map<std::tuple<int, int, int>, std::pair<double, double>> LineContact::zoneEnds(const PointMap& points,
+                                                                                     const core::State& s) const {
+  // Per element of A (pair, edge, element): its Gauss points' lowest and highest gaps per thinner
+  // inscribed radius. Kept are the elements where a contact zone may end: not a beam's end element,
+  // not where supports hold both beams' ends (the gap they hold is no field's to close: heldEnds),
+  // and beside an element, on A, whose points are all open by kResolveLine (or none touches). (A
+  // zone along many elements whose gap waves about zero between the field's nodes, as a wire's on a
+  // core whose helix the cubic elements follow only approximately, is the beams' discretization, not
+  // the field's: refining it would constrain the cubic elements' gap more often than they can follow,
+  // dependent rows and a singular matrix.)
+  std::map<std::tuple<int, int, int>, std::pair<double, double>> range;
   std::set<std::tuple<int, int, int>> held;
   for (const auto& [key, p] : points) {
     if (!p.line() || p.elementA > kRefinableElements) continue;
     if (!(geometry_.blendWeightAt(p, s) > kCarries)) continue;
-    // (Where supports hold both beams' ends the gap they hold is no field's to close: heldEnds.)
+    const auto where = std::make_tuple(p.key.pair, p.edge(), p.elementA);
+    if (held.count(where)) continue;
     if (heldEnd(p, 0, s) || heldEnd(p, 1, s)) {
-      range[{p.key.pair, p.edge(), p.elementA}] = {0.0, 0.0};
-      held.insert({p.key.pair, p.edge(), p.elementA});
+      held.insert(where);
       continue;
     }
-    if (held.count({p.key.pair, p.edge(), p.elementA})) continue;
     const double gap = geometry(p, s).gap / geometry_.thinner(p.key.pair);
-    const auto [it, first] = range.try_emplace({p.key.pair, p.edge(), p.elementA}, gap, gap);
+    const auto [it, first] = range.try_emplace(where, gap, gap);
     if (!first) it->second = {std::min(it->second.first, gap), std::max(it->second.second, gap)};
   }
-  // Only where the zone ends: beside the element, on A, an element whose points are all open by as
-  // much (or none touches). (A
-  // zone along many elements whose gap waves about zero between the field's nodes, as a wire's on a
-  // core whose helix the cubic elements follow only approximately, is the beams' discretization, not
-  // the field's: refining it would constrain the cubic elements' gap more often than they can follow.)
   const auto& elems = geometry_.beams().elements();
-  const auto open = [&](int pair, int edge, int e) {
-    const auto it = range.find({pair, edge, e});
-    return it == range.end() || it->second.first > kResolveLine;
-  };
   const auto neighbour = [&](int e, int step) {
     const int n = e + step;
     return n >= 0 && n < static_cast<int>(elems.size()) && elems[n].beam == elems[e].beam &&
@@ -161,43 +154,87 @@ bool LineContact::refineField(const PointMap& points, const core::State& s) {
                ? n
                : -1;
   };
+  const auto open = [&](int pair, int edge, int e) {
+    if (held.count({pair, edge, e})) return false;
+    const auto it = range.find({pair, edge, e});
+    return it == range.end() || it->second.first > kResolveLine;
+  };
+  std::map<std::tuple<int, int, int>, std::pair<double, double>> ends;
+  for (const auto& [where, r] : range) {
+    const auto [pair, edge, e] = where;
+    const int before = neighbour(e, -1), after = neighbour(e, 1);
+    if (before < 0 || after < 0) continue;
+    if (open(pair, edge, before) || open(pair, edge, after)) ends.emplace(where, r);
+  }
+  return ends;
+}
+
+bool LineContact::refineField(const PointMap& points, const core::State& s) {
+  // Refined are the elements where a contact zone ends (zoneEnds) in which some Gauss points
+  // penetrate by more than kResolveLine of the thinner inscribed radius and some are open by as much.
   bool refined = false;
-  for (const auto& [where, r] : range)
-    if (r.first < -kResolveLine && r.second > kResolveLine) {
-      const auto [pair, edge, e] = where;
-      const int before = neighbour(e, -1), after = neighbour(e, 1);
-      if (!(before >= 0 && open(pair, edge, before)) && !(after >= 0 && open(pair, edge, after))) continue;
-      if (fieldLevel(pair, edge, e) >= kMaxFieldLevel) continue;
-      if (before < 0 || after < 0) continue;  // (a beam's end element: see docs/contact.md)
-      // A refinement must pay: the deepest penetration down by a quarter since the last one.
-      const auto last = refinedAt_.find(where);
-      if (last != refinedAt_.end() && !(r.first > 0.75 * last->second)) continue;
-      refinedAt_[where] = r.first;
-      ++levels_[where];
-      refined = true;
-    }
+  for (const auto& [where, r] : zoneEnds(points, s)) {
+    if (!(r.first < -kResolveLine && r.second > kResolveLine)) continue;
+    if (refinementOff_.count(std::get<0>(where))) continue;
+    if (fieldLevel(std::get<0>(where), std::get<1>(where), std::get<2>(where)) >= kMaxFieldLevel) continue;
+    // A refinement must pay: the deepest penetration down by a quarter since the last one.
+    const auto last = refinedAt_.find(where);
+    if (last != refinedAt_.end() && !(r.first > 0.75 * last->second)) continue;
+    refinedAt_[where] = r.first;
+    ++levels_[where];
+    refined = true;
+  }
   return refined;
 }
 
+void LineContact::resumeLevels(const PointMap& points, const core::State& s) {
+  // The refinement the interior nodes of the last converged points show, kept where a zone still
+  // ends inside the element (it touches, within kResolveLine, and opens by as much): the zone's
+  // resolution carries over to the next step, and a zone that has moved on leaves its elements.
+  levels_.clear();
+  refinedAt_.clear();
+  for (const auto& [key, p] : points) {
+    if (!p.node() || !interiorNode(p.key.node)) continue;
+    int element = 0, level = 0, j = 0;
+    interiorParts(p.key.node, element, level, j);
+    int& l = levels_[{p.key.pair, p.key.edge, element}];
+    l = std::max(l, level);
+  }
+  if (levels_.empty()) return;
+  const auto ends = zoneEnds(points, s);
+  for (auto it = levels_.begin(); it != levels_.end();) {
+    const auto r = ends.find(it->first);
+    const bool keep = r != ends.end() && r->second.first < kResolveLine && r->second.second > kResolveLine &&
+                      !refinementOff_.count(std::get<0>(it->first));
+    it = keep ? std::next(it) : levels_.erase(it);
+  }
+}
+
 void LineContact::clearLevels(bool failed) {
-  // A step that failed after its field was refined is retried (cut) without refinement: its
-  // refined field may have constrained the beams' gap more often than their elements can follow
-  // (a singular matrix) or kept changing the active set.
-  refinementFailed_ = failed && (refinementFailed_ || !refinedAt_.empty());
+  // A step that failed with a refined field is retried (cut), and the run goes on, with the pair's
+  // field unrefined: the refined field may have constrained the beams' gap more often than their
+  // elements can follow (a singular matrix) or kept changing the active set. (The unresolved-zone
+  // warning then tells what is left.)
+  if (failed)
+    for (const auto& [where, level] : levels_)
+      if (level > 0) refinementOff_.insert(std::get<0>(where));
   levels_.clear();
   refinedAt_.clear();
 }
 
+std::vector<int> LineContact::fieldNodeElements(int node) const {
+  if (interiorNode(node)) {
+    int element = 0, level = 0, j = 0;
+    interiorParts(node, element, level, j);
+    return {element};
+  }
+  const auto it = fieldElements_.find(node);
+  return it != fieldElements_.end() ? it->second.elements : std::vector<int>{};
+}
+
 double LineContact::fieldLength(const PointKey& node) const {
   // int N_a ds: half of each part the node ends.
-  std::vector<int> elements;
-  if (interiorNode(node.node)) {
-    int element = 0, level = 0, j = 0;
-    interiorParts(node.node, element, level, j);
-    elements.push_back(element);
-  } else if (const auto it = fieldElements_.find(node.node); it != fieldElements_.end()) {
-    elements = it->second.elements;
-  }
+  const std::vector<int> elements = fieldNodeElements(node.node);
   double length = 0.0;
   for (int e : elements)
     for (const FieldPart& part : fieldParts(node.pair, node.edge, e))
@@ -208,14 +245,7 @@ double LineContact::fieldLength(const PointKey& node) const {
 double LineContact::fieldCompliance(const PointKey& node) const {
   // A traction p sin(pi x / h) bends each beam by p (h / pi)^4 / EI, the two in opposite senses; h
   // the shortest part of the field at the node.
-  std::vector<int> elements;
-  if (interiorNode(node.node)) {
-    int element = 0, level = 0, j = 0;
-    interiorParts(node.node, element, level, j);
-    elements.push_back(element);
-  } else if (const auto it = fieldElements_.find(node.node); it != fieldElements_.end()) {
-    elements = it->second.elements;
-  }
+  const std::vector<int> elements = fieldNodeElements(node.node);
   if (elements.empty()) return 0.0;
   const auto& elems = geometry_.beams().elements();
   double shortest = 0.0, stiffness = 0.0;

@@ -67,9 +67,13 @@ class LineContact {
   // point deeper than kResolveLine of the thinner inscribed radius, up to kMaxFieldLevel. Returns
   // whether it refined one (the points then change at the next iteration).
   bool refineField(const PointMap& points, const core::State& s);
-  // Back to the unrefined field: at the start of each step, and after a failed attempt at one
-  // (`failed`: if that attempt refined the field, the step is retried without refinement).
+  // Back to the unrefined field: after a restore, and after a failed attempt at a step (`failed`: a
+  // pair whose field was refined then is not refined again in this run; a restart from a later
+  // checkpoint refines it again).
   void clearLevels(bool failed = false);
+  // At the start of a step (`points` the last converged ones, at `s`): the refinement their interior
+  // nodes show, where a contact zone still ends inside the element.
+  void resumeLevels(const PointMap& points, const core::State& s);
   void setFieldLevel(int pair, int edge, int element, int level) { levels_[{pair, edge, element}] = level; }
   // A field node's share of its beam's reference length, int N_a ds over all of the beam's elements.
   double fieldLength(const PointKey& node) const;
@@ -175,13 +179,19 @@ class LineContact {
   // (pair, edge, element) -> its deepest penetration (per thinner inscribed radius) when it was last
   // refined in this step.
   std::map<std::tuple<int, int, int>, double> refinedAt_;
-  bool refinementFailed_ = false;
+  std::set<int> refinementOff_;  // pairs whose refined field failed a step: not refined again
   // The field's parts of an element: (node at the part's start, node at its end, length).
   struct FieldPart {
     int from = 0, to = 0;
     double length = 0.0;
   };
   std::vector<FieldPart> fieldParts(int pair, int edge, int element) const;
+  // The elements of A where a contact zone may end (refineField), with their Gauss points' lowest and
+  // highest gaps per thinner inscribed radius.
+  std::map<std::tuple<int, int, int>, std::pair<double, double>> zoneEnds(const PointMap& points,
+                                                                          const core::State& s) const;
+  // The elements a field node's shape function reaches (an interior node: its own).
+  std::vector<int> fieldNodeElements(int node) const;
   std::map<int, FieldElements> fieldElements_;
   std::vector<double> beamStiffness_;
 };
