@@ -82,9 +82,6 @@ class ContactManager : public core::Contribution {
   // beam A, element of beam B), sorted. For tests and benchmarks of the search.
   std::vector<std::tuple<int, int, int>> candidates(const core::State& s) const { return search_.candidates(s); }
   int passes() const { return passes_; }
-  // For tests of the refined line field: refines it at `state` as after a converged pass
-  // (LineContact::refineField); the interior nodes come at the next prepareIteration.
-  bool refineLineField(const core::State& state) { return lines_.nodal() && lines_.refineField(set_.current(), state); }
   // For tests of the refined field's tangent: the field of an element of a pair's beam A (edge 0) at
   // a level, whatever the gaps.
   void refineLineFieldAt(int pair, int element, int level) { lines_.setFieldLevel(pair, 0, element, level); }

@@ -83,8 +83,8 @@ int LineContact::fieldLevel(int pair, int edge, int element) const {
   return it == levels_.end() ? 0 : it->second;
 }
 
-int LineContact::fieldNodeAt(int pair, int edge, int element, int j) const {
-  const int level = fieldLevel(pair, edge, element), m = 1 << level;
+int LineContact::fieldNodeAt(int element, int level, int j) const {
+  const int m = 1 << level;
   if (m == 1) return fieldNode(element, j);
   const BeamElement& e = geometry_.beams().elements()[element];
   const int last = static_cast<int>(geometry_.beams().beams()[e.beam].nodes.size()) - 2;
@@ -97,11 +97,10 @@ int LineContact::fieldNodeAt(int pair, int edge, int element, int j) const {
 }
 
 std::vector<LineContact::FieldPart> LineContact::fieldParts(int pair, int edge, int element) const {
-  const int m = 1 << fieldLevel(pair, edge, element);
+  const int level = fieldLevel(pair, edge, element), m = 1 << level;
   const double L = geometry_.beams().elements()[element].data.L0 / m;
   std::vector<FieldPart> parts;
-  for (int j = 0; j < m; ++j)
-    parts.push_back({fieldNodeAt(pair, edge, element, j), fieldNodeAt(pair, edge, element, j + 1), L});
+  for (int j = 0; j < m; ++j) parts.push_back({fieldNodeAt(element, level, j), fieldNodeAt(element, level, j + 1), L});
   return parts;
 }
 
@@ -435,9 +434,13 @@ int LineContact::fieldNode(int element, int side) const {
   return nodes[i];
 }
 
+namespace {
+// The part, of m, of an element's field that `xi` lies in (beyond the element: its end part).
+int partOf(double xi, int m) { return std::max(0, std::min(m - 1, static_cast<int>(std::floor(xi * m)))); }
+}  // namespace
+
 int LineContact::fieldPart(const ContactPointRecord& p, double xi) const {
-  const int m = 1 << fieldLevel(p.key.pair, p.edge(), p.elementA);
-  return std::max(0, std::min(m - 1, static_cast<int>(std::floor(xi * m))));
+  return partOf(xi, 1 << fieldLevel(p.key.pair, p.edge(), p.elementA));
 }
 
 std::vector<LineContact::FieldShare> LineContact::fieldShares(const ContactPointRecord& p, double xi,
@@ -445,11 +448,11 @@ std::vector<LineContact::FieldShare> LineContact::fieldShares(const ContactPoint
   // The part of the (refined) field the point lay in at the last update of the points (p.xi: the
   // matrix graph's), its two nodes' hat functions at `xi` (beyond the part's ends, their lines).
   std::vector<FieldShare> shares;
-  const int m = 1 << fieldLevel(p.key.pair, p.edge(), p.elementA);
-  const int part = fieldPart(p, p.xi);
+  const int level = fieldLevel(p.key.pair, p.edge(), p.elementA), m = 1 << level;
+  const int part = partOf(p.xi, m);
   const double t = xi * m - part;
   for (int side = 0; side < 2; ++side) {
-    const int node = fieldNodeAt(p.key.pair, p.edge(), p.elementA, part + side);
+    const int node = fieldNodeAt(p.elementA, level, part + side);
     const double N = side == 0 ? 1.0 - t : t, slope = side == 0 ? -m : m;
     if (!shares.empty() && shares.back().node == node) {
       shares.back().N += N;

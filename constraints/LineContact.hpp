@@ -52,20 +52,19 @@ class LineContact {
   // the field's nodes; the element's field is then refined (refineField): level l cuts it into 2^l
   // equal parts whose inner ends are field nodes of their own (interior nodes, numbered from
   // kInteriorNode: element, level and place). At a beam's end element the outer part's node merges
-  // into its neighbour, as the end node does without refinement. fieldNodeAt(pair, edge, element, j)
-  // is the node at j / 2^l of the element (j = 0 .. 2^l).
+  // into its neighbour, as the end node does without refinement.
   static constexpr int kInteriorNode = 1 << 30;
   static constexpr int kMaxFieldLevel = 4;
   static bool interiorNode(int node) { return node >= kInteriorNode; }
   int fieldLevel(int pair, int edge, int element) const;
-  int fieldNodeAt(int pair, int edge, int element, int j) const;
   // Where a field node is in `s` (an interior node: on the element's chord) and the beam node whose
   // rank evaluates its own rows.
   Vec3d fieldPosition(int node, const core::State& s) const;
   int fieldHome(int node) const;
-  // After Newton has converged on an active set: refines the field of every element with a Gauss
-  // point deeper than kResolveLine of the thinner inscribed radius, up to kMaxFieldLevel. Returns
-  // whether it refined one (the points then change at the next iteration).
+  // After Newton has converged on an active set: refines the field of every element where a contact
+  // zone ends (zoneEnds) with a Gauss point deeper than kResolveLine of the thinner inscribed radius
+  // and one open by as much, up to kMaxFieldLevel. Returns whether it refined one (the points then
+  // change at the next iteration).
   bool refineField(const PointMap& points, const core::State& s);
   // Back to the unrefined field: after a restore, and after a failed attempt at a step (`failed`: a
   // pair whose field was refined then is not refined again in this run; a restart from a later
@@ -186,6 +185,8 @@ class LineContact {
     double length = 0.0;
   };
   std::vector<FieldPart> fieldParts(int pair, int edge, int element) const;
+  // The field node at j / 2^level of an element (j = 0 .. 2^level) whose field is at `level`.
+  int fieldNodeAt(int element, int level, int j) const;
   // The elements of A where a contact zone may end (refineField), with their Gauss points' lowest and
   // highest gaps per thinner inscribed radius.
   std::map<std::tuple<int, int, int>, std::pair<double, double>> zoneEnds(const PointMap& points,
