@@ -76,6 +76,37 @@ void interiorParts(int node, int& element, int& level, int& j) {
 }
 // The largest element a packed interior number can name.
 constexpr int kRefinableElements = (INT_MAX - LineContact::kInteriorNode) / (kPlaces * kLevels);
+
+// A Gauss point's index in its key: its index q among the Gauss points of its part of the segment, and
+// the part (level l, part k of 2^l) as the slot 2^l - 1 + k (0 for an unrefined element, so those
+// keep their index q).
+constexpr int kGaussPerPart = 32;  // the deck's largest Line Gauss Points
+static_assert(kGaussPerPart * ((2 << LineContact::kMaxFieldLevel) - 1) <= PointKey::kGaussSlots,
+              "a segment's Gauss points of every part must fit the key's slots");
+int gaussIndex(int level, int part, int q) { return q + kGaussPerPart * ((1 << level) - 1 + part); }
+int gaussOf(int index) { return index % kGaussPerPart; }
+void gaussPart(int index, int& level, int& part) {
+  const int slot = index / kGaussPerPart;
+  level = 0;
+  while ((2 << level) - 1 <= slot) ++level;
+  part = slot - ((1 << level) - 1);
+}
+// The segment's share of part k of 2^l of A's element: cut at the part's ends (constant bounds) where
+// they lie inside it.
+LineSegment partSegment(const LineSegment& seg, int level, int part) {
+  if (level == 0) return seg;
+  const double m = 1 << level, a = part / m, b = (part + 1) / m;
+  LineSegment sub = seg;
+  if (a > seg.lo) sub.lo = a, sub.loKind = -1;
+  if (b < seg.hi) sub.hi = b, sub.hiKind = -1;
+  if (!(sub.hi > sub.lo)) sub = LineSegment{};
+  return sub;
+}
+LineSegment pointSegment(const ContactPointRecord& p, const LineSegment& seg) {
+  int level = 0, part = 0;
+  gaussPart(p.gauss(), level, part);
+  return partSegment(seg, level, part);
+}
 }  // namespace
 
 int LineContact::fieldLevel(int pair, int edge, int element) const {
@@ -210,13 +241,18 @@ void LineContact::resumeLevels(const PointMap& points, const core::State& s) {
 }
 
 void LineContact::clearLevels(bool failed) {
-  // A step that failed with a refined field is retried (cut), and the run goes on, with the pair's
-  // field unrefined: the refined field may have constrained the beams' gap more often than their
-  // elements can follow (a singular matrix) or kept changing the active set. (The unresolved-zone
-  // warning then tells what is left.)
-  if (failed)
+  // A step that failed with a refined field is retried (cut) refined once more: a shorter step often
+  // converges where a long one stalled. If that fails too, the retry and the rest of the run go on
+  // with the pair's field unrefined: the refined field may have constrained the beams' gap more often
+  // than their elements can follow (a singular matrix) or kept changing the active set. (The
+  // unresolved-zone warning then tells what is left.)
+  if (failed) {
+    std::set<int> refined;
     for (const auto& [where, level] : levels_)
-      if (level > 0) refinementOff_.insert(std::get<0>(where));
+      if (level > 0) refined.insert(std::get<0>(where));
+    for (const int pair : refined)
+      if (++refinedFailures_[pair] >= kRefinedAttempts) refinementOff_.insert(pair);
+  }
   levels_.clear();
   refinedAt_.clear();
 }
@@ -324,7 +360,7 @@ double LineContact::slip(const ContactPointRecord& p, const ClosestPoints& cp, c
 }
 
 double LineContact::weight(const ContactPointRecord& p, double segment) const {
-  return gaussWeight_[p.gauss()] * geometry_.beams().elements()[p.elementA].data.L0 * segment;
+  return gaussWeight_[gaussOf(p.gauss())] * geometry_.beams().elements()[p.elementA].data.L0 * segment;
 }
 
 void LineContact::findPoints(int pi, int ea, int eb, long long visit, const core::State& s, const PointMap& known,
@@ -366,19 +402,27 @@ void LineContact::offerSegment(int pi, int ea, int eb, int edge, int face, doubl
   // of a strand, element pairs several elements apart), the pair is not in line contact.
   const double mid = lineProjection(in, seg.lo + 0.5 * seg.length()).eta;
   if (!(mid > -0.5 && mid < 1.5)) return;
-  for (int q = 0; q < (int)gaussXi_.size(); ++q) {
-    const ClosestPoints cp = lineProjection(in, seg.lo + seg.length() * gaussXi_[q]);
-    const PointKey key = PointKey::gaussPoint(pi, ea, eb, edge, face, q);
-    const bool isKnown = known.count(key) > 0;
-    if (in.face) {
-      // Across the face (findPoints): an edge of the pair's A (inside 0) within the face's half
-      // width and a little beyond; an edge of the pair's B (inside: B's face's half width) inside
-      // the face by a little of that.
-      const double reach =
-          inside > 0.0 ? in.halfWidthB - inside * (isKnown ? 1e-3 : 0.05) : in.halfWidthB * (isKnown ? 1.05 : 1.001);
-      if (std::abs(cp.lateral) > reach) continue;
+  // A refined field's element (nodal fields) has Gauss points of its own in each part of the segment
+  // (the segment cut at the parts' ends): each part integrates its hat functions as the whole element
+  // does unrefined.
+  const int level = nodal_ ? fieldLevel(pi, edge, ea) : 0;
+  for (int part = 0; part < (1 << level); ++part) {
+    const LineSegment sub = partSegment(seg, level, part);
+    if (!(sub.length() > kSliver)) continue;
+    for (int q = 0; q < (int)gaussXi_.size(); ++q) {
+      const ClosestPoints cp = lineProjection(in, sub.lo + sub.length() * gaussXi_[q]);
+      const PointKey key = PointKey::gaussPoint(pi, ea, eb, edge, face, gaussIndex(level, part, q));
+      const bool isKnown = known.count(key) > 0;
+      if (in.face) {
+        // Across the face (findPoints): an edge of the pair's A (inside 0) within the face's half
+        // width and a little beyond; an edge of the pair's B (inside: B's face's half width) inside
+        // the face by a little of that.
+        const double reach =
+            inside > 0.0 ? in.halfWidthB - inside * (isKnown ? 1e-3 : 0.05) : in.halfWidthB * (isKnown ? 1.05 : 1.001);
+        if (std::abs(cp.lateral) > reach) continue;
+      }
+      offer(key, Candidate{ea, eb, cp}, 0.0, -visit);  // the last visit wins
     }
-    offer(key, Candidate{ea, eb, cp}, 0.0, -visit);  // the last visit wins
   }
 }
 
@@ -396,8 +440,9 @@ void keepSide(const LinePairInput& in, ClosestPoints& cp, const Vec3d& kept) {
 ClosestPoints LineContact::geometry(const ContactPointRecord& p, const core::State& s, double* segment) const {
   const LinePairInput in = input(p, s);
   const LineSegment seg = lineSegment(in);
-  if (segment) *segment = seg.length();
-  ClosestPoints cp = lineProjection(in, seg.lo + seg.length() * gaussXi_[p.gauss()]);
+  const LineSegment sub = pointSegment(p, seg);
+  if (segment) *segment = sub.length();
+  ClosestPoints cp = lineProjection(in, sub.lo + sub.length() * gaussXi_[gaussOf(p.gauss())]);
   cp.sinAngle = 1.0;  // a line point is defined at any angle
   keepSide(in, cp, p.normal);
   return cp;
@@ -405,7 +450,8 @@ ClosestPoints LineContact::geometry(const ContactPointRecord& p, const core::Sta
 
 ContactKinematics LineContact::kinematics(const ContactPointRecord& p, const core::State& s, Variations order) const {
   const LinePairInput in = input(p, s);
-  return segmentKinematics(in, lineSegment(in), gaussXi_[p.gauss()], history(p), p.normal, order);
+  return segmentKinematics(in, pointSegment(p, lineSegment(in)), gaussXi_[gaussOf(p.gauss())], history(p), p.normal,
+                           order);
 }
 
 ContactKinematics LineContact::values(const ContactPointRecord& p, const ClosestPoints& cp, double segment,

@@ -54,7 +54,7 @@ class LineContact {
   // kInteriorNode: element, level and place). At a beam's end element the outer part's node merges
   // into its neighbour, as the end node does without refinement.
   static constexpr int kInteriorNode = 1 << 30;
-  static constexpr int kMaxFieldLevel = 4;
+  static constexpr int kMaxFieldLevel = 6;
   static bool interiorNode(int node) { return node >= kInteriorNode; }
   int fieldLevel(int pair, int edge, int element) const;
   // Where a field node is in `s` (an interior node: on the element's chord) and the beam node whose
@@ -67,9 +67,11 @@ class LineContact {
   // change at the next iteration).
   bool refineField(const PointMap& points, const core::State& s);
   // Back to the unrefined field: after a restore, and after a failed attempt at a step (`failed`: a
-  // pair whose field was refined then is not refined again in this run; a restart from a later
-  // checkpoint refines it again).
+  // pair whose field was refined in two failed attempts at the same step is not refined again in this
+  // run; a restart from a later checkpoint refines it again).
   void clearLevels(bool failed = false);
+  // A step converged: the failed attempts counted towards switching refinement off start again.
+  void stepAccepted() { refinedFailures_.clear(); }
   // At the start of a step (`points` the last converged ones, at `s`): the refinement their interior
   // nodes show, where a contact zone still ends inside the element.
   void resumeLevels(const PointMap& points, const core::State& s);
@@ -178,7 +180,9 @@ class LineContact {
   // (pair, edge, element) -> its deepest penetration (per thinner inscribed radius) when it was last
   // refined in this step.
   std::map<std::tuple<int, int, int>, double> refinedAt_;
-  std::set<int> refinementOff_;  // pairs whose refined field failed a step: not refined again
+  std::set<int> refinementOff_;  // pairs whose refined field failed a step twice: not refined again
+  std::map<int, int> refinedFailures_;  // pair -> failed attempts at the present step with a refined field
+  static constexpr int kRefinedAttempts = 2;
   // The field's parts of an element: (node at the part's start, node at its end, length).
   struct FieldPart {
     int from = 0, to = 0;

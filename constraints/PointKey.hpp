@@ -11,9 +11,9 @@
 // line A, then line B).
 //
 // The code is what checkpoints, the extra unknowns' keys and the table's line_A and line_B columns
-// hold: a point contact (lineA, lineB); a Gauss point (-1 - (gauss + 64 (edge + 4 face + 16 elementB)),
+// hold: a point contact (lineA, lineB); a Gauss point (-1 - (gauss + 4096 (edge + 4 face + 16 elementB)),
 // elementA); a line node (kLineNode - edge, node). Gauss codes that would reach the line nodes' codes
-// (more than about 1.95 x 10^6 elements, which the packed numbers could not hold) skip below them, so
+// (more than about 3 x 10^4 elements of B, which the packed numbers could not hold) skip below them, so
 // every key has its own code; there the keys keep their order (line nodes first) while such a Gauss
 // point's code compares below the line nodes' (nothing depends on the codes' order: the extra
 // unknowns of line nodes and of Gauss points never coexist, and points are found by key).
@@ -62,7 +62,7 @@ struct PointKey {
   }
 
   static constexpr long long kLineNode = -2000000000;
-  static constexpr long long kGaussSlots = 64;  // Gauss points per segment (the deck allows 32)
+  static constexpr long long kGaussSlots = 4096;  // Gauss points per segment (32 in each of 127 parts)
 
   // (pair, line A, line B) as described above.
   std::array<long long, 3> code() const {

@@ -69,9 +69,9 @@ class CheckpointIn {
   std::string source_;
 };
 
-// The format the checkpoint's first line states ("beamcontact-checkpoint 3"); a file of another format
+// The format the checkpoint's first line states ("beamcontact-checkpoint 4"); a file of another format
 // is refused.
-inline constexpr int kCheckpointFormat = 3;
+inline constexpr int kCheckpointFormat = 4;
 
 // A number as the shortest text that reads back to it (for messages).
 std::string shortest(double v);

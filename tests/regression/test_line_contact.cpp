@@ -741,9 +741,12 @@ TEST(LineContact, NarrowOnWideRectanglesCrossingAtASmallAngle) {
 // - the rod is in equilibrium: the contact forces on it (the force each point applies on beam B,
 //   contact_points' normal and tangential vectors) balance its support reactions to 1e-8 of them;
 // - the Coulomb cone holds for the force each point applies (|F_T| <= mu |F_N| (1 + 1e-9));
-// - no overlap beyond 5 % of the thinner section's inscribed radius unless the run warns of it (the
-//   multiplier fields of Lagrange and Augmented Lagrange at small angles, where the contact zone is
-//   shorter than an element).
+// - no overlap beyond 5 % of the thinner section's inscribed radius unless the run warns of it; the
+//   multiplier fields of Lagrange and Augmented Lagrange on circles refine where the contact zone is
+//   shorter than an element, with friction too: no warning, and no overlap beyond 1e-3 of the radius
+//   (the unresolved-zone warning's threshold; measured at most 8.6e-5 of it, at 2 degrees; at 5
+//   degrees the refined field's first attempt at the last step stalls, its retry with a cut step
+//   converges refined; before, the retry went on unrefined: 30 % of the force missing, warned).
 // Not yet: 0 degrees. The rod parallel on the ground, pressed at its pinned ends, bows up and touches
 // the ground only at its ends (with eps_N = 1e3: one Gauss point active at each end, the rest open by
 // up to 0.03): contact at a beam end, which line contact's Gauss points resolve only as far as their
@@ -809,6 +812,10 @@ TEST(LineContact, AngleSweepEveryStrategyBothSectionsCompletesInEquilibriumWithi
         EXPECT_LE(worstCone, 1.0 + 1e-9) << what;
         if (!warned) {
           EXPECT_LT(deepest, 0.05 * inscribed) << what;
+        }
+        if (!rectangles && type != "Penalty") {
+          EXPECT_FALSE(warned) << what;
+          EXPECT_LT(deepest, 1e-3 * inscribed) << what;
         }
       }
 }
