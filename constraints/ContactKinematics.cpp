@@ -9,6 +9,10 @@ using namespace bc::math;
 
 namespace {
 
+// Whether an element's lines are its Hermite curves (a nonzero reference axis vector) or chords.
+bool cubic(const Vec3d& d) { return dot(d, d) > 0.0; }
+bool smoothPoint(const LinePairInput& in) { return cubic(in.dA) || cubic(in.dB); }
+
 // Closest points of the lines pA1 + xi (pA2 - pA1) and pB1 + eta (pB2 - pB1): the orthogonality
 // conditions are linear in (xi, eta) for straight lines; Cramer's rule.
 template <class T>
@@ -167,6 +171,52 @@ Gaps<T> faceGaps(const Vec3<T>* P, const Vec3<T>* V, const Vec3<T>* N, bool cubi
   return g;
 }
 
+// Point contact on the elements' Hermite axes (or chords, see axisPoint): the closest points of the
+// curves x_A(xi) (through P[0], P[1], tangents V[0], V[1]) and x_B(eta) (P[2], P[3], V[2], V[3]) from
+// the orthogonality conditions F = (x_A' . w, x_B' . w) = 0, w = x_B - x_A, by Newton steps from the
+// double solution (xiStart, etaStart): its value is exact, and each step doubles the order of the AD
+// derivatives made exact (the error in the Taylor coefficients is O(delta^2) after one step, O(delta^4)
+// after two), so two steps give exact first and second variations, the implicit derivatives of xi and
+// eta included. Jacobian: dF/d(xi, eta) = [x_A'' . w - |x_A'|^2, x_A' . x_B'; -x_A' . x_B', x_B'' . w +
+// |x_B'|^2]. Normal n = sigma (t_B x t_A) / |t_B x t_A| with the curves' tangents at the closest points;
+// g_N = w . n - (r_A + r_B); g_T1 = (xi - xiPrev) |x_A'(xi)|, g_T2 = (eta - etaPrev) |x_B'(eta)| (the
+// length along the curve per unit parameter at the point: the chord's length on a straight element);
+// cosine of the tangents.
+template <class T> void curveNewtonStep(const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB, T& xi, T& eta) {
+  Vec3<T> xA, dA, ddA, xB, dB, ddB;
+  axisPoint(P[0], V[0], P[1], V[1], cubicA, xi, &xA, &dA, &ddA);
+  axisPoint(P[2], V[2], P[3], V[3], cubicB, eta, &xB, &dB, &ddB);
+  const Vec3<T> w = xB - xA;
+  const T f1 = dot(dA, w), f2 = dot(dB, w);
+  const T ab = dot(dA, dB);
+  const T j11 = dot(ddA, w) - dot(dA, dA), j22 = dot(ddB, w) + dot(dB, dB);
+  const T det = j11 * j22 + ab * ab;  // j12 = ab, j21 = -ab
+  xi -= (j22 * f1 - ab * f2) / det;
+  eta -= (ab * f1 + j11 * f2) / det;
+}
+
+template <class T>
+Gaps<T> curveGaps(const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB, double radiusSum, double sigma,
+                  double xiPrev, double etaPrev, double xiStart, double etaStart) {
+  using std::sqrt;
+  Gaps<T> g;
+  g.xi = T(xiStart);
+  g.eta = T(etaStart);
+  for (int it = 0; it < 2; ++it) curveNewtonStep(P, V, cubicA, cubicB, g.xi, g.eta);
+  Vec3<T> xA, tA, xB, tB;
+  axisPoint(P[0], V[0], P[1], V[1], cubicA, g.xi, &xA, &tA, nullptr);
+  axisPoint(P[2], V[2], P[3], V[3], cubicB, g.eta, &xB, &tB, nullptr);
+  const Vec3<T> c = cross(tB, tA);
+  const Vec3<T> n = (sigma / sqrt(dot(c, c))) * c;
+  const T la = sqrt(dot(tA, tA)), lb = sqrt(dot(tB, tB));
+  g.gN = dot(xB - xA, n) - radiusSum;
+  g.gT1 = (g.xi - xiPrev) * la;
+  g.gT2 = (g.eta - etaPrev) * lb;
+  g.cosine = dot(tA, tB) / (la * lb);
+  g.length = T(1.0);
+  return g;
+}
+
 // R and K of every gap from their gradients and Hessians in the coordinates of the four line end
 // points (Vectors = 4), of the four end points and the four Hermite tangents (Vectors = 8), or also
 // of B's two nodal face normals (Vectors = 10).
@@ -175,6 +225,20 @@ ContactKinematics kinematicsOf(const LinePairInput& in, const Vec3d* extraRef, c
                                Variations order, bool heldVariation = false);
 template <bool Second>
 ContactKinematics pointKinematicsOfOrder(const LinePairInput& in, double sigma, double xiPrev, double etaPrev);
+
+// Point contact on the Hermite axes (curveGaps): the closest points in double precision, then nested
+// forward AD of the gaps in the 24 coordinates of the four line points and four nodal tangents.
+ContactKinematics curveKinematics(const LinePairInput& in, double sigma, double xiPrev, double etaPrev,
+                                  Variations order) {
+  const ClosestPoints cp = closestPoints(in);
+  const bool cubicA = cubic(in.dA), cubicB = cubic(in.dB);
+  return kinematicsOf<8>(
+      in, nullptr, nullptr,
+      [&](const auto* P, bool) {
+        return curveGaps(P, P + 4, cubicA, cubicB, in.radiusSum, sigma, xiPrev, etaPrev, cp.xi, cp.eta);
+      },
+      order);
+}
 
 // Where A's axis (the Hermite curve P[0], V[0], P[1], V[1]) meets the plane through `node` normal
 // to `tau`: the root of h(xi) = tau . (node - x_A(xi)) by Newton steps from `start` (a double
@@ -211,8 +275,8 @@ ClosestPoints closestPoints(const LinePairInput& in) {
   ClosestPoints cp;
   const Vec3d pA1 = in.xA1 + in.RA1 * in.oA, pA2 = in.xA2 + in.RA2 * in.oA;
   const Vec3d pB1 = in.xB1 + in.RB1 * in.oB, pB2 = in.xB2 + in.RB2 * in.oB;
-  const Vec3d tA = pA2 - pA1, tB = pB2 - pB1;
-  const Vec3d c = cross(tB, tA);
+  Vec3d tA = pA2 - pA1, tB = pB2 - pB1;
+  Vec3d c = cross(tB, tA);
   cp.sinAngle = norm(c) / (norm(tA) * norm(tB));
   if (!(cp.sinAngle > 1e-12)) return cp;
   solveClosest(pA1, pA2, pB1, pB2, cp.xi, cp.eta);
@@ -220,6 +284,36 @@ ClosestPoints closestPoints(const LinePairInput& in) {
   cp.pB = pB1 + cp.eta * tB;
   cp.cA = in.xA1 + cp.xi * (in.xA2 - in.xA1);
   cp.cB = in.xB1 + cp.eta * (in.xB2 - in.xB1);
+  if (smoothPoint(in)) {
+    // The curves' closest points by Newton's method from the chords' (converged to round-off in a
+    // few steps while the elements bend moderately). A solution that does not converge, or runs far
+    // beyond the elements (where the cubic's extrapolation means nothing), has no closest points.
+    const bool cubicA = cubic(in.dA), cubicB = cubic(in.dB);
+    const Vec3d P[4] = {pA1, pA2, pB1, pB2};
+    const Vec3d V[4] = {in.RA1 * in.dA, in.RA2 * in.dA, in.RB1 * in.dB, in.RB2 * in.dB};
+    bool converged = false;
+    for (int it = 0; it < 50 && !converged; ++it) {
+      const double xi0 = cp.xi, eta0 = cp.eta;
+      curveNewtonStep(P, V, cubicA, cubicB, cp.xi, cp.eta);
+      if (!std::isfinite(cp.xi) || !std::isfinite(cp.eta) || std::abs(cp.xi - 0.5) > 2.5 ||
+          std::abs(cp.eta - 0.5) > 2.5)
+        break;
+      converged = std::abs(cp.xi - xi0) < 1e-15 * (1.0 + std::abs(cp.xi)) &&
+                  std::abs(cp.eta - eta0) < 1e-15 * (1.0 + std::abs(cp.eta));
+      // (round-off may stall a step above that bound: a step below 1e-13 is a solution too)
+      if (!converged && it >= 6)
+        converged = std::abs(cp.xi - xi0) < 1e-13 * (1.0 + std::abs(cp.xi)) &&
+                    std::abs(cp.eta - eta0) < 1e-13 * (1.0 + std::abs(cp.eta));
+    }
+    if (!converged) return ClosestPoints{};
+    axisPoint(P[0], V[0], P[1], V[1], cubicA, cp.xi, &cp.pA, &tA, nullptr);
+    axisPoint(P[2], V[2], P[3], V[3], cubicB, cp.eta, &cp.pB, &tB, nullptr);
+    axisPoint(in.xA1, V[0], in.xA2, V[1], cubicA, cp.xi, &cp.cA, nullptr, nullptr);
+    axisPoint(in.xB1, V[2], in.xB2, V[3], cubicB, cp.eta, &cp.cB, nullptr, nullptr);
+    c = cross(tB, tA);
+    cp.sinAngle = norm(c) / (norm(tA) * norm(tB));
+    if (!(cp.sinAngle > 1e-12)) return ClosestPoints{};
+  }
   const Vec3d n = (1.0 / norm(c)) * c;
   cp.sigma = dot(n, cp.cB - cp.cA) >= 0.0 ? 1.0 : -1.0;
   cp.normal = cp.sigma * n;
@@ -230,12 +324,14 @@ ClosestPoints closestPoints(const LinePairInput& in) {
 
 ContactKinematics contactKinematics(const LinePairInput& in, double sigma, double xiPrev, double etaPrev,
                                     Variations order) {
+  if (smoothPoint(in)) return curveKinematics(in, sigma, xiPrev, etaPrev, order);
   return order == Variations::Second ? pointKinematicsOfOrder<true>(in, sigma, xiPrev, etaPrev)
                                      : pointKinematicsOfOrder<false>(in, sigma, xiPrev, etaPrev);
 }
 
 ContactKinematics contactKinematicsFromGaps(const LinePairInput& in, double sigma, double xiPrev, double etaPrev,
                                             Variations order) {
+  if (smoothPoint(in)) return curveKinematics(in, sigma, xiPrev, etaPrev, order);
   return kinematicsOf<4>(
       in, nullptr, nullptr,
       [&](const auto* P, bool) { return gaps(P[0], P[1], P[2], P[3], in.radiusSum, sigma, xiPrev, etaPrev); }, order);
