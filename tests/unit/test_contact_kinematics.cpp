@@ -425,7 +425,7 @@ TEST(ContactKinematics, FirstVariationsOnlyAgreeWithTheFullKinematics) {
 
 // The point contact's written-out gradients (and their AD Hessians) against nested AD of the gaps:
 // every value, first variation and K at general states, with and without radii and history offsets,
-// with both variation orders.
+// with both variation orders, on the chords and on the Hermite axes.
 TEST(ContactKinematics, WrittenOutPointGradientsMatchNestedAdOfTheGaps) {
   std::mt19937 g(31);
   double worstValue = 0.0, worstR = 0.0, worstK = 0.0;
@@ -437,8 +437,12 @@ TEST(ContactKinematics, WrittenOutPointGradientsMatchNestedAdOfTheGaps) {
     }
     return scale > 0.0 ? diff / scale : diff;
   };
-  for (int trial = 0; trial < 12; ++trial) {
+  for (int trial = 0; trial < 24; ++trial) {
     LinePairInput in = crossing();
+    if (trial >= 12) {  // on the Hermite axes, the nodes turned by up to 0.3 rad (curved)
+      in.dA = Vec3d{{10, 0, 0}};
+      in.dB = Vec3d{{0, 10, 0}};
+    }
     placeGenerally(in, g, 0.5);
     in.radiusSum = trial % 2 ? 0.7 : 0.0;
     const auto cp = closestPoints(in);
