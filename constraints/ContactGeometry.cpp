@@ -166,6 +166,7 @@ LinePairInput ContactGeometry::axisInput(int eA, int eB, const core::State& s) c
   LinePairInput in = lineInput(eA, 0, eB, 0, s);
   in.oA = in.oB = Vec3d{};
   in.radiusSum = 0.0;
+  in.dA = in.dB = Vec3d{};  // the chords (the pass-through check)
   return in;
 }
 

@@ -33,6 +33,8 @@ struct ContactPairSpec {
 struct ContactOptions {
   double searchMargin = 0.0;  // added to the bounding boxes [length]
   double minimumSinAngle = 1e-3;  // lines closer to parallel are skipped (point contact undefined)
+  // Point contact's lines: the elements' straight chords, or their Hermite curves (C1 across nodes).
+  bool hermitePointAxes = false;
   bool allowInitialPenetration = false;
   FrictionLaw frictionLaw = FrictionLaw::IsotropicCoulomb;
   // All-angle contact of two circular beams (radians): line contact (Gauss points along the line,

@@ -9,6 +9,10 @@ using namespace bc::math;
 
 namespace {
 
+// Whether an element's lines are its Hermite curves (a nonzero reference axis vector) or chords.
+bool cubic(const Vec3d& d) { return dot(d, d) > 0.0; }
+bool smoothPoint(const LinePairInput& in) { return cubic(in.dA) || cubic(in.dB); }
+
 // Closest points of the lines pA1 + xi (pA2 - pA1) and pB1 + eta (pB2 - pB1): the orthogonality
 // conditions are linear in (xi, eta) for straight lines; Cramer's rule.
 template <class T>
@@ -167,6 +171,52 @@ Gaps<T> faceGaps(const Vec3<T>* P, const Vec3<T>* V, const Vec3<T>* N, bool cubi
   return g;
 }
 
+// Point contact on the elements' Hermite axes (or chords, see axisPoint): the closest points of the
+// curves x_A(xi) (through P[0], P[1], tangents V[0], V[1]) and x_B(eta) (P[2], P[3], V[2], V[3]) from
+// the orthogonality conditions F = (x_A' . w, x_B' . w) = 0, w = x_B - x_A, by Newton steps from the
+// double solution (xiStart, etaStart): its value is exact, and each step doubles the order of the AD
+// derivatives made exact (the error in the Taylor coefficients is O(delta^2) after one step, O(delta^4)
+// after two), so two steps give exact first and second variations, the implicit derivatives of xi and
+// eta included. Jacobian: dF/d(xi, eta) = [x_A'' . w - |x_A'|^2, x_A' . x_B'; -x_A' . x_B', x_B'' . w +
+// |x_B'|^2]. Normal n = sigma (t_B x t_A) / |t_B x t_A| with the curves' tangents at the closest points;
+// g_N = w . n - (r_A + r_B); g_T1 = (xi - xiPrev) |x_A'(xi)|, g_T2 = (eta - etaPrev) |x_B'(eta)| (the
+// length along the curve per unit parameter at the point: the chord's length on a straight element);
+// cosine of the tangents.
+template <class T> void curveNewtonStep(const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB, T& xi, T& eta) {
+  Vec3<T> xA, dA, ddA, xB, dB, ddB;
+  axisPoint(P[0], V[0], P[1], V[1], cubicA, xi, &xA, &dA, &ddA);
+  axisPoint(P[2], V[2], P[3], V[3], cubicB, eta, &xB, &dB, &ddB);
+  const Vec3<T> w = xB - xA;
+  const T f1 = dot(dA, w), f2 = dot(dB, w);
+  const T ab = dot(dA, dB);
+  const T j11 = dot(ddA, w) - dot(dA, dA), j22 = dot(ddB, w) + dot(dB, dB);
+  const T det = j11 * j22 + ab * ab;  // j12 = ab, j21 = -ab
+  xi -= (j22 * f1 - ab * f2) / det;
+  eta -= (ab * f1 + j11 * f2) / det;
+}
+
+template <class T>
+Gaps<T> curveGaps(const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB, double radiusSum, double sigma,
+                  double xiPrev, double etaPrev, double xiStart, double etaStart) {
+  using std::sqrt;
+  Gaps<T> g;
+  g.xi = T(xiStart);
+  g.eta = T(etaStart);
+  for (int it = 0; it < 2; ++it) curveNewtonStep(P, V, cubicA, cubicB, g.xi, g.eta);
+  Vec3<T> xA, tA, xB, tB;
+  axisPoint(P[0], V[0], P[1], V[1], cubicA, g.xi, &xA, &tA, nullptr);
+  axisPoint(P[2], V[2], P[3], V[3], cubicB, g.eta, &xB, &tB, nullptr);
+  const Vec3<T> c = cross(tB, tA);
+  const Vec3<T> n = (sigma / sqrt(dot(c, c))) * c;
+  const T la = sqrt(dot(tA, tA)), lb = sqrt(dot(tB, tB));
+  g.gN = dot(xB - xA, n) - radiusSum;
+  g.gT1 = (g.xi - xiPrev) * la;
+  g.gT2 = (g.eta - etaPrev) * lb;
+  g.cosine = dot(tA, tB) / (la * lb);
+  g.length = T(1.0);
+  return g;
+}
+
 // R and K of every gap from their gradients and Hessians in the coordinates of the four line end
 // points (Vectors = 4), of the four end points and the four Hermite tangents (Vectors = 8), or also
 // of B's two nodal face normals (Vectors = 10).
@@ -175,6 +225,23 @@ ContactKinematics kinematicsOf(const LinePairInput& in, const Vec3d* extraRef, c
                                Variations order, bool heldVariation = false);
 template <bool Second>
 ContactKinematics pointKinematicsOfOrder(const LinePairInput& in, double sigma, double xiPrev, double etaPrev);
+template <bool Second>
+ContactKinematics curveKinematicsOfOrder(const LinePairInput& in, double sigma, double xiPrev, double etaPrev);
+
+// Point contact on the Hermite axes (curveGaps): the closest points in double precision, then nested
+// forward AD of the gaps in the 24 coordinates of the four line points and four nodal tangents (the
+// tests' reference for curveKinematicsOfOrder's written-out gradients).
+ContactKinematics curveKinematicsFromGaps(const LinePairInput& in, double sigma, double xiPrev, double etaPrev,
+                                          Variations order) {
+  const ClosestPoints cp = closestPoints(in);
+  const bool cubicA = cubic(in.dA), cubicB = cubic(in.dB);
+  return kinematicsOf<8>(
+      in, nullptr, nullptr,
+      [&](const auto* P, bool) {
+        return curveGaps(P, P + 4, cubicA, cubicB, in.radiusSum, sigma, xiPrev, etaPrev, cp.xi, cp.eta);
+      },
+      order);
+}
 
 // Where A's axis (the Hermite curve P[0], V[0], P[1], V[1]) meets the plane through `node` normal
 // to `tau`: the root of h(xi) = tau . (node - x_A(xi)) by Newton steps from `start` (a double
@@ -211,8 +278,8 @@ ClosestPoints closestPoints(const LinePairInput& in) {
   ClosestPoints cp;
   const Vec3d pA1 = in.xA1 + in.RA1 * in.oA, pA2 = in.xA2 + in.RA2 * in.oA;
   const Vec3d pB1 = in.xB1 + in.RB1 * in.oB, pB2 = in.xB2 + in.RB2 * in.oB;
-  const Vec3d tA = pA2 - pA1, tB = pB2 - pB1;
-  const Vec3d c = cross(tB, tA);
+  Vec3d tA = pA2 - pA1, tB = pB2 - pB1;
+  Vec3d c = cross(tB, tA);
   cp.sinAngle = norm(c) / (norm(tA) * norm(tB));
   if (!(cp.sinAngle > 1e-12)) return cp;
   solveClosest(pA1, pA2, pB1, pB2, cp.xi, cp.eta);
@@ -220,6 +287,36 @@ ClosestPoints closestPoints(const LinePairInput& in) {
   cp.pB = pB1 + cp.eta * tB;
   cp.cA = in.xA1 + cp.xi * (in.xA2 - in.xA1);
   cp.cB = in.xB1 + cp.eta * (in.xB2 - in.xB1);
+  if (smoothPoint(in)) {
+    // The curves' closest points by Newton's method from the chords' (converged to round-off in a
+    // few steps while the elements bend moderately). A solution that does not converge, or runs far
+    // beyond the elements (where the cubic's extrapolation means nothing), has no closest points.
+    const bool cubicA = cubic(in.dA), cubicB = cubic(in.dB);
+    const Vec3d P[4] = {pA1, pA2, pB1, pB2};
+    const Vec3d V[4] = {in.RA1 * in.dA, in.RA2 * in.dA, in.RB1 * in.dB, in.RB2 * in.dB};
+    bool converged = false;
+    for (int it = 0; it < 50 && !converged; ++it) {
+      const double xi0 = cp.xi, eta0 = cp.eta;
+      curveNewtonStep(P, V, cubicA, cubicB, cp.xi, cp.eta);
+      if (!std::isfinite(cp.xi) || !std::isfinite(cp.eta) || std::abs(cp.xi - 0.5) > 2.5 ||
+          std::abs(cp.eta - 0.5) > 2.5)
+        break;
+      converged = std::abs(cp.xi - xi0) < 1e-15 * (1.0 + std::abs(cp.xi)) &&
+                  std::abs(cp.eta - eta0) < 1e-15 * (1.0 + std::abs(cp.eta));
+      // (round-off may stall a step above that bound: a step below 1e-13 is a solution too)
+      if (!converged && it >= 6)
+        converged = std::abs(cp.xi - xi0) < 1e-13 * (1.0 + std::abs(cp.xi)) &&
+                    std::abs(cp.eta - eta0) < 1e-13 * (1.0 + std::abs(cp.eta));
+    }
+    if (!converged) return ClosestPoints{};
+    axisPoint(P[0], V[0], P[1], V[1], cubicA, cp.xi, &cp.pA, &tA, nullptr);
+    axisPoint(P[2], V[2], P[3], V[3], cubicB, cp.eta, &cp.pB, &tB, nullptr);
+    axisPoint(in.xA1, V[0], in.xA2, V[1], cubicA, cp.xi, &cp.cA, nullptr, nullptr);
+    axisPoint(in.xB1, V[2], in.xB2, V[3], cubicB, cp.eta, &cp.cB, nullptr, nullptr);
+    c = cross(tB, tA);
+    cp.sinAngle = norm(c) / (norm(tA) * norm(tB));
+    if (!(cp.sinAngle > 1e-12)) return ClosestPoints{};
+  }
   const Vec3d n = (1.0 / norm(c)) * c;
   cp.sigma = dot(n, cp.cB - cp.cA) >= 0.0 ? 1.0 : -1.0;
   cp.normal = cp.sigma * n;
@@ -230,12 +327,16 @@ ClosestPoints closestPoints(const LinePairInput& in) {
 
 ContactKinematics contactKinematics(const LinePairInput& in, double sigma, double xiPrev, double etaPrev,
                                     Variations order) {
+  if (smoothPoint(in))
+    return order == Variations::Second ? curveKinematicsOfOrder<true>(in, sigma, xiPrev, etaPrev)
+                                       : curveKinematicsOfOrder<false>(in, sigma, xiPrev, etaPrev);
   return order == Variations::Second ? pointKinematicsOfOrder<true>(in, sigma, xiPrev, etaPrev)
                                      : pointKinematicsOfOrder<false>(in, sigma, xiPrev, etaPrev);
 }
 
 ContactKinematics contactKinematicsFromGaps(const LinePairInput& in, double sigma, double xiPrev, double etaPrev,
                                             Variations order) {
+  if (smoothPoint(in)) return curveKinematicsFromGaps(in, sigma, xiPrev, etaPrev, order);
   return kinematicsOf<4>(
       in, nullptr, nullptr,
       [&](const auto* P, bool) { return gaps(P[0], P[1], P[2], P[3], in.radiusSum, sigma, xiPrev, etaPrev); }, order);
@@ -646,6 +747,125 @@ ContactKinematics pointKinematicsOfOrder(const LinePairInput& in, double sigma, 
   for (int q = 0; q < 3; ++q)
     for (int k = 0; k < 12; ++k) c.gradient[q][k] = c.G[q][k];
   return chainRule<4, Second>(c, frame);
+}
+
+// The shape values of the vectors (P_1, P_2, V_1, V_2) of one curve at u and their first and second
+// derivatives: the cubic Hermite basis, or the chord's (1 - u, u, 0, 0).
+template <class T> struct CurveShape { T s[4], d[4], dd[4]; };
+template <class T> CurveShape<T> curveShape(bool cubicCurve, const T& u) {
+  CurveShape<T> c;
+  const T zero(0.0);
+  if (!cubicCurve) {
+    c.s[0] = 1.0 - u, c.s[1] = u, c.s[2] = zero, c.s[3] = zero;
+    c.d[0] = T(-1.0), c.d[1] = T(1.0), c.d[2] = zero, c.d[3] = zero;
+    for (T& v : c.dd) v = zero;
+    return c;
+  }
+  const T u2 = u * u, u3 = u2 * u;
+  c.s[0] = 1.0 - 3.0 * u2 + 2.0 * u3, c.s[1] = 3.0 * u2 - 2.0 * u3, c.s[2] = u - 2.0 * u2 + u3, c.s[3] = u3 - u2;
+  c.d[0] = 6.0 * u2 - 6.0 * u, c.d[1] = 6.0 * u - 6.0 * u2, c.d[2] = 1.0 - 4.0 * u + 3.0 * u2,
+  c.d[3] = 3.0 * u2 - 2.0 * u;
+  c.dd[0] = 12.0 * u - 6.0, c.dd[1] = 6.0 - 12.0 * u, c.dd[2] = 6.0 * u - 4.0, c.dd[3] = 6.0 * u - 2.0;
+  return c;
+}
+
+// The point gaps on the Hermite axes (curveGaps) and their gradients in the 24 coordinates of the
+// vectors Q = (P_A1, P_A2, P_B1, P_B2, V_A1, V_A2, V_B1, V_B2), written out. With s_k, d_k the shape
+// values of vector k on A at xi and on B at eta (zero on the other curve), w = x_B - x_A = (g_N + r) n,
+// which is orthogonal to x_A' and x_B':
+//  - g_N: dg_N = n . (dx_B - dx_A) at fixed (xi, eta): G_k = (sB_k - sA_k) n;
+//  - xi, eta from F = (x_A' . w, x_B' . w) = 0: J (dxi, deta) = -(dF1, dF2), dF1_k = dA_k w + (sB_k -
+//    sA_k) x_A', dF2_k = dB_k w + (sB_k - sA_k) x_B', J as in curveNewtonStep;
+//  - the tangents' variations dt_A = sum_k dA_k dQ_k + x_A'' dxi (and B's), and from them g_T1 =
+//    (xi - xiPrev) |x_A'|, g_T2 = (eta - etaPrev) |x_B'| and the cosine by the product rule.
+// T = double gives the first variations at the double solution; T = SFad<double, 24> seeded on the
+// coordinates, with xi and eta through one Newton step from it (exact first derivatives), the Hessians.
+template <class T>
+void curveGapGradients(const Vec3<T>* Q, bool cubicA, bool cubicB, double radiusSum, double sigma, double xiPrev,
+                       double etaPrev, double xiStart, double etaStart, T value[kQuantities],
+                       Vec3<T> G[kQuantities][8]) {
+  using std::sqrt;
+  T xi = T(xiStart), eta = T(etaStart);
+  if constexpr (!std::is_same_v<T, double>) curveNewtonStep(Q, Q + 4, cubicA, cubicB, xi, eta);
+  const CurveShape<T> a = curveShape(cubicA, xi), b = curveShape(cubicB, eta);
+  // Vector k's shape values on A and B (A's vectors: 0, 1, 4, 5; B's: 2, 3, 6, 7).
+  const T zero(0.0);
+  T sA[8], dA[8], sB[8], dB[8];
+  const int slot[8] = {0, 1, 0, 1, 2, 3, 2, 3};
+  Vec3<T> xA{{zero, zero, zero}}, tA = xA, ddA = xA, xB = xA, tB = xA, ddB = xA;
+  for (int k = 0; k < 8; ++k) {
+    const bool onA = k == 0 || k == 1 || k == 4 || k == 5;
+    const int j = slot[k];
+    sA[k] = onA ? a.s[j] : zero, dA[k] = onA ? a.d[j] : zero;
+    sB[k] = onA ? zero : b.s[j], dB[k] = onA ? zero : b.d[j];
+    if (onA) xA = xA + a.s[j] * Q[k], tA = tA + a.d[j] * Q[k], ddA = ddA + a.dd[j] * Q[k];
+    else xB = xB + b.s[j] * Q[k], tB = tB + b.d[j] * Q[k], ddB = ddB + b.dd[j] * Q[k];
+  }
+  const Vec3<T> w = xB - xA;
+  const Vec3<T> c = cross(tB, tA);
+  const Vec3<T> n = (sigma / sqrt(dot(c, c))) * c;
+  const T aa = dot(tA, tA), bb = dot(tB, tB), ab = dot(tA, tB);
+  const T la = sqrt(aa), lb = sqrt(bb);
+  const T j11 = dot(ddA, w) - aa, j22 = dot(ddB, w) + bb, det = j11 * j22 + ab * ab;
+  value[kGapN] = dot(w, n) - radiusSum;
+  value[kGapT1] = (xi - xiPrev) * la;
+  value[kGapT2] = (eta - etaPrev) * lb;
+  value[kXi] = xi;
+  value[kEta] = eta;
+  value[kCosine] = ab / (la * lb);
+  value[kLength] = T(1.0);
+  const T cosine = value[kCosine];
+  const Vec3<T> cosA = (1.0 / (la * lb)) * tB - (cosine / aa) * tA;  // d cosine / d t_A
+  const Vec3<T> cosB = (1.0 / (la * lb)) * tA - (cosine / bb) * tB;
+  const T slipA = (xi - xiPrev) / la, slipB = (eta - etaPrev) / lb;
+  const T tAddA = dot(tA, ddA), tBddB = dot(tB, ddB), cAddA = dot(cosA, ddA), cBddB = dot(cosB, ddB);
+  const Vec3<T> none{{zero, zero, zero}};
+  for (int k = 0; k < 8; ++k) {
+    const T s = sB[k] - sA[k];
+    const Vec3<T> dF1 = dA[k] * w + s * tA, dF2 = dB[k] * w + s * tB;
+    const Vec3<T> dXi = (-1.0 / det) * (j22 * dF1 - ab * dF2);
+    const Vec3<T> dEta = (-1.0 / det) * (ab * dF1 + j11 * dF2);
+    G[kGapN][k] = s * n;
+    G[kGapT1][k] = la * dXi + slipA * (dA[k] * tA + tAddA * dXi);
+    G[kGapT2][k] = lb * dEta + slipB * (dB[k] * tB + tBddB * dEta);
+    G[kXi][k] = dXi;
+    G[kEta][k] = dEta;
+    G[kCosine][k] = dA[k] * cosA + cAddA * dXi + dB[k] * cosB + cBddB * dEta;
+    G[kLength][k] = none;
+  }
+}
+
+template <bool Second>
+ContactKinematics curveKinematicsOfOrder(const LinePairInput& in, double sigma, double xiPrev, double etaPrev) {
+  using T = std::conditional_t<Second, Sacado::Fad::SFad<double, 24>, double>;
+  const ClosestPoints cp = closestPoints(in);
+  Vec3d p[8];
+  const VectorFrame<8> frame = vectorFrame<8>(in, nullptr, nullptr, p);
+  Vec3<T> Q[8];
+  for (int k = 0; k < 8; ++k)
+    for (int a = 0; a < 3; ++a) {
+      if constexpr (Second) Q[k][a] = T(24, 3 * k + a, p[k][a]);
+      else Q[k][a] = p[k][a];
+    }
+  T value[kQuantities];
+  Vec3<T> G[kQuantities][8];
+  curveGapGradients(Q, cubic(in.dA), cubic(in.dB), in.radiusSum, sigma, xiPrev, etaPrev, cp.xi, cp.eta, value, G);
+  CoordinateGaps<24> c;
+  for (int q = 0; q < kQuantities; ++q) {
+    if constexpr (Second) {
+      c.value[q] = value[q].val();
+      for (int k = 0; k < 24; ++k) c.G[q][k] = G[q][k / 3][k % 3].val();
+      if (q < 3)
+        for (int k = 0; k < 24; ++k)
+          for (int l = 0; l < 24; ++l) c.H[q][k][l] = G[q][k / 3][k % 3].dx(l);
+    } else {
+      c.value[q] = value[q];
+      for (int k = 0; k < 24; ++k) c.G[q][k] = G[q][k / 3][k % 3];
+    }
+  }
+  for (int q = 0; q < 3; ++q)
+    for (int k = 0; k < 24; ++k) c.gradient[q][k] = c.G[q][k];
+  return chainRule<8, Second>(c, frame);
 }
 
 template <int Vectors, class Fn>

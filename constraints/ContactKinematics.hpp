@@ -35,10 +35,12 @@ struct LinePairInput {
   Mat3d RA1{}, RA2{}, RB1{}, RB2{};  // current nodal rotations
   Vec3d oA{}, oB{};  // reference offsets of the two lines from their axes
   double radiusSum = 0.0;  // r_A + r_B for circular sections
-  // Line contact only: the elements' reference axis vectors X_2 - X_1 (length L0). The axis of an
-  // element is then the cubic Hermite curve through the two nodes with the nodal tangents
-  // R_m (X_2 - X_1) (it is the straight chord while the nodes have not turned, and follows the beam's
-  // bending between the nodes); a zero vector gives the straight chord x_1 + u (x_2 - x_1).
+  // The elements' reference axis vectors X_2 - X_1 (length L0). The axis of an element is then the
+  // cubic Hermite curve through the two nodes with the nodal tangents R_m (X_2 - X_1) (it is the
+  // straight chord while the nodes have not turned, and follows the beam's bending between the
+  // nodes), a line of it the curve through x_m + R_m o with the same tangents; a zero vector gives the
+  // straight chord x_1 + u (x_2 - x_1). Line contact, and point contact with Point Contact Axes =
+  // Hermite (PointContact zeroes them for the chords).
   Vec3d dA{}, dB{};
   // Face contact of rectangular sections (line contact of an edge of A on a face of B): B's line is
   // then the centre line of its face (oB its offset), nB the face's outward unit normal and
@@ -86,7 +88,10 @@ struct ClosestPoints {
 };
 
 // Closest points in double precision (for the search and for choosing sigma). Lines closer to
-// parallel than sinAngle < 1e-12 return sinAngle and nothing else.
+// parallel than sinAngle < 1e-12 return sinAngle and nothing else. With dA or dB set, the closest
+// points of the Hermite curves (Newton on the two orthogonality conditions from the chords'), the
+// normal from their tangents there and sinAngle of those tangents; a solution that does not converge
+// returns sinAngle 0 (no point).
 ClosestPoints closestPoints(const LinePairInput& in);
 
 // A gap's value, its first variation R (the direction of the force a unit multiplier applies: the
@@ -163,7 +168,10 @@ double lineSide(const LinePairInput& in, const ClosestPoints& projection, const 
 // All gaps and their derivatives at the current state; `sigma` from closestPoints (or the history),
 // `xiPrev`, `etaPrev` the previous converged contact point (for the tangential gaps). The gaps'
 // gradients in the end points' coordinates are written out (the orthogonality conditions' implicit
-// derivatives), their Hessians by one level of forward AD of those gradients.
+// derivatives), their Hessians by one level of forward AD of those gradients. With dA or dB set, on
+// the Hermite curves: g_N along the curves' normal, g_T1 = (xi - xiPrev) |x_A'(xi)|, g_T2 = (eta -
+// etaPrev) |x_B'(eta)|, the cosine of the tangents, gradients in the coordinates of the four line
+// points and the four nodal tangents.
 ContactKinematics contactKinematics(const LinePairInput& in, double sigma, double xiPrev, double etaPrev,
                                     Variations order = Variations::Second);
 // The same by nested forward AD of the gaps alone (about five times the cost): the reference of the

@@ -4,13 +4,19 @@
 
 namespace bc::constraints {
 
+LinePairInput PointContact::input(int eA, int lA, int eB, int lB, const core::State& s) const {
+  LinePairInput in = geometry_.lineInput(eA, lA, eB, lB, s);
+  if (!geometry_.options().hermitePointAxes) in.dA = in.dB = Vec3d{};
+  return in;
+}
+
 double PointContact::referenceSigma(int eA, int lA, int eB, int lB, const ClosestPoints& cp) const {
   // The orientation of a newly found point: in the last converged state (no interpenetration there)
   // the normal points from beam A to beam B; carried to the current lines by continuity of their
   // cross product. Without it a beam carried through the other within one increment would be
   // found on the far side and pushed on through. Where the lines did not overlap in the last
   // converged state (closest points beyond the elements), the current side is taken.
-  const ClosestPoints ref = closestPoints(geometry_.lineInput(eA, lA, eB, lB, geometry_.reference()));
+  const ClosestPoints ref = closestPoints(input(eA, lA, eB, lB, geometry_.reference()));
   if (ref.sinAngle < geometry_.options().minimumSinAngle || !geometry_.nearElement(eA, ref.xi) ||
       !geometry_.nearElement(eB, ref.eta))
     return cp.sigma;
@@ -22,7 +28,7 @@ void PointContact::findPoints(int pi, int ea, int eb, long long visit, const cor
   const auto& pair = geometry_.pairs()[pi];
   for (int la = 0; la < geometry_.lineCount(pair.beamA); ++la)
     for (int lb = 0; lb < geometry_.lineCount(pair.beamB); ++lb) {
-      const LinePairInput in = geometry_.lineInput(ea, la, eb, lb, s);
+      const LinePairInput in = input(ea, la, eb, lb, s);
       ClosestPoints cp = closestPoints(in);
       if (cp.sinAngle < geometry_.options().minimumSinAngle) continue;
       if (!geometry_.withinElement(ea, cp.xi) || !geometry_.withinElement(eb, cp.eta)) continue;
@@ -45,14 +51,14 @@ void PointContact::findPoints(int pi, int ea, int eb, long long visit, const cor
 }
 
 ClosestPoints PointContact::geometry(const ContactPointRecord& p, const core::State& s) const {
-  const LinePairInput in = geometry_.lineInput(p.elementA, p.key.lineA, p.elementB, p.key.lineB, s);
+  const LinePairInput in = input(p.elementA, p.key.lineA, p.elementB, p.key.lineB, s);
   ClosestPoints cp = closestPoints(in);
   orient(cp, p.sigma, in.radiusSum);
   return cp;
 }
 
 ContactKinematics PointContact::kinematics(const ContactPointRecord& p, const core::State& s, Variations order) const {
-  const LinePairInput in = geometry_.lineInput(p.elementA, p.key.lineA, p.elementB, p.key.lineB, s);
+  const LinePairInput in = input(p.elementA, p.key.lineA, p.elementB, p.key.lineB, s);
   const double xiPrev = p.xiPrev - geometry_.beams().elements()[p.elementA].index;
   const double etaPrev = p.etaPrev - geometry_.beams().elements()[p.elementB].index;
   return contactKinematics(in, p.sigma, xiPrev, etaPrev, order);

@@ -18,6 +18,8 @@ class PointContact {
   ContactKinematics kinematics(const ContactPointRecord& p, const core::State& s, Variations order) const;
 
  private:
+  // A point's two lines in `s`: the elements' Hermite curves, or their chords (ContactOptions).
+  LinePairInput input(int eA, int lA, int eB, int lB, const core::State& s) const;
   // The orientation of a newly found point (from the last converged state).
   double referenceSigma(int eA, int lA, int eB, int lB, const ClosestPoints& current) const;
   const ContactGeometry& geometry_;

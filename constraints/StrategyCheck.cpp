@@ -8,18 +8,25 @@ namespace bc::constraints {
 namespace {
 
 // Two edge lines crossing at an angle of about 80 degrees in a general orientation: beam A along X,
-// beam B along Y above it, penetrating by 0.05, with finite nodal rotations.
-LinePairInput crossing() {
+// beam B along Y above it, penetrating by 0.05, with finite nodal rotations. `hermite`: the lines are
+// the elements' Hermite curves (point contact's default), the nodes turned five times as far, so that
+// the curves bend (up to 0.15 rad at the nodes); else the chords.
+LinePairInput crossing(bool hermite) {
   LinePairInput in;
   in.xA1 = {{50, 0, 0}};
   in.xA2 = {{60, 0.3, 0.2}};
   in.xB1 = {{51, -1, 7.45}};
   in.xB2 = {{52.8, 9, 7.5}};
   const Vec3d wA1{{0.02, -0.01, 0.03}}, wA2{{-0.01, 0.02, 0.01}}, wB1{{0.01, 0.03, -0.02}}, wB2{{0.02, 0.01, 0.02}};
-  in.RA1 = expSO3(wA1);
-  in.RA2 = expSO3(wA2);
-  in.RB1 = expSO3(wB1);
-  in.RB2 = expSO3(wB2);
+  const double turn = hermite ? 5.0 : 1.0;
+  in.RA1 = expSO3(turn * wA1);
+  in.RA2 = expSO3(turn * wA2);
+  in.RB1 = expSO3(turn * wB1);
+  in.RB2 = expSO3(turn * wB2);
+  if (hermite) {
+    in.dA = in.xA2 - in.xA1;  // the reference axes: the elements straight along their chords
+    in.dB = in.xB2 - in.xB1;
+  }
   in.oA = {{0, 5, 5}};
   in.oB = {{2.5, 0, -2.5}};
   const Mat3d Q = expSO3(Vec3d{{0.3, -0.2, 0.5}});
@@ -151,19 +158,22 @@ class SituationCheck {
 
 std::vector<TangentCheck> checkTangent(const ConstraintEnforcer& strategy) {
   std::vector<TangentCheck> checks;
-  const LinePairInput in = crossing();
-  const ClosestPoints cp = closestPoints(in);
-  // The last converged point: slid by about 0.1 along each line since then.
-  const double xiPrev = cp.xi - 0.01, etaPrev = cp.eta + 0.01;
-  for (FrictionLaw law : {FrictionLaw::IsotropicCoulomb, FrictionLaw::PerLine})
-    for (double mu : {0.0, 0.01, 50.0}) {
-      const std::string situation =
-          std::string(law == FrictionLaw::IsotropicCoulomb ? "Isotropic Coulomb" : "Per Line") + ", mu = " +
-          (mu == 0.0  ? "0"
-           : mu < 1.0 ? "0.01"
-                      : "50");
-      checks.push_back(SituationCheck(strategy, in, cp, xiPrev, etaPrev, law, mu).run(situation));
-    }
+  for (const bool hermite : {false, true}) {
+    const LinePairInput in = crossing(hermite);
+    const ClosestPoints cp = closestPoints(in);
+    // The last converged point: slid by about 0.1 along each line since then.
+    const double xiPrev = cp.xi - 0.01, etaPrev = cp.eta + 0.01;
+    for (FrictionLaw law : {FrictionLaw::IsotropicCoulomb, FrictionLaw::PerLine})
+      for (double mu : {0.0, 0.01, 50.0}) {
+        const std::string situation =
+            std::string(law == FrictionLaw::IsotropicCoulomb ? "Isotropic Coulomb" : "Per Line") + ", mu = " +
+            (mu == 0.0  ? "0"
+             : mu < 1.0 ? "0.01"
+                        : "50") +
+            (hermite ? ", Hermite axes" : ", chords");
+        checks.push_back(SituationCheck(strategy, in, cp, xiPrev, etaPrev, law, mu).run(situation));
+      }
+  }
   return checks;
 }
 

@@ -235,6 +235,11 @@ const ParameterSpec& contactSpec() {
           core::closedRange(0.0, 60.0), "0 to 60, above Line Contact Angle");
     p.add("Line Gauss Points", 6, "Gauss points of line contact per element of beam A", core::wholeBetween(1, 32),
           "1 to 32");
+    p.addChoice("Point Contact Axes", "Chord", {"Chord", "Hermite"},
+                "the lines point contact finds its closest points, gap and normal on: \"Chord\": the straight "
+                "chords between the nodes (the seed paper's; the normal jumps at nodes); \"Hermite\": each "
+                "element's cubic Hermite curve through its nodes with the nodal tangents (smooth across nodes, as "
+                "line contact's; converges monotonically with the mesh where a contact lies between nodes)");
     p.add("Allow Initial Penetration", false, "accept beams that overlap at T = 0 instead of stopping");
     p.addChoice("Friction Law", "Isotropic Coulomb", {"Isotropic Coulomb", "Per Line"},
                 "\"Isotropic Coulomb\": the tangential force vector obeys |F_T| <= mu F_N; \"Per Line\": each of "
@@ -461,6 +466,7 @@ constraints::ContactOptions contactOptions(const Problem& p, const ParameterList
     largest = std::max({largest, b.section.width, b.section.height, 2 * b.section.radius});
   options.searchMargin = c.isParameter("Search Margin") ? c.get<double>("Search Margin") : 0.5 * largest;
   options.minimumSinAngle = c.get<double>("Parallel Line Tolerance");
+  options.hermitePointAxes = c.get<std::string>("Point Contact Axes") == "Hermite";
   options.allowInitialPenetration = c.get<bool>("Allow Initial Penetration");
   options.lineAngle = c.get<double>("Line Contact Angle") * std::acos(-1.0) / 180.0;
   options.pointAngle = c.get<double>("Point Contact Angle") * std::acos(-1.0) / 180.0;

@@ -425,7 +425,7 @@ TEST(ContactKinematics, FirstVariationsOnlyAgreeWithTheFullKinematics) {
 
 // The point contact's written-out gradients (and their AD Hessians) against nested AD of the gaps:
 // every value, first variation and K at general states, with and without radii and history offsets,
-// with both variation orders.
+// with both variation orders, on the chords and on the Hermite axes.
 TEST(ContactKinematics, WrittenOutPointGradientsMatchNestedAdOfTheGaps) {
   std::mt19937 g(31);
   double worstValue = 0.0, worstR = 0.0, worstK = 0.0;
@@ -437,8 +437,12 @@ TEST(ContactKinematics, WrittenOutPointGradientsMatchNestedAdOfTheGaps) {
     }
     return scale > 0.0 ? diff / scale : diff;
   };
-  for (int trial = 0; trial < 12; ++trial) {
+  for (int trial = 0; trial < 24; ++trial) {
     LinePairInput in = crossing();
+    if (trial >= 12) {  // on the Hermite axes, the nodes turned by up to 0.3 rad (curved)
+      in.dA = Vec3d{{10, 0, 0}};
+      in.dB = Vec3d{{0, 10, 0}};
+    }
     placeGenerally(in, g, 0.5);
     in.radiusSum = trial % 2 ? 0.7 : 0.0;
     const auto cp = closestPoints(in);
@@ -463,4 +467,141 @@ TEST(ContactKinematics, WrittenOutPointGradientsMatchNestedAdOfTheGaps) {
   EXPECT_LT(worstValue, 1e-13);
   EXPECT_LT(worstR, 1e-12);
   EXPECT_LT(worstK, 1e-11);
+}
+
+// Point contact on the elements' Hermite axes (LinePairInput::dA, dB set). Straight, unturned elements:
+// the curves are the chords, so the values of CrossedBeamsGapAndPoints. B's nodes turned about X by
+// +phi and -phi (tangents R_m (0, 10, 0)): B's axis is y = 10 [3u^2 - 2u^3 + cos(phi) (u - 3u^2 + 2u^3)]
+// - 5, z = 8 + 10 sin(phi) (u - u^2) (as in CubicAxisFollowsTheNodalRotations), symmetric about u = 1/2,
+// where it passes (x, 0, 8 + 2.5 sin phi) with tangent +Y. A's edge line y = 5 is moved to y = 0 here
+// (A's axis along X at the origin, circles of radii summing to 3): the closest points are A's (x_B, 0, 0)
+// and B's crest, the gap 8 + 2.5 sin(phi) - 3, the normal +Z; the chords' gap is 8 - 3.
+TEST(ContactKinematics, HermiteAxesOfBentElements) {
+  LinePairInput in = crossing();
+  in.dA = Vec3d{{10, 0, 0}};
+  in.dB = Vec3d{{0, 10, 0}};
+  const auto straight = closestPoints(in);
+  EXPECT_NEAR(straight.gap, 0.5, 1e-14);
+  EXPECT_NEAR(straight.xi, 0.25, 1e-14);
+  EXPECT_NEAR(straight.eta, 0.5, 1e-14);
+  EXPECT_NEAR(straight.normal[2], 1.0, 1e-14);
+  const auto k = contactKinematics(in, straight.sigma, 0.25, 0.5);
+  EXPECT_NEAR(k.normal.value, 0.5, 1e-14);
+  // The curves' points move with their nodes by the cubic shape functions (the tangents do not move
+  // with translations): H1(1/2) = 1/2 on B, H1(1/4) = 0.84375, H3(1/4) = 0.15625 on A.
+  EXPECT_NEAR(k.normal.R[12 + 2], 0.5, 1e-14);
+  EXPECT_NEAR(k.normal.R[2], -0.84375, 1e-14);
+  EXPECT_NEAR(k.normal.R[6 + 2], -0.15625, 1e-14);
+  EXPECT_NEAR(k.tangent1.R[12] + k.tangent1.R[18], 1.0, 1e-14);
+  for (const double phi : {0.1, -0.15}) {
+    LinePairInput b;
+    b.xA1 = {{-3, 0, 0}};
+    b.xA2 = {{7, 0, 0}};
+    b.xB1 = {{1.5, -5, 8}};
+    b.xB2 = {{1.5, 5, 8}};
+    b.RA1 = b.RA2 = identity3<double>();
+    b.RB1 = expSO3(Vec3d{{phi, 0, 0}});
+    b.RB2 = expSO3(Vec3d{{-phi, 0, 0}});
+    b.dA = Vec3d{{10, 0, 0}};
+    b.dB = Vec3d{{0, 10, 0}};
+    b.radiusSum = 3.0;
+    const auto cp = closestPoints(b);
+    EXPECT_NEAR(cp.xi, 0.45, 1e-13);
+    EXPECT_NEAR(cp.eta, 0.5, 1e-13);
+    EXPECT_NEAR(cp.gap, 5.0 + 2.5 * std::sin(phi), 1e-12);
+    EXPECT_NEAR(cp.normal[2], 1.0, 1e-13);
+    EXPECT_NEAR(contactKinematics(b, cp.sigma, 0.45, 0.5).normal.value, 5.0 + 2.5 * std::sin(phi), 1e-12);
+    b.dA = b.dB = Vec3d{};
+    EXPECT_NEAR(closestPoints(b).gap, 5.0, 1e-12);  // the chords
+  }
+}
+
+// R and K of the three gaps of point contact on Hermite axes against central differences: general
+// states with the nodes turned by up to 0.3 rad about each axis (the curves bend), rectangles' edge lines
+// (offsets of Example 1's sections) and circles (the axes, radii summing to 0.7), history offsets so that
+// the tangential gaps are not zero.
+TEST(ContactKinematics, HermiteAxesVariationsMatchCentralDifferences) {
+  std::mt19937 g(41);
+  double worstR = 0.0, worstK = 0.0;
+  for (int trial = 0; trial < 10; ++trial) {
+    LinePairInput in = crossing();
+    in.dA = Vec3d{{10, 0, 0}};
+    in.dB = Vec3d{{0, 10, 0}};
+    if (trial % 2) {
+      in.oA = in.oB = Vec3d{};
+      in.radiusSum = 0.7;
+    }
+    placeGenerally(in, g, 0.5);
+    const auto cp = closestPoints(in);
+    ASSERT_GT(cp.sinAngle, 0.1);
+    const double xiP = cp.xi - 0.05, etaP = cp.eta + 0.03;
+    const auto [errR, errK] = centralDifferenceErrors(
+        in, [&](const LinePairInput& s) { return contactKinematics(s, cp.sigma, xiP, etaP); },
+        {&ContactKinematics::normal, &ContactKinematics::tangent1, &ContactKinematics::tangent2});
+    worstR = std::max(worstR, errR);
+    worstK = std::max(worstK, errK);
+    // The closest points are those of the kinematics, and the curves' (not the chords').
+    const auto k = contactKinematics(in, cp.sigma, xiP, etaP, Variations::First);
+    EXPECT_NEAR(k.xi, cp.xi, 1e-12);
+    EXPECT_NEAR(k.eta, cp.eta, 1e-12);
+    EXPECT_NEAR(k.normal.value, cp.gap, 1e-12);
+    LinePairInput chord = in;
+    chord.dA = chord.dB = Vec3d{};
+    EXPECT_GT(std::abs(closestPoints(chord).gap - cp.gap), 1e-4);
+  }
+  std::printf("Hermite axes, max relative error: R (first variations) %.2e, K (linearized variations) %.2e\n", worstR,
+              worstK);
+  EXPECT_LT(worstR, 1e-6);
+  EXPECT_LT(worstK, 1e-6);
+}
+
+// The normal is continuous across a node: beam A bent smoothly (its nodes on a circle of radius 30 in
+// the XZ plane at angles -0.25, 0, 0.15 rad, unequal elements, each node turned about Y to the circle's
+// tangent), B a straight line through (0, 0, 0) + h m, with m normal to A's tangent at the middle node
+// and B's direction normal to m: the orthogonality conditions hold at A's middle node, i.e. at xi = 1
+// of element 0 and at xi = 0 of element 1. On the Hermite axes both elements give that point, the gap
+// h - r and the normal m to round-off; on the chords the two normals differ by about the kink (0.2 rad).
+TEST(ContactKinematics, HermiteNormalIsContinuousAcrossANode) {
+  const double rc = 30.0, h = 2.0, r = 0.5;
+  const double angle[3] = {-0.25, 0.0, 0.15};
+  Vec3d node[3];
+  Mat3d rot[3];
+  for (int i = 0; i < 3; ++i) {
+    node[i] = Vec3d{{rc * std::sin(angle[i]), 0.0, rc * (std::cos(angle[i]) - 1.0)}};
+    rot[i] = expSO3(Vec3d{{0.0, angle[i], 0.0}});  // e1 -> (cos a, 0, -sin a), the circle's tangent
+  }
+  const Vec3d m{{0.0, -std::sin(0.3), std::cos(0.3)}};  // normal to A's tangent (1, 0, 0) at the node
+  const Vec3d across = cross(m, Vec3d{{1, 0, 0}});
+  const Vec3d tB = std::cos(1.2) * Vec3d{{1, 0, 0}} + std::sin(1.2) * across;  // normal to m
+  ClosestPoints cp[2][2];  // [chords, Hermite][element]
+  for (int hermite = 0; hermite < 2; ++hermite)
+    for (int e = 0; e < 2; ++e) {
+      LinePairInput in;
+      in.xA1 = node[e];
+      in.xA2 = node[e + 1];
+      in.RA1 = rot[e];
+      in.RA2 = rot[e + 1];
+      in.xB1 = h * m - 4.0 * tB;  // B's point over the node at eta = 0.4
+      in.xB2 = h * m + 6.0 * tB;
+      in.RB1 = in.RB2 = identity3<double>();
+      if (hermite) {
+        in.dA = Vec3d{{norm(node[e + 1] - node[e]), 0, 0}};  // the reference: straight along X
+        in.dB = in.xB2 - in.xB1;
+      }
+      in.radiusSum = r;
+      cp[hermite][e] = closestPoints(in);
+    }
+  const auto& s = cp[1];
+  EXPECT_NEAR(s[0].xi, 1.0, 1e-12);
+  EXPECT_NEAR(s[1].xi, 0.0, 1e-12);
+  EXPECT_NEAR(s[0].eta, 0.4, 1e-12);
+  EXPECT_NEAR(s[1].eta, 0.4, 1e-12);
+  EXPECT_NEAR(s[0].gap, h - r, 1e-12);
+  EXPECT_NEAR(s[1].gap, h - r, 1e-12);
+  const double jump = norm(s[0].normal - s[1].normal), chordJump = norm(cp[0][0].normal - cp[0][1].normal);
+  std::printf("normal at the node from the two elements: Hermite axes differ by %.1e, chords by %.3f\n", jump,
+              chordJump);
+  EXPECT_LT(jump, 1e-13);
+  EXPECT_LT(norm(s[0].normal - m), 1e-13);
+  EXPECT_GT(chordJump, 0.1);
 }
