@@ -17,10 +17,10 @@ bool haveMethod(const std::string& name) {
 }  // namespace
 
 std::string automaticRule() {
-  return "UMFPACK on 1 rank, MUMPS on several, with Reuse Factorization, from " + std::to_string(kAutomaticLuUnknowns) +
-         " unknowns at the start (6 per node and the extra unknowns) with a " +
-         "contact point at the start for every " + std::to_string(kAutomaticUnknownsPerPoint) +
-         " unknowns or fewer; KLU2 otherwise (small or nearly banded matrices)";
+  return "UMFPACK with Reuse Factorization from " + std::to_string(kAutomaticLuUnknowns) +
+         " unknowns at the start (6 per node and the extra unknowns) with a contact point at the start for every " +
+         std::to_string(kAutomaticUnknownsPerPoint) + " unknowns or fewer, on several ranks MUMPS with it from " +
+         std::to_string(kAutomaticMumpsUnknowns) + " unknowns; KLU2 otherwise (small or nearly banded matrices)";
 }
 
 DirectChoice chooseDirectSolver(const SystemSize& size) {
@@ -37,7 +37,7 @@ DirectChoice chooseDirectSolver(const SystemSize& size) {
                     : " (fewer than one contact point per " + std::to_string(kAutomaticUnknownsPerPoint) + " unknowns)";
     return c;
   }
-  c.method = size.ranks > 1 && haveMethod("MUMPS") ? "MUMPS" : "UMFPACK";
+  c.method = size.ranks > 1 && size.unknowns >= kAutomaticMumpsUnknowns && haveMethod("MUMPS") ? "MUMPS" : "UMFPACK";
   c.reuse = true;
   return c;
 }

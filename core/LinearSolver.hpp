@@ -19,16 +19,17 @@ namespace bc::core {
 const ParameterSpec& linearSolverSpec();
 
 // Direct Solver = Automatic (the default): the sparse LU by the model's size, its contact points and
-// the rank count. UMFPACK with Reuse Factorization on one rank, MUMPS with it on several (it factors on
-// every rank; the others gather to rank 0), when the model has at least kAutomaticLuUnknowns unknowns
-// and at least one contact point at the start per kAutomaticUnknownsPerPoint unknowns; KLU2 without
-// reuse otherwise. The contact couplings between beams are what fills the LU factors: a few points
-// on many unknowns (a weave meshed finely along its yarns) leave the matrix nearly banded, where KLU2
-// (which refactors with its old pivots) is the fastest, as it is on small matrices, which have no
-// dense fronts for UMFPACK's BLAS. The numbers come from bench/bench_default_solver.py (docs/scale.md,
-// "The default solver").
+// the rank count. UMFPACK with Reuse Factorization when the model has at least kAutomaticLuUnknowns
+// unknowns and at least one contact point at the start per kAutomaticUnknownsPerPoint unknowns; on
+// several ranks MUMPS with it instead from kAutomaticMumpsUnknowns unknowns (it factors on every rank;
+// UMFPACK on rank 0 after a gather); KLU2 without reuse otherwise. The contact couplings between beams
+// are what fills the LU factors: a few points on many unknowns (a weave meshed finely along its yarns)
+// leave the matrix nearly banded, where KLU2 (which refactors with its old pivots) is the fastest, as
+// it is on small matrices, which have no dense fronts for UMFPACK's BLAS. The numbers come from
+// bench/bench_default_solver.py (docs/scale.md, "The default solver").
 constexpr long long kAutomaticLuUnknowns = 3000;
 constexpr long long kAutomaticUnknownsPerPoint = 40;
+constexpr long long kAutomaticMumpsUnknowns = 60000;
 struct SystemSize {
   long long unknowns = 0;  // at the start: 6 per node and the extra unknowns
   long long contactPoints = 0;  // at the start

@@ -11,10 +11,10 @@
 //  - a singular matrix is an error (LinearSolveError), not a huge x that passes a backward-error test;
 //  - GMRES with the MueLu preconditioner (rigid-body modes as near-null space) solves a system of
 //    6-dof nodes to its tolerance;
-//  - Direct Solver = Automatic (the default) becomes UMFPACK (1 rank) or MUMPS (several) with Reuse
-//    Factorization from kAutomaticLuUnknowns unknowns with a contact point per kAutomaticUnknownsPerPoint
-//    unknowns, KLU2 otherwise; a Direct Solver or a Reuse Factorization the list names is kept, and an
-//    unresolved Automatic is not made into a solver.
+//  - Direct Solver = Automatic (the default) becomes UMFPACK with Reuse Factorization from
+//    kAutomaticLuUnknowns unknowns with a contact point per kAutomaticUnknownsPerPoint unknowns (MUMPS on
+//    several ranks from kAutomaticMumpsUnknowns), KLU2 otherwise; a Direct Solver or a Reuse Factorization the list
+//    names is kept, and an unresolved Automatic is not made into a solver.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -329,24 +329,26 @@ TEST(LinearSolver, GmresWithMultigridSolvesNodalSystems) {
 
 // The rule of Direct Solver = Automatic (core/LinearSolver.hpp; its numbers are bench_default_solver.py's).
 TEST(LinearSolver, AutomaticChoosesBySizeContactPointsAndRanks) {
-  const long long t = kAutomaticLuUnknowns, k = kAutomaticUnknownsPerPoint;
+  const long long t = kAutomaticLuUnknowns, k = kAutomaticUnknownsPerPoint, m = kAutomaticMumpsUnknowns;
   struct Case {
     SystemSize size;
     const char* method;
     bool reuse;
   };
-  for (const Case& c : {// Example 1: small
-                        Case{{132, 2, 1}, "KLU2", false},
-                        // just below the size, however many points
-                        Case{{t - 1, t, 1}, "KLU2", false}, Case{{t - 1, t, 2}, "KLU2", false},
-                        // at the size, a point per k unknowns: the first choice of each rank count
-                        Case{{t, (t + k - 1) / k, 1}, "UMFPACK", true}, Case{{t, (t + k - 1) / k, 2}, "MUMPS", true},
-                        // the 100 x 100 layers, 10^4 points
-                        Case{{122400, 10000, 1}, "UMFPACK", true}, Case{{122400, 10000, 4}, "MUMPS", true},
-                        // the 16 x 16 weave (256 points on 26304 unknowns) and a large model without contact
-                        Case{{26304, 256, 1}, "KLU2", false}, Case{{100000, 0, 2}, "KLU2", false},
-                        // one point short of a point per k unknowns
-                        Case{{40 * k, 39, 1}, "KLU2", false}}) {
+  for (const Case& c :
+       {// Example 1: small
+        Case{{132, 2, 1}, "KLU2", false},
+        // just below the size, however many points
+        Case{{t - 1, t, 1}, "KLU2", false}, Case{{t - 1, t, 2}, "KLU2", false},
+        // at the size, a point per k unknowns: UMFPACK, also on several ranks below m
+        Case{{t, (t + k - 1) / k, 1}, "UMFPACK", true}, Case{{t, (t + k - 1) / k, 2}, "UMFPACK", true},
+        Case{{m - 1, m, 2}, "UMFPACK", true}, Case{{m, m, 2}, "MUMPS", true}, Case{{m, m, 1}, "UMFPACK", true},
+        // the 100 x 100 layers, 10^4 points
+        Case{{122400, 10000, 1}, "UMFPACK", true}, Case{{122400, 10000, 4}, "MUMPS", true},
+        // the 16 x 16 weave (256 points on 26304 unknowns) and a large model without contact
+        Case{{26304, 256, 1}, "KLU2", false}, Case{{100000, 0, 2}, "KLU2", false},
+        // one point short of a point per k unknowns
+        Case{{40 * k, 39, 1}, "KLU2", false}}) {
     Teuchos::ParameterList p = solverList("Direct");
     EXPECT_EQ(p.get<std::string>("Direct Solver"), "Automatic");
     EXPECT_FALSE(p.isParameter("Reuse Factorization"));
