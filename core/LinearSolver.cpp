@@ -56,7 +56,7 @@ std::string resolveLinearSolver(Teuchos::ParameterList& p, const SystemSize& siz
   const std::string why = "chosen by Direct Solver = Automatic (" + automaticRule() + "): " + c.reason;
   p.set("Direct Solver", c.method, why);
   if (!reuseGiven) p.set("Reuse Factorization", reuse, why);
-  return c.method + (reuse ? " with Reuse Factorization" : "") + " (Direct Solver = Automatic: " + c.reason +
+  return c.method + (reuse ? " with Reuse Factorization" : "") + " (Automatic: " + c.reason +
          (reuseGiven ? "; Reuse Factorization as given" : "") + ")";
 }
 

@@ -179,7 +179,7 @@ RunResult simulate(Model& model, const SolverSettings& settings, const Teuchos::
   const SystemSize size{model.initial.numDofs(), options.contactPoints, comm->getSize()};
   Teuchos::ParameterList linearList = linearSolver;
   const std::string choice = resolveLinearSolver(linearList, size);
-  if (root && options.progress && !choice.empty()) std::printf("Linear Solver: %s\n", choice.c_str());
+  if (root && options.progress && !choice.empty()) std::printf("Direct Solver: %s\n", choice.c_str());
   Teuchos::ParameterList effective;
   if (options.effective) {
     effective = *options.effective;

@@ -39,7 +39,7 @@ def run(cmd, out):
     if r.returncode != 0:
         sys.exit(f"{' '.join(cmd)} exited with {r.returncode}:\n{r.stdout}\n{r.stderr}")
     nodes = int(re.search(r"(\d+) nodes", r.stdout).group(1))
-    line = re.search(r"^Linear Solver: (.*)$", r.stdout, re.M)
+    line = re.search(r"^Direct Solver: (.*)$", r.stdout, re.M)
     return nodes, line.group(1) if line else None
 
 
