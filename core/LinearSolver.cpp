@@ -71,7 +71,7 @@ const ParameterSpec& linearSolverSpec() {
                 "Direct only: the sparse LU factorization. Automatic: chosen when the run starts by the model's "
                 "size, its contact points and the rank count (" +
                     automaticRule() +
-                    "), with Reuse Factorization unless it is given; the run's header and "
+                    "); a Reuse Factorization the deck gives is kept; the run's header and "
                     "effective_parameters.xml say which. " +
                     directMethodsDoc());
     s.add("Residual Check Tolerance", 1e-10,
