@@ -91,7 +91,8 @@ int main(int argc, char** argv) {
   }
   for (int n : sizes) {
     auto problem = bc::input::buildProblem(*Teuchos::getParametersFromXmlString(deck(n, solverType)), "bench");
-    auto linear = bc::core::makeLinearSolver(problem.linearSolver);
+    auto linear =
+        bc::core::makeLinearSolver(problem.linearSolver, {problem.model.initial.numDofs(), 0, comm->getSize()});
     bc::core::Assembler assembler(comm, problem.model);
     bc::core::State state = problem.model.initial;
     assembler.rebuild(state);

@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """Benchmark of memory (not a test): the peak resident memory of `beamcontact run` (1 rank, the decks'
-Direct solver, KLU2 by default) for models of growing size, and the least-squares fit of bytes per
+Direct solver, Automatic by default: KLU2 for the elements series and small layers, UMFPACK with
+Reuse Factorization for layers from 3000 unknowns; the size guard's numbers were measured with KLU2) for models of growing size, and the least-squares fit of bytes per
 element and per contact point that input/Deck.cpp's size guard uses.
   - elements: Example 1 (input/example1.xml, Lagrange multipliers) with beam 1 cut into E elements (a
     handful of contact points);

@@ -1,14 +1,79 @@
 #include "LinearSolver.hpp"
 
+#include <stdexcept>
+
 namespace bc::core {
+
+namespace {
+
+constexpr const char* kAutomatic = "Automatic";
+
+bool haveMethod(const std::string& name) {
+  for (const auto& m : directMethodNames())
+    if (m == name) return true;
+  return false;
+}
+
+}  // namespace
+
+std::string automaticRule() {
+  return "UMFPACK with Reuse Factorization from " + std::to_string(kAutomaticLuUnknowns) +
+         " unknowns at the start (6 per node and the extra unknowns) with a contact point at the start for every " +
+         std::to_string(kAutomaticUnknownsPerPoint) + " unknowns or fewer, on several ranks MUMPS with it from " +
+         std::to_string(kAutomaticMumpsUnknowns) + " unknowns; KLU2 otherwise (small or nearly banded matrices)";
+}
+
+DirectChoice chooseDirectSolver(const SystemSize& size) {
+  DirectChoice c;
+  c.reason = std::to_string(size.unknowns) + " unknowns, " + std::to_string(size.contactPoints) +
+             " contact points on " + std::to_string(size.ranks) + (size.ranks == 1 ? " rank" : " ranks");
+  const bool large = size.unknowns >= kAutomaticLuUnknowns;
+  const bool coupled = size.contactPoints * kAutomaticUnknownsPerPoint >= size.unknowns;
+  if (!large || !coupled) {
+    c.method = "KLU2";
+    c.reuse = false;
+    c.reason += !large
+                    ? " (fewer than " + std::to_string(kAutomaticLuUnknowns) + " unknowns)"
+                    : " (fewer than one contact point per " + std::to_string(kAutomaticUnknownsPerPoint) + " unknowns)";
+    return c;
+  }
+  c.method = size.ranks > 1 && size.unknowns >= kAutomaticMumpsUnknowns && haveMethod("MUMPS") ? "MUMPS" : "UMFPACK";
+  c.reuse = true;
+  return c;
+}
+
+std::string resolveLinearSolver(Teuchos::ParameterList& p, const SystemSize& size) {
+  if (p.get<std::string>("Type") != "Direct") return "";
+  if (p.get<std::string>("Direct Solver") != kAutomatic) {
+    // A Direct Solver named: no reuse unless given (the effective parameters say so).
+    if (!p.isParameter("Reuse Factorization"))
+      p.set("Reuse Factorization", false, "not given, with a Direct Solver named: false");
+    return "";
+  }
+  const DirectChoice c = chooseDirectSolver(size);
+  const bool reuseGiven = p.isParameter("Reuse Factorization");
+  const bool reuse = reuseGiven ? p.get<bool>("Reuse Factorization") : c.reuse;
+  const std::string why = "chosen by Direct Solver = Automatic (" + automaticRule() + "): " + c.reason;
+  p.set("Direct Solver", c.method, why);
+  if (!reuseGiven) p.set("Reuse Factorization", reuse, why);
+  return c.method + (reuse ? " with Reuse Factorization" : "") + " (Automatic: " + c.reason +
+         (reuseGiven ? "; Reuse Factorization as given" : "") + ")";
+}
 
 const ParameterSpec& linearSolverSpec() {
   static const ParameterSpec spec = [] {
     ParameterSpec s;
     s.addChoice("Type", "Direct", {"Direct", "GMRES"},
                 "Direct: sparse LU (Direct Solver); GMRES: Belos GMRES with an Ifpack2 or MueLu preconditioner");
-    s.addChoice("Direct Solver", "KLU2", directMethodNames(),
-                "Direct only: the sparse LU factorization. " + directMethodsDoc());
+    std::vector<std::string> methods = directMethodNames();
+    methods.insert(methods.begin(), kAutomatic);
+    s.addChoice("Direct Solver", kAutomatic, methods,
+                "Direct only: the sparse LU factorization. Automatic: chosen when the run starts by the model's "
+                "size, its contact points and the rank count (" +
+                    automaticRule() +
+                    "); a Reuse Factorization the deck gives is kept; the run's header and "
+                    "effective_parameters.xml say which. " +
+                    directMethodsDoc());
     s.add("Residual Check Tolerance", 1e-10,
           "largest accepted backward error ||b - A x|| / (||A||_F ||x|| + ||b||) of a solve; above it the solve "
           "is an error",
@@ -25,14 +90,14 @@ const ParameterSpec& linearSolverSpec() {
           "GMRES only: ILUT level of fill, RILUK level k, or MueLu's Gauss-Seidel sweeps per level (at least 1)",
           nonNegative(), ">= 0");
     s.add("Overlap", 1, "GMRES only: overlap of the additive Schwarz subdomains", atLeast(0), ">= 0");
-    s.add("Reuse Factorization", false,
-          "Direct only: solve by GMRES preconditioned with the last LU factorization (of an earlier Newton "
-          "matrix of the same size), and factor the matrix again only when the GMRES iterations since the "
-          "last factorization reach Reuse Iteration Limit; a saddle point (Lagrange multipliers' zero "
-          "diagonal) is factored with that diagonal regularized (a millionth of its Schur complement "
-          "estimate), which keeps the fill-reducing order's pivots; the solution is held to the same "
-          "residual check",
-          {}, "");
+    s.addOptional("Reuse Factorization", true,
+                  "Direct only: solve by GMRES preconditioned with the last LU factorization (of an earlier Newton "
+                  "matrix of the same size), and factor the matrix again only when the GMRES iterations since the "
+                  "last factorization reach Reuse Iteration Limit; a saddle point (Lagrange multipliers' zero "
+                  "diagonal) is factored with that diagonal regularized (a millionth of its Schur complement "
+                  "estimate), which keeps the fill-reducing order's pivots; the solution is held to the same "
+                  "residual check; absent: false with a Direct Solver named, the automatic choice's with Automatic",
+                  {}, "");
     s.addOptional("Reuse Iteration Limit", 25,
                   "Direct with Reuse Factorization: GMRES iterations, summed over the solves since the last "
                   "factorization, after which the matrix is factored again (one solve takes at most 100); "
@@ -61,7 +126,11 @@ DirectSettings readDirect(const Teuchos::ParameterList& p) {
   DirectSettings s;
   s.method = p.get<std::string>("Direct Solver");
   s.checks = readChecks(p);
-  s.reuse.on = p.get<bool>("Reuse Factorization");
+  if (s.method == kAutomatic)
+    throw std::logic_error(
+        "Linear Solver/Direct Solver = Automatic is resolved (resolveLinearSolver) before the "
+        "solver is made");
+  s.reuse.on = p.isParameter("Reuse Factorization") && p.get<bool>("Reuse Factorization");
   s.reuse.iterationLimit = p.isType<int>("Reuse Iteration Limit") ? p.get<int>("Reuse Iteration Limit") : 0;
   // The GMRES target leaves the backward error well below the check (LinearSolver::solve redoes a
   // shortcut's solve that is not).
@@ -85,13 +154,19 @@ GmresSettings readGmres(const Teuchos::ParameterList& p) {
 
 std::unique_ptr<LinearSolver> makeLinearSolver(const Teuchos::ParameterList& p) {
   const std::string type = p.get<std::string>("Type");
-  if (type != "Direct" && p.get<bool>("Reuse Factorization"))
+  if (type != "Direct" && p.isParameter("Reuse Factorization") && p.get<bool>("Reuse Factorization"))
     throw InputError(
         "parameter \"Linear Solver/Reuse Factorization\" reuses the Direct solver's LU factorization; "
         "with Type \"" +
         type + "\" give Preconditioner instead");
   if (type == "Direct") return makeDirectSolver(readDirect(p));
   return makeGmresSolver(readGmres(p));
+}
+
+std::unique_ptr<LinearSolver> makeLinearSolver(const Teuchos::ParameterList& params, const SystemSize& size) {
+  Teuchos::ParameterList resolved = params;
+  resolveLinearSolver(resolved, size);
+  return makeLinearSolver(resolved);
 }
 
 }  // namespace bc::core

@@ -8,6 +8,7 @@
 // matrix's condition number ("Condition Limit"): LinearSolveError.
 #pragma once
 #include <memory>
+#include <string>
 
 #include "Faults.hpp"
 #include "Parameters.hpp"
@@ -16,7 +17,41 @@
 namespace bc::core {
 
 const ParameterSpec& linearSolverSpec();
-// `params` must have passed linearSolverSpec().apply().
+
+// Direct Solver = Automatic (the default): the sparse LU by the model's size, its contact points and
+// the rank count. UMFPACK with Reuse Factorization when the model has at least kAutomaticLuUnknowns
+// unknowns and at least one contact point at the start per kAutomaticUnknownsPerPoint unknowns; on
+// several ranks MUMPS with it instead from kAutomaticMumpsUnknowns unknowns (it factors on every rank;
+// UMFPACK on rank 0 after a gather); KLU2 without reuse otherwise. The contact couplings between beams
+// are what fills the LU factors: a few points on many unknowns (a weave meshed finely along its yarns)
+// leave the matrix nearly banded, where KLU2 (which refactors with its old pivots) is the fastest, as
+// it is on small matrices, which have no dense fronts for UMFPACK's BLAS. The numbers come from
+// bench/bench_default_solver.py (docs/scale.md, "The default solver").
+constexpr long long kAutomaticLuUnknowns = 3000;
+constexpr long long kAutomaticUnknownsPerPoint = 40;
+constexpr long long kAutomaticMumpsUnknowns = 60000;
+struct SystemSize {
+  long long unknowns = 0;  // at the start: 6 per node and the extra unknowns
+  long long contactPoints = 0;  // at the start
+  int ranks = 1;
+};
+struct DirectChoice {
+  std::string method;
+  bool reuse = false;
+  std::string reason;  // e.g. "122400 unknowns, 10000 contact points on 1 rank"
+};
+DirectChoice chooseDirectSolver(const SystemSize& size);
+// The rule above in words (the reference's documentation of Direct Solver).
+std::string automaticRule();
+// Resolves Direct Solver = Automatic in `params` (validated by linearSolverSpec) for `size`: sets
+// Direct Solver, and Reuse Factorization unless the deck gives it, each with the reason as its doc
+// string (effective_parameters.xml shows it); with a Direct Solver named, Reuse Factorization false
+// unless given. Returns the choice in one line for the run's header, or "" when the deck names the
+// solver or Type is GMRES.
+std::string resolveLinearSolver(Teuchos::ParameterList& params, const SystemSize& size);
+// `params` must have passed linearSolverSpec().apply() and resolveLinearSolver().
 std::unique_ptr<LinearSolver> makeLinearSolver(const Teuchos::ParameterList& params);
+// The same with Direct Solver = Automatic resolved first (on a copy of `params`).
+std::unique_ptr<LinearSolver> makeLinearSolver(const Teuchos::ParameterList& params, const SystemSize& size);
 
 }  // namespace bc::core

@@ -174,7 +174,18 @@ RunResult simulate(Model& model, const SolverSettings& settings, const Teuchos::
   auto timer = Teuchos::rcp(new Teuchos::StackedTimer("BeamContact"));
   TimeMonitorTarget timeMonitorTarget(timer);
   const bool root = comm->getRank() == 0;
-  auto linear = makeLinearSolver(linearSolver);
+  // Direct Solver = Automatic chosen by the system's size and the rank count: the choice in the run's
+  // header and in effective_parameters.xml.
+  const SystemSize size{model.initial.numDofs(), options.contactPoints, comm->getSize()};
+  Teuchos::ParameterList linearList = linearSolver;
+  const std::string choice = resolveLinearSolver(linearList, size);
+  if (root && options.progress && !choice.empty()) std::printf("Direct Solver: %s\n", choice.c_str());
+  Teuchos::ParameterList effective;
+  if (options.effective) {
+    effective = *options.effective;
+    if (effective.isSublist("Linear Solver")) resolveLinearSolver(effective.sublist("Linear Solver"), size);
+  }
+  auto linear = makeLinearSolver(linearList);
   StaticSolver solver(comm, model, settings, *linear, timer);
   RunResult result;
   RunSummary summary;
@@ -188,7 +199,7 @@ RunResult simulate(Model& model, const SolverSettings& settings, const Teuchos::
   ResultsWriter writer(where(options), model, comm, options.writeVtk, resumeStep,
                        options.restart ? solver.runReport().lastT : 0.0);
   try {
-    if (options.effective) writer.writeEffective(*options.effective);
+    if (options.effective) writer.writeEffective(effective);
     if (!options.restart) writer.writeInitial(model.initial);
 
     auto checkpoint = [&] {

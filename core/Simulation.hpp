@@ -28,6 +28,7 @@ struct RunOptions {
   bool progress = true;  // one line per step on rank 0 (T, iterations, time per step, time left)
   bool printTimers = false;  // the timer table on stdout (rank 0) as well as in timers.txt
   const Teuchos::ParameterList* effective = nullptr;  // written as effective_parameters.xml
+  long long contactPoints = 0;  // at the start (with the model's unknowns, what Direct Solver = Automatic takes)
   int checkpointEvery = 0;  // write checkpoint.txt after every this many converged steps (0: never)
   bool restart = false;  // continue from outputDirectory/checkpoint.txt
   std::string fingerprint;  // of the deck (without Output), kept in the checkpoint

@@ -26,6 +26,7 @@
 
 #include <Teuchos_DefaultComm.hpp>
 #include <Tpetra_Core.hpp>
+#include <mpi.h>
 
 #include "Study.hpp"
 #include "constraints/ContactManager.hpp"
@@ -191,6 +192,19 @@ bool firstRankByEnvironment() {
     if (rank && std::atoi(rank) != 0) return false;
   }
   return true;
+}
+
+// A process that no launcher started (no mpirun: none of its variables) is an MPI singleton. Open MPI
+// then forks its daemon (orted) before MPI_Init returns, to be ready for MPI_Comm_spawn, which a run never
+// calls: that fork and the daemon's start took 0.3 s of Example 1's 0.45 s. ess_singleton_isolated
+// starts the singleton without it (docs/scale.md, "Start-up"). A value the user set is left alone, and
+// under a launcher nothing is set.
+void singletonWithoutDaemon() {
+#ifdef OPEN_MPI
+  for (const char* var : {"OMPI_COMM_WORLD_SIZE", "OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK", "PMI_FD"})
+    if (std::getenv(var)) return;
+  ::setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);  // (0: a value the user set stays)
+#endif
 }
 
 // The command line as typed (before MPI and Kokkos take their own arguments out), for the provenance.
@@ -387,6 +401,7 @@ int runDeck(const RunRequest& request) {
   options.vtkAt = problem.vtkAt;
   options.vtkCompression = problem.vtkCompression;
   options.effective = &problem.effective;
+  options.contactPoints = problem.contact ? static_cast<long long>(problem.contact->points().size()) : 0;
   options.checkpointEvery = problem.checkpointEvery;
   options.restart = !request.restart.empty();
   options.fingerprint = bc::input::deckFingerprint(problem);
@@ -489,6 +504,7 @@ bool readRunRequest(const std::vector<std::string>& args, RunRequest& request) {
 // (their options read before), the signal handlers and the built-in strategies.
 int mpiCommand(int& argc, char**& argv, const RunRequest* run, const std::vector<std::string>& plugins,
                bc::input::ReferenceFormat format = bc::input::ReferenceFormat::Text) {
+  singletonWithoutDaemon();
   Tpetra::ScopeGuard scope(&argc, &argv);
   guardExit();
   bc::core::installSignalHandlers();

@@ -10,13 +10,14 @@ namespace bc::core {
 const std::vector<DirectMethodEntry>& directMethods() {
   static const std::vector<DirectMethodEntry> entries = {
       {"KLU2",
-       "no dense kernels, a matrix of the last one's pattern refactored with its pivot order (the faster up to "
-       "about 10^4 rows)",
+       "no dense kernels, a matrix of the last one's pattern refactored with its pivot order (the faster on "
+       "small or nearly banded matrices: docs/scale.md, \"The default solver\")",
        false,
        [](const Comm&, const ReuseSettings& reuse) { return oneProcessLu(std::make_unique<SerialKlu>(), reuse); }},
       {"UMFPACK",
        "multifrontal with dense (BLAS) kernels, 3 to 6 times faster factorizations at 10^5 rows (most on "
-       "Lagrange multiplier saddle points), the faster from about 10^4 rows with Reuse Factorization",
+       "Lagrange multiplier saddle points), the faster from a few thousand rows of beams coupled by contact "
+       "with Reuse Factorization",
        false,
        [](const Comm&, const ReuseSettings& reuse) { return oneProcessLu(std::make_unique<SerialUmfpack>(), reuse); }},
       {"MUMPS",

@@ -12,7 +12,9 @@
   `beamcontact check` and run; a name or geometry the test chose is not taken from the reference;
 - the defaults are the reader's: every parameter printed with "default: V" in a list that a run's
   effective_parameters.xml holds has the value V there, and every required or optional parameter a
-  deck left out is absent there (an optional value has no default the reader fills in).
+  deck left out is absent there (an optional value has no default the reader fills in); except what
+  a run chooses itself and writes there with the reason as its doc string: Linear Solver/Direct
+  Solver, printed as "Automatic", and Linear Solver/Reuse Factorization (optional) with it.
 """
 import os
 import re
@@ -211,7 +213,7 @@ decks = {
         "Loads": {"tip": {"Point": EX, "Force": ("Array(double)", "{0, 0, -1e-06}"), "Load Curve": EX},
                   "end": {"Beam": name("a"), "Node": EX, "Force": ("Array(double)", "{0, 1e-06, 0}")}},
         "Load Stepping": {"Load Factors": EX},
-        "Linear Solver": {"Reuse Factorization": ("bool", "true"), "Reuse Iteration Limit": EX},
+        "Linear Solver": {"Reuse Factorization": EX, "Reuse Iteration Limit": EX},
         "Output": {"Directory": EX, "VTK At": EX,
                    "Tracked Points": {"start": {"Point": EX, "Reference ux": EX, "Reference uy": EX,
                                                 "Reference uz": EX, "Reference Source": EX},
@@ -293,6 +295,8 @@ def value_of(type_, text_):
     return text_
 
 
+# Resolved by the run (core/LinearSolver.hpp, resolveLinearSolver), each with its reason as the doc string.
+CHOSEN_BY_THE_RUN = {"Linear Solver/Direct Solver", "Linear Solver/Reuse Factorization"}
 compared = 0
 for name_, (tree, out) in decks.items():
     file = os.path.join(out, "effective_parameters.xml")
@@ -300,6 +304,7 @@ for name_, (tree, out) in decks.items():
         check(False, f"{name_}: no effective_parameters.xml")
         continue
     effective = {}
+    docs = {}
     lists = set()
 
     def walk_effective(element, path):
@@ -309,6 +314,7 @@ for name_, (tree, out) in decks.items():
                 walk_effective(child, path + [child.get("name")])
             elif child.tag == "Parameter":
                 effective[ref_path(path + [child.get("name")])] = (child.get("type"), child.get("value"))
+                docs[ref_path(path + [child.get("name")])] = child.get("docString", "")
 
     walk_effective(ET.parse(file).getroot(), [])
     given = {ref_path(p) for kind, p in leaves(tree, [], []) if kind != "list"}
@@ -316,7 +322,14 @@ for name_, (tree, out) in decks.items():
         parent = path.rsplit("/", 1)[0] if "/" in path else ""
         if parent and parent not in lists:
             continue
-        if use == "default" and path not in given:
+        if path in CHOSEN_BY_THE_RUN and path not in given:
+            got = effective.get(path)
+            check(got is not None and got[0] == type_ and
+                  docs.get(path, "").startswith(("chosen by Direct Solver = Automatic", "not given, with a Direct")),
+                  f"{name_}: {path}: printed {value!r} ({use}), the run's choice {got} without its reason "
+                  f"({docs.get(path)!r})")
+            compared += 1
+        elif use == "default" and path not in given:
             got = effective.get(path)
             check(got is not None and got[0] == type_ and value_of(type_, got[1]) == value_of(type_, value),
                   f"{name_}: {path}: printed default {value!r} ({type_}), the reader's {got}")

@@ -258,7 +258,7 @@ TEST(Newton, ConvergesQuadraticallyNearTheSolution) {
   // p = log(eps_k+1) / log(eps_k) with eps_k = ||du_k|| / ||du_0||, which is 2 for quadratic
   // convergence (digits double each iteration). Counted once eps_k < 1e-2 (the asymptotic range)
   // and while ||du_k+1|| > 1e-12 (round-off).
-  auto linear = core::makeLinearSolver(p.linearSolver);
+  auto linear = core::makeLinearSolver(p.linearSolver, {p.model.initial.numDofs(), 0, comm->getSize()});
   core::StaticSolver solver(comm, p.model, p.solver, *linear);
   core::State end;
   const auto trace = solver.iterateFrom(r.finalState, 1.0, 1.01, end);

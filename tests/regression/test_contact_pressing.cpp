@@ -119,7 +119,7 @@ TEST(Pressing, AugmentedLagrangeGapFallsWithEachAugmentation) {
   const double c2 = std::pow(100.0, 3) / (48 * E * pi * std::pow(2.5, 4) / 4);
   auto p = input::buildProblem(circles("Augmented Lagrange", 0.6, 1e3), "al_passes");
   auto comm = Tpetra::getDefaultComm();
-  auto linear = core::makeLinearSolver(p.linearSolver);
+  auto linear = core::makeLinearSolver(p.linearSolver, {p.model.initial.numDofs(), 0, comm->getSize()});
   core::StaticSolver solver(comm, p.model, p.solver, *linear);
   core::State end;
   solver.iterateFrom(p.model.initial, 0.0, 1.0, end);
@@ -317,7 +317,7 @@ TEST(Newton, ConvergesQuadraticallyNearAContactSolutionForEachStrategy) {
     auto comm = Tpetra::getDefaultComm();
     const auto r = test::runQuiet(p, comm, "newton_contact");
     ASSERT_TRUE(r.report.completed) << r.report.failure;
-    auto linear = core::makeLinearSolver(p.linearSolver);
+    auto linear = core::makeLinearSolver(p.linearSolver, {p.model.initial.numDofs(), 0, comm->getSize()});
     core::StaticSolver solver(comm, p.model, p.solver, *linear);
     core::State end;
     const auto trace = solver.iterateFrom(r.finalState, 1.0, 1.02, end);

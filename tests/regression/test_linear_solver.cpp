@@ -10,7 +10,11 @@
 //    diagonal regularized, and GMRES solves the saddle point itself to the direct solve's accuracy;
 //  - a singular matrix is an error (LinearSolveError), not a huge x that passes a backward-error test;
 //  - GMRES with the MueLu preconditioner (rigid-body modes as near-null space) solves a system of
-//    6-dof nodes to its tolerance.
+//    6-dof nodes to its tolerance;
+//  - Direct Solver = Automatic (the default) becomes UMFPACK with Reuse Factorization from
+//    kAutomaticLuUnknowns unknowns with a contact point per kAutomaticUnknownsPerPoint unknowns (MUMPS on
+//    several ranks from kAutomaticMumpsUnknowns), KLU2 otherwise; a Direct Solver or a Reuse Factorization the list
+//    names is kept, and an unresolved Automatic is not made into a solver.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -321,4 +325,69 @@ TEST(LinearSolver, GmresWithMultigridSolvesNodalSystems) {
   const double e = solveError(*solver, B);
   std::printf("  GMRES (MueLu), solution error %.1e\n", e);
   EXPECT_LT(e, 1e-6);
+}
+
+// The rule of Direct Solver = Automatic (core/LinearSolver.hpp; its numbers are bench_default_solver.py's).
+TEST(LinearSolver, AutomaticChoosesBySizeContactPointsAndRanks) {
+  const long long t = kAutomaticLuUnknowns, k = kAutomaticUnknownsPerPoint, m = kAutomaticMumpsUnknowns;
+  struct Case {
+    SystemSize size;
+    const char* method;
+    bool reuse;
+  };
+  for (const Case& c :
+       {// Example 1: small
+        Case{{132, 2, 1}, "KLU2", false},
+        // just below the size, however many points
+        Case{{t - 1, t, 1}, "KLU2", false}, Case{{t - 1, t, 2}, "KLU2", false},
+        // at the size, a point per k unknowns: UMFPACK, also on several ranks below m
+        Case{{t, (t + k - 1) / k, 1}, "UMFPACK", true}, Case{{t, (t + k - 1) / k, 2}, "UMFPACK", true},
+        Case{{m - 1, m, 2}, "UMFPACK", true}, Case{{m, m, 2}, "MUMPS", true}, Case{{m, m, 1}, "UMFPACK", true},
+        // the 100 x 100 layers, 10^4 points
+        Case{{122400, 10000, 1}, "UMFPACK", true}, Case{{122400, 10000, 4}, "MUMPS", true},
+        // the 16 x 16 weave (256 points on 26304 unknowns) and a large model without contact
+        Case{{26304, 256, 1}, "KLU2", false}, Case{{100000, 0, 2}, "KLU2", false},
+        // one point short of a point per k unknowns
+        Case{{40 * k, 39, 1}, "KLU2", false}}) {
+    Teuchos::ParameterList p = solverList("Direct");
+    EXPECT_EQ(p.get<std::string>("Direct Solver"), "Automatic");
+    EXPECT_FALSE(p.isParameter("Reuse Factorization"));
+    const std::string line = resolveLinearSolver(p, c.size);
+    SCOPED_TRACE(line);
+    EXPECT_EQ(p.get<std::string>("Direct Solver"), c.method);
+    EXPECT_EQ(p.get<bool>("Reuse Factorization"), c.reuse);
+    // The reason goes with the values into effective_parameters.xml (their doc strings) and the header.
+    const std::string numbers =
+        std::to_string(c.size.unknowns) + " unknowns, " + std::to_string(c.size.contactPoints) + " contact points";
+    EXPECT_NE(p.getEntry("Direct Solver").docString().find(numbers), std::string::npos);
+    EXPECT_EQ(line.rfind(c.method, 0), 0u);
+    EXPECT_NE(line.find(numbers), std::string::npos);
+    EXPECT_NE(makeLinearSolver(p), nullptr);
+  }
+}
+
+TEST(LinearSolver, AnExplicitChoiceWins) {
+  const SystemSize large{10 * kAutomaticLuUnknowns, 10 * kAutomaticLuUnknowns, 2};
+  // A Direct Solver named: kept at any size, Reuse Factorization false unless given.
+  for (const char* method : {"KLU2", "UMFPACK", "MUMPS"}) {
+    Teuchos::ParameterList p = solverList("Direct", method);
+    EXPECT_EQ(resolveLinearSolver(p, large), "");
+    EXPECT_EQ(p.get<std::string>("Direct Solver"), method);
+    EXPECT_FALSE(p.get<bool>("Reuse Factorization"));
+  }
+  // Automatic with Reuse Factorization given: the method is chosen, the reuse kept.
+  Teuchos::ParameterList p;
+  p.set("Reuse Factorization", false);
+  linearSolverSpec().apply(p, "Linear Solver");
+  const std::string line = resolveLinearSolver(p, {large.unknowns, large.contactPoints, 1});
+  EXPECT_EQ(p.get<std::string>("Direct Solver"), "UMFPACK");
+  EXPECT_FALSE(p.get<bool>("Reuse Factorization"));
+  EXPECT_NE(line.find("Reuse Factorization as given"), std::string::npos);
+  // GMRES: nothing to choose.
+  Teuchos::ParameterList g = solverList("GMRES", "ILUT");
+  EXPECT_EQ(resolveLinearSolver(g, large), "");
+  EXPECT_EQ(g.get<std::string>("Direct Solver"), "Automatic");
+  // An Automatic left unresolved is a mistake of the caller, not a silent KLU2.
+  EXPECT_THROW(makeLinearSolver(solverList("Direct")), std::logic_error);
+  EXPECT_NE(makeLinearSolver(solverList("Direct"), {10, 0, 1}), nullptr);
 }
