@@ -717,6 +717,29 @@ void pointGapGradients(const Vec3<T>* P, double radiusSum, double sigma, double 
   }
 }
 
+// The gaps' values, gradients and (Second) Hessians in the coordinates of `Points` vectors, from their
+// values and gradients per vector (of AD type with the coordinates' derivatives when Second).
+template <int Points, bool Second, class T>
+CoordinateGaps<3 * Points> coordinateGaps(const T* value, const Vec3<T> (*G)[Points]) {
+  constexpr int n = 3 * Points;
+  CoordinateGaps<n> c;
+  for (int q = 0; q < kQuantities; ++q) {
+    if constexpr (Second) {
+      c.value[q] = value[q].val();
+      for (int k = 0; k < n; ++k) c.G[q][k] = G[q][k / 3][k % 3].val();
+      if (q < 3)
+        for (int k = 0; k < n; ++k)
+          for (int l = 0; l < n; ++l) c.H[q][k][l] = G[q][k / 3][k % 3].dx(l);
+    } else {
+      c.value[q] = value[q];
+      for (int k = 0; k < n; ++k) c.G[q][k] = G[q][k / 3][k % 3];
+    }
+  }
+  for (int q = 0; q < 3; ++q)
+    for (int k = 0; k < n; ++k) c.gradient[q][k] = c.G[q][k];
+  return c;
+}
+
 template <bool Second>
 ContactKinematics pointKinematicsOfOrder(const LinePairInput& in, double sigma, double xiPrev, double etaPrev) {
   using T = std::conditional_t<Second, Sacado::Fad::SFad<double, 12>, double>;
@@ -731,22 +754,7 @@ ContactKinematics pointKinematicsOfOrder(const LinePairInput& in, double sigma, 
   T value[kQuantities];
   Vec3<T> G[kQuantities][4];
   pointGapGradients(P, in.radiusSum, sigma, xiPrev, etaPrev, value, G);
-  CoordinateGaps<12> c;
-  for (int q = 0; q < kQuantities; ++q) {
-    if constexpr (Second) {
-      c.value[q] = value[q].val();
-      for (int k = 0; k < 12; ++k) c.G[q][k] = G[q][k / 3][k % 3].val();
-      if (q < 3)
-        for (int k = 0; k < 12; ++k)
-          for (int l = 0; l < 12; ++l) c.H[q][k][l] = G[q][k / 3][k % 3].dx(l);
-    } else {
-      c.value[q] = value[q];
-      for (int k = 0; k < 12; ++k) c.G[q][k] = G[q][k / 3][k % 3];
-    }
-  }
-  for (int q = 0; q < 3; ++q)
-    for (int k = 0; k < 12; ++k) c.gradient[q][k] = c.G[q][k];
-  return chainRule<4, Second>(c, frame);
+  return chainRule<4, Second>(coordinateGaps<4, Second>(value, G), frame);
 }
 
 // The shape values of the vectors (P_1, P_2, V_1, V_2) of one curve at u and their first and second
@@ -850,22 +858,7 @@ ContactKinematics curveKinematicsOfOrder(const LinePairInput& in, double sigma, 
   T value[kQuantities];
   Vec3<T> G[kQuantities][8];
   curveGapGradients(Q, cubic(in.dA), cubic(in.dB), in.radiusSum, sigma, xiPrev, etaPrev, cp.xi, cp.eta, value, G);
-  CoordinateGaps<24> c;
-  for (int q = 0; q < kQuantities; ++q) {
-    if constexpr (Second) {
-      c.value[q] = value[q].val();
-      for (int k = 0; k < 24; ++k) c.G[q][k] = G[q][k / 3][k % 3].val();
-      if (q < 3)
-        for (int k = 0; k < 24; ++k)
-          for (int l = 0; l < 24; ++l) c.H[q][k][l] = G[q][k / 3][k % 3].dx(l);
-    } else {
-      c.value[q] = value[q];
-      for (int k = 0; k < 24; ++k) c.G[q][k] = G[q][k / 3][k % 3];
-    }
-  }
-  for (int q = 0; q < 3; ++q)
-    for (int k = 0; k < 24; ++k) c.gradient[q][k] = c.G[q][k];
-  return chainRule<8, Second>(c, frame);
+  return chainRule<8, Second>(coordinateGaps<8, Second>(value, G), frame);
 }
 
 template <int Vectors, class Fn>
