@@ -313,8 +313,13 @@ bool ContactManager::acceptSolution(core::State& state) {
   violations_.push_back(worstViolation_);
   if (!all && passes_ >= enforcer_->maximumPasses()) {
     std::ostringstream s;
-    s << enforcer_->type() << ": constraints not met after " << passes_ << " passes (largest violation "
-      << worstViolation_ << ")";
+    // (The violation can be 0 here: a pass ends on any change, of the active set, of stick and slip,
+    // of an augmentation or of the field's refinement, so the last pass may have met every gap and
+    // still changed a state: the states cycle.)
+    s << enforcer_->type() << ": constraints not met after " << passes_
+      << " passes (the strategy's limit): the last pass still changed the active set, stick and slip, an "
+         "augmentation or the line field's refinement (largest gap violation "
+      << worstViolation_ << (worstViolation_ > 0.0 ? ")" : ": the states cycle)");
     throw std::runtime_error(s.str());
   }
   return all;
