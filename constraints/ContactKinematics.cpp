@@ -717,6 +717,15 @@ void pointGapGradients(const Vec3<T>* P, double radiusSum, double sigma, double 
   }
 }
 
+// The vectors' coordinates as the independent variables of one AD level (Second), or as they are.
+template <int Points, bool Second, class T> void seedVectors(const Vec3d* p, Vec3<T>* P) {
+  for (int k = 0; k < Points; ++k)
+    for (int a = 0; a < 3; ++a) {
+      if constexpr (Second) P[k][a] = T(3 * Points, 3 * k + a, p[k][a]);
+      else P[k][a] = p[k][a];
+    }
+}
+
 // The gaps' values, gradients and (Second) Hessians in the coordinates of `Points` vectors, from their
 // values and gradients per vector (of AD type with the coordinates' derivatives when Second).
 template <int Points, bool Second, class T>
@@ -746,11 +755,7 @@ ContactKinematics pointKinematicsOfOrder(const LinePairInput& in, double sigma, 
   Vec3d p[4];
   const VectorFrame<4> frame = vectorFrame<4>(in, nullptr, nullptr, p);
   Vec3<T> P[4];
-  for (int k = 0; k < 4; ++k)
-    for (int a = 0; a < 3; ++a) {
-      if constexpr (Second) P[k][a] = T(12, 3 * k + a, p[k][a]);
-      else P[k][a] = p[k][a];
-    }
+  seedVectors<4, Second>(p, P);
   T value[kQuantities];
   Vec3<T> G[kQuantities][4];
   pointGapGradients(P, in.radiusSum, sigma, xiPrev, etaPrev, value, G);
@@ -850,11 +855,7 @@ ContactKinematics curveKinematicsOfOrder(const LinePairInput& in, double sigma, 
   Vec3d p[8];
   const VectorFrame<8> frame = vectorFrame<8>(in, nullptr, nullptr, p);
   Vec3<T> Q[8];
-  for (int k = 0; k < 8; ++k)
-    for (int a = 0; a < 3; ++a) {
-      if constexpr (Second) Q[k][a] = T(24, 3 * k + a, p[k][a]);
-      else Q[k][a] = p[k][a];
-    }
+  seedVectors<8, Second>(p, Q);
   T value[kQuantities];
   Vec3<T> G[kQuantities][8];
   curveGapGradients(Q, cubic(in.dA), cubic(in.dB), in.radiusSum, sigma, xiPrev, etaPrev, cp.xi, cp.eta, value, G);

@@ -53,8 +53,6 @@ bool ContactPointSet::update(const std::map<PointKey, Candidate>& candidates) {
     if (it != points_.end()) {
       p = it->second;
       changed = changed || p.elementA != c.elementA || p.elementB != c.elementB;
-      // (A Gauss point of a refined field that moves into another part changes its field nodes.)
-      changed = changed || (p.line() && lines_.nodal() && lines_.fieldPart(p, p.xi) != lines_.fieldPart(p, c.cp.xi));
     } else {
       changed = true;
       p = newPoint(key, c);

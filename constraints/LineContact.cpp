@@ -485,14 +485,11 @@ namespace {
 int partOf(double xi, int m) { return std::max(0, std::min(m - 1, static_cast<int>(std::floor(xi * m)))); }
 }  // namespace
 
-int LineContact::fieldPart(const ContactPointRecord& p, double xi) const {
-  return partOf(xi, 1 << fieldLevel(p.key.pair, p.edge(), p.elementA));
-}
-
 std::vector<LineContact::FieldShare> LineContact::fieldShares(const ContactPointRecord& p, double xi,
                                                               const PointMap& points) const {
-  // The part of the (refined) field the point lay in at the last update of the points (p.xi: the
-  // matrix graph's), its two nodes' hat functions at `xi` (beyond the part's ends, their lines).
+  // The part of the (refined) field the point lies in (its Gauss points are its part's: offerSegment
+  // cuts the segment at the parts' ends, so p.xi of the last update of the points, the matrix graph's,
+  // is inside it), its two nodes' hat functions at `xi` (beyond the part's ends, their lines).
   std::vector<FieldShare> shares;
   const int level = fieldLevel(p.key.pair, p.edge(), p.elementA), m = 1 << level;
   const int part = partOf(p.xi, m);

@@ -87,10 +87,6 @@ class LineContact {
     const ContactPointRecord* record = nullptr;
   };
   std::vector<FieldShare> fieldShares(const ContactPointRecord& p, double xi, const PointMap& points) const;
-  // The part of its element's (refined) field a Gauss point at `xi` lies in. fieldShares takes the part
-  // at the point's `xi` of the last update of the points (the matrix graph's) and evaluates its hat
-  // functions at the `xi` given; a point that moves into another part changes the points (an update).
-  int fieldPart(const ContactPointRecord& p, double xi) const;
   // Per field node: the weighted gap int N_a g_N ds / int N_a ds and the weight int N_a ds (Gauss
   // weights times lengths times the line points' blend weights) at `s`.
   struct NodeGap {
