@@ -16,19 +16,9 @@ import sys
 import xml.etree.ElementTree as ET
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "tests", "cli"))
+from check_gold import set_parameter  # noqa: E402  (edits a deck by parameter path)
 STRATEGIES = ("Lagrange Multiplier", "Penalty", "Augmented Lagrange")
-
-
-def set_parameter(root, path, ptype, value):
-    *lists, name = path.split("/")
-    node = root
-    for sub in lists:
-        found = [c for c in node.findall("ParameterList") if c.get("name") == sub]
-        node = found[0] if found else ET.SubElement(node, "ParameterList", name=sub)
-    found = [c for c in node.findall("Parameter") if c.get("name") == name]
-    p = found[0] if found else ET.SubElement(node, "Parameter", name=name)
-    p.set("type", ptype)
-    p.set("value", value)
 
 
 def run(exe, work, example, strategy, axes, elements):
