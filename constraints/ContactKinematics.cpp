@@ -171,6 +171,88 @@ Gaps<T> faceGaps(const Vec3<T>* P, const Vec3<T>* V, const Vec3<T>* N, bool cubi
   return g;
 }
 
+// The double value of a (nested) AD number.
+template <class T> double plain(const T& x) {
+  if constexpr (std::is_same_v<T, double>) return x;
+  else return plain(x.val());
+}
+
+// |x| smoothed over kEndSmoothing and scaled to 1 at |x| = 1 (endKinematics).
+template <class T> T smoothAbs(const T& x2) {
+  using std::sqrt;
+  constexpr double d = kEndSmoothing;
+  static const double scale = 1.0 / (std::sqrt(1.0 + d * d) - d);
+  return T(scale * (sqrt(x2 + d * d) - d));
+}
+
+// End contact (see endKinematics in the header): P the four line points (A's: the end face's centre
+// at endNode), V their tangents, X = (e1, e2, e3 of the end, B's reference vector at B's nodes 1, 2).
+// across: the across coordinate (phi, or the offset across the face) of the value.
+template <class T>
+Gaps<T> endGaps(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, const Vec3<T>* X, bool cubicB,
+                double side, double etaStart, double etaPrev, double acrossPrev, double* across, Vec3d* direction) {
+  using std::atan2;
+  using std::sqrt;
+  Gaps<T> g;
+  const Vec3<T>& pE = P[in.endNode];
+  g.xi = T(static_cast<double>(in.endNode));
+  g.eta = T(etaStart);
+  Vec3<T> xB, dB, ddB;
+  for (int it = 0; it < 3; ++it) {
+    axisPoint(P[2], V[2], P[3], V[3], cubicB, g.eta, &xB, &dB, &ddB);
+    const Vec3<T> d = xB - pE;
+    g.eta -= dot(dB, d) / (dot(ddB, d) + dot(dB, dB));
+  }
+  axisPoint(P[2], V[2], P[3], V[3], cubicB, g.eta, &xB, &dB, nullptr);
+  const T lb = sqrt(dot(dB, dB));
+  const Vec3<T> tB = (1.0 / lb) * dB;
+  const Vec3<T> w = pE - xB;  // from B's line to the end's centre
+  Vec3<T> u;  // from the end towards B
+  T distance, offset;
+  if (in.face) {
+    Vec3<T> m = (1.0 - g.eta) * X[3] + g.eta * X[4];
+    m = (1.0 / sqrt(dot(m, m))) * m;
+    u = -1.0 * m;
+    distance = dot(w, m);
+    Vec3<T> b = cross(tB, m);
+    b = (1.0 / sqrt(dot(b, b))) * b;
+    offset = dot(w, b);
+  } else {
+    const T r = sqrt(dot(w, w));
+    u = (-side / r) * w;
+    distance = side * r;
+    Vec3<T> e = (1.0 - g.eta) * X[3] + g.eta * X[4];
+    e = e - dot(e, tB) * tB;
+    const Vec3<T> f = cross(tB, e);
+    offset = atan2(dot(w, f), dot(w, e));
+  }
+  T reach;
+  if (in.endRectangle) {
+    const T a2 = dot(u, X[1]), a3 = dot(u, X[2]);
+    reach = in.endHalf[0] * smoothAbs<T>(a2 * a2) + in.endHalf[1] * smoothAbs<T>(a3 * a3);
+  } else {
+    const T c = dot(u, X[0]);
+    reach = in.endRadius * smoothAbs<T>(1.0 - c * c);
+  }
+  g.gN = distance - in.radiusB - reach;
+  const T metric = slipMetric(P, V, cubicB, g.eta, pE);
+  g.gT2 = (g.eta - etaPrev) * metric;
+  if (in.face) {
+    g.gT1 = offset - acrossPrev;
+  } else {
+    // phi - acrossPrev on the branch nearest zero
+    const double turns = std::round((plain(offset) - acrossPrev) / (2.0 * M_PI));
+    g.gT1 = (side * distance) * (offset - (acrossPrev + 2.0 * M_PI * turns));
+  }
+  const Vec3<T> tA = P[1] - P[0], tBc = P[3] - P[2];
+  g.cosine = dot(tA, tBc) / (sqrt(dot(tA, tA)) * sqrt(dot(tBc, tBc)));
+  g.length = T(1.0);
+  if (across) *across = plain(offset);
+  if (direction)
+    for (int a = 0; a < 3; ++a) (*direction)[a] = plain(u[a]);
+  return g;
+}
+
 // Point contact on the elements' Hermite axes (or chords, see axisPoint): the closest points of the
 // curves x_A(xi) (through P[0], P[1], tangents V[0], V[1]) and x_B(eta) (P[2], P[3], V[2], V[3]) from
 // the orthogonality conditions F = (x_A' . w, x_B' . w) = 0, w = x_B - x_A, by Newton steps from the
@@ -871,5 +953,73 @@ ContactKinematics kinematicsOf(const LinePairInput& in, const Vec3d* extraRef, c
 }
 
 }  // namespace
+
+namespace {
+// The vectors of end contact beyond the points and tangents: the end's triad at its node, B's
+// reference vector (circles: across its axis; rectangles: the face normal) at B's two nodes.
+struct EndVectors {
+  Vec3d ref[5];
+  int node[5];
+  explicit EndVectors(const LinePairInput& in) {
+    for (int a = 0; a < 3; ++a) {
+      ref[a] = (a == 0 ? in.outward : 1.0) * in.endAxes[a];
+      node[a] = in.endNode;
+    }
+    ref[3] = ref[4] = in.face ? in.nB : in.acrossB;
+    node[3] = 2;
+    node[4] = 3;
+  }
+};
+}  // namespace
+
+ClosestPoints endProjection(const LinePairInput& in, double side) {
+  const EndVectors ev(in);
+  Vec3d p[13];
+  vectorFrame<13>(in, ev.ref, ev.node, p);
+  const bool cubicB = norm(in.dB) > 0.0;
+  // eta from the chord's projection, then Newton to round-off
+  const Vec3d& pE = p[in.endNode];
+  const Vec3d tBc = p[3] - p[2];
+  double eta = dot(tBc, pE - p[2]) / dot(tBc, tBc);
+  for (int it = 0; it < 50; ++it) {
+    Vec3d x, dx, ddx;
+    axisPoint(p[2], p[6], p[3], p[7], cubicB, eta, &x, &dx, &ddx);
+    const Vec3d d = x - pE;
+    const double step = dot(dx, d) / (dot(ddx, d) + dot(dx, dx));
+    eta -= step;
+    if (std::abs(step) < 1e-15 * (1.0 + std::abs(eta))) break;
+  }
+  ClosestPoints cp;
+  double across = 0.0;
+  const Gaps<double> g = endGaps(in, p, p + 4, p + 8, cubicB, side, eta, eta, 0.0, &across, &cp.normal);
+  cp.xi = in.endNode;
+  cp.eta = g.eta;
+  cp.pA = cp.cA = pE;
+  axisPoint(p[2], p[6], p[3], p[7], cubicB, g.eta, &cp.pB, nullptr, nullptr);
+  cp.cB = cp.pB;
+  cp.distance = norm(cp.pB - cp.pA);
+  cp.gap = g.gN;
+  cp.sigma = side;
+  cp.etaRate = across;
+  const Vec3d tA = p[1] - p[0];
+  cp.sinAngle = norm(cross(tBc, tA)) / (norm(tA) * norm(tBc));
+  return cp;
+}
+
+ContactKinematics endKinematics(const LinePairInput& in, double side, double etaPrev, double acrossPrev,
+                                Variations order) {
+  const ClosestPoints cp = endProjection(in, side);
+  const EndVectors ev(in);
+  const bool cubicB = norm(in.dB) > 0.0;
+  ContactKinematics k = kinematicsOf<13>(
+      in, ev.ref, ev.node,
+      [&](const auto* P, bool) {
+        return endGaps(in, P, P + 4, P + 8, cubicB, side, cp.eta, etaPrev, acrossPrev, nullptr, nullptr);
+      },
+      order);
+  k.cosine = 0.0;
+  k.cosineR.fill(0.0);
+  return k;
+}
 
 }  // namespace bc::constraints

@@ -53,6 +53,17 @@ struct LinePairInput {
   // two elements the mean of their unit axis vectors, so neighbouring segments share the plane and
   // tile A's line; at a beam end the end element's). They turn with the nodes: tau_m = R_m sB_m.
   Vec3d sB1{}, sB2{};
+  // End contact (endNode 0 or 1: A's node whose free end face is in contact; -1: none). The end face
+  // is a disc of radius endRadius, or (endRectangle) a rectangle of half sizes endHalf along the
+  // section's e2 and e3; endAxes the end's reference triad (e1 along the axis, e2, e3), outward +1 at
+  // A's node 2 and -1 at node 1 (the axis leaves the beam along outward e1). B's surface: its
+  // circular section of radius radiusB about its axis (oB = 0; acrossB a reference vector across B's
+  // axis, the origin of the angle around it), or with `face` the face of nB (as above).
+  int endNode = -1;
+  bool endRectangle = false;
+  double endRadius = 0.0, endHalf[2] = {0.0, 0.0}, outward = 1.0, radiusB = 0.0;
+  Vec3d endAxes[3]{};
+  Vec3d acrossB{};
 };
 
 // The part [lo, hi] of A's element (parameters in [0, 1]) whose points lie between the planes of B's
@@ -164,6 +175,30 @@ double lineSide(const LinePairInput& in, const ClosestPoints& projection, const 
 // normals R_m nB interpolated linearly and normalized), g_N = (p_A - x_B) . n, positive outside the
 // face; lateral = (p_A - x_B) . (t_B x n) / |t_B x n|. lineProjection and lineKinematics dispatch on
 // in.face.
+
+// End contact: the free end face of A's beam at its node in.endNode against B's surface.
+//  - eta: the projection of the end face's centre p_E on B's axis (circles) or on the centre line of
+//    B's face (rectangles), x_B'(eta) . (x_B(eta) - p_E) = 0, in [0, 1] when on B's element.
+//  - The direction u from the end towards B: (x_B - p_E) / |x_B - p_E| (circles, times `side`), minus
+//    the face's outward normal (rectangles); the gap is the distance along u less B's radius and
+//    less how far the end face reaches towards B along u (its support function: a disc r sin of
+//    the angle between u and the axis, a rectangle b/2 |u . e2| + h/2 |u . e3|, each |x| smoothed
+//    as (sqrt(x^2 + delta^2) - delta) / (sqrt(1 + delta^2) - delta), delta = kEndSmoothing, so that a
+//    face pressed flat rocks smoothly; the smoothing lets a tilted rim in by at most 1.6 % of the
+//    face's half size). A separating distance: exact for a face pressed flat on B and for a rim on a
+//    cylinder's generator, a lower bound otherwise (contact found early, never late).
+//  - Slip along B: g_T2 = (eta - etaPrev) m (m the slip metric, as for line points); across B: g_T1 =
+//    |p_E - x_B| (phi - acrossPrev) with phi the angle of p_E around B's axis from B's rotated acrossB
+//    (circles), or (rectangles) the offset of p_E across the face less acrossPrev. The two are
+//    orthogonal (cosine 0); axesCosine is the chords' (the all-angle blend, as for point contacts).
+// `side` -1 when the end has passed B's axis since its point was found (circles: the gap is then
+// deeply negative). endProjection returns the geometry in double precision (xi the end's parameter,
+// eta, pA = p_E, pB = x_B, normal u, gap, sinAngle of the chords) with etaRate holding the across
+// coordinate (phi or the offset): the history an end point keeps.
+constexpr double kEndSmoothing = 0.02;
+ClosestPoints endProjection(const LinePairInput& in, double side);
+ContactKinematics endKinematics(const LinePairInput& in, double side, double etaPrev, double acrossPrev,
+                                Variations order = Variations::Second);
 
 // All gaps and their derivatives at the current state; `sigma` from closestPoints (or the history),
 // `xiPrev`, `etaPrev` the previous converged contact point (for the tangential gaps). The gaps'

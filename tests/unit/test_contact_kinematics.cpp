@@ -605,3 +605,101 @@ TEST(ContactKinematics, HermiteNormalIsContinuousAcrossANode) {
   EXPECT_LT(norm(s[0].normal - m), 1e-13);
   EXPECT_GT(chordJump, 0.1);
 }
+
+namespace {
+// A column (beam A, element from z = -10 to its free end at z = 0, end face a disc of radius 0.5 or a
+// 1 x 0.6 rectangle) under beam B along X at height 1.2, radius 1 (circles) or with its lower face
+// (normal -Z) at z = 0.2 (rectangles: B's axis at z = 0.7, half height 0.5, face half width 0.4).
+LinePairInput column(bool rectangles) {
+  LinePairInput in;
+  in.xA1 = {{0, 0, -10}};
+  in.xA2 = {{0, 0, 0}};
+  in.xB1 = {{-5, rectangles ? 0.1 : 0.0, rectangles ? 0.7 : 1.2}};
+  in.xB2 = {{5, rectangles ? 0.1 : 0.0, rectangles ? 0.7 : 1.2}};
+  in.RA1 = in.RA2 = in.RB1 = in.RB2 = identity3<double>();
+  in.endNode = 1;
+  in.outward = 1.0;
+  in.endAxes[0] = {{0, 0, 1}};
+  in.endAxes[1] = {{1, 0, 0}};
+  in.endAxes[2] = {{0, 1, 0}};
+  in.endRectangle = rectangles;
+  in.endRadius = 0.5;
+  in.endHalf[0] = 0.5;
+  in.endHalf[1] = 0.3;
+  if (rectangles) {
+    in.face = true;
+    in.oB = {{0, 0, -0.5}};
+    in.nB = {{0, 0, -1}};
+    in.halfWidthB = 0.4;
+  } else {
+    in.radiusB = 1.0;
+    in.acrossB = {{0, 1, 0}};
+  }
+  return in;
+}
+}  // namespace
+
+// End contact: the column's end face pressed flat on B: the gap is the clearance (0.2); sliding the
+// end along B by s gives g_T2 = s, across B by s gives g_T1 = s (rectangles: the face offset; circles:
+// the end's distance from B's axis times the angle, s at first order); tilting the column by theta about B's axis brings its rim
+// down by r sin(theta) (smoothed: within 1.6 % of r). Then R and K against central differences at
+// general states, each section, either end of A, chords and Hermite axes.
+TEST(EndKinematics, ColumnEndOnABeam) {
+  for (bool rect : {false, true}) {
+    LinePairInput in = column(rect);
+    const ClosestPoints cp = endProjection(in, 1.0);
+    EXPECT_NEAR(cp.gap, 0.2, 1e-12);
+    EXPECT_NEAR(cp.eta, 0.5, 1e-12);
+    EXPECT_NEAR(cp.normal[2], 1.0, 1e-12);
+    const ContactKinematics k0 = endKinematics(in, 1.0, cp.eta, cp.etaRate);
+    EXPECT_NEAR(k0.normal.value, 0.2, 1e-12);
+    EXPECT_NEAR(k0.tangent1.value, 0.0, 1e-12);
+    EXPECT_NEAR(k0.tangent2.value, 0.0, 1e-12);
+    EXPECT_EQ(k0.cosine, 0.0);
+    const double s = 1e-3;
+    LinePairInput along = in, across = in;
+    along.xA2[0] += s;
+    across.xA2[1] += s;
+    const ContactKinematics ka = endKinematics(along, 1.0, cp.eta, cp.etaRate);
+    const ContactKinematics kc = endKinematics(across, 1.0, cp.eta, cp.etaRate);
+    EXPECT_NEAR(ka.tangent2.value, s, 1e-12);
+    EXPECT_NEAR(std::abs(kc.tangent1.value), s, rect ? 1e-12 : 1e-8);  // (circles: s^2 / 1.2)
+    EXPECT_NEAR(kc.tangent2.value, 0.0, 1e-12);
+    // tilt about X (B's axis): the end face's rim towards +-Y
+    for (double theta : {0.05, 0.2, 0.5}) {
+      LinePairInput tilted = in;
+      tilted.RA2 = expSO3(Vec3d{{theta, 0, 0}});
+      const double reach = (rect ? in.endHalf[1] : in.endRadius) * std::sin(theta);
+      const double gap = endProjection(tilted, 1.0).gap;
+      EXPECT_LE(gap, 0.2 - reach + 0.016 * (rect ? in.endHalf[1] : in.endRadius) + 1e-12);
+      EXPECT_GE(gap, 0.2 - reach - 1e-12);
+    }
+  }
+  std::mt19937 g(31);
+  double worstR = 0.0, worstK = 0.0;
+  for (int trial = 0; trial < 8; ++trial) {
+    const bool rect = trial % 2;
+    LinePairInput in = column(rect);
+    if (trial % 4 >= 2) {  // the end at A's node 1
+      std::swap(in.xA1, in.xA2);
+      in.endNode = 0;
+      in.outward = -1.0;
+      in.endAxes[0] = {{0, 0, -1}};
+    }
+    if (trial % 3 != 0) {
+      in.dA = in.xA2 - in.xA1;
+      in.dB = in.xB2 - in.xB1;
+    }
+    placeGenerally(in, g, 0.3);
+    const ClosestPoints cp = endProjection(in, 1.0);
+    const double etaP = cp.eta - 0.01, acrossP = cp.etaRate + 0.02;
+    const auto [errR, errK] = centralDifferenceErrors(
+        in, [&](const LinePairInput& s) { return endKinematics(s, 1.0, etaP, acrossP); },
+        {&ContactKinematics::normal, &ContactKinematics::tangent1, &ContactKinematics::tangent2});
+    worstR = std::max(worstR, errR);
+    worstK = std::max(worstK, errK);
+  }
+  std::printf("end contact, max relative error: R %.2e, K %.2e\n", worstR, worstK);
+  EXPECT_LT(worstR, 1e-6);
+  EXPECT_LT(worstK, 1e-6);
+}
