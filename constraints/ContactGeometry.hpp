@@ -101,8 +101,10 @@ class ContactGeometry {
   bool rectangles(int pair) const;
   // A Gauss point of rectangles' line contact on an edge of the pair's beam B against beam A's face:
   // its roles are swapped (its elementA is an element of beam B, its elementB one of beam A).
+  // An end point of the pair's beam B's end: the same.
   bool swapped(const ContactPointRecord& p) const {
-    return p.line() && beams_->elements()[p.key.elementA].beam != pairs_[p.key.pair].beamA;
+    return (p.line() && beams_->elements()[p.key.elementA].beam != pairs_[p.key.pair].beamA) ||
+           (p.end() && p.key.endOfB());
   }
   // The point's elements on the pair's beams A and B, whatever its roles.
   std::array<int, 2> pairElements(const ContactPointRecord& p) const {

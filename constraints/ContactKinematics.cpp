@@ -185,13 +185,59 @@ template <class T> T smoothAbs(const T& x2) {
   return T(scale * (sqrt(x2 + d * d) - d));
 }
 
+// A(s2) = smoothAbs(s2) (the disc's reach per unit radius at s2 = sin^2 of the angle between u and
+// its axis) with its first two derivatives in s2.
+template <class T> struct EndReach {
+  T value, d1, d2;
+  explicit EndReach(const T& s2) {
+    using std::sqrt;
+    constexpr double d = kEndSmoothing;
+    const double k = 1.0 / (std::sqrt(1.0 + d * d) - d);
+    const T D = sqrt(s2 + d * d);
+    value = k * (D - d);
+    d1 = (0.5 * k) / D;
+    d2 = (-0.25 * k) / (D * D * D);
+  }
+};
+
+// The angle phi in (-pi/2, pi/2) that maximizes f = R cos(phi) - rE A(1 - c^2), c = c1 cos(phi) + c2
+// sin(phi) (endGaps): the best of 721 samples, then safeguarded Newton steps.
+double endAngle(double R, double c1, double c2, double rE) {
+  const auto f = [&](double phi) {
+    const double c = c1 * std::cos(phi) + c2 * std::sin(phi);
+    return R * std::cos(phi) - rE * EndReach<double>(1.0 - c * c).value;
+  };
+  const int n = 720;
+  double best = 0.0, fb = f(0.0);
+  for (int i = 0; i <= n; ++i) {
+    const double phi = -0.5 * M_PI + M_PI * i / n;
+    if (f(phi) > fb) fb = f(phi), best = phi;
+  }
+  const double h = M_PI / n;
+  double phi = best;
+  for (int it = 0; it < 60; ++it) {
+    const double cs = std::cos(phi), sn = std::sin(phi);
+    const double c = c1 * cs + c2 * sn, dc = c2 * cs - c1 * sn;
+    const EndReach<double> a(1.0 - c * c);
+    const double ds = -2.0 * c * dc, dds = -2.0 * (dc * dc - c * c);
+    const double f1 = -R * sn - rE * a.d1 * ds, f2 = -R * cs - rE * (a.d2 * ds * ds + a.d1 * dds);
+    if (!(f2 < 0.0)) break;
+    const double step = std::max(-h, std::min(h, -f1 / f2));
+    phi += step;
+    if (std::abs(step) < 1e-15) break;
+  }
+  return phi;
+}
+
 // End contact (see endKinematics in the header): P the four line points (A's: the end face's centre
 // at endNode), V their tangents, X = (e1, e2, e3 of the end, B's reference vector at B's nodes 1, 2).
 // across: the across coordinate (phi, or the offset across the face) of the value.
 template <class T>
-Gaps<T> endGaps(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, const Vec3<T>* X, bool cubicB,
-                double side, double etaStart, double etaPrev, double acrossPrev, double* across, Vec3d* direction) {
+Gaps<T> endGaps(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, const Vec3<T>* X, bool cubicB, double side,
+                double etaStart, double etaPrev, double acrossPrev, double* across, Vec3d* direction) {
   using std::atan2;
+  using std::cos;
+  using std::sin;
   using std::sqrt;
   Gaps<T> g;
   const Vec3<T>& pE = P[in.endNode];
@@ -218,9 +264,26 @@ Gaps<T> endGaps(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, con
     b = (1.0 / sqrt(dot(b, b))) * b;
     offset = dot(w, b);
   } else {
+    // The separating direction u = cos(phi) a1 + sin(phi) a2 across B's axis (a1 from the end's
+    // centre towards the axis) that maximizes the separation side r cos(phi) - r_E A(1 - (u . t)^2):
+    // the distance of the disc from B's axis (a face pressed flat on B has its maximum at u = t, not
+    // along a1). The maximum in double precision, then Newton steps (exact AD derivatives).
     const T r = sqrt(dot(w, w));
-    u = (-side / r) * w;
-    distance = side * r;
+    const Vec3<T> a1 = (-side / r) * w, a2 = cross(tB, a1);
+    const T c1 = dot(a1, X[0]), c2 = dot(a2, X[0]);
+    const T R = side * r;
+    T phi = T(endAngle(plain(R), plain(c1), plain(c2), in.endRadius));
+    for (int it = 0; it < 3; ++it) {
+      const T cs = cos(phi), sn = sin(phi);
+      const T c = c1 * cs + c2 * sn, dc = c2 * cs - c1 * sn;
+      const EndReach<T> a(1.0 - c * c);
+      const T ds = -2.0 * c * dc, dds = -2.0 * (dc * dc - c * c);
+      const T f1 = -R * sn - in.endRadius * a.d1 * ds;
+      const T f2 = -R * cs - in.endRadius * (a.d2 * ds * ds + a.d1 * dds);
+      phi -= f1 / f2;
+    }
+    u = cos(phi) * a1 + sin(phi) * a2;
+    distance = R * cos(phi);
     Vec3<T> e = (1.0 - g.eta) * X[3] + g.eta * X[4];
     e = e - dot(e, tB) * tB;
     const Vec3<T> f = cross(tB, e);

@@ -179,14 +179,16 @@ double lineSide(const LinePairInput& in, const ClosestPoints& projection, const 
 // End contact: the free end face of A's beam at its node in.endNode against B's surface.
 //  - eta: the projection of the end face's centre p_E on B's axis (circles) or on the centre line of
 //    B's face (rectangles), x_B'(eta) . (x_B(eta) - p_E) = 0, in [0, 1] when on B's element.
-//  - The direction u from the end towards B: (x_B - p_E) / |x_B - p_E| (circles, times `side`), minus
-//    the face's outward normal (rectangles); the gap is the distance along u less B's radius and
-//    less how far the end face reaches towards B along u (its support function: a disc r sin of
+//  - The direction u from the end towards B: across B's axis, the one along which the end face lies
+//    furthest from the axis (circles: a maximum over the angle about B's axis, so a face pressed
+//    flat on B has u along its own axis), minus the face's outward normal (rectangles); the gap is
+//    the distance along u less B's radius and less how far the end face reaches towards B along u
+//    (its support function: a disc r sin of
 //    the angle between u and the axis, a rectangle b/2 |u . e2| + h/2 |u . e3|, each |x| smoothed
 //    as (sqrt(x^2 + delta^2) - delta) / (sqrt(1 + delta^2) - delta), delta = kEndSmoothing, so that a
-//    face pressed flat rocks smoothly; the smoothing lets a tilted rim in by at most 1.6 % of the
-//    face's half size). A separating distance: exact for a face pressed flat on B and for a rim on a
-//    cylinder's generator, a lower bound otherwise (contact found early, never late).
+//    face pressed flat rocks smoothly; the smoothing makes the gap of a tilted face larger by at most
+//    1.64 % of the face's half size). The distance of the end face from B's axis (circles) or from
+//    the face's plane (rectangles), up to that smoothing.
 //  - Slip along B: g_T2 = (eta - etaPrev) m (m the slip metric, as for line points); across B: g_T1 =
 //    |p_E - x_B| (phi - acrossPrev) with phi the angle of p_E around B's axis from B's rotated acrossB
 //    (circles), or (rectangles) the offset of p_E across the face less acrossPrev. The two are

@@ -397,7 +397,7 @@ void ContactManager::commitPoint(Point& p, const core::State& state) {
   if (p.line() && p.result.active) report_.noteCone(p, geometry_.pairs()[p.key.pair].friction);
   p.xiPrev = geometry_.beamCoordinate(p.elementA, k.xi);
   p.etaPrev = geometry_.beamCoordinate(p.elementB, k.eta);
-  if (p.line()) p.etaRate = cp.etaRate;
+  if (p.line() || p.end()) p.etaRate = cp.etaRate;
 }
 
 void ContactManager::commitStep(const core::State& state) {

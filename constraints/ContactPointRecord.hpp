@@ -38,13 +38,16 @@ struct ContactPointRecord {
   PointKey key;
   bool node() const { return key.kind == PointKey::Kind::LineNode; }
   bool line() const { return key.kind == PointKey::Kind::Gauss; }
+  // An end point: its element A is the end's (of either beam), B the other beam's; sigma is its side.
+  bool end() const { return key.end(); }
   int gauss() const { return key.gauss; }
   int edge() const { return key.edge; }
   int face() const { return key.face; }
   int elementA = 0, elementB = 0;  // indices into the beam set's element list
   double sigma = 1.0;
   double xiPrev = 0.0, etaPrev = 0.0;  // previous converged point, as beam coordinates (element + xi)
-  // Line points: d eta / d xi at the last converged state (LineHistory), the Gauss point's parameter
+  // Line points: d eta / d xi at the last converged state (LineHistory; an end point: its coordinate
+  // across B, endProjection), the Gauss point's parameter
   // on A's element at the last detection, and the length of line A it stood for at the last commit.
   double etaRate = 0.0, xi = 0.0, length = 0.0;
   PointStateHolder state;  // the strategy's

@@ -345,7 +345,27 @@ void ContactSearch::checkNoUnseenContact(const core::State& state, bool atStart,
     const bool endA = (c.s == 0.0 && geometry_.freeEnd(A.node1)) || (c.s == 1.0 && geometry_.freeEnd(A.node2));
     const bool endB = (c.t == 0.0 && geometry_.freeEnd(B.node1)) || (c.t == 1.0 && geometry_.freeEnd(B.node2));
     const bool parallel = sine < geometry_.options().minimumSinAngle;
-    if (!parallel && !endA && !endB) return;
+    // A free end against the other beam's side is end contact's (its end points); two ends against
+    // each other are not modelled: their end faces (discs or rectangles at the end nodes, support
+    // functions along the line between the ends, unsmoothed) must overlap for the refusal.
+    const bool endToEnd = endA && endB && [&] {
+      const int nA = c.s == 0.0 ? A.node1 : A.node2, nB = c.t == 0.0 ? B.node1 : B.node2;
+      const Vec3d d = state.position[nB] - state.position[nA];
+      const double length = norm(d);
+      if (length == 0.0) return true;
+      const Vec3d u = (1.0 / length) * d;
+      const auto reach = [&](const BeamElement& e, int node) {
+        const auto& sec = beams[e.beam].section;
+        const Mat3d& R = state.rotation[node];
+        if (sec.shape == elements::CrossSection::Shape::Rectangle)
+          return 0.5 * sec.width * std::abs(dot(u, R * column(e.data.T0, 1))) +
+                 0.5 * sec.height * std::abs(dot(u, R * column(e.data.T0, 2)));
+        const double c1 = dot(u, R * column(e.data.T0, 0));
+        return sec.radius * std::sqrt(std::max(0.0, 1.0 - c1 * c1));
+      };
+      return length < (reach(A, nA) + reach(B, nB)) * (1.0 - 1e-9);
+    }();
+    if (!parallel && !endToEnd) return;
     const Vec3d at = a1 + c.s * (a2 - a1);
     std::ostringstream s;
     s << "beams \"" << beams[pair.beamA].name << "\" and \"" << beams[pair.beamB].name << "\" overlap near (" << at[0]
@@ -358,9 +378,8 @@ void ContactSearch::checkNoUnseenContact(const core::State& state, bool atStart,
         s << " with a strategy that enforces lines and Contact/Line Contact Angle > 0 (" << strategy
           << " here does not)";
     } else {
-      s << "at the free end of beam \"" << beams[endA ? pair.beamA : pair.beamB].name
-        << "\": contact at a beam end is not modelled (a contact point needs the closest points of the two lines "
-           "within both beams)";
+      s << "at the free ends of both beams: contact between two beam ends is not modelled (end contact takes a "
+           "beam's end face on the other beam's side)";
     }
     if (atStart) throw core::InputError(s.str() + "; move the beams apart");
     throw std::runtime_error(s.str());

@@ -48,9 +48,98 @@ void PointContact::findPoints(int pi, int ea, int eb, long long visit, const cor
       if (it != known.end() && it->second.elementA == ea && it->second.elementB == eb && out <= 0.5 + kStay) out = -1.0;
       offer(key, Candidate{ea, eb, cp}, out, visit);
     }
+  findEnds(pi, ea, eb, false, visit, s, known, offer);
+  findEnds(pi, eb, ea, true, visit, s, known, offer);
+}
+
+LinePairInput PointContact::endInput(int eE, int end, int eS, int face, const core::State& s) const {
+  LinePairInput in = input(eE, 0, eS, 0, s);
+  const auto& E = geometry_.beams().elements()[eE];
+  const auto& S = geometry_.beams().elements()[eS];
+  const auto& secE = geometry_.beams().beams()[E.beam].section;
+  const auto& secS = geometry_.beams().beams()[S.beam].section;
+  in.oA = in.oB = Vec3d{};
+  in.radiusSum = 0.0;
+  in.endNode = end;
+  in.outward = end == 0 ? -1.0 : 1.0;
+  for (int a = 0; a < 3; ++a) in.endAxes[a] = column(E.data.T0, a);
+  if (secE.shape == elements::CrossSection::Shape::Rectangle) {
+    in.endRectangle = true;
+    in.endHalf[0] = 0.5 * secE.width;
+    in.endHalf[1] = 0.5 * secE.height;
+  } else {
+    in.endRadius = secE.radius;
+  }
+  if (secS.shape == elements::CrossSection::Shape::Rectangle) {
+    // B's face `face`: outward normal +e2, +e3, -e2, -e3 (as line contact's faces)
+    const Vec3d axis = column(S.data.T0, 1 + face % 2);
+    const double sign = face < 2 ? 1.0 : -1.0;
+    in.oB = (sign * 0.5 * (face % 2 == 0 ? secS.width : secS.height)) * axis;
+    in.nB = sign * axis;
+    in.halfWidthB = 0.5 * (face % 2 == 0 ? secS.height : secS.width);
+    in.face = true;
+  } else {
+    in.radiusB = secS.radius;
+    in.acrossB = column(S.data.T0, 1);
+  }
+  return in;
+}
+
+void PointContact::findEnds(int pi, int eE, int eS, bool ofB, long long visit, const core::State& s,
+                            const PointMap& known, const CandidateOffer& offer) const {
+  const auto& E = geometry_.beams().elements()[eE];
+  const auto& S = geometry_.beams().elements()[eS];
+  const bool rectangles = geometry_.rectangles(pi);
+  for (int end = 0; end < 2; ++end) {
+    const int node = end == 0 ? E.node1 : E.node2;
+    if (!geometry_.freeEnd(node)) continue;
+    // A known point keeps its face of B (rectangles); a new one takes the face turned most towards
+    // the end's centre.
+    int face = 0;
+    const ContactPointRecord* have = nullptr;
+    for (int f = 0; f < (rectangles ? 4 : 1); ++f) {
+      const auto it = known.find(PointKey::endPoint(pi, ofB, end, f));
+      if (it != known.end()) {
+        have = &it->second;
+        face = f;
+      }
+    }
+    if (rectangles && !have) {
+      const Vec3d toEnd = s.position[node] - 0.5 * (s.position[S.node1] + s.position[S.node2]);
+      double most = -1e300;
+      for (int f = 0; f < 4; ++f) {
+        const Vec3d n = (f < 2 ? 1.0 : -1.0) * (s.rotation[S.node1] * column(S.data.T0, 1 + f % 2));
+        if (dot(n, toEnd) > most) {
+          most = dot(n, toEnd);
+          face = f;
+        }
+      }
+    }
+    const LinePairInput in = endInput(eE, end, eS, face, s);
+    // The side of a new circular point: where the end's centre lay from B's axis at the last
+    // converged state, so an end that passed B's axis within the increment is deeply inside.
+    double side = have ? have->sigma : 1.0;
+    ClosestPoints cp = endProjection(in, side);
+    if (!have && !rectangles) {
+      const ClosestPoints ref = endProjection(endInput(eE, end, eS, face, geometry_.reference()), 1.0);
+      if (dot(ref.pB - ref.pA, cp.pB - cp.pA) < 0.0) cp = endProjection(in, side = -1.0);
+    }
+    if (!geometry_.withinElement(eS, cp.eta)) continue;
+    // Only an end face turned towards B: the axis (chord, or Hermite tangent) continued beyond the
+    // end passes B on the far side of the end, i.e. the closest points of the axes lie beyond it
+    // (otherwise the beam's side near its end faces B: point contact's place).
+    const Vec3d axis = geometry_.options().hermitePointAxes ? s.rotation[node] * column(E.data.T0, 0)
+                                                            : s.position[E.node2] - s.position[E.node1];
+    if (!(in.outward * dot(cp.pB - cp.pA, axis) * side > 0.0)) continue;
+    const PointKey key = PointKey::endPoint(pi, ofB, end, face);
+    double out = std::abs(cp.eta - 0.5);
+    if (have && have->elementA == eE && have->elementB == eS && out <= 0.55) out = -1.0;
+    offer(key, Candidate{eE, eS, cp}, out, visit);
+  }
 }
 
 ClosestPoints PointContact::geometry(const ContactPointRecord& p, const core::State& s) const {
+  if (p.end()) return endProjection(endInput(p.elementA, p.key.endIndex(), p.elementB, p.key.lineB, s), p.sigma);
   const LinePairInput in = input(p.elementA, p.key.lineA, p.elementB, p.key.lineB, s);
   ClosestPoints cp = closestPoints(in);
   orient(cp, p.sigma, in.radiusSum);
@@ -58,6 +147,9 @@ ClosestPoints PointContact::geometry(const ContactPointRecord& p, const core::St
 }
 
 ContactKinematics PointContact::kinematics(const ContactPointRecord& p, const core::State& s, Variations order) const {
+  if (p.end())
+    return endKinematics(endInput(p.elementA, p.key.endIndex(), p.elementB, p.key.lineB, s), p.sigma,
+                         p.etaPrev - geometry_.beams().elements()[p.elementB].index, p.etaRate, order);
   const LinePairInput in = input(p.elementA, p.key.lineA, p.elementB, p.key.lineB, s);
   const double xiPrev = p.xiPrev - geometry_.beams().elements()[p.elementA].index;
   const double etaPrev = p.etaPrev - geometry_.beams().elements()[p.elementB].index;

@@ -1,6 +1,9 @@
 // Point contact: a point per two lines of a beam pair (only lines facing the other beam, so a pair
 // of rectangular beams has at most 2 x 2 = 4 points), on the element pair where the closest points
-// of the two lines fall inside both elements (a point on a shared node is taken once).
+// of the two lines fall inside both elements (a point on a shared node is taken once). And end
+// contact: a point per free beam end whose end face is turned towards the other beam (the closest
+// points of the two axes lie beyond the end, where no point contact exists) and whose centre
+// projects onto the other beam's element (endKinematics).
 #pragma once
 #include "ContactGeometry.hpp"
 
@@ -22,6 +25,12 @@ class PointContact {
   LinePairInput input(int eA, int lA, int eB, int lB, const core::State& s) const;
   // The orientation of a newly found point (from the last converged state).
   double referenceSigma(int eA, int lA, int eB, int lB, const ClosestPoints& current) const;
+  // End contact: the end `end` (0: the beam's first node, 1: its last) of element eE's beam against
+  // element eS's surface (rectangles: its face `face`), in `s`.
+  LinePairInput endInput(int eE, int end, int eS, int face, const core::State& s) const;
+  // The end points of element eE's free ends (if any) on element eS, the pair's beam B's ends if ofB.
+  void findEnds(int pi, int eE, int eS, bool ofB, long long visit, const core::State& s, const PointMap& known,
+                const CandidateOffer& offer) const;
   const ContactGeometry& geometry_;
 };
 

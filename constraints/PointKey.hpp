@@ -61,6 +61,17 @@ struct PointKey {
     return k;
   }
 
+  // An end point (end contact: a free beam end's face on the other beam) is a point contact whose
+  // line A is kEndLine + 2 (the end is the pair's beam B's) + end (0: the beam's first node, 1: its
+  // last), line B the face of the other beam it presses on (rectangles; circles 0).
+  static constexpr int kEndLine = 1000;
+  static PointKey endPoint(int pair, bool ofB, int end, int face) {
+    return contact(pair, kEndLine + 2 * (ofB ? 1 : 0) + end, face);
+  }
+  bool end() const { return kind == Kind::Contact && lineA >= kEndLine; }
+  bool endOfB() const { return (lineA - kEndLine) / 2 == 1; }
+  int endIndex() const { return (lineA - kEndLine) % 2; }
+
   static constexpr long long kLineNode = -2000000000;
   static constexpr long long kGaussSlots = 4096;  // Gauss points per segment (32 in each of 127 parts)
 

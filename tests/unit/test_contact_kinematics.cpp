@@ -641,9 +641,11 @@ LinePairInput column(bool rectangles) {
 
 // End contact: the column's end face pressed flat on B: the gap is the clearance (0.2); sliding the
 // end along B by s gives g_T2 = s, across B by s gives g_T1 = s (rectangles: the face offset; circles:
-// the end's distance from B's axis times the angle, s at first order); tilting the column by theta about B's axis brings its rim
-// down by r sin(theta) (smoothed: within 1.6 % of r). Then R and K against central differences at
-// general states, each section, either end of A, chords and Hermite axes.
+// the end's distance from B's axis times the angle, s at first order); moved across B within its
+// face's half size it stays flat on B; tilted by theta about B's axis its rim comes towards B (the
+// exact distances of the tilted face; the smoothing makes the gap larger by at most 1.64 % of the
+// face's half size). Then R and K against central differences at general states, each section,
+// either end of A, chords and Hermite axes.
 TEST(EndKinematics, ColumnEndOnABeam) {
   for (bool rect : {false, true}) {
     LinePairInput in = column(rect);
@@ -665,14 +667,28 @@ TEST(EndKinematics, ColumnEndOnABeam) {
     EXPECT_NEAR(ka.tangent2.value, s, 1e-12);
     EXPECT_NEAR(std::abs(kc.tangent1.value), s, rect ? 1e-12 : 1e-8);  // (circles: s^2 / 1.2)
     EXPECT_NEAR(kc.tangent2.value, 0.0, 1e-12);
+    // moved across B by less than the face's half size: still flat on B's top line (exact: 0.2; the
+    // smoothing's error is below 1.6 % of the half size)
+    LinePairInput shifted = in;
+    shifted.xA2[1] += 0.25;
+    const ClosestPoints flat = endProjection(shifted, 1.0);
+    std::printf("%s end moved across by 0.25: gap %.6f (flat 0.2), normal (%.4f, %.4f, %.4f)\n",
+                rect ? "rectangular" : "circular", flat.gap, flat.normal[0], flat.normal[1], flat.normal[2]);
+    EXPECT_GE(flat.gap, 0.2 - 1e-12);
+    EXPECT_LE(flat.gap, 0.2 + 0.0164 * (rect ? in.endHalf[1] : in.endRadius));
     // tilt about X (B's axis): the end face's rim towards +-Y
     for (double theta : {0.05, 0.2, 0.5}) {
       LinePairInput tilted = in;
       tilted.RA2 = expSO3(Vec3d{{theta, 0, 0}});
-      const double reach = (rect ? in.endHalf[1] : in.endRadius) * std::sin(theta);
+      // exact: rectangles, the face's plane 0.2 above the end less the rim's rise h/2 sin(theta);
+      // circles, the distance of the tilted disc from B's axis (its point nearest the axis at y =
+      // min(1.2 sin cos, r cos), z = y tan(theta)) less r_B
+      const double half = rect ? in.endHalf[1] : in.endRadius;
+      const double y = std::min(1.2 * std::sin(theta) * std::cos(theta), half * std::cos(theta));
+      const double exact = rect ? 0.2 - half * std::sin(theta) : std::hypot(y, 1.2 - y * std::tan(theta)) - in.radiusB;
       const double gap = endProjection(tilted, 1.0).gap;
-      EXPECT_LE(gap, 0.2 - reach + 0.016 * (rect ? in.endHalf[1] : in.endRadius) + 1e-12);
-      EXPECT_GE(gap, 0.2 - reach - 1e-12);
+      EXPECT_GE(gap, exact - 1e-12) << theta;
+      EXPECT_LE(gap, exact + 0.0164 * half + 1e-12) << theta;
     }
   }
   std::mt19937 g(31);
