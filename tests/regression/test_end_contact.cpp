@@ -1,0 +1,109 @@
+// End contact: a column's free end face pressed onto a beam's side (the force from the two
+// stiffnesses in series) and slid along it with friction (mu N), each strategy, either beam as the
+// pair's A (circular sections; rectangular end faces still stop the run, UnseenContact tests).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "support/ContactDecks.hpp"
+
+using namespace bc;
+using namespace bc::test;
+
+namespace {
+
+// input/column_on_beam.xml with the strategy, 20 elements on the beam (the column at x = 45 stands
+// on a node: the beam's cubic elements are exact there), circular or rectangular sections (beam 2 x 2,
+// column 1 x 1), the pair's roles swapped if asked.
+Deck columnDeck(const std::string& type, bool rectangles, bool swapped) {
+  Deck d = inputDeck("column_on_beam.xml", type);
+  input::replaceAtPath(d, "Beams/beam/Elements", 20);
+  if (rectangles) {
+    for (const auto& [beam, size] : {std::pair<std::string, double>{"beam", 2.0}, {"column", 1.0}}) {
+      Deck& section = d.sublist("Beams").sublist(beam).sublist("Section");
+      section.remove("Radius");
+      section.set("Shape", std::string("Rectangle"));
+      section.set("Width", size);
+      section.set("Height", size);
+    }
+  }
+  if (swapped) {
+    input::replaceAtPath(d, "Contact/Pairs/end on beam/Beam A", std::string("column"));
+    input::replaceAtPath(d, "Contact/Pairs/end on beam/Beam B", std::string("beam"));
+  }
+  return d;
+}
+
+// The closed form: the closing 0.01 over the column's L / (E A) and the beam's a^3 b^3 / (3 E I L^3)
+// (clamped at both ends for bending, load at a = 45 of L = 100), and with Penalty the penalty's 1 / eps_N.
+double columnForce(bool rectangles, double epsN) {
+  const double area = rectangles ? 1.0 : M_PI * 0.25, inertia = rectangles ? 16.0 / 12.0 : M_PI / 4.0;
+  const double column = 10.0 / (1e3 * area);
+  const double beam = std::pow(45.0 * 55.0, 3) / (3.0 * 1e5 * inertia * 1e6);
+  return 0.01 / (column + beam + (epsN > 0.0 ? 1.0 / epsN : 0.0));
+}
+
+struct EndForces {
+  double normal = 0.0, tangential = 0.0;
+  int active = 0, slipping = 0;
+};
+EndForces endForces(const input::Problem& p) {
+  EndForces f;
+  for (const auto& [key, pt] : p.contact->points()) {
+    if (!key.end() || !pt.result.active) continue;
+    ++f.active;
+    f.normal += norm(pt.normalForce);
+    f.tangential += norm(pt.tangentialForce);
+    f.slipping += pt.result.slip[0] || pt.result.slip[1];
+  }
+  return f;
+}
+
+}  // namespace
+
+TEST(EndContact, ColumnPressedOnABeamCarriesTheStiffnessesInSeries) {
+  for (bool rect : {false})
+    for (bool swapped : {false, true})
+      for (const std::string type : {"Penalty", "Lagrange Multiplier", "Augmented Lagrange"}) {
+        auto p = input::buildProblem(columnDeck(type, rect, swapped), "column");
+        const auto r = runQuiet(p, Tpetra::getDefaultComm(), "column");
+        ASSERT_TRUE(r.report.completed) << type << ": " << r.report.failure;
+        const EndForces f = endForces(p);
+        const double exact = columnForce(rect, type == "Penalty" ? 1e4 : 0.0);
+        std::printf("column on a beam, %s, %s, A %s: N %.9f, closed form %.9f (%+.2e), Newton %d\n",
+                    rect ? "rectangles" : "circles", type.c_str(), swapped ? "column" : "beam", f.normal, exact,
+                    f.normal / exact - 1.0, r.report.newtonIterations);
+        EXPECT_EQ(f.active, 1);
+        EXPECT_NEAR(f.normal, exact, 1e-3 * exact) << type;
+        EXPECT_TRUE(r.report.warnings.empty()) << r.report.warnings.front();
+      }
+}
+
+// Slid along the beam: the column's top moves by (5, 0, -0.06) in 8 increments; the end touches at
+// T = 5/6 and slides along X by about 0.5 (more than the column's lateral stiffness 3 E I / L^3 =
+// 0.147 lets friction hold: mu N / 0.147 = 0.27), crossing the beam's node at x = 50: every strategy
+// ends slipping with the applied tangential force mu N (1e-9) opposing the motion.
+TEST(EndContact, EndSlidAlongABeamCarriesMuN) {
+  for (const std::string type : {"Penalty", "Lagrange Multiplier", "Augmented Lagrange"}) {
+    Deck d = columnDeck(type, false, false);
+    input::replaceAtPath(d, "Contact/Pairs/end on beam/Friction Coefficient", 0.3);
+    input::replaceAtPath(d, "Supports/column top/Displacement", vec("5.0, 0.0, -0.06"));
+    input::replaceAtPath(d, "Load Stepping/Number of Increments", 8);
+    auto p = input::buildProblem(d, "slide");
+    const auto r = runQuiet(p, Tpetra::getDefaultComm(), "slide");
+    ASSERT_TRUE(r.report.completed) << type << ": " << r.report.failure;
+    const EndForces f = endForces(p);
+    math::Vec3d ft{};
+    for (const auto& [key, pt] : p.contact->points())
+      if (key.end() && pt.result.active) ft = pt.tangentialForce;
+    std::printf("end slid along a beam, %s: N %.9f, |F_T| %.9f, |F_T| / (mu N) - 1 %+.2e, F_T x %.6f, Newton %d\n",
+                type.c_str(), f.normal, f.tangential, f.tangential / (0.3 * f.normal) - 1.0, ft[0],
+                r.report.newtonIterations);
+    ASSERT_EQ(f.active, 1) << type;
+    EXPECT_EQ(f.slipping, 1) << type;
+    EXPECT_NEAR(f.tangential, 0.3 * f.normal, 1e-9 * f.normal) << type;
+    // the force on the column (the pair's B) opposes its slide along +X
+    EXPECT_LT(ft[0], 0.0) << type;
+    EXPECT_TRUE(r.report.warnings.empty()) << r.report.warnings.front();
+  }
+}
