@@ -234,7 +234,8 @@ double endAngle(double R, double c1, double c2, double rE) {
 // across: the across coordinate (phi, or the offset across the face) of the value.
 template <class T>
 Gaps<T> endGaps(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, const Vec3<T>* X, bool cubicB, double side,
-                double etaStart, double etaPrev, double acrossPrev, double* across, Vec3d* direction) {
+                double etaStart, double etaPrev, double acrossPrev, double* across, Vec3d* direction,
+                bool held = false) {
   using std::atan2;
   using std::cos;
   using std::sin;
@@ -254,14 +255,21 @@ Gaps<T> endGaps(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, con
   const Vec3<T> tB = (1.0 / lb) * dB;
   const Vec3<T> w = pE - xB;  // from B's line to the end's centre
   Vec3<T> u;  // from the end towards B
-  T distance, offset;
+  T distance, offset, arc = T(0.0);  // (arc: circles, the end's distance from B's axis)
   if (in.face) {
+    // the nodal face normals interpolated, made normal to the face's centre line there (so that the
+    // distance along it does not change as the projection moves along the line)
     Vec3<T> m = (1.0 - g.eta) * X[3] + g.eta * X[4];
+    m = m - dot(m, tB) * tB;
     m = (1.0 / sqrt(dot(m, m))) * m;
-    u = -1.0 * m;
-    distance = dot(w, m);
+    // held (the variation): the face's normal held, so the force the normal multiplier applies on B is
+    // along it (its turning with B's bending would add a part across it, up to 0.5 % of N)
+    const Vec3<T> mh = held ? Vec3<T>{{frozen(m[0]), frozen(m[1]), frozen(m[2])}} : m;
+    u = -1.0 * mh;
+    distance = dot(w, mh);
     Vec3<T> b = cross(tB, m);
     b = (1.0 / sqrt(dot(b, b))) * b;
+    if (held) b = Vec3<T>{{frozen(b[0]), frozen(b[1]), frozen(b[2])}};  // (friction across: along b on B)
     offset = dot(w, b);
   } else {
     // The separating direction u = cos(phi) a1 + sin(phi) a2 across B's axis (a1 from the end's
@@ -269,6 +277,7 @@ Gaps<T> endGaps(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, con
     // the distance of the disc from B's axis (a face pressed flat on B has its maximum at u = t, not
     // along a1). The maximum in double precision, then Newton steps (exact AD derivatives).
     const T r = sqrt(dot(w, w));
+    arc = r;
     const Vec3<T> a1 = (-side / r) * w, a2 = cross(tB, a1);
     const T c1 = dot(a1, X[0]), c2 = dot(a2, X[0]);
     const T R = side * r;
@@ -289,6 +298,20 @@ Gaps<T> endGaps(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, con
     const Vec3<T> f = cross(tB, e);
     offset = atan2(dot(w, f), dot(w, e));
   }
+  // Circles, held (the variation): u frozen, so the normal multiplier acts on B along u (the
+  // separating direction's turning would add parts along and around B), and the slips' variations
+  // are the motion of the end's centre relative to B along B and around it normal to u.
+  const bool holdCircle = held && !in.face;
+  const auto freeze = [](const Vec3<T>& v) { return Vec3<T>{{frozen(v[0]), frozen(v[1]), frozen(v[2])}}; };
+  // (the relative motion of the two material points: the end's centre and B's point at eta held)
+  Vec3<T> wh = w;
+  if (holdCircle) {
+    Vec3<T> xh;
+    axisPoint(P[2], V[2], P[3], V[3], cubicB, frozen(g.eta), &xh, nullptr, nullptr);
+    wh = pE - xh;
+    u = freeze(u);
+    distance = -1.0 * dot(wh, u);
+  }
   T reach;
   if (in.endRectangle) {
     const T a2 = dot(u, X[1]), a3 = dot(u, X[2]);
@@ -299,13 +322,18 @@ Gaps<T> endGaps(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, con
   }
   g.gN = distance - in.radiusB - reach;
   const T metric = slipMetric(P, V, cubicB, g.eta, pE);
-  g.gT2 = (g.eta - etaPrev) * metric;
+  g.gT2 = (g.eta - etaPrev) * (held ? frozen(metric) : metric);
   if (in.face) {
     g.gT1 = offset - acrossPrev;
   } else {
-    // phi - acrossPrev on the branch nearest zero
+    // |p_E - x_B| (phi - acrossPrev), phi - acrossPrev on the branch nearest zero
     const double turns = std::round((plain(offset) - acrossPrev) / (2.0 * M_PI));
-    g.gT1 = (side * distance) * (offset - (acrossPrev + 2.0 * M_PI * turns));
+    g.gT1 = arc * (offset - (acrossPrev + 2.0 * M_PI * turns));
+  }
+  if (holdCircle) {
+    const Vec3<T> w0 = freeze(wh), c = cross(tB, (-side) * u);
+    g.gT1 = frozen(g.gT1) + dot(wh - w0, freeze((1.0 / sqrt(dot(c, c))) * c));
+    g.gT2 = frozen(g.gT2) + dot(wh - w0, freeze(tB));
   }
   const Vec3<T> tA = P[1] - P[0], tBc = P[3] - P[2];
   g.cosine = dot(tA, tBc) / (sqrt(dot(tA, tA)) * sqrt(dot(tBc, tBc)));
@@ -1076,10 +1104,10 @@ ContactKinematics endKinematics(const LinePairInput& in, double side, double eta
   const bool cubicB = norm(in.dB) > 0.0;
   ContactKinematics k = kinematicsOf<13>(
       in, ev.ref, ev.node,
-      [&](const auto* P, bool) {
-        return endGaps(in, P, P + 4, P + 8, cubicB, side, cp.eta, etaPrev, acrossPrev, nullptr, nullptr);
+      [&](const auto* P, bool held) {
+        return endGaps(in, P, P + 4, P + 8, cubicB, side, cp.eta, etaPrev, acrossPrev, nullptr, nullptr, held);
       },
-      order);
+      order, true);
   k.cosine = 0.0;
   k.cosineR.fill(0.0);
   return k;

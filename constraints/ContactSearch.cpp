@@ -365,26 +365,7 @@ void ContactSearch::checkNoUnseenContact(const core::State& state, bool atStart,
       };
       return length < (reach(A, nA) + reach(B, nB)) * (1.0 - 1e-9);
     }();
-    // A rectangular end face (not modelled yet) overlaps B's box: its signed distance from the
-    // plane of each of B's faces (at the end's projection on B's chord), less how far the end face
-    // reaches towards it, is negative for every face.
-    const bool rectangularEnd = (endA != endB) && geometry_.rectangles(pi) && [&] {
-      const BeamElement &E = endA ? A : B, &S = endA ? B : A;
-      const int node = (endA ? c.s : c.t) == 0.0 ? E.node1 : E.node2;
-      const Vec3d &s1 = state.position[S.node1], &s2 = state.position[S.node2];
-      const double t = std::clamp(dot(state.position[node] - s1, s2 - s1) / dot(s2 - s1, s2 - s1), 0.0, 1.0);
-      const Vec3d toEnd = state.position[node] - (s1 + t * (s2 - s1));
-      const auto &se = beams[E.beam].section, &ss = beams[S.beam].section;
-      const Mat3d &Re = state.rotation[node], &Rs = state.rotation[S.node1];
-      for (int f = 0; f < 4; ++f) {
-        const Vec3d n = (f < 2 ? 1.0 : -1.0) * (Rs * column(S.data.T0, 1 + f % 2));
-        const double reach = 0.5 * se.width * std::abs(dot(n, Re * column(E.data.T0, 1))) +
-                             0.5 * se.height * std::abs(dot(n, Re * column(E.data.T0, 2)));
-        if (dot(n, toEnd) - 0.5 * (f % 2 == 0 ? ss.width : ss.height) - reach >= 0.0) return false;
-      }
-      return true;
-    }();
-    if (!parallel && !endToEnd && !rectangularEnd) return;
+    if (!parallel && !endToEnd) return;
     const Vec3d at = a1 + c.s * (a2 - a1);
     std::ostringstream s;
     s << "beams \"" << beams[pair.beamA].name << "\" and \"" << beams[pair.beamB].name << "\" overlap near (" << at[0]
@@ -397,13 +378,8 @@ void ContactSearch::checkNoUnseenContact(const core::State& state, bool atStart,
         s << " with a strategy that enforces lines and Contact/Line Contact Angle > 0 (" << strategy
           << " here does not)";
     } else {
-      if (endToEnd)
-        s << "at the free ends of both beams: contact between two beam ends is not modelled (end contact takes a "
-             "beam's end face on the other beam's side)";
-      else
-        s << "at the free end of beam \"" << beams[endA ? pair.beamA : pair.beamB].name
-          << "\": contact of a rectangular section's end face is not modelled (end contact takes circular "
-             "sections' end faces)";
+      s << "at the free ends of both beams: contact between two beam ends is not modelled (end contact takes a "
+           "beam's end face on the other beam's side)";
     }
     if (atStart) throw core::InputError(s.str() + "; move the beams apart");
     throw std::runtime_error(s.str());

@@ -39,6 +39,11 @@ void PointContact::findPoints(int pi, int ea, int eb, long long visit, const cor
       // Only lines on the sides facing each other.
       if (dot(cp.pA - cp.cA, cp.normal) < -1e-12 || dot(cp.pB - cp.cB, cp.normal) > 1e-12) continue;
       if (in.radiusSum == 0.0 && (dot(cp.pA - cp.cA, cp.normal) <= 0 || dot(cp.pB - cp.cB, cp.normal) >= 0)) continue;
+      // A new edge pair only where B's axis lies beyond A's along the normal (the two sections on
+      // either side of the contact plane). Where the axes are level along it, as when a beam's end
+      // stands on the other's face with its edges inside that face, the edges do not meet (their
+      // closest points' normal is then ambiguous, and the gap a spurious -(offsets) deep).
+      if (in.radiusSum == 0.0 && it == known.end() && !(dot(cp.cB - cp.cA, cp.normal) > 0.0)) continue;
       // A known point stays on its element pair while its closest points lie within the
       // elements or up to kStay of an element length beyond a shared node; it is handed to a
       // neighbour only beyond that, so a point at a node cannot flip between elements from one
@@ -90,10 +95,6 @@ void PointContact::findEnds(int pi, int eE, int eS, bool ofB, long long visit, c
   const auto& E = geometry_.beams().elements()[eE];
   const auto& S = geometry_.beams().elements()[eS];
   const bool rectangles = geometry_.rectangles(pi);
-  // Rectangular end faces on rectangles' faces: their kinematics are written and checked
-  // (endKinematics), but a face pressed flat does not converge yet; such contact stops the run
-  // (ContactSearch::checkNoUnseenContact).
-  if (rectangles) return;
   for (int end = 0; end < 2; ++end) {
     const int node = end == 0 ? E.node1 : E.node2;
     if (!geometry_.freeEnd(node)) continue;

@@ -62,7 +62,7 @@ EndForces endForces(const input::Problem& p) {
 }  // namespace
 
 TEST(EndContact, ColumnPressedOnABeamCarriesTheStiffnessesInSeries) {
-  for (bool rect : {false})
+  for (bool rect : {false, true})
     for (bool swapped : {false, true})
       for (const std::string type : {"Penalty", "Lagrange Multiplier", "Augmented Lagrange"}) {
         auto p = input::buildProblem(columnDeck(type, rect, swapped), "column");
@@ -81,29 +81,72 @@ TEST(EndContact, ColumnPressedOnABeamCarriesTheStiffnessesInSeries) {
 
 // Slid along the beam: the column's top moves by (5, 0, -0.06) in 8 increments; the end touches at
 // T = 5/6 and slides along X by about 0.5 (more than the column's lateral stiffness 3 E I / L^3 =
-// 0.147 lets friction hold: mu N / 0.147 = 0.27), crossing the beam's node at x = 50: every strategy
-// ends slipping with the applied tangential force mu N (1e-9) opposing the motion.
+// 0.147 lets friction hold: mu N / 0.147 = 0.27; rectangles 0.25, 0.24), crossing the beam's node at
+// x = 50: every strategy, both sections, ends slipping with the applied tangential force mu N (1e-9) opposing the
+// motion.
 TEST(EndContact, EndSlidAlongABeamCarriesMuN) {
-  for (const std::string type : {"Penalty", "Lagrange Multiplier", "Augmented Lagrange"}) {
-    Deck d = columnDeck(type, false, false);
-    input::replaceAtPath(d, "Contact/Pairs/end on beam/Friction Coefficient", 0.3);
-    input::replaceAtPath(d, "Supports/column top/Displacement", vec("5.0, 0.0, -0.06"));
-    input::replaceAtPath(d, "Load Stepping/Number of Increments", 8);
-    auto p = input::buildProblem(d, "slide");
-    const auto r = runQuiet(p, Tpetra::getDefaultComm(), "slide");
-    ASSERT_TRUE(r.report.completed) << type << ": " << r.report.failure;
-    const EndForces f = endForces(p);
-    math::Vec3d ft{};
-    for (const auto& [key, pt] : p.contact->points())
-      if (key.end() && pt.result.active) ft = pt.tangentialForce;
-    std::printf("end slid along a beam, %s: N %.9f, |F_T| %.9f, |F_T| / (mu N) - 1 %+.2e, F_T x %.6f, Newton %d\n",
-                type.c_str(), f.normal, f.tangential, f.tangential / (0.3 * f.normal) - 1.0, ft[0],
-                r.report.newtonIterations);
-    ASSERT_EQ(f.active, 1) << type;
-    EXPECT_EQ(f.slipping, 1) << type;
-    EXPECT_NEAR(f.tangential, 0.3 * f.normal, 1e-9 * f.normal) << type;
-    // the force on the column (the pair's B) opposes its slide along +X
-    EXPECT_LT(ft[0], 0.0) << type;
-    EXPECT_TRUE(r.report.warnings.empty()) << r.report.warnings.front();
-  }
+  for (bool rect : {false, true})
+    for (const std::string type : {"Penalty", "Lagrange Multiplier", "Augmented Lagrange"}) {
+      Deck d = columnDeck(type, rect, false);
+      input::replaceAtPath(d, "Contact/Pairs/end on beam/Friction Coefficient", 0.3);
+      input::replaceAtPath(d, "Supports/column top/Displacement", vec("5.0, 0.0, -0.06"));
+      input::replaceAtPath(d, "Load Stepping/Number of Increments", 8);
+      auto p = input::buildProblem(d, "slide");
+      const auto r = runQuiet(p, Tpetra::getDefaultComm(), "slide");
+      ASSERT_TRUE(r.report.completed) << type << ": " << r.report.failure;
+      const EndForces f = endForces(p);
+      math::Vec3d ft{};
+      for (const auto& [key, pt] : p.contact->points())
+        if (key.end() && pt.result.active) ft = pt.tangentialForce;
+      std::printf(
+          "end slid along a beam, %s, %s: N %.9f, |F_T| %.9f, |F_T| / (mu N) - 1 %+.2e, F_T x %.6f, Newton %d\n",
+          rect ? "rectangles" : "circles", type.c_str(), f.normal, f.tangential, f.tangential / (0.3 * f.normal) - 1.0,
+          ft[0], r.report.newtonIterations);
+      ASSERT_EQ(f.active, 1) << type;
+      EXPECT_EQ(f.slipping, 1) << type;
+      // (a unit multiplier applies a unit force: EndKinematics.UnitMultipliersApplyOrthonormalForcesOnB)
+      EXPECT_NEAR(f.tangential, 0.3 * f.normal, 1e-9 * f.normal) << type;
+      // the force on the column (the pair's B) opposes its slide along +X
+      EXPECT_LT(ft[0], 0.0) << type;
+      EXPECT_TRUE(r.report.warnings.empty()) << r.report.warnings.front();
+    }
+}
+
+// The assembled contact tangent of an end point against central differences of the contact residual:
+// the column pressed (converged at T = 1, mu = 0.3), then its nodes moved a little further in and
+// turned (stick), or also along the beam by 0.02 (slip: the penalties' trial force eps_T 0.02 = 20
+// is far above mu N = 0.06), each strategy, both sections.
+TEST(EndContact, TangentMatchesCentralDifferences) {
+  for (bool rect : {false, true})
+    for (double dx : {0.0, 0.02})
+      for (const std::string type : {"Penalty", "Lagrange Multiplier", "Augmented Lagrange"}) {
+        Deck d = columnDeck(type, rect, false);
+        input::replaceAtPath(d, "Contact/Pairs/end on beam/Friction Coefficient", 0.3);
+        auto p = input::buildProblem(d, "end_tangent");
+        p.solver.loadFactors = {0.8, 1.0};
+        const auto run = runQuiet(p, Tpetra::getDefaultComm(), "end_tangent");
+        ASSERT_TRUE(run.report.completed) << run.report.failure;
+        core::State s = run.finalState;
+        for (int n : p.beams->beams()[1].nodes)
+          s.applyNodeIncrement(n, std::array<double, 6>{dx, 1e-4, -1e-3, 1e-3, -2e-3, 0}.data());
+        p.contact->prepareIteration(s);
+        int ends = 0, slipping = 0;
+        for (const auto& [key, pt] : p.contact->points()) {
+          if (!key.end()) continue;
+          ++ends;
+          const auto k = p.contact->kinematics(pt, s);
+          std::vector<double> f(constraints::kPairDofs + 3, 0.0);
+          const auto r =
+              p.contact->enforcer().evaluate(p.contact->strategyView(pt, k, s), *pt.state, f.data(), nullptr);
+          slipping += r.slip[0] || r.slip[1];
+        }
+        ASSERT_EQ(ends, 1) << type;
+        EXPECT_EQ(slipping, dx > 0.0 ? 1 : 0) << type;
+        double kmax = 0.0;
+        const double err = assembledContactTangentError(p, s, kmax);
+        std::printf("end contact tangent, %s, %s, %s: max error / max |K| = %.2e\n", rect ? "rectangles" : "circles",
+                    type.c_str(), slipping ? "slip" : "stick", err / kmax);
+        EXPECT_GT(kmax, 0.0);
+        EXPECT_LT(err / kmax, 1e-6) << type;
+      }
 }

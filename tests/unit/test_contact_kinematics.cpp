@@ -719,3 +719,35 @@ TEST(EndKinematics, ColumnEndOnABeam) {
   EXPECT_LT(worstR, 1e-6);
   EXPECT_LT(worstK, 1e-6);
 }
+
+// What a unit multiplier applies on B (the sum of R over B's translations): for each gap of end
+// contact a unit vector, the three orthogonal (the normal along the face's normal or across B's
+// axis, the friction along and across B), so |F_T| = |lambda_T| and the cone of the multipliers is
+// the cone of the applied force. General states, both sections.
+TEST(EndKinematics, UnitMultipliersApplyOrthonormalForcesOnB) {
+  std::mt19937 g(5);
+  double worst = 0.0;
+  for (int trial = 0; trial < 8; ++trial) {
+    const bool rect = trial % 2;
+    LinePairInput in = column(rect);
+    in.dA = in.xA2 - in.xA1;
+    in.dB = in.xB2 - in.xB1;
+    placeGenerally(in, g, 0.3);
+    const ClosestPoints cp = endProjection(in, 1.0);
+    const ContactKinematics k = endKinematics(in, 1.0, cp.eta - 0.01, cp.etaRate + 0.01);
+    Vec3d f[3];
+    const GapDerivatives* gaps[3] = {&k.normal, &k.tangent1, &k.tangent2};
+    for (int q = 0; q < 3; ++q)
+      for (int a = 0; a < 3; ++a) f[q][a] = gaps[q]->R[12 + a] + gaps[q]->R[18 + a];
+    for (int q = 0; q < 3; ++q) {
+      worst = std::max(worst, std::abs(norm(f[q]) - 1.0));
+      for (int r = q + 1; r < 3; ++r) worst = std::max(worst, std::abs(dot(f[q], f[r])));
+    }
+    if (trial < 2)
+      std::printf("%s: |f_N| %.12f |f_T1| %.12f |f_T2| %.12f, f_T1 . f_T2 %.2e, f_N . f_T1 %.2e, f_N . f_T2 %.2e\n",
+                  rect ? "rectangles" : "circles", norm(f[0]), norm(f[1]), norm(f[2]), dot(f[1], f[2]), dot(f[0], f[1]),
+                  dot(f[0], f[2]));
+  }
+  std::printf("end contact: largest departure from orthonormal %.2e\n", worst);
+  EXPECT_LT(worst, 1e-9);
+}
