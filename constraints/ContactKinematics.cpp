@@ -201,13 +201,13 @@ template <class T> struct EndReach {
 };
 
 // The angle phi in (-pi/2, pi/2) that maximizes f = R cos(phi) - rE A(1 - c^2), c = c1 cos(phi) + c2
-// sin(phi) (endGaps): the best of 721 samples, then safeguarded Newton steps.
+// sin(phi) (endGaps): the best of 73 samples, then safeguarded Newton steps.
 double endAngle(double R, double c1, double c2, double rE) {
   const auto f = [&](double phi) {
     const double c = c1 * std::cos(phi) + c2 * std::sin(phi);
     return R * std::cos(phi) - rE * EndReach<double>(1.0 - c * c).value;
   };
-  const int n = 720;
+  const int n = 72;
   double best = 0.0, fb = f(0.0);
   for (int i = 0; i <= n; ++i) {
     const double phi = -0.5 * M_PI + M_PI * i / n;

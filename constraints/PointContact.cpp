@@ -110,11 +110,14 @@ void PointContact::findEnds(int pi, int eE, int eS, bool ofB, long long visit, c
       }
     }
     if (rectangles && !have) {
-      const Vec3d toEnd = s.position[node] - 0.5 * (s.position[S.node1] + s.position[S.node2]);
+      // (at the last converged state, so an end that went through B within the increment is found
+      // on the face it came through, deeply inside)
+      const core::State& r = geometry_.reference();
+      const Vec3d toEnd = r.position[node] - 0.5 * (r.position[S.node1] + r.position[S.node2]);
       const auto& sec = geometry_.beams().beams()[S.beam].section;
       double most = -1e300;
       for (int f = 0; f < 4; ++f) {  // the largest distance from a face's plane
-        const Vec3d n = (f < 2 ? 1.0 : -1.0) * (s.rotation[S.node1] * column(S.data.T0, 1 + f % 2));
+        const Vec3d n = (f < 2 ? 1.0 : -1.0) * (r.rotation[S.node1] * column(S.data.T0, 1 + f % 2));
         const double out = dot(n, toEnd) - 0.5 * (f % 2 == 0 ? sec.width : sec.height);
         if (out > most) {
           most = out;
