@@ -39,11 +39,11 @@ void PointContact::findPoints(int pi, int ea, int eb, long long visit, const cor
       // Only lines on the sides facing each other.
       if (dot(cp.pA - cp.cA, cp.normal) < -1e-12 || dot(cp.pB - cp.cB, cp.normal) > 1e-12) continue;
       if (in.radiusSum == 0.0 && (dot(cp.pA - cp.cA, cp.normal) <= 0 || dot(cp.pB - cp.cB, cp.normal) >= 0)) continue;
-      // A new edge pair only where B's axis lies beyond A's along the normal (the two sections on
-      // either side of the contact plane). Where the axes are level along it, as when a beam's end
-      // stands on the other's face with its edges inside that face, the edges do not meet (their
-      // closest points' normal is then ambiguous, and the gap a spurious -(offsets) deep).
-      if (in.radiusSum == 0.0 && it == known.end() && !(dot(cp.cB - cp.cA, cp.normal) > 0.0)) continue;
+      // A new edge pair of rectangles is not taken deeper than half the thinner section's inscribed
+      // radius: an end standing on a face has its edges inside that face, where the closest points
+      // of its edges and the face's bounding edges give spurious points 1 to 1.5 deep. (A crossing
+      // that deep within one increment is left to the pass-through check, which cuts the increment.)
+      if (in.radiusSum == 0.0 && it == known.end() && cp.gap < -0.5 * geometry_.thinner(pi)) continue;
       // A known point stays on its element pair while its closest points lie within the
       // elements or up to kStay of an element length beyond a shared node; it is handed to a
       // neighbour only beyond that, so a point at a node cannot flip between elements from one
