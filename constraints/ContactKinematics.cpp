@@ -77,6 +77,23 @@ void axisPoint(const Vec3<T>& P1, const Vec3<T>& V1, const Vec3<T>& P2, const Ve
   if (ddx) *ddx = 0.0 * (P2 - P1);
 }
 
+// The parameter eta of the point of the curve (P1, V1, P2, V2) (axisPoint) nearest to p, in double
+// precision: the chord's projection, then Newton on x'(eta) . (x(eta) - p) = 0 to round-off.
+double projectionParameter(const Vec3d& P1, const Vec3d& V1, const Vec3d& P2, const Vec3d& V2, bool cubic,
+                           const Vec3d& p) {
+  const Vec3d t = P2 - P1;
+  double eta = dot(t, p - P1) / dot(t, t);
+  for (int it = 0; it < 50; ++it) {
+    Vec3d x, dx, ddx;
+    axisPoint(P1, V1, P2, V2, cubic, eta, &x, &dx, &ddx);
+    const Vec3d d = x - p;
+    const double step = dot(dx, d) / (dot(ddx, d) + dot(dx, dx));
+    eta -= step;
+    if (std::abs(step) < 1e-15 * (1.0 + std::abs(eta))) break;
+  }
+  return eta;
+}
+
 // A's point at xi and its projection x_B(eta) on B's line (f(eta) = x_B'(eta) . (x_B(eta) - p_A) = 0),
 // by Newton steps from etaStart, the solution in double precision: each step makes one more order of
 // the AD derivatives exact (two are needed, three are taken). Sets g.xi, g.eta.
@@ -177,26 +194,22 @@ template <class T> double plain(const T& x) {
   else return plain(x.val());
 }
 
-// |x| smoothed over kEndSmoothing and scaled to 1 at |x| = 1 (endKinematics).
+// |x| smoothed over kEndSmoothing and scaled to 1 at |x| = 1, as a function of x2 = x^2: A(x2) =
+// k (sqrt(x2 + d^2) - d), k = 1 / (sqrt(1 + d^2) - d) (endKinematics).
+const double kEndScale = 1.0 / (std::sqrt(1.0 + kEndSmoothing * kEndSmoothing) - kEndSmoothing);
 template <class T> T smoothAbs(const T& x2) {
   using std::sqrt;
-  constexpr double d = kEndSmoothing;
-  static const double scale = 1.0 / (std::sqrt(1.0 + d * d) - d);
-  return T(scale * (sqrt(x2 + d * d) - d));
+  return T(kEndScale * (sqrt(x2 + kEndSmoothing * kEndSmoothing) - kEndSmoothing));
 }
 
-// A(s2) = smoothAbs(s2) (the disc's reach per unit radius at s2 = sin^2 of the angle between u and
-// its axis) with its first two derivatives in s2.
+// A(x2) with its first two derivatives in x2 (endAngle's Newton steps).
 template <class T> struct EndReach {
   T value, d1, d2;
-  explicit EndReach(const T& s2) {
+  explicit EndReach(const T& x2) : value(smoothAbs<T>(x2)) {
     using std::sqrt;
-    constexpr double d = kEndSmoothing;
-    const double k = 1.0 / (std::sqrt(1.0 + d * d) - d);
-    const T D = sqrt(s2 + d * d);
-    value = k * (D - d);
-    d1 = (0.5 * k) / D;
-    d2 = (-0.25 * k) / (D * D * D);
+    const T D = sqrt(x2 + kEndSmoothing * kEndSmoothing);
+    d1 = (0.5 * kEndScale) / D;
+    d2 = (-0.25 * kEndScale) / (D * D * D);
   }
 };
 
@@ -242,18 +255,14 @@ Gaps<T> endGaps(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, con
   using std::sqrt;
   Gaps<T> g;
   const Vec3<T>& pE = P[in.endNode];
-  g.xi = T(static_cast<double>(in.endNode));
-  g.eta = T(etaStart);
-  Vec3<T> xB, dB, ddB;
-  for (int it = 0; it < 3; ++it) {
-    axisPoint(P[2], V[2], P[3], V[3], cubicB, g.eta, &xB, &dB, &ddB);
-    const Vec3<T> d = xB - pE;
-    g.eta -= dot(dB, d) / (dot(ddB, d) + dot(dB, dB));
-  }
+  // (A's chord at xi = endNode is the end's centre)
+  Vec3<T> onA, xB, dB;
+  projectOnB(P, V, false, cubicB, T(static_cast<double>(in.endNode)), etaStart, g, onA, xB);
   axisPoint(P[2], V[2], P[3], V[3], cubicB, g.eta, &xB, &dB, nullptr);
   const T lb = sqrt(dot(dB, dB));
   const Vec3<T> tB = (1.0 / lb) * dB;
   const Vec3<T> w = pE - xB;  // from B's line to the end's centre
+  const auto freeze = [](const Vec3<T>& v) { return Vec3<T>{{frozen(v[0]), frozen(v[1]), frozen(v[2])}}; };
   Vec3<T> u;  // from the end towards B
   T distance, offset, arc = T(0.0);  // (arc: circles, the end's distance from B's axis)
   if (in.face) {
@@ -264,12 +273,12 @@ Gaps<T> endGaps(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, con
     m = (1.0 / sqrt(dot(m, m))) * m;
     // held (the variation): the face's normal held, so the force the normal multiplier applies on B is
     // along it (its turning with B's bending would add a part across it, up to 0.5 % of N)
-    const Vec3<T> mh = held ? Vec3<T>{{frozen(m[0]), frozen(m[1]), frozen(m[2])}} : m;
+    const Vec3<T> mh = held ? freeze(m) : m;
     u = -1.0 * mh;
     distance = dot(w, mh);
     Vec3<T> b = cross(tB, m);
     b = (1.0 / sqrt(dot(b, b))) * b;
-    if (held) b = Vec3<T>{{frozen(b[0]), frozen(b[1]), frozen(b[2])}};  // (friction across: along b on B)
+    if (held) b = freeze(b);  // (friction across: along b on B)
     offset = dot(w, b);
   } else {
     // The separating direction u = cos(phi) a1 + sin(phi) a2 across B's axis (a1 from the end's
@@ -302,7 +311,6 @@ Gaps<T> endGaps(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, con
   // separating direction's turning would add parts along and around B), and the slips' variations
   // are the motion of the end's centre relative to B along B and around it normal to u.
   const bool holdCircle = held && !in.face;
-  const auto freeze = [](const Vec3<T>& v) { return Vec3<T>{{frozen(v[0]), frozen(v[1]), frozen(v[2])}}; };
   // (the relative motion of the two material points: the end's centre and B's point at eta held)
   Vec3<T> wh = w;
   if (holdCircle) {
@@ -525,16 +533,7 @@ ClosestPoints lineProjection(const LinePairInput& in, double xi) {
   const Vec3d vA1 = in.RA1 * in.dA, vA2 = in.RA2 * in.dA, vB1 = in.RB1 * in.dB, vB2 = in.RB2 * in.dB;
   const bool cubicA = norm(in.dA) > 0.0, cubicB = norm(in.dB) > 0.0;
   axisPoint(pA1, vA1, pA2, vA2, cubicA, xi, &cp.pA, nullptr, nullptr);
-  // Newton on the orthogonality from the chord's projection (converged to round-off; a few steps).
-  cp.eta = dot(tB, cp.pA - pB1) / dot(tB, tB);
-  for (int it = 0; it < 50; ++it) {
-    Vec3d x, dx, ddx;
-    axisPoint(pB1, vB1, pB2, vB2, cubicB, cp.eta, &x, &dx, &ddx);
-    const Vec3d d = x - cp.pA;
-    const double step = dot(dx, d) / (dot(ddx, d) + dot(dx, dx));
-    cp.eta -= step;
-    if (std::abs(step) < 1e-15 * (1.0 + std::abs(cp.eta))) break;
-  }
+  cp.eta = projectionParameter(pB1, vB1, pB2, vB2, cubicB, cp.pA);
   Vec3d dxB, ddxB, dxA;
   axisPoint(pB1, vB1, pB2, vB2, cubicB, cp.eta, &cp.pB, &dxB, &ddxB);
   axisPoint(pA1, vA1, pA2, vA2, cubicA, xi, nullptr, &dxA, nullptr);
@@ -1068,18 +1067,9 @@ ClosestPoints endProjection(const LinePairInput& in, double side) {
   Vec3d p[13];
   vectorFrame<13>(in, ev.ref, ev.node, p);
   const bool cubicB = norm(in.dB) > 0.0;
-  // eta from the chord's projection, then Newton to round-off
   const Vec3d& pE = p[in.endNode];
   const Vec3d tBc = p[3] - p[2];
-  double eta = dot(tBc, pE - p[2]) / dot(tBc, tBc);
-  for (int it = 0; it < 50; ++it) {
-    Vec3d x, dx, ddx;
-    axisPoint(p[2], p[6], p[3], p[7], cubicB, eta, &x, &dx, &ddx);
-    const Vec3d d = x - pE;
-    const double step = dot(dx, d) / (dot(ddx, d) + dot(dx, dx));
-    eta -= step;
-    if (std::abs(step) < 1e-15 * (1.0 + std::abs(eta))) break;
-  }
+  const double eta = projectionParameter(p[2], p[6], p[3], p[7], cubicB, pE);
   ClosestPoints cp;
   double across = 0.0;
   const Gaps<double> g = endGaps(in, p, p + 4, p + 8, cubicB, side, eta, eta, 0.0, &across, &cp.normal);
