@@ -1,6 +1,7 @@
 #include "PointContact.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace bc::constraints {
 
@@ -39,11 +40,15 @@ void PointContact::findPoints(int pi, int ea, int eb, long long visit, const cor
       // Only lines on the sides facing each other.
       if (dot(cp.pA - cp.cA, cp.normal) < -1e-12 || dot(cp.pB - cp.cB, cp.normal) > 1e-12) continue;
       if (in.radiusSum == 0.0 && (dot(cp.pA - cp.cA, cp.normal) <= 0 || dot(cp.pB - cp.cB, cp.normal) >= 0)) continue;
-      // A new edge pair of rectangles is not taken deeper than half the thinner section's inscribed
-      // radius: an end standing on a face has its edges inside that face, where the closest points
-      // of its edges and the face's bounding edges give spurious points 1 to 1.5 deep. (A crossing
-      // that deep within one increment is left to the pass-through check, which cuts the increment.)
-      if (in.radiusSum == 0.0 && it == known.end() && cp.gap < -0.5 * geometry_.thinner(pi)) continue;
+      // A new edge pair of rectangles within both sections' circumscribed radii of a free beam end is
+      // not taken deeper than half the thinner section's inscribed radius: an end standing on a face
+      // has its edges inside that face, where the closest points of its edges and the face's bounding
+      // edges give spurious points 1 to 1.5 deep (the end point holds that end). Away from free ends
+      // a deep new point is a real overlap (at the start: refused; within an increment: held).
+      const double reach = circumscribed(pair.beamA) + circumscribed(pair.beamB);
+      if (in.radiusSum == 0.0 && it == known.end() && cp.gap < -0.5 * geometry_.thinner(pi) &&
+          (nearFreeEnd(ea, cp.pA, reach, s) || nearFreeEnd(eb, cp.pB, reach, s)))
+        continue;
       // A known point stays on its element pair while its closest points lie within the
       // elements or up to kStay of an element length beyond a shared node; it is handed to a
       // neighbour only beyond that, so a point at a node cannot flip between elements from one
@@ -88,6 +93,20 @@ LinePairInput PointContact::endInput(int eE, int end, int eS, int face, const co
     in.acrossB = column(S.data.T0, 1);
   }
   return in;
+}
+
+double PointContact::circumscribed(int beam) const {
+  const auto& sec = geometry_.beams().beams()[beam].section;
+  return sec.shape == elements::CrossSection::Shape::Rectangle ? 0.5 * std::hypot(sec.width, sec.height) : sec.radius;
+}
+
+bool PointContact::nearFreeEnd(int e, const Vec3d& x, double reach, const core::State& s) const {
+  // Within `reach` of a free end node of element e (an end touching the other beam has its edges'
+  // closest points there).
+  const auto& E = geometry_.beams().elements()[e];
+  for (const int node : {E.node1, E.node2})
+    if (geometry_.freeEnd(node) && norm(x - s.position[node]) <= reach) return true;
+  return false;
 }
 
 void PointContact::findEnds(int pi, int eE, int eS, bool ofB, long long visit, const core::State& s,
@@ -135,6 +154,16 @@ void PointContact::findEnds(int pi, int eE, int eS, bool ofB, long long visit, c
       if (dot(ref.pB - ref.pA, cp.pB - cp.pA) < 0.0) cp = endProjection(in, side = -1.0);
     }
     if (!geometry_.withinElement(eS, cp.eta)) continue;
+    if (rectangles) {
+      // The face's plane reaches beyond the face: an end beside the face (its centre farther across
+      // than the face's half width and the end's circumscribed radius) does not touch it, and a new
+      // point for an end beyond B's far face (a gap below minus B's thickness and that radius) is no
+      // contact either (an end that went through is the pass-through check's).
+      const auto& secS = geometry_.beams().beams()[S.beam].section;
+      const double endReach = circumscribed(E.beam), thickness = face % 2 == 0 ? secS.width : secS.height;
+      if (std::abs(cp.etaRate) > in.halfWidthB + endReach) continue;
+      if (!have && cp.gap < -(thickness + endReach)) continue;
+    }
     // Only an end face turned towards B. Circles: the axis (chord, or Hermite tangent) continued
     // beyond the end passes B on the far side of the end, i.e. the closest points of the axes lie
     // beyond it (otherwise the beam's side near its end faces B: point contact's place).
