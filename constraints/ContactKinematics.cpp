@@ -263,23 +263,21 @@ Gaps<T> endGaps(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, con
   const Vec3<T> tB = (1.0 / lb) * dB;
   const Vec3<T> w = pE - xB;  // from B's line to the end's centre
   const auto freeze = [](const Vec3<T>& v) { return Vec3<T>{{frozen(v[0]), frozen(v[1]), frozen(v[2])}}; };
+  // B's reference vector at eta (the face normal, or the origin of the angle around the axis), made
+  // normal to the centre line there (so that the distance along it does not change as the projection
+  // moves along the line)
+  Vec3<T> m = (1.0 - g.eta) * X[3] + g.eta * X[4];
+  m = m - dot(m, tB) * tB;
+  m = (1.0 / sqrt(dot(m, m))) * m;
   Vec3<T> u;  // from the end towards B
+  Vec3<T> across1;  // the direction of the slip across B (g_T1)
   T distance, offset, arc = T(0.0);  // (arc: circles, the end's distance from B's axis)
   if (in.face) {
-    // the nodal face normals interpolated, made normal to the face's centre line there (so that the
-    // distance along it does not change as the projection moves along the line)
-    Vec3<T> m = (1.0 - g.eta) * X[3] + g.eta * X[4];
-    m = m - dot(m, tB) * tB;
-    m = (1.0 / sqrt(dot(m, m))) * m;
-    // held (the variation): the face's normal held, so the force the normal multiplier applies on B is
-    // along it (its turning with B's bending would add a part across it, up to 0.5 % of N)
-    const Vec3<T> mh = held ? freeze(m) : m;
-    u = -1.0 * mh;
-    distance = dot(w, mh);
-    Vec3<T> b = cross(tB, m);
-    b = (1.0 / sqrt(dot(b, b))) * b;
-    if (held) b = freeze(b);  // (friction across: along b on B)
-    offset = dot(w, b);
+    u = -1.0 * m;
+    distance = dot(w, m);
+    across1 = cross(tB, m);
+    across1 = (1.0 / sqrt(dot(across1, across1))) * across1;
+    offset = dot(w, across1);
   } else {
     // The separating direction u = cos(phi) a1 + sin(phi) a2 across B's axis (a1 from the end's
     // centre towards the axis) that maximizes the separation side r cos(phi) - r_E A(1 - (u . t)^2):
@@ -302,35 +300,29 @@ Gaps<T> endGaps(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, con
     }
     u = cos(phi) * a1 + sin(phi) * a2;
     distance = R * cos(phi);
-    Vec3<T> e = (1.0 - g.eta) * X[3] + g.eta * X[4];
-    e = e - dot(e, tB) * tB;
-    const Vec3<T> f = cross(tB, e);
-    offset = atan2(dot(w, f), dot(w, e));
+    const Vec3<T> f = cross(tB, m);
+    offset = atan2(dot(w, f), dot(w, m));
+    across1 = cross(tB, (-side) * u);
+    across1 = (1.0 / sqrt(dot(across1, across1))) * across1;
   }
-  // Circles, held (the variation): u frozen, so the normal multiplier acts on B along u (the
-  // separating direction's turning would add parts along and around B), and the slips' variations
-  // are the motion of the end's centre relative to B along B and around it normal to u.
-  const bool holdCircle = held && !in.face;
-  // (the relative motion of the two material points: the end's centre and B's point at eta held)
-  Vec3<T> wh = w;
-  if (holdCircle) {
-    Vec3<T> xh;
-    axisPoint(P[2], V[2], P[3], V[3], cubicB, frozen(g.eta), &xh, nullptr, nullptr);
-    wh = pE - xh;
-    u = freeze(u);
-    distance = -1.0 * dot(wh, u);
-  }
+  // The end's reach towards B (the support of its face along u, |x| smoothed) and its support point
+  // s (the face's point farthest along u, relative to the end's centre).
   T reach;
+  Vec3<T> support;
   if (in.endRectangle) {
     const T a2 = dot(u, X[1]), a3 = dot(u, X[2]);
-    reach = in.endHalf[0] * smoothAbs<T>(a2 * a2) + in.endHalf[1] * smoothAbs<T>(a3 * a3);
+    const EndReach<T> r2(a2 * a2), r3(a3 * a3);
+    reach = in.endHalf[0] * r2.value + in.endHalf[1] * r3.value;
+    support = (2.0 * in.endHalf[0] * r2.d1 * a2) * X[1] + (2.0 * in.endHalf[1] * r3.d1 * a3) * X[2];
   } else {
     const T c = dot(u, X[0]);
     reach = in.endRadius * smoothAbs<T>(1.0 - c * c);
+    const Vec3<T> inPlane = u - c * X[0];
+    support = (in.endRadius / sqrt(dot(inPlane, inPlane) + kEndSmoothing * kEndSmoothing)) * inPlane;
   }
   g.gN = distance - in.radiusB - reach;
   const T metric = slipMetric(P, V, cubicB, g.eta, pE);
-  g.gT2 = (g.eta - etaPrev) * (held ? frozen(metric) : metric);
+  g.gT2 = (g.eta - etaPrev) * metric;
   if (in.face) {
     g.gT1 = offset - acrossPrev;
   } else {
@@ -338,10 +330,30 @@ Gaps<T> endGaps(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, con
     const double turns = std::round((plain(offset) - acrossPrev) / (2.0 * M_PI));
     g.gT1 = arc * (offset - (acrossPrev + 2.0 * M_PI * turns));
   }
-  if (holdCircle) {
-    const Vec3<T> w0 = freeze(wh), c = cross(tB, (-side) * u);
-    g.gT1 = frozen(g.gT1) + dot(wh - w0, freeze((1.0 / sqrt(dot(c, c))) * c));
-    g.gT2 = frozen(g.gT2) + dot(wh - w0, freeze(tB));
+  if (held) {
+    // The variation: the relative motion of the two bodies' material points at one place q, the
+    // end's support point, along the three directions held (-u, across B, along B), which are
+    // orthonormal. So a unit multiplier applies a unit force on B and its opposite on the end, both
+    // at q: their moments balance (forces at the end's centre and B's axis would not), and the
+    // Coulomb cone of the multipliers is the cone of the applied force. The end's point at q: its
+    // centre and the support point's coordinates in the end's triad (held); B's: its section at the
+    // projection (eta held) and q's coordinates in B's frame there (held).
+    const Vec3<T> q = pE + support;
+    Vec3<T> onEnd = pE;
+    for (int a = 0; a < 3; ++a) onEnd = onEnd + frozen(dot(support, X[a])) * X[a];
+    Vec3<T> xh, dh;
+    axisPoint(P[2], V[2], P[3], V[3], cubicB, frozen(g.eta), &xh, &dh, nullptr);
+    const Vec3<T> th = (1.0 / sqrt(dot(dh, dh))) * dh;
+    Vec3<T> mh = (1.0 - frozen(g.eta)) * X[3] + frozen(g.eta) * X[4];
+    mh = mh - dot(mh, th) * th;
+    mh = (1.0 / sqrt(dot(mh, mh))) * mh;
+    const Vec3<T> bh = cross(th, mh), r = q - xh;
+    const Vec3<T> onB = xh + frozen(dot(r, th)) * th + frozen(dot(r, mh)) * mh + frozen(dot(r, bh)) * bh;
+    const Vec3<T> relative = onEnd - onB, held0 = freeze(relative);
+    const Vec3<T> dN = freeze(-1.0 * u), d1 = freeze(across1), d2 = freeze(tB);
+    g.gN = frozen(g.gN) + dot(relative - held0, dN);
+    g.gT1 = frozen(g.gT1) + dot(relative - held0, d1);
+    g.gT2 = frozen(g.gT2) + dot(relative - held0, d2);
   }
   const Vec3<T> tA = P[1] - P[0], tBc = P[3] - P[2];
   g.cosine = dot(tA, tBc) / (sqrt(dot(tA, tA)) * sqrt(dot(tBc, tBc)));

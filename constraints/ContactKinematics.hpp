@@ -193,11 +193,12 @@ double lineSide(const LinePairInput& in, const ClosestPoints& projection, const 
 //    |p_E - x_B| (phi - acrossPrev) with phi the angle of p_E around B's axis from B's rotated acrossB
 //    (circles), or (rectangles) the offset of p_E across the face less acrossPrev. The two are
 //    orthogonal (cosine 0); axesCosine is the chords' (the all-angle blend, as for point contacts).
-//  - The variations R are taken with the directions held, as line points do (rectangles: the face's
-//    normal and the slip metric; circles: u, and the slips as the end centre's motion relative to B
-//    along B and around it normal to u): a unit multiplier then applies a unit force on B, the three
-//    orthogonal, so the multipliers' Coulomb cone is the applied force's. The gradients of the values
-//    include everything.
+//  - The variations R are the relative motion of the two bodies' material points at one place, the
+//    end face's support point (its point farthest towards B; the centre when the face is flat on B),
+//    along three held orthonormal directions (-u, across B, along B): a unit multiplier applies a
+//    unit force on B and its opposite on the end at that point, so the forces' moments balance and
+//    the multipliers' Coulomb cone is the applied force's. The gradients of the values include
+//    everything.
 // `side` -1 when the end has passed B's axis since its point was found (circles: the gap is then
 // deeply negative). endProjection returns the geometry in double precision (xi the end's parameter,
 // eta, pA = p_E, pB = x_B, normal u, gap, sinAngle of the chords) with etaRate holding the across

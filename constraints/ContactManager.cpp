@@ -468,11 +468,14 @@ void ContactManager::loadCommitted(core::CheckpointIn& in, const core::State& co
 
 double ContactManager::stepBound(const core::State& state, const std::vector<double>& du) const {
   // A point open at this iterate whose gap would cross its activation gap at the full step: the step
-  // stops where it has crossed by a tenth of its present distance (linear interpolation of the gap),
-  // so the point is active, with a small force, at the next iterate and the next Newton step sees its
-  // stiffness. Without this a stiff penalty spring that the linearized step ignores meets a
-  // penetration of the whole step and Newton cycles. Line points have a bound of their own
-  // (lineStepBound).
+  // stops where it has crossed by a tenth of its present distance, so the point is active, with a
+  // small force, at the next iterate and the next Newton step sees its stiffness. Without this a
+  // stiff penalty spring that the linearized step ignores meets a penetration of the whole step and
+  // Newton cycles. The place: the gap interpolated linearly along the step, checked at the step it
+  // gives, and interpolated again from there while no such point has crossed (an end face that turns
+  // along the step closes its gap nonlinearly: the first interpolation stopped short by a factor ~4
+  // each iteration, and Newton crawled towards contact without reaching it). Line points have a
+  // bound of their own (lineStepBound).
   double bound = 1.0;
   std::unique_ptr<core::State> next;
   const auto stepped = [&]() -> const core::State& {
@@ -482,6 +485,11 @@ double ContactManager::stepBound(const core::State& state, const std::vector<dou
     }
     return *next;
   };
+  struct Crossing {
+    const Point* p;
+    double activation, s0, a0, a1;  // the gap above activation at step s0 (open) and at the full step
+  };
+  std::vector<Crossing> crossing;
   bool pointBound = true;
   for (const auto& [key, p] : set_.current()) {
     if (p.node()) continue;
@@ -501,7 +509,37 @@ double ContactManager::stepBound(const core::State& state, const std::vector<dou
     if (then.sinAngle < geometry_.options().minimumSinAngle) continue;
     const double a1 = then.gap - activation;
     if (a1 >= -0.1 * a0) continue;
-    bound = std::min(bound, 1.1 * a0 / (a0 - a1));
+    crossing.push_back({&p, activation, 0.0, a0, a1});
+  }
+  if (!pointBound) crossing.clear();
+  // The target: a tenth of the present distance beyond activation, -0.1 a0 of each point's own a0.
+  const auto interpolated = [](const Crossing& c, double target) {
+    return c.s0 + (1.0 - c.s0) * (c.a0 - target) / (c.a0 - c.a1);
+  };
+  std::vector<double> target(crossing.size());
+  for (std::size_t i = 0; i < crossing.size(); ++i) target[i] = -0.1 * crossing[i].a0;
+  constexpr int kRounds = 8;
+  for (int round = 0; round < kRounds && !crossing.empty(); ++round) {
+    double s = 1.0;
+    for (std::size_t i = 0; i < crossing.size(); ++i) s = std::min(s, interpolated(crossing[i], target[i]));
+    if (s >= 1.0 || round == kRounds - 1) {
+      bound = std::min(bound, s);
+      break;
+    }
+    core::State at(state);
+    std::vector<double> part(du);
+    for (double& v : part) v *= s;
+    at.applyIncrement(part);
+    bool crossed = false;
+    for (std::size_t i = 0; i < crossing.size(); ++i) {
+      const double a = pointGeometry(*crossing[i].p, at).gap - crossing[i].activation;
+      if (a <= 0.0) crossed = true;
+      if (a > 0.0 && s > crossing[i].s0) crossing[i].s0 = s, crossing[i].a0 = a;
+    }
+    if (crossed) {
+      bound = std::min(bound, s);
+      break;
+    }
   }
   return bound;
 }

@@ -341,3 +341,31 @@ TEST(CsvBalance, TwistingRods) {
   // line contact along a helix. The moments about the origin balance with the clamps' turned moments.
   runAndBalance(inputDeck("twisting_rods.xml", "Penalty"), "twisting_Penalty");
 }
+
+TEST(CsvBalance, EndContactOffTheBeamsCentreLine) {
+  // input/column_on_beam.xml with the column 0.5 off the beam's top line (across it), both sections
+  // (rectangles: beam 2 x 2, column 1 x 1), friction 0.3 and the column's top moved by (3, -0.2,
+  // -0.08) in 8 increments (the end touches at T = 0.75 and slips along and across the beam): the end
+  // point's forces act off both axes.
+  // Before, a unit multiplier acted on the end's centre and on B's axis: the moments did not balance
+  // by the force times the offset (ContactKinematics.UnitMultipliersForcesBalance).
+  for (const bool rect : {false, true})
+    for (const std::string type : kStrategies) {
+      Deck d = inputDeck("column_on_beam.xml", type);
+      input::replaceAtPath(d, "Beams/column/Start", vec("45.0, 0.5, 11.05"));
+      input::replaceAtPath(d, "Beams/column/End", vec("45.0, 0.5, 1.05"));
+      if (rect)
+        for (const auto& [beam, size] : {std::pair<std::string, double>{"beam", 2.0}, {"column", 1.0}}) {
+          Deck& section = d.sublist("Beams").sublist(beam).sublist("Section");
+          section.remove("Radius");
+          section.set("Shape", std::string("Rectangle"));
+          section.set("Width", size);
+          section.set("Height", size);
+        }
+      input::replaceAtPath(d, "Contact/Pairs/end on beam/Friction Coefficient", 0.3);
+      input::replaceAtPath(d, "Supports/column top/Displacement", vec("3.0, -0.2, -0.08"));
+      input::replaceAtPath(d, "Load Stepping/Number of Increments", 8);
+      const Worst w = runAndBalance(d, std::string(rect ? "end_rect_" : "end_circ_") + tag(type));
+      EXPECT_GT(w.bodies, 0) << type;
+    }
+}

@@ -56,6 +56,26 @@ LinePairInput perturbedState(const LinePairInput& in, int dof, double h) {
   return p;
 }
 
+// The net force and moment (about the origin) of what a unit multiplier of each gap applies on the
+// four nodes (R: the force and moment conjugate to each node's translation and spin): both zero for a
+// force system that balances.
+std::pair<double, double> unbalance(const LinePairInput& in, const ContactKinematics& k) {
+  const Vec3d* x[4] = {&in.xA1, &in.xA2, &in.xB1, &in.xB2};
+  double force = 0.0, moment = 0.0;
+  for (const GapDerivatives* gap : {&k.normal, &k.tangent1, &k.tangent2}) {
+    Vec3d F{}, M{};
+    for (int m = 0; m < 4; ++m) {
+      Vec3d f, c;
+      for (int a = 0; a < 3; ++a) f[a] = gap->R[6 * m + a], c[a] = gap->R[6 * m + 3 + a];
+      F = F + f;
+      M = M + cross(*x[m], f) + c;
+    }
+    force = std::max(force, norm(F));
+    moment = std::max(moment, norm(M));
+  }
+  return {force, moment};
+}
+
 // Largest relative errors of the gradients (against central differences of the gaps) and of K (against those of
 // R) over the 24 dofs, for the gaps `which` of the kinematics `kernel(state)` computes at `in`.
 template <class Kernel>
@@ -750,4 +770,61 @@ TEST(EndKinematics, UnitMultipliersApplyOrthonormalForcesOnB) {
   }
   std::printf("end contact: largest departure from orthonormal %.2e\n", worst);
   EXPECT_LT(worst, 1e-9);
+}
+
+// Every kernel's unit-multiplier forces balance, force and moment, at general states: point contact
+// (chords and Hermite axes, lines on and off the axes), line contact at a Gauss point and on a segment
+// (circles, and an edge on a face), end contact (both sections, friction along and across). Each
+// applies its force at one place on both bodies (end contact: the end face's support point), so
+// nothing is lost to a couple of the axes' separation or of an offset across a face.
+TEST(ContactKinematics, UnitMultipliersForcesBalance) {
+  std::mt19937 g(23);
+  double worstF = 0.0, worstM = 0.0;
+  const auto record = [&](const char* what, const LinePairInput& in, const ContactKinematics& k) {
+    const auto [f, m] = unbalance(in, k);
+    worstF = std::max(worstF, f);
+    worstM = std::max(worstM, m);
+    EXPECT_LT(m, 1e-12) << what;
+  };
+  for (int trial = 0; trial < 6; ++trial) {
+    LinePairInput in = crossing();
+    in.radiusSum = trial % 2 ? 0.7 : 0.0;
+    if (trial % 3 == 2) in.dA = in.xA2 - in.xA1, in.dB = in.xB2 - in.xB1;
+    placeGenerally(in, g, 0.5);
+    const auto cp = closestPoints(in);
+    record("point", in, contactKinematics(in, cp.sigma, cp.xi - 0.05, cp.eta + 0.03));
+  }
+  for (int trial = 0; trial < 6; ++trial) {
+    LinePairInput in;
+    in.xA1 = {{0, 0, 0.5}};
+    in.xA2 = {{10, 0, 0.5}};
+    in.xB1 = {{-2, 0, 1.6}};
+    in.xB2 = {{8, 0, 1.6}};
+    in.RA1 = in.RA2 = in.RB1 = in.RB2 = identity3<double>();
+    in.dA = in.dB = Vec3d{{10, 0, 0}};
+    in.sB1 = Vec3d{{1, 0.05, 0}};
+    in.sB2 = Vec3d{{1, -0.05, 0.02}};
+    if (trial % 2) {
+      in.oA = Vec3d{{0, 0.3, 0.5}};
+      in.oB = Vec3d{{0, 0, -0.5}};
+      in.face = true;
+      in.nB = Vec3d{{0, 0, -1}};
+      in.halfWidthB = 0.5;
+    } else {
+      in.radiusSum = 1.1;
+    }
+    placeGenerally(in, g, 0.3);
+    record("line", in, lineKinematics(in, 0.3, 0.4));
+    const LineSegment seg = lineSegment(in);
+    if (seg.length() > 0.0) record("segment", in, segmentKinematics(in, seg, 0.4, LineHistory{0.4, 0.3, 0.9}));
+  }
+  for (int trial = 0; trial < 8; ++trial) {
+    LinePairInput in = column(trial % 2);
+    if (trial % 4 >= 2) in.dA = in.xA2 - in.xA1, in.dB = in.xB2 - in.xB1;
+    placeGenerally(in, g, 0.3);
+    const ClosestPoints cp = endProjection(in, 1.0);
+    record("end", in, endKinematics(in, 1.0, cp.eta - 0.01, cp.etaRate + 0.02));
+  }
+  std::printf("unit multipliers' forces, largest net force %.2e, net moment %.2e\n", worstF, worstM);
+  EXPECT_LT(worstF, 1e-12);
 }
