@@ -1,8 +1,8 @@
 #!/usr/bin/python3
 """The seed paper's Examples 1-3 against 3D solid models in CalculiX (ccx, Debian's calculix-ccx).
 
-    calculix_examples.py BEAMCONTACT WORKDIR [--example N ...] [--mesh 1,2,3] [--penalty 1e5,1e6]
-                         [--friction on|off|both] [--quick] [--ccx ccx]
+    calculix_examples.py BEAMCONTACT WORKDIR [--example N ...] [--mesh 1,2] [--penalty 1e5,1e6]
+                         [--friction on|off|both] [--surfaces sides,top,swap] [--quick] [--ccx ccx]
 
 For each example and friction setting it writes a CalculiX deck of the two beams as 3D solids, runs
 ccx (1 thread) at each mesh level and penalty stiffness, runs our beam model on the deck
@@ -29,7 +29,9 @@ The solid models (units as in the decks):
   at most 1/(the deck's increment count).
 - Contact: surface-to-surface penalty (PRESSURE-OVERCLOSURE=LINEAR, slope K, force/length^3), slave
   beam 2's bottom and side faces near the crossing, master beam 1's top and side faces along the
-  contact path; Coulomb friction at the deck's coefficient with stick slope (tangential penalty,
+  contact path ("s" in the tables); or, to show how much the edges' treatment matters (on the
+  coarsest mesh), beam 2's bottom face against beam 1's top face only ("t"), or the "s" faces with
+  beam 1 as slave and beam 2 as master ("w": the contact normal is beam 2's face normal); Coulomb friction at the deck's coefficient with stick slope (tangential penalty,
   force/length^3) equal to K, or none. (A stick slope of K / 50 leaves the friction short of mu N:
   Example 2, level 1, K = 1e6: A u_X -0.2299 with K / 50, -0.2366 with K / 5, -0.2373 with K.)
 Tracked points: A (beam 1's free end) is the centre node of the end face; B (Example 1) the centre
@@ -137,7 +139,8 @@ def lines(items, per=8):
     return "\n".join(", ".join(items[i:i + per]) for i in range(0, len(items), per))
 
 
-def write_deck(path, ex, level, K, friction, stick=1.0):
+def write_deck(path, ex, level, K, friction, stick=1.0, surf="s"):
+    sides = surf != "t"
     d = EXAMPLES[ex]
     m = Mesh()
     n = 2 * level
@@ -201,7 +204,7 @@ def write_deck(path, ex, level, K, friction, stick=1.0):
             continue
         for b in range(ny1):
             master.append((b1["el"][(a, b, nz1 - 1)], "S2"))
-        for c in range(nz1):
+        for c in range(nz1 if sides else 0):
             master.append((b1["el"][(a, 0, c)], "S3"))
             master.append((b1["el"][(a, ny1 - 1, c)], "S5"))
     nx2, ny2, nz2 = len(b2["xs"]) - 1, len(b2["ys"]) - 1, len(b2["zs"]) - 1
@@ -212,9 +215,11 @@ def write_deck(path, ex, level, K, friction, stick=1.0):
             continue
         for a in range(nx2):
             slave.append((b2["el"][(a, b, 0)], "S1"))
-        for c in range(nz2):
+        for c in range(nz2 if sides else 0):
             slave.append((b2["el"][(0, b, c)], "S6"))
             slave.append((b2["el"][(nx2 - 1, b, c)], "S4"))
+    if surf == "w":  # beam 1's faces slave, beam 2's master (normals of beam 2's faces)
+        master, slave = slave, master
     out.append("*SURFACE, NAME=MASTER, TYPE=ELEMENT")
     out += ["%d, %s" % f for f in master]
     out.append("*SURFACE, NAME=SLAVE, TYPE=ELEMENT")
@@ -248,7 +253,7 @@ def write_deck(path, ex, level, K, friction, stick=1.0):
             "*NODE FILE, OUTPUT=3D", "U", "*CONTACT FILE", "CDIS, CSTR", "*END STEP"]
     with open(path, "w") as f:
         f.write("\n".join(out) + "\n")
-    info = dict(tracked=tracked, ref=ref, slave=slave, conn=conn, nodes=m.nodes, nodes_count=len(m.nodes),
+    info = dict(tracked=tracked, ref=ref, slave=slave, slave_is_beam1=surf == "w", conn=conn, nodes=m.nodes, nodes_count=len(m.nodes),
                 elements=len(m.elems))
     return info
 
@@ -323,7 +328,8 @@ def patch(info, frd, F):
     if not pts:
         return None
     pts, ws = np.array(pts), np.array(ws)
-    n = -nsum / np.linalg.norm(nsum)  # the slave's outward normal points towards beam 1: n onto beam 2
+    # n onto beam 2: minus beam 2's outward normal, or beam 1's outward normal if beam 1 is the slave
+    n = (1.0 if info["slave_is_beam1"] else -1.0) * nsum / np.linalg.norm(nsum)
     F = np.array(F)
     N = float(F @ n)
     T = F - N * n
@@ -331,10 +337,11 @@ def patch(info, frd, F):
                 lo=pts.min(axis=0), hi=pts.max(axis=0), pen=max(-cont[k][0] for k in cont if cont[k][3] > 0))
 
 
-def run_solid(work, ex, level, K, friction, ccx, stick=1.0):
-    name = "ex%d_m%d_K%g_%s" % (ex, level, K, "mu_s%g" % stick if friction else "nomu")
+def run_solid(work, ex, level, K, friction, ccx, stick=1.0, surf="s"):
+    name = "ex%d_m%d_K%g_%s%s" % (ex, level, K, "mu_s%g" % stick if friction else "nomu",
+                                  {"s": "", "t": "_top", "w": "_swap"}[surf])
     deck = os.path.join(work, name + ".inp")
-    info = write_deck(deck, ex, level, K, friction, stick)
+    info = write_deck(deck, ex, level, K, friction, stick, surf)
     t0 = time.time()
     env = dict(os.environ, OMP_NUM_THREADS="1", CCX_NPROC_EQUATION_SOLVER="1")
     if not os.path.exists(os.path.join(work, name + ".done")):
@@ -426,10 +433,13 @@ def main():
     ap.add_argument("beamcontact")
     ap.add_argument("work")
     ap.add_argument("--example", type=int, action="append", choices=(1, 2, 3))
-    ap.add_argument("--mesh", default="1,2,3", help="mesh levels (2m elements through a section side)")
+    ap.add_argument("--mesh", default="1,2", help="mesh levels (2m elements through a section side)")
     ap.add_argument("--penalty", default="1e5,1e6", help="contact stiffnesses K (force/length^3)")
     ap.add_argument("--friction", default="both", choices=("on", "off", "both"))
-    ap.add_argument("--quick", action="store_true", help="coarsest mesh, first penalty, Example 2 only")
+    ap.add_argument("--quick", action="store_true", help="coarsest mesh, first penalty, variant s, Example 2 only")
+    ap.add_argument("--surfaces", default="sides,top,swap",
+                    help="contact surfaces: sides (top and side faces, all levels), top (top / bottom faces only), swap "
+                         "(beam 2 master; top and swap on the coarsest level and the largest K)")
     ap.add_argument("--ccx", default="ccx")
     a = ap.parse_args()
     examples = a.example or ([2] if a.quick else [1, 2, 3])
@@ -448,19 +458,28 @@ def main():
                 ours["Isotropic Coulomb"] = run_ours(a.beamcontact, a.work, ex, "Isotropic Coulomb", friction)
             solids = []
             # mesh convergence at the largest K, penalty convergence on the coarsest mesh
-            runs = [(lv, Ks[-1]) for lv in levels] + [(levels[0], K) for K in Ks[:-1]]
-            for lv, K in runs:
-                s = run_solid(a.work, ex, lv, K, friction, a.ccx)
-                solids.append(((lv, K), s))
-                print("  solid ex%d m%d K%g %s: %s" % (ex, lv, K, "mu" if friction else "mu=0",
+            surf = a.surfaces.split(",")
+            runs = []
+            if "sides" in surf:
+                runs += [(lv, Ks[-1], "s") for lv in levels] + [(levels[0], K, "s") for K in Ks[:-1]]
+            if "top" in surf:
+                runs += [(levels[0], Ks[-1], "t")]
+            if "swap" in surf:
+                runs += [(levels[0], Ks[-1], "w")]
+            for lv, K, sf in runs:
+                s = run_solid(a.work, ex, lv, K, friction, a.ccx, surf=sf)
+                solids.append(((lv, K, sf), s))
+                print("  solid ex%d m%d K%g %s %s: %s" % (ex, lv, K, sf, "mu" if friction else "mu=0",
                       s.get("error") or "%d nodes, %d elements, %.0f s" % (s["_size"] + (s["_secs"],))),
                       flush=True)
             print("\nExample %d, %s, T = 1" % (ex, "friction mu = %g" % EXAMPLES[ex]["mu"] if friction
                                                  else "frictionless"))
-            heads = ["%s" % k for k in ours] + ["m%d K%g" % key for key, _ in solids]
+            heads = ["%s" % k for k in ours] + ["m%d K%g %s" % key for key, _ in solids]
             print("%-28s" % "component" + "".join("%12s" % h[:11] for h in heads) + "".join(
                 "%12s" % ("d " + k[:4]) for k in ours))
-            ref = next((s for key, s in solids if "error" not in s and key == (levels[-1], Ks[-1])), None)
+            # the reference: the finest mesh that completed at the largest K (first surface variant)
+            first = [s for key, s in solids[:len(levels) if "sides" in surf else 1] if "error" not in s]
+            ref = first[-1] if first else None
             keys = [k for k in ours["Per Line"] if not k.startswith("_")] if "error" not in ours["Per Line"] else []
             for k in keys:
                 row = [o.get(k, float("nan")) for o in ours.values()]
@@ -479,7 +498,7 @@ def main():
             for key, s in solids:
                 p = s.get("_patch") if "error" not in s else None
                 if p:
-                    print("  solid m%d K%g: N %.1f, T %.1f (T/N %.3f), T dir (%.3f, %.3f, %.3f), normal (%.3f, %.3f, "
+                    print("  solid m%d K%g %s: N %.1f, T %.1f (T/N %.3f), T dir (%.3f, %.3f, %.3f), normal (%.3f, %.3f, "
                           "%.3f), %d nodes in contact, largest penetration %.2g, pressure centroid (%.2f, %.2f, %.2f), "
                           "extent x %.2f..%.2f y %.2f..%.2f z %.2f..%.2f" % (
                               key + (p["N"], p["T"], p["T"] / p["N"], *(p["Tvec"] / max(p["T"], 1e-12)), *p["n"],
