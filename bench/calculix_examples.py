@@ -458,7 +458,7 @@ def main():
                 ours["Isotropic Coulomb"] = run_ours(a.beamcontact, a.work, ex, "Isotropic Coulomb", friction)
             solids = []
             # mesh convergence at the largest K, penalty convergence on the coarsest mesh
-            surf = a.surfaces.split(",")
+            surf = ["sides"] if a.quick else a.surfaces.split(",")
             runs = []
             if "sides" in surf:
                 runs += [(lv, Ks[-1], "s") for lv in levels] + [(levels[0], K, "s") for K in Ks[:-1]]
