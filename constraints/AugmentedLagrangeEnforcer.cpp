@@ -33,6 +33,26 @@ Teuchos::ParameterList fieldParameters(const Teuchos::ParameterList& v) {
   l.set("Maximum Active Set Iterations", v.get<int>("Maximum Augmentations"));
   return l;
 }
+// The Uzawa update lambda_hat <- lambda = lambda_hat + eps g divides a point's gap by a factor
+// 1 + eps c (c its compliance) per pass. Over-relaxed, lambda_hat <- lambda_hat + omega eps g, a gap
+// that depends linearly on the estimate, g = a (lambda_hat - lambda*), falls by r = 1 + omega eps a
+// per pass, and is closed in one pass by omega* = -1 / (eps a) = omega / (1 - r): omega is measured
+// from r, the ratio of the gap to the last pass's gap in the same increment (a secant on g), and
+// kept for the next increment, where the point's compliance is nearly the same. Bounded to
+// [1, kMaxOverRelaxation] and set back to 1 when the gap did not fall (r >= 1: coupling with other
+// points or a change of the law): plain Uzawa is the fallback. Returns the extra (omega - 1) eps g
+// beyond the converged force.
+constexpr double kMaxOverRelaxation = 1e3;
+double overRelaxedUpdate(AugmentedLagrangeEnforcer::State& h, int line, double gap, double eps) {
+  double& omega = h.omega[line];
+  const double last = h.lastGap[line];
+  if (last != 0.0) {
+    const double ratio = gap / last;
+    omega = ratio < 1.0 ? std::clamp(omega / (1.0 - ratio), 1.0, kMaxOverRelaxation) : 1.0;
+  }
+  h.lastGap[line] = gap;
+  return (omega - 1.0) * eps * gap;
+}
 }  // namespace
 
 AugmentedLagrangeEnforcer::AugmentedLagrangeEnforcer(const Teuchos::ParameterList& v)
@@ -154,10 +174,43 @@ bool AugmentedLagrangeEnforcer::acceptPoint(const ContactPoint& p, PointState& s
   // A point blended with line contact carries only its share of the force: its gap counts as much.
   violation *= p.weight;
   worstViolation = std::max(worstViolation, violation);
-  // Uzawa update of the estimates.
-  h.lambdaN = r.lambdaN;
-  for (int i = 0; i < 2; ++i) h.lambdaT[i] = r.lambdaT[i];
-  return violation <= tolerance_;
+  const bool met = violation <= tolerance_;
+  // Uzawa update of the estimates, over-relaxed while the gaps are not met (overRelaxedUpdate).
+  // Normal: on the linear branch of the law only (not open, not within the smooth onset); tangential:
+  // on sticking lines of the Per Line law only (a slipping force is the cone's, an isotropic stick
+  // couples the two lines through the cone).
+  const bool normalLinear = r.active && !onset && !met;
+  h.lambdaN = r.lambdaN + (normalLinear ? overRelaxedUpdate(h, 0, k.normal.value, epsN) : 0.0);
+  if (!normalLinear) h.lastGap[0] = 0.0;
+  const GapDerivatives* gt[2] = {&k.tangent1, &k.tangent2};
+  for (int i = 0; i < 2; ++i) {
+    const bool stick = normalLinear && p.friction > 0.0 && !r.slip[i] && p.law == FrictionLaw::PerLine;
+    h.lambdaT[i] = r.lambdaT[i] + (stick ? overRelaxedUpdate(h, 1 + i, gt[i]->value, eps[1]) : 0.0);
+    if (!stick) h.lastGap[1 + i] = 0.0;
+  }
+  return met;
+}
+
+void AugmentedLagrangeEnforcer::commitPoint(const ContactPoint& p, PointState& s) const {
+  State& h = stateOf<State>(s);
+  if (h.lineNode) return;
+  for (double& g : h.lastGap) g = 0.0;
+  // The next increment's first estimates: the converged forces extrapolated linearly from this
+  // increment and the last (as the predictor extrapolates the motion), while the point stays in
+  // contact; the tangential ones (Per Line) bounded by the cone. The augmentations then start from
+  // the gap the extrapolation misses (second order in the increment) instead of the increment's
+  // whole change of the gap. Only the start of the iteration changes: its fixed point does not.
+  const bool closed = h.lambdaN < 0.0 && h.committedN < 0.0;
+  const double forces[3] = {h.lambdaN, h.lambdaT[0], h.lambdaT[1]};
+  if (closed) {
+    h.lambdaN = std::min(0.0, 2.0 * h.lambdaN - h.committedN);
+    const double limit = p.friction * -h.lambdaN;
+    for (int i = 0; i < 2; ++i)
+      h.lambdaT[i] = p.law == FrictionLaw::PerLine ? std::clamp(2.0 * h.lambdaT[i] - h.committedT[i], -limit, limit)
+                                                   : h.lambdaT[i];
+  }
+  h.committedN = forces[0];
+  for (int i = 0; i < 2; ++i) h.committedT[i] = forces[1 + i];
 }
 
 std::vector<double> AugmentedLagrangeEnforcer::outputValues(const ContactPoint& p, const PointState& s) const {

@@ -45,6 +45,14 @@ class AugmentedLagrangeEnforcer : public ConstraintEnforcer {
   struct State : PointStateOf<State> {
     double lambdaN = 0.0;
     double lambdaT[2] = {0.0, 0.0};
+    // Over-relaxation of the Uzawa update (normal, tangential lines): lambda_hat <- lambda_hat +
+    // omega eps g, omega from the gap's reduction between the increment's passes (acceptPoint), kept
+    // from one increment to the next; and the gaps of the last pass of this increment (0: none yet).
+    double omega[3] = {1.0, 1.0, 1.0};
+    double lastGap[3] = {0.0, 0.0, 0.0};
+    // The forces converged in the last increment (commitPoint extrapolates from them).
+    double committedN = 0.0;
+    double committedT[2] = {0.0, 0.0};
     PointPenalties penalties;
     bool lineNode = false;
     LagrangeMultiplierEnforcer::State field;
@@ -57,6 +65,15 @@ class AugmentedLagrangeEnforcer : public ConstraintEnforcer {
       v.real("lambda_N", lambdaN);
       v.real("lambda_T1", lambdaT[0]);
       v.real("lambda_T2", lambdaT[1]);
+      v.real("omega_N", omega[0]);
+      v.real("omega_T1", omega[1]);
+      v.real("omega_T2", omega[2]);
+      v.real("last_gap_N", lastGap[0]);
+      v.real("last_gap_T1", lastGap[1]);
+      v.real("last_gap_T2", lastGap[2]);
+      v.real("committed_N", committedN);
+      v.real("committed_T1", committedT[0]);
+      v.real("committed_T2", committedT[1]);
       penalties.fields(v);
     }
   };
@@ -83,6 +100,8 @@ class AugmentedLagrangeEnforcer : public ConstraintEnforcer {
   // acceptPoint has already set the estimates to the converged forces: report and keep those
   // (recomputing lambda_hat + eps g would count the last augmentation twice).
   PointResult reportedForces(const ContactPoint& p, const PointState& s) const override;
+  // A new increment: no last pass to measure the gaps' reduction against.
+  void commitPoint(const ContactPoint& p, PointState& s) const override;
   // The point's (eps_N, eps_T), open or not; a line node's (eps_N, 0).
   std::vector<double> outputValues(const ContactPoint&, const PointState& s) const override;
 

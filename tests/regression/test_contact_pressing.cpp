@@ -112,8 +112,12 @@ TEST(Pressing, CircularSectionsMatchTheExactClosedForm) {
 TEST(Pressing, AugmentedLagrangeGapFallsWithEachAugmentation) {
   // Circular sections pressed by W = 0.6 in one increment with a soft eps_N = 1e3: the penetration
   // after each pass (Uzawa update of lambda_N) must fall, and end below the Gap Tolerance 1e-6.
-  // Linear theory for the rate: penetration_k+1 / penetration_k = (1/eps_N) / (1/eps_N + c1 + c2)
+  // Linear theory for the rate of the plain update (the first one: no gap of an earlier pass to
+  // measure over-relaxation from): penetration_1 / penetration_0 = (1/eps_N) / (1/eps_N + c1 + c2)
   // (the penalty spring in series with the structure's compliance), here 0.0378; asserted to 5 %.
+  // The next updates are over-relaxed by omega = 1 / (1 - r), r that measured ratio: a secant on a
+  // gap linear in the estimate, which closes it in one pass; here the gap depends on it linearly up to
+  // the small rotations, so each later ratio is asserted below rate^2 (plain Uzawa: rate).
   const double pi = std::acos(-1.0), E = 30000.0;
   const double c1 = std::pow(50.0, 3) / (3 * E * pi * std::pow(5.0, 4) / 4);
   const double c2 = std::pow(100.0, 3) / (48 * E * pi * std::pow(2.5, 4) / 4);
@@ -128,11 +132,9 @@ TEST(Pressing, AugmentedLagrangeGapFallsWithEachAugmentation) {
   std::printf("augmented Lagrange, penetration after each pass:");
   for (double x : v) std::printf(" %.3e", x);
   std::printf("  (linear rate %.4f)\n", rate);
-  ASSERT_GE(v.size(), 3u);
-  for (std::size_t k = 1; k < v.size(); ++k) {
-    EXPECT_LT(v[k], v[k - 1]) << "pass " << k;
-    EXPECT_NEAR(v[k] / v[k - 1], rate, 0.05 * rate) << "pass " << k;
-  }
+  ASSERT_GE(v.size(), 3u);  // the start, one plain and one over-relaxed update
+  EXPECT_NEAR(v[1] / v[0], rate, 0.05 * rate);
+  for (std::size_t k = 2; k < v.size(); ++k) EXPECT_LT(v[k] / v[k - 1], rate * rate) << "pass " << k;
   EXPECT_LT(v.back(), 1e-6);
 }
 
@@ -190,9 +192,12 @@ namespace {
 // live beside the decks (input/example2.gold, checked through the command line by
 // tests/cli/check_gold.py); here the independent checks: the augmented Lagrange result lands on the
 // Lagrange one (to 1e-4; measured <= 2.2e-6, its gap tolerance being 1e-6), and the friction stays
-// within mu N.
-void checkExample(const std::string& deckName) {
+// within mu N. With `costRatio` > 0, augmented Lagrange's Newton iterations (a deterministic count)
+// are at most costRatio times Penalty's with the deck's parameters and tolerances (issue 36's target
+// of 2 for the paper's examples; docs/contact.md "Cost of the augmentations").
+void checkExample(const std::string& deckName, double costRatio = 0.0) {
   std::map<std::string, std::array<double, 3>> got;
+  std::map<std::string, int> newton;
   for (const char* type : {"Lagrange Multiplier", "Penalty", "Augmented Lagrange"}) {
     auto p = input::buildProblem(inputDeck(deckName, type), "example");
     const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "example");
@@ -206,13 +211,18 @@ void checkExample(const std::string& deckName) {
       for (double t : pt.result.lambdaT) EXPECT_LE(std::abs(t), -1.0 * pt.result.lambdaN * (1 + 1e-9));
     }
     got[type] = {A[0], A[2], c.normal};
+    newton[type] = r.report.newtonIterations;
   }
+  if (costRatio > 0.0) EXPECT_LE(newton["Augmented Lagrange"], costRatio * newton["Penalty"]);
   const auto& l = got["Lagrange Multiplier"];
   const auto& a = got["Augmented Lagrange"];
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(a[k], l[k], 1e-4 * std::abs(l[k])) << "quantity " << k;
 }
 }  // namespace
 
+TEST(PaperExamples, Example1AugmentedLagrangeLandsOnLagrangeAtMostTwicePenaltysNewtonIterations) {
+  checkExample("example1.xml", 2.0);
+}
 TEST(PaperExamples, Example2AugmentedLagrangeLandsOnLagrangeWithinTheCone) { checkExample("example2.xml"); }
 TEST(PaperExamples, Example3AugmentedLagrangeLandsOnLagrangeWithinTheCone) { checkExample("example3.xml"); }
 
