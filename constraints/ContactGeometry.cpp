@@ -97,7 +97,8 @@ double ContactGeometry::blendWeight(const ContactPointRecord& p, double cosine, 
   // zeta(alpha) = (1 - cos(pi (alpha - alpha_l) / (alpha_p - alpha_l))) / 2 between the two angles,
   // 0 below alpha_l, 1 above alpha_p: C1 in alpha. A point contact carries zeta, a line point 1 - zeta.
   if (gradient) gradient->fill(0.0);
-  if (!blends(p.key.pair)) return 1.0;
+  // (An end-to-end point is no point contact of two lines: two ends meet with their axes in line.)
+  if (!blends(p.key.pair) || p.key.endToEnd()) return 1.0;
   const auto [lo, hi] = blendAngles(p.key.pair);
   const double c = std::min(1.0, std::abs(cosine));
   const double alpha = std::acos(c);

@@ -242,6 +242,66 @@ double endAngle(double R, double c1, double c2, double rE) {
   return phi;
 }
 
+// How far A's end face (triad X[0..2], X[0] outward) reaches along the unit direction u: its
+// support function, each |x| smoothed (smoothAbs), and its support point s (the face's point
+// farthest along u, relative to the end's centre).
+template <class T> T endReach(const LinePairInput& in, const Vec3<T>& u, const Vec3<T>* X, Vec3<T>& support) {
+  using std::sqrt;
+  if (in.endRectangle) {
+    const T a2 = dot(u, X[1]), a3 = dot(u, X[2]);
+    const EndReach<T> r2(a2 * a2), r3(a3 * a3);
+    support = (2.0 * in.endHalf[0] * r2.d1 * a2) * X[1] + (2.0 * in.endHalf[1] * r3.d1 * a3) * X[2];
+    return in.endHalf[0] * r2.value + in.endHalf[1] * r3.value;
+  }
+  const T c = dot(u, X[0]);
+  const Vec3<T> inPlane = u - c * X[0];
+  support = (in.endRadius / sqrt(dot(inPlane, inPlane) + kEndSmoothing * kEndSmoothing)) * inPlane;
+  return in.endRadius * smoothAbs<T>(1.0 - c * c);
+}
+
+// End-to-end contact (see endToEndKinematics in the header): P the four nodes' points, X = (e1, e2,
+// e3 of A's end, e1, e2, e3 of B's end), each e1 outward.
+template <class T>
+Gaps<T> endToEndGaps(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* X, double offset1Prev,
+                     double offset2Prev, bool held, double* offsets = nullptr, Vec3d* supportPoint = nullptr) {
+  using std::sqrt;
+  Gaps<T> g;
+  const auto freeze = [](const Vec3<T>& v) { return Vec3<T>{{frozen(v[0]), frozen(v[1]), frozen(v[2])}}; };
+  const Vec3<T>& cA = P[in.endNode];
+  const Vec3<T>& cB = P[2 + in.otherEnd];
+  const Vec3<T>* Y = X + 3;
+  const Vec3<T> w = cA - cB;
+  const Vec3<T> u = -1.0 * Y[0];  // from A's end towards B's face
+  Vec3<T> support;
+  const T reach = endReach(in, u, X, support);
+  const T o1 = dot(w, Y[1]), o2 = dot(w, Y[2]);
+  g.gN = dot(w, Y[0]) - reach;
+  g.gT1 = o1 - offset1Prev;
+  g.gT2 = o2 - offset2Prev;
+  if (held) {
+    // (as end contact's: both ends' material points at A's support point q)
+    const Vec3<T> q = cA + support;
+    Vec3<T> onA = cA, onB = cB;
+    for (int a = 0; a < 3; ++a) {
+      onA = onA + frozen(dot(support, X[a])) * X[a];
+      onB = onB + frozen(dot(q - cB, Y[a])) * Y[a];
+    }
+    const Vec3<T> relative = onA - onB, held0 = freeze(relative);
+    g.gN = frozen(g.gN) + dot(relative - held0, freeze(Y[0]));
+    g.gT1 = frozen(g.gT1) + dot(relative - held0, freeze(Y[1]));
+    g.gT2 = frozen(g.gT2) + dot(relative - held0, freeze(Y[2]));
+  }
+  g.xi = T(static_cast<double>(in.endNode));
+  g.eta = T(static_cast<double>(in.otherEnd));
+  const Vec3<T> tA = P[1] - P[0], tB = P[3] - P[2];
+  g.cosine = dot(tA, tB) / (sqrt(dot(tA, tA)) * sqrt(dot(tB, tB)));
+  g.length = T(1.0);
+  if (offsets) offsets[0] = plain(o1), offsets[1] = plain(o2);
+  if (supportPoint)
+    for (int a = 0; a < 3; ++a) (*supportPoint)[a] = plain(cA[a] + support[a]);
+  return g;
+}
+
 // End contact (see endKinematics in the header): P the four line points (A's: the end face's centre
 // at endNode), V their tangents, X = (e1, e2, e3 of the end, B's reference vector at B's nodes 1, 2).
 // across: the across coordinate (phi, or the offset across the face) of the value.
@@ -305,21 +365,8 @@ Gaps<T> endGaps(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, con
     across1 = cross(tB, (-side) * u);
     across1 = (1.0 / sqrt(dot(across1, across1))) * across1;
   }
-  // The end's reach towards B (the support of its face along u, |x| smoothed) and its support point
-  // s (the face's point farthest along u, relative to the end's centre).
-  T reach;
   Vec3<T> support;
-  if (in.endRectangle) {
-    const T a2 = dot(u, X[1]), a3 = dot(u, X[2]);
-    const EndReach<T> r2(a2 * a2), r3(a3 * a3);
-    reach = in.endHalf[0] * r2.value + in.endHalf[1] * r3.value;
-    support = (2.0 * in.endHalf[0] * r2.d1 * a2) * X[1] + (2.0 * in.endHalf[1] * r3.d1 * a3) * X[2];
-  } else {
-    const T c = dot(u, X[0]);
-    reach = in.endRadius * smoothAbs<T>(1.0 - c * c);
-    const Vec3<T> inPlane = u - c * X[0];
-    support = (in.endRadius / sqrt(dot(inPlane, inPlane) + kEndSmoothing * kEndSmoothing)) * inPlane;
-  }
+  const T reach = endReach(in, u, X, support);
   g.gN = distance - in.radiusB - reach;
   const T metric = slipMetric(P, V, cubicB, g.eta, pE);
   g.gT2 = (g.eta - etaPrev) * metric;
@@ -1110,6 +1157,58 @@ ContactKinematics endKinematics(const LinePairInput& in, double side, double eta
         return endGaps(in, P, P + 4, P + 8, cubicB, side, cp.eta, etaPrev, acrossPrev, nullptr, nullptr, held);
       },
       order, true);
+  k.cosine = 0.0;
+  k.cosineR.fill(0.0);
+  return k;
+}
+
+namespace {
+// The vectors of end-to-end contact beyond the points and tangents: A's end triad at its node, B's at
+// its end node (each e1 outward).
+struct EndToEndVectors {
+  Vec3d ref[6];
+  int node[6];
+  explicit EndToEndVectors(const LinePairInput& in) {
+    for (int a = 0; a < 3; ++a) {
+      ref[a] = (a == 0 ? in.outward : 1.0) * in.endAxes[a];
+      node[a] = in.endNode;
+      ref[3 + a] = in.otherAxes[a];
+      node[3 + a] = 2 + in.otherEnd;
+    }
+  }
+};
+}  // namespace
+
+ClosestPoints endToEndProjection(const LinePairInput& in) {
+  const EndToEndVectors ev(in);
+  Vec3d p[14];
+  vectorFrame<14>(in, ev.ref, ev.node, p);
+  double offsets[2];
+  ClosestPoints cp;
+  const Gaps<double> g = endToEndGaps(in, p, p + 8, 0.0, 0.0, false, offsets, &cp.pA);
+  cp.xi = in.endNode;
+  cp.eta = in.otherEnd;
+  cp.normal = -1.0 * p[11];
+  cp.gap = g.gN;
+  cp.pB = cp.pA + g.gN * cp.normal;
+  cp.cA = p[in.endNode];
+  cp.cB = p[2 + in.otherEnd];
+  cp.distance = norm(cp.pB - cp.pA);
+  cp.sigma = 1.0;
+  cp.etaRate = offsets[0];
+  cp.across2 = offsets[1];
+  const Vec3d tA = p[1] - p[0], tB = p[3] - p[2];
+  cp.sinAngle = norm(cross(tB, tA)) / (norm(tA) * norm(tB));
+  return cp;
+}
+
+ContactKinematics endToEndKinematics(const LinePairInput& in, double offset1Prev, double offset2Prev,
+                                     Variations order) {
+  const EndToEndVectors ev(in);
+  ContactKinematics k = kinematicsOf<14>(
+      in, ev.ref, ev.node,
+      [&](const auto* P, bool held) { return endToEndGaps(in, P, P + 8, offset1Prev, offset2Prev, held); }, order,
+      true);
   k.cosine = 0.0;
   k.cosineR.fill(0.0);
   return k;

@@ -64,6 +64,13 @@ struct LinePairInput {
   double endRadius = 0.0, endHalf[2] = {0.0, 0.0}, outward = 1.0, radiusB = 0.0;
   Vec3d endAxes[3]{};
   Vec3d acrossB{};
+  // End-to-end contact (otherEnd 0 or 1: B's node whose free end face is the plane A's end face
+  // presses on; -1: none): that face, a disc of radius otherRadius or (otherRectangle) a rectangle of
+  // half sizes otherHalf along its e2 and e3, with its reference triad otherAxes (e1 outward).
+  int otherEnd = -1;
+  bool otherRectangle = false;
+  double otherRadius = 0.0, otherHalf[2] = {0.0, 0.0};
+  Vec3d otherAxes[3]{};
 };
 
 // The part [lo, hi] of A's element (parameters in [0, 1]) whose points lie between the planes of B's
@@ -96,6 +103,7 @@ struct ClosestPoints {
   double lateral = 0.0;  // face contact: p_A's offset across B's face from its centre line
   double etaRate = 0.0;  // line contact: d eta / d xi of the projection
   double slipMetric = 0.0;  // line contact: the slip along B per unit eta (lineGaps' slipMetric)
+  double across2 = 0.0;  // end-to-end contact: the end's offset along the other face's e3 (etaRate: e2)
 };
 
 // Closest points in double precision (for the search and for choosing sigma). Lines closer to
@@ -207,6 +215,20 @@ constexpr double kEndSmoothing = 0.02;
 ClosestPoints endProjection(const LinePairInput& in, double side);
 ContactKinematics endKinematics(const LinePairInput& in, double side, double etaPrev, double acrossPrev,
                                 Variations order = Variations::Second);
+
+// End-to-end contact: A's end face (as in end contact, at in.endNode) against the plane of B's end
+// face at B's node in.otherEnd (its outward normal n = R otherAxes[0]).
+//  - gap: the distance of A's end centre from that plane along n, less how far A's end face reaches
+//    towards it (its support function along -n, |x| smoothed as in end contact);
+//  - slips: the centre's offsets in the plane along B's end e2 and e3, less offset1Prev and
+//    offset2Prev (the offsets at the last converged state);
+//  - the variations: the relative motion of the two ends' material points at A's support point along
+//    n, e2, e3 held (orthonormal; the forces' moments balance, a unit multiplier applies a unit force).
+// endToEndProjection returns the geometry in double precision (xi, eta the two ends' parameters, pA
+// the support point, pB its projection on the plane, normal -n, etaRate and across2 the offsets).
+ClosestPoints endToEndProjection(const LinePairInput& in);
+ContactKinematics endToEndKinematics(const LinePairInput& in, double offset1Prev, double offset2Prev,
+                                     Variations order = Variations::Second);
 
 // All gaps and their derivatives at the current state; `sigma` from closestPoints (or the history),
 // `xiPrev`, `etaPrev` the previous converged contact point (for the tangential gaps). The gaps'

@@ -32,6 +32,7 @@ std::map<PointKey, Candidate> ContactManager::detect(const core::State& s) const
   return search_.detect(s, [&](int pi, int ea, int eb, long long visit, const CandidateOffer& offer) {
     if (geometry_.inLineContact(pi, ea, eb)) lines_.findPoints(pi, ea, eb, visit, s, set_.current(), offer);
     if (geometry_.inPointContact(pi, ea, eb)) pointContact_.findPoints(pi, ea, eb, visit, s, set_.current(), offer);
+    pointContact_.findEndToEnd(pi, ea, eb, visit, s, set_.current(), offer);
   });
 }
 
@@ -398,6 +399,7 @@ void ContactManager::commitPoint(Point& p, const core::State& state) {
   p.xiPrev = geometry_.beamCoordinate(p.elementA, k.xi);
   p.etaPrev = geometry_.beamCoordinate(p.elementB, k.eta);
   if (p.line() || p.end()) p.etaRate = cp.etaRate;
+  if (p.key.endToEnd()) p.across2 = cp.across2;
 }
 
 void ContactManager::commitStep(const core::State& state) {

@@ -13,6 +13,7 @@ ContactPointRecord ContactPointSet::newPoint(const PointKey& key, const Candidat
   p.xiPrev = geometry_.beamCoordinate(c.elementA, c.cp.xi);
   p.etaPrev = geometry_.beamCoordinate(c.elementB, c.cp.eta);
   p.etaRate = c.cp.etaRate;
+  p.across2 = c.cp.across2;
   return p;
 }
 
@@ -116,7 +117,7 @@ void ContactPointSet::save(core::CheckpointOut& out) const {
   for (const auto& [key, p] : committed_) {
     const auto code = p.key.code();
     out.label("point").integer(code[0]).integer(code[1]).integer(code[2]).integer(p.elementA).integer(p.elementB);
-    out.real(p.sigma).real(p.xiPrev).real(p.etaPrev).real(p.etaRate).real(p.length);
+    out.real(p.sigma).real(p.xiPrev).real(p.etaPrev).real(p.etaRate).real(p.across2).real(p.length);
     for (int a = 0; a < 3; ++a) out.real(p.normal[a]);
     for (int a = 0; a < 3; ++a) out.real(p.compliance[a]);
     (*p.state).fields(writer);
@@ -156,6 +157,7 @@ ContactPointRecord ContactPointSet::readPoint(core::CheckpointIn& in, long long 
   p.xiPrev = in.real();
   p.etaPrev = in.real();
   p.etaRate = in.real();
+  p.across2 = in.real();
   p.length = in.real();
   for (int a = 0; a < 3; ++a) p.normal[a] = in.real();
   for (int a = 0; a < 3; ++a) p.compliance[a] = in.real();

@@ -320,16 +320,19 @@ void ContactSearch::checkNoUnseenContact(const core::State& state, bool atStart,
   const auto& beams = geometry_.beams().beams();
   forEachElementPair(state, [&](int pi, int ea, int eb) {
     const auto& pair = geometry_.pairs()[pi];
-    // Line contact of circular sections sees parallel beams and their ends.
     const bool lines = geometry_.inLineContact(pi, ea, eb);
-    if (lines && !geometry_.rectangles(pi)) return;
     const double reach = geometry_.inscribed(pair.beamA) + geometry_.inscribed(pair.beamB);
     const BeamElement &A = elems[ea], &B = elems[eb];
     const Vec3d &a1 = state.position[A.node1], &a2 = state.position[A.node2];
     const Vec3d &b1 = state.position[B.node1], &b2 = state.position[B.node2];
     const SegmentClosest c = segmentClosest(a1, a2, b1, b2);
     if (!(c.distance < reach * (1.0 - 1e-9))) return;
-    if (lines) {
+    const bool endA = (c.s == 0.0 && geometry_.freeEnd(A.node1)) || (c.s == 1.0 && geometry_.freeEnd(A.node2));
+    const bool endB = (c.t == 0.0 && geometry_.freeEnd(B.node1)) || (c.t == 1.0 && geometry_.freeEnd(B.node2));
+    // Line contact of circular sections sees parallel beams (two free ends nearest each other are
+    // end-to-end contact's, below, even in line contact).
+    if (lines && !geometry_.rectangles(pi) && !(endA && endB)) return;
+    if (lines && !(endA && endB)) {
       if (!(c.distance < reach - kUnresolvedLine * geometry_.thinner(pi)) || seen(pi, ea, eb)) return;
       const Vec3d at = a1 + c.s * (a2 - a1);
       std::ostringstream s;
@@ -342,19 +345,21 @@ void ContactSearch::checkNoUnseenContact(const core::State& state, bool atStart,
       throw std::runtime_error(s.str());
     }
     const double sine = norm(cross(a2 - a1, b2 - b1)) / (norm(a2 - a1) * norm(b2 - b1));
-    const bool endA = (c.s == 0.0 && geometry_.freeEnd(A.node1)) || (c.s == 1.0 && geometry_.freeEnd(A.node2));
-    const bool endB = (c.t == 0.0 && geometry_.freeEnd(B.node1)) || (c.t == 1.0 && geometry_.freeEnd(B.node2));
-    const bool parallel = sine < geometry_.options().minimumSinAngle;
-    // A free end against the other beam's side is end contact's (its end points); two ends against
-    // each other are not modelled: their end faces (discs or rectangles at the end nodes, support
-    // functions along the line between the ends, unsmoothed) must overlap for the refusal.
+    const bool parallel = !lines && !(endA && endB) && sine < geometry_.options().minimumSinAngle;
+    // A free end against the other beam's side is end contact's (its end points), two ends against
+    // each other end-to-end contact's where their faces are turned towards each other; the rest is
+    // refused where the end faces (discs or rectangles at the end nodes, their support functions
+    // unsmoothed) are not separated along the line between the ends nor along either face's normal,
+    // and no point of the pair there holds them.
     const bool endToEnd = endA && endB && [&] {
+      // Separated along a direction d where the centres lie further apart than the two faces reach
+      // along it; tried: the line between the centres and each face's normal (a face reaches 0
+      // along its own normal, so two parallel faces apart are separated).
       const int nA = c.s == 0.0 ? A.node1 : A.node2, nB = c.t == 0.0 ? B.node1 : B.node2;
       const Vec3d d = state.position[nB] - state.position[nA];
       const double length = norm(d);
       if (length == 0.0) return true;
-      const Vec3d u = (1.0 / length) * d;
-      const auto reach = [&](const BeamElement& e, int node) {
+      const auto reach = [&](const BeamElement& e, int node, const Vec3d& u) {
         const auto& sec = beams[e.beam].section;
         const Mat3d& R = state.rotation[node];
         if (sec.shape == elements::CrossSection::Shape::Rectangle)
@@ -363,9 +368,14 @@ void ContactSearch::checkNoUnseenContact(const core::State& state, bool atStart,
         const double c1 = dot(u, R * column(e.data.T0, 0));
         return sec.radius * std::sqrt(std::max(0.0, 1.0 - c1 * c1));
       };
-      return length < (reach(A, nA) + reach(B, nB)) * (1.0 - 1e-9);
+      const Vec3d axes[3] = {(1.0 / length) * d, state.rotation[nA] * column(A.data.T0, 0),
+                             state.rotation[nB] * column(B.data.T0, 0)};
+      for (const Vec3d& u : axes)
+        if (std::abs(dot(d, u)) >= (reach(A, nA, u) + reach(B, nB, u)) * (1.0 - 1e-9)) return false;
+      return true;
     }();
     if (!parallel && !endToEnd) return;
+    if (!parallel && seen(pi, ea, eb)) return;  // (two ends held by their end-to-end point)
     const Vec3d at = a1 + c.s * (a2 - a1);
     std::ostringstream s;
     s << "beams \"" << beams[pair.beamA].name << "\" and \"" << beams[pair.beamB].name << "\" overlap near (" << at[0]
@@ -378,8 +388,8 @@ void ContactSearch::checkNoUnseenContact(const core::State& state, bool atStart,
         s << " with a strategy that enforces lines and Contact/Line Contact Angle > 0 (" << strategy
           << " here does not)";
     } else {
-      s << "at the free ends of both beams: contact between two beam ends is not modelled (end contact takes a "
-           "beam's end face on the other beam's side)";
+      s << "at the free ends of both beams, where no end-to-end point holds them (end-to-end contact takes two end "
+           "faces turned towards each other, one end's centre within the other's face and its circumscribed radius)";
     }
     if (atStart) throw core::InputError(s.str() + "; move the beams apart");
     throw std::runtime_error(s.str());

@@ -402,6 +402,24 @@ void LineContact::offerSegment(int pi, int ea, int eb, int edge, int face, doubl
   // of a strand, element pairs several elements apart), the pair is not in line contact.
   const double mid = lineProjection(in, seg.lo + 0.5 * seg.length()).eta;
   if (!(mid > -0.5 && mid < 1.5)) return;
+  // Two ends pushed into each other (end-to-end contact's): the segment runs from one beam's free end
+  // to the plane of the other's, and is shorter than the sections overlap across (inscribed radii
+  // less the axes' distance). Line points there would see the sides deep in each other (circles
+  // whose axes meet: no normal at all); two beams lapped side by side overlap along more than across.
+  const auto& elems = geometry_.beams().elements();
+  const auto& A = elems[ea];
+  const auto& B = elems[eb];
+  const auto freeBound = [&](int kind, double at) {
+    if (kind < 0) return (at == 0.0 && geometry_.freeEnd(A.node1)) || (at == 1.0 && geometry_.freeEnd(A.node2));
+    return geometry_.freeEnd(kind == 0 ? B.node1 : B.node2);
+  };
+  if (freeBound(seg.loKind, seg.lo) && freeBound(seg.hiKind, seg.hi) && (seg.loKind < 0) != (seg.hiKind < 0)) {
+    const LinePairInput axes = geometry_.axisInput(ea, eb, s);
+    const ClosestPoints lo = lineProjection(axes, seg.lo), hi = lineProjection(axes, seg.hi);
+    const double across = geometry_.inscribed(A.beam) + geometry_.inscribed(B.beam) -
+                          lineProjection(axes, seg.lo + 0.5 * seg.length()).distance;
+    if (norm(hi.pA - lo.pA) < across) return;
+  }
   // A refined field's element (nodal fields) has Gauss points of its own in each part of the segment
   // (the segment cut at the parts' ends): each part integrates its hat functions as the whole element
   // does unrefined.
@@ -413,6 +431,7 @@ void LineContact::offerSegment(int pi, int ea, int eb, int edge, int face, doubl
       const ClosestPoints cp = lineProjection(in, sub.lo + sub.length() * gaussXi_[q]);
       const PointKey key = PointKey::gaussPoint(pi, ea, eb, edge, face, gaussIndex(level, part, q));
       const bool isKnown = known.count(key) > 0;
+      if (!in.face && !(cp.distance > 1e-3 * in.radiusSum)) continue;  // (as above, at this point)
       if (in.face) {
         // Across the face (findPoints): an edge of the pair's A (inside 0) within the face's half
         // width and a little beyond; an edge of the pair's B (inside: B's face's half width) inside

@@ -179,7 +179,67 @@ void PointContact::findEnds(int pi, int eE, int eS, bool ofB, long long visit, c
   }
 }
 
+LinePairInput PointContact::endToEndInput(int eE, int end, int eO, int otherEnd, const core::State& s) const {
+  LinePairInput in = endInput(eE, end, eO, 0, s);
+  const auto& O = geometry_.beams().elements()[eO];
+  const auto& secO = geometry_.beams().beams()[O.beam].section;
+  in.face = false;
+  in.oB = in.nB = in.acrossB = Vec3d{};
+  in.halfWidthB = in.radiusB = 0.0;
+  in.otherEnd = otherEnd;
+  for (int a = 0; a < 3; ++a) in.otherAxes[a] = (a == 0 && otherEnd == 0 ? -1.0 : 1.0) * column(O.data.T0, a);
+  if (secO.shape == elements::CrossSection::Shape::Rectangle) {
+    in.otherRectangle = true;
+    in.otherHalf[0] = 0.5 * secO.width;
+    in.otherHalf[1] = 0.5 * secO.height;
+  } else {
+    in.otherRadius = secO.radius;
+  }
+  return in;
+}
+
+void PointContact::findEndToEnd(int pi, int ea, int eb, long long visit, const core::State& s, const PointMap& known,
+                                const CandidateOffer& offer) const {
+  const auto& elems = geometry_.beams().elements();
+  const auto& A = elems[ea];
+  const auto& B = elems[eb];
+  const double rA = circumscribed(A.beam), rB = circumscribed(B.beam);
+  for (int endA = 0; endA < 2; ++endA)
+    for (int endB = 0; endB < 2; ++endB) {
+      const int nA = endA == 0 ? A.node1 : A.node2, nB = endB == 0 ? B.node1 : B.node2;
+      if (!geometry_.freeEnd(nA) || !geometry_.freeEnd(nB)) continue;
+      // The larger end face is the plane (the pair's B's on a tie), the other end presses on it; a
+      // known point keeps its roles.
+      bool ofB = rB < rA;
+      const PointKey asA = PointKey::endToEndPoint(pi, false, endA, endB),
+                     asB = PointKey::endToEndPoint(pi, true, endB, endA);
+      const bool haveA = known.count(asA) > 0, haveB = known.count(asB) > 0;
+      if (haveA || haveB) ofB = haveB;
+      const int eE = ofB ? eb : ea, eO = ofB ? ea : eb, end = ofB ? endB : endA, other = ofB ? endA : endB;
+      const LinePairInput in = endToEndInput(eE, end, eO, other, s);
+      const ClosestPoints cp = endToEndProjection(in);
+      // Only two end faces turned towards each other: their outward normals opposed, the pressing
+      // end's centre in front of the plane (a new point no deeper than its circumscribed radius) and
+      // its support point (where it touches) on the other face. (An end hanging over the other
+      // face's rim touches that rim with its face: not modelled, refused where the faces overlap.)
+      const Vec3d outE = (end == 0 ? -1.0 : 1.0) * (s.rotation[ofB ? nB : nA] * in.endAxes[0]);
+      const Vec3d outO = s.rotation[ofB ? nA : nB] * in.otherAxes[0];
+      if (!(dot(outE, outO) < 0.0)) continue;
+      const double reach = circumscribed(elems[eE].beam);
+      if (!(haveA || haveB) && cp.gap < -reach) continue;
+      const Vec3d q = cp.pA - cp.cB;
+      const Vec3d e2 = s.rotation[ofB ? nA : nB] * in.otherAxes[1], e3 = s.rotation[ofB ? nA : nB] * in.otherAxes[2];
+      const double q2 = dot(q, e2), q3 = dot(q, e3);
+      const bool within = in.otherRectangle ? std::abs(q2) <= in.otherHalf[0] && std::abs(q3) <= in.otherHalf[1]
+                                            : std::hypot(q2, q3) <= in.otherRadius;
+      if (!within) continue;
+      offer(ofB ? asB : asA, Candidate{eE, eO, cp}, -1.0, visit);
+    }
+}
+
 ClosestPoints PointContact::geometry(const ContactPointRecord& p, const core::State& s) const {
+  if (p.key.endToEnd())
+    return endToEndProjection(endToEndInput(p.elementA, p.key.endIndex(), p.elementB, p.key.otherEnd(), s));
   if (p.end()) return endProjection(endInput(p.elementA, p.key.endIndex(), p.elementB, p.key.lineB, s), p.sigma);
   const LinePairInput in = input(p.elementA, p.key.lineA, p.elementB, p.key.lineB, s);
   ClosestPoints cp = closestPoints(in);
@@ -188,6 +248,9 @@ ClosestPoints PointContact::geometry(const ContactPointRecord& p, const core::St
 }
 
 ContactKinematics PointContact::kinematics(const ContactPointRecord& p, const core::State& s, Variations order) const {
+  if (p.key.endToEnd())
+    return endToEndKinematics(endToEndInput(p.elementA, p.key.endIndex(), p.elementB, p.key.otherEnd(), s), p.etaRate,
+                              p.across2, order);
   if (p.end())
     return endKinematics(endInput(p.elementA, p.key.endIndex(), p.elementB, p.key.lineB, s), p.sigma,
                          p.etaPrev - geometry_.beams().elements()[p.elementB].index, p.etaRate, order);

@@ -3,7 +3,8 @@
 // of the two lines fall inside both elements (a point on a shared node is taken once). And end
 // contact: a point per free beam end whose end face is turned towards the other beam (the closest
 // points of the two axes lie beyond the end, where no point contact exists) and whose centre
-// projects onto the other beam's element (endKinematics).
+// projects onto the other beam's element (endKinematics). And end-to-end contact: a point per two free
+// ends whose end faces are turned towards each other (endToEndKinematics).
 #pragma once
 #include "ContactGeometry.hpp"
 
@@ -19,6 +20,11 @@ class PointContact {
   // Closest points of a point's two lines in `s`, with the point's normal orientation and gap.
   ClosestPoints geometry(const ContactPointRecord& p, const core::State& s) const;
   ContactKinematics kinematics(const ContactPointRecord& p, const core::State& s, Variations order) const;
+  // The end-to-end point of a free end of element ea and one of element eb facing each other (the
+  // larger end face is the plane, the other end presses on it), whatever the angle of the axes
+  // (two ends meet with their axes in line, where circles are in line contact).
+  void findEndToEnd(int pi, int ea, int eb, long long visit, const core::State& s, const PointMap& known,
+                    const CandidateOffer& offer) const;
 
  private:
   // A point's two lines in `s`: the elements' Hermite curves, or their chords (ContactOptions).
@@ -33,6 +39,10 @@ class PointContact {
   bool nearFreeEnd(int e, const Vec3d& x, double reach, const core::State& s) const;
   void findEnds(int pi, int eE, int eS, bool ofB, long long visit, const core::State& s, const PointMap& known,
                 const CandidateOffer& offer) const;
+  // End-to-end contact: the end `end` of element eE's beam against the end face `otherEnd` of element
+  // eO's beam (endToEndKinematics), in `s`.
+  LinePairInput endToEndInput(int eE, int end, int eO, int otherEnd, const core::State& s) const;
+
   const ContactGeometry& geometry_;
 };
 

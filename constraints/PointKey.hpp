@@ -68,7 +68,14 @@ struct PointKey {
   static PointKey endPoint(int pair, bool ofB, int end, int face) {
     return contact(pair, kEndLine + 2 * (ofB ? 1 : 0) + end, face);
   }
+  // Two ends against each other (end-to-end contact): line B is kEndLine + the other end (0, 1 as
+  // above), whose end face is the plane the first end presses on.
+  static PointKey endToEndPoint(int pair, bool ofB, int end, int otherEnd) {
+    return contact(pair, kEndLine + 2 * (ofB ? 1 : 0) + end, kEndLine + otherEnd);
+  }
   bool end() const { return kind == Kind::Contact && lineA >= kEndLine; }
+  bool endToEnd() const { return end() && lineB >= kEndLine; }
+  int otherEnd() const { return lineB - kEndLine; }
   bool endOfB() const { return (lineA - kEndLine) / 2 == 1; }
   int endIndex() const { return (lineA - kEndLine) % 2; }
 

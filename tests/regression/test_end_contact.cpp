@@ -184,3 +184,109 @@ TEST(EndContact, EndPushedThroughInOneIncrementIsHeld) {
     EXPECT_NEAR(force[0], force[1], 1e-8 * force[1]);
   }
 }
+
+namespace {
+// input/columns_end_to_end.xml with the strategy, circular sections (radii 0.6 and 0.5) or
+// rectangular ones (the lower column 1.2 x 1.2, the upper 1 x 1), the pair's roles swapped if asked.
+Deck endToEndDeck(const std::string& type, bool rectangles, bool swapped) {
+  Deck d = inputDeck("columns_end_to_end.xml", type);
+  if (rectangles) {
+    for (const auto& [beam, size] : {std::pair<std::string, double>{"lower", 1.2}, {"upper", 1.0}}) {
+      Deck& section = d.sublist("Beams").sublist(beam).sublist("Section");
+      section.remove("Radius");
+      section.set("Shape", std::string("Rectangle"));
+      section.set("Width", size);
+      section.set("Height", size);
+    }
+  }
+  if (swapped) {
+    input::replaceAtPath(d, "Contact/Pairs/end to end/Beam A", std::string("upper"));
+    input::replaceAtPath(d, "Contact/Pairs/end to end/Beam B", std::string("lower"));
+  }
+  return d;
+}
+
+// The closing 0.01 over the two columns' axial compliances L / (E A) in series (and Penalty's 1 / eps_N).
+double endToEndForce(bool rectangles, double epsN) {
+  const double lower = rectangles ? 1.44 : M_PI * 0.36, upper = rectangles ? 1.0 : M_PI * 0.25;
+  return 0.01 / (10.0 / (1e3 * lower) + 10.0 / (2e3 * upper) + (epsN > 0.0 ? 1.0 / epsN : 0.0));
+}
+
+EndForces endToEndForces(const input::Problem& p) {
+  EndForces f;
+  for (const auto& [key, pt] : p.contact->points()) {
+    if (!key.endToEnd() || !pt.result.active) continue;
+    ++f.active;
+    f.normal += norm(pt.normalForce);
+    f.tangential += norm(pt.tangentialForce);
+    f.slipping += pt.result.slip[0] || pt.result.slip[1];
+  }
+  return f;
+}
+}  // namespace
+
+// Two coaxial columns, the upper one's end pressed onto the lower one's: the force of the two axial
+// compliances in series (both sections, each strategy, either column as the pair's A, 1 and 4
+// increments); the pressing end is the smaller one on the larger face either way.
+TEST(EndToEndContact, ColumnsEndToEndCarryTheStiffnessesInSeries) {
+  for (bool rect : {false, true})
+    for (bool swapped : {false, true})
+      for (int increments : {1, 4})
+        for (const std::string type : {"Penalty", "Lagrange Multiplier", "Augmented Lagrange"}) {
+          Deck d = endToEndDeck(type, rect, swapped);
+          input::replaceAtPath(d, "Load Stepping/Number of Increments", increments);
+          auto p = input::buildProblem(d, "end_to_end");
+          const auto r = runQuiet(p, Tpetra::getDefaultComm(), "end_to_end");
+          ASSERT_TRUE(r.report.completed) << type << ": " << r.report.failure;
+          const EndForces f = endToEndForces(p);
+          const double exact = endToEndForce(rect, type == "Penalty" ? 1e5 : 0.0);
+          if (increments == 4)
+            std::printf("columns end to end, %s, %s, A %s: N %.9f, closed form %.9f (%+.2e), Newton %d\n",
+                        rect ? "rectangles" : "circles", type.c_str(), swapped ? "upper" : "lower", f.normal, exact,
+                        f.normal / exact - 1.0, r.report.newtonIterations);
+          ASSERT_EQ(f.active, 1) << type;
+          EXPECT_NEAR(f.normal, exact, 1e-6 * exact) << type;
+          // the upper end (the smaller face) presses on the lower one's
+          for (const auto& [key, pt] : p.contact->points())
+            if (key.endToEnd()) EXPECT_EQ(p.beams->elements()[pt.elementA].beam, 1) << type;
+          EXPECT_TRUE(r.report.warnings.empty()) << r.report.warnings.front();
+        }
+}
+
+// With friction 0.3: the upper column starts 0.001 above the lower one (stiffened to E = 1e5), its top
+// is driven by (0.3, 0.2, -0.0105) in 8 increments (penalties 1e3 / 1e2): the end slides, the faces
+// tilt as the columns bend and the upper face's rim presses. Each strategy and section completes,
+// and the applied tangential force stays inside the Coulomb cone: |F_T| <= mu N, equal where it slips
+// (1e-9); the end stays on the lower face. Augmented Lagrange on rectangles takes 32 increments: at 8
+// and 16 it completes on another path (the end slipping on, N 0.41 and 3.17 where Lagrange, the same
+// at 8, 16 and 32 increments, has 2.42094; docs/contact.md, "End-to-end contact"); at 32 it lands on
+// Lagrange's state (2e-5), checked here.
+TEST(EndToEndContact, EndSlidAcrossTheOtherEndStaysInTheCone) {
+  for (bool rect : {false, true})
+    for (const std::string type : {"Penalty", "Lagrange Multiplier", "Augmented Lagrange"}) {
+      Deck d = endToEndDeck(type, rect, false);
+      input::replaceAtPath(d, "Contact/Pairs/end to end/Friction Coefficient", 0.3);
+      input::replaceAtPath(d, "Beams/lower/Material/Young's Modulus", 1e5);
+      input::replaceAtPath(d, "Beams/upper/Start", vec("0.0, 0.0, 20.001"));
+      input::replaceAtPath(d, "Beams/upper/End", vec("0.0, 0.0, 10.001"));
+      input::replaceAtPath(d, "Supports/upper top/Displacement", vec("0.3, 0.2, -0.0105"));
+      const bool fine = rect && type == "Augmented Lagrange";
+      input::replaceAtPath(d, "Load Stepping/Number of Increments", fine ? 32 : 8);
+      for (const std::string law : {"Penalty", "Augmented Lagrange"}) {
+        input::replaceAtPath(d, "Contact/Enforcement/" + law + "/Normal Penalty Parameter", 1e3);
+        input::replaceAtPath(d, "Contact/Enforcement/" + law + "/Tangential Penalty Parameter", 1e2);
+      }
+      auto p = input::buildProblem(d, "end_to_end_slide");
+      const auto r = runQuiet(p, Tpetra::getDefaultComm(), "end_to_end_slide");
+      ASSERT_TRUE(r.report.completed) << type << ": " << r.report.failure;
+      const EndForces f = endToEndForces(p);
+      std::printf("end slid across an end, %s, %s: N %.6f, |F_T| / (mu N) %.12f, %s, Newton %d\n",
+                  rect ? "rectangles" : "circles", type.c_str(), f.normal, f.tangential / (0.3 * f.normal),
+                  f.slipping ? "slip" : "stick", r.report.newtonIterations);
+      ASSERT_EQ(f.active, 1) << type;
+      EXPECT_LE(f.tangential, 0.3 * f.normal * (1.0 + 1e-9)) << type;
+      if (f.slipping) EXPECT_NEAR(f.tangential, 0.3 * f.normal, 1e-9 * f.normal) << type;
+      EXPECT_GT(f.tangential, 0.0) << type;
+      if (fine) EXPECT_NEAR(f.normal, 2.42094064772, 1e-4) << "Lagrange's state at 8, 16 and 32 increments";
+    }
+}

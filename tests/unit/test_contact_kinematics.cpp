@@ -659,6 +659,28 @@ LinePairInput column(bool rectangles) {
 }
 }  // namespace
 
+namespace {
+// Two coaxial columns end to end: A from z = -10 to its free end at z = 0, B from z = 10.2 down to its
+// free end at z = 0.2 (0.2 apart). A's end face a disc of radius 0.5 or a 1 x 0.6 rectangle; B's end
+// face (the plane A presses on) its outward normal -Z.
+LinePairInput endToEnd(bool rectangles) {
+  LinePairInput in = column(rectangles);
+  in.face = false;
+  in.oB = Vec3d{};
+  in.xB1 = {{0, 0, 10.2}};
+  in.xB2 = {{0, 0, 0.2}};
+  in.otherEnd = 1;
+  in.otherRectangle = rectangles;
+  in.otherRadius = 0.5;
+  in.otherHalf[0] = 0.5;
+  in.otherHalf[1] = 0.3;
+  in.otherAxes[0] = {{0, 0, -1}};
+  in.otherAxes[1] = {{1, 0, 0}};
+  in.otherAxes[2] = {{0, -1, 0}};
+  return in;
+}
+}  // namespace
+
 // End contact: the column's end face pressed flat on B: the gap is the clearance (0.2); sliding the
 // end along B by s gives g_T2 = s, across B by s gives g_T1 = s (rectangles: the face offset; circles:
 // the end's distance from B's axis times the angle, s at first order); moved across B within its
@@ -825,6 +847,88 @@ TEST(ContactKinematics, UnitMultipliersForcesBalance) {
     const ClosestPoints cp = endProjection(in, 1.0);
     record("end", in, endKinematics(in, 1.0, cp.eta - 0.01, cp.etaRate + 0.02));
   }
+  for (int trial = 0; trial < 8; ++trial) {
+    LinePairInput in = endToEnd(trial % 2);
+    if (trial % 4 >= 2) in.dA = in.xA2 - in.xA1, in.dB = in.xB2 - in.xB1;
+    placeGenerally(in, g, 0.3);
+    const ClosestPoints cp = endToEndProjection(in);
+    record("end to end", in, endToEndKinematics(in, cp.etaRate - 0.01, cp.across2 + 0.02));
+  }
   std::printf("unit multipliers' forces, largest net force %.2e, net moment %.2e\n", worstF, worstM);
   EXPECT_LT(worstF, 1e-12);
+}
+
+// End-to-end contact: the faces 0.2 apart give gap 0.2, the normal from A to B +Z; A's end moved
+// across by s along B's e2 and e3 gives g_T1 = s, g_T2 = -s (e3 = -Y); tilted by theta about X its
+// face's rim comes towards B: 0.2 - r sin(theta) (disc) or - h/2 sin(theta) (rectangle), up to the
+// smoothing's 1.64 % of the half size. Then R and K against central differences at general states,
+// both sections, either end of each beam, chords and Hermite axes; what a unit multiplier applies on
+// B is a unit vector per gap, the three orthogonal.
+TEST(EndToEndKinematics, CoaxialEnds) {
+  for (bool rect : {false, true}) {
+    const LinePairInput in = endToEnd(rect);
+    const ClosestPoints cp = endToEndProjection(in);
+    EXPECT_NEAR(cp.gap, 0.2, 1e-12);
+    EXPECT_NEAR(cp.normal[2], 1.0, 1e-12);
+    const ContactKinematics k0 = endToEndKinematics(in, cp.etaRate, cp.across2);
+    EXPECT_NEAR(k0.normal.value, 0.2, 1e-12);
+    EXPECT_NEAR(k0.tangent1.value, 0.0, 1e-12);
+    const double s = 1e-3;
+    LinePairInput moved = in;
+    moved.xA2[0] += s;
+    moved.xA2[1] += s;
+    const ContactKinematics km = endToEndKinematics(moved, cp.etaRate, cp.across2);
+    EXPECT_NEAR(km.tangent1.value, s, 1e-12);
+    EXPECT_NEAR(km.tangent2.value, -s, 1e-12);
+    EXPECT_NEAR(km.normal.value, 0.2, 1e-12);
+    for (double theta : {0.05, 0.2, 0.5}) {
+      LinePairInput tilted = in;
+      tilted.RA2 = expSO3(Vec3d{{theta, 0, 0}});
+      const double half = rect ? in.endHalf[1] : in.endRadius;
+      const double exact = 0.2 - half * std::sin(theta);
+      const double gap = endToEndProjection(tilted).gap;
+      EXPECT_GE(gap, exact - 1e-12) << theta;
+      EXPECT_LE(gap, exact + 0.0164 * half + 1e-12) << theta;
+    }
+  }
+  std::mt19937 g(41);
+  double worstR = 0.0, worstK = 0.0, worstUnit = 0.0;
+  for (int trial = 0; trial < 8; ++trial) {
+    const bool rect = trial % 2;
+    LinePairInput in = endToEnd(rect);
+    if (trial % 4 >= 2) {  // the ends at the elements' first nodes
+      std::swap(in.xA1, in.xA2);
+      in.endNode = 0;
+      in.outward = -1.0;
+      in.endAxes[0] = {{0, 0, -1}};
+      std::swap(in.xB1, in.xB2);
+      in.otherEnd = 0;
+    }
+    if (trial % 3 != 0) {
+      in.dA = in.xA2 - in.xA1;
+      in.dB = in.xB2 - in.xB1;
+    }
+    placeGenerally(in, g, 0.3);
+    const ClosestPoints cp = endToEndProjection(in);
+    const double p1 = cp.etaRate - 0.01, p2 = cp.across2 + 0.02;
+    const auto [errR, errK] = centralDifferenceErrors(
+        in, [&](const LinePairInput& s) { return endToEndKinematics(s, p1, p2); },
+        {&ContactKinematics::normal, &ContactKinematics::tangent1, &ContactKinematics::tangent2});
+    worstR = std::max(worstR, errR);
+    worstK = std::max(worstK, errK);
+    const ContactKinematics k = endToEndKinematics(in, p1, p2);
+    Vec3d f[3];
+    const GapDerivatives* gaps[3] = {&k.normal, &k.tangent1, &k.tangent2};
+    for (int q = 0; q < 3; ++q)
+      for (int a = 0; a < 3; ++a) f[q][a] = gaps[q]->R[12 + a] + gaps[q]->R[18 + a];
+    for (int q = 0; q < 3; ++q) {
+      worstUnit = std::max(worstUnit, std::abs(norm(f[q]) - 1.0));
+      for (int r = q + 1; r < 3; ++r) worstUnit = std::max(worstUnit, std::abs(dot(f[q], f[r])));
+    }
+  }
+  std::printf("end-to-end contact, max relative error: R %.2e, K %.2e; forces' departure from orthonormal %.2e\n",
+              worstR, worstK, worstUnit);
+  EXPECT_LT(worstR, 1e-6);
+  EXPECT_LT(worstK, 1e-6);
+  EXPECT_LT(worstUnit, 1e-9);
 }
