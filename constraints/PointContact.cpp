@@ -172,11 +172,26 @@ void PointContact::findEnds(int pi, int eE, int eS, bool ofB, long long visit, c
                                                             : s.position[E.node2] - s.position[E.node1];
     const Vec3d towards = rectangles ? cp.normal : side * (cp.pB - cp.pA);
     if (!(in.outward * dot(towards, axis) > 0.0)) continue;
+    // An end past a free end of B's element whose face is turned towards it is end-to-end contact's
+    // (its face, not B's side: end on end, the end's axis lies along B's faces).
+    if (beyondFreeEnd(eE, node, eS, s)) continue;
     const PointKey key = PointKey::endPoint(pi, ofB, end, face);
     double out = std::abs(cp.eta - 0.5);
     if (have && have->elementA == eE && have->elementB == eS && out <= 0.55) out = -1.0;
     offer(key, Candidate{eE, eS, cp}, out, visit);
   }
+}
+
+bool PointContact::beyondFreeEnd(int eE, int node, int eS, const core::State& s) const {
+  const auto& E = geometry_.beams().elements()[eE];
+  const auto& S = geometry_.beams().elements()[eS];
+  const Vec3d outE = (node == E.node1 ? -1.0 : 1.0) * (s.rotation[node] * column(E.data.T0, 0));
+  for (const int nS : {S.node1, S.node2}) {
+    if (!geometry_.freeEnd(nS)) continue;
+    const Vec3d outS = (nS == S.node1 ? -1.0 : 1.0) * (s.rotation[nS] * column(S.data.T0, 0));
+    if (dot(outE, outS) < 0.0 && dot(s.position[node] - s.position[nS], outS) > -circumscribed(E.beam)) return true;
+  }
+  return false;
 }
 
 LinePairInput PointContact::endToEndInput(int eE, int end, int eO, int otherEnd, const core::State& s) const {

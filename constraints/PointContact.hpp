@@ -39,6 +39,9 @@ class PointContact {
   bool nearFreeEnd(int e, const Vec3d& x, double reach, const core::State& s) const;
   void findEnds(int pi, int eE, int eS, bool ofB, long long visit, const core::State& s, const PointMap& known,
                 const CandidateOffer& offer) const;
+  // Whether the end at `node` of element eE lies past a free end of element eS whose face is turned
+  // towards it (no deeper than its circumscribed radius): end-to-end contact's, not end contact's.
+  bool beyondFreeEnd(int eE, int node, int eS, const core::State& s) const;
   // End-to-end contact: the end `end` of element eE's beam against the end face `otherEnd` of element
   // eO's beam (endToEndKinematics), in `s`.
   LinePairInput endToEndInput(int eE, int end, int eO, int otherEnd, const core::State& s) const;

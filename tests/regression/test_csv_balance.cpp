@@ -354,14 +354,7 @@ TEST(CsvBalance, EndContactOffTheBeamsCentreLine) {
       Deck d = inputDeck("column_on_beam.xml", type);
       input::replaceAtPath(d, "Beams/column/Start", vec("45.0, 0.5, 11.05"));
       input::replaceAtPath(d, "Beams/column/End", vec("45.0, 0.5, 1.05"));
-      if (rect)
-        for (const auto& [beam, size] : {std::pair<std::string, double>{"beam", 2.0}, {"column", 1.0}}) {
-          Deck& section = d.sublist("Beams").sublist(beam).sublist("Section");
-          section.remove("Radius");
-          section.set("Shape", std::string("Rectangle"));
-          section.set("Width", size);
-          section.set("Height", size);
-        }
+      if (rect) squareSections(d, {{"beam", 2.0}, {"column", 1.0}});
       input::replaceAtPath(d, "Contact/Pairs/end on beam/Friction Coefficient", 0.3);
       input::replaceAtPath(d, "Supports/column top/Displacement", vec("3.0, -0.2, -0.08"));
       input::replaceAtPath(d, "Load Stepping/Number of Increments", 8);
@@ -371,33 +364,13 @@ TEST(CsvBalance, EndContactOffTheBeamsCentreLine) {
 }
 
 TEST(CsvBalance, EndToEndContact) {
-  // input/columns_end_to_end.xml with friction 0.3, the lower column stiffened (E = 1e5), the upper
-  // one starting 0.001 above and its top driven by (0.3, 0.2, -0.0105) in 8 increments (penalties
-  // 1e3 / 1e2): the upper end slides across the lower one's face, the faces tilt and the rim presses,
-  // so the force acts off both axes. Each strategy, both sections (Augmented Lagrange on rectangles
-  // with 32 increments, test_end_contact.cpp).
+  // input/columns_end_to_end.xml slid with friction (endToEndSlide): the upper end slides across the
+  // lower one's face, the faces tilt and the rim presses, so the force acts off both axes. Each
+  // strategy, both sections.
   for (const bool rect : {false, true})
     for (const std::string type : kStrategies) {
-      Deck d = inputDeck("columns_end_to_end.xml", type);
-      if (rect)
-        for (const auto& [beam, size] : {std::pair<std::string, double>{"lower", 1.2}, {"upper", 1.0}}) {
-          Deck& section = d.sublist("Beams").sublist(beam).sublist("Section");
-          section.remove("Radius");
-          section.set("Shape", std::string("Rectangle"));
-          section.set("Width", size);
-          section.set("Height", size);
-        }
-      input::replaceAtPath(d, "Contact/Pairs/end to end/Friction Coefficient", 0.3);
-      input::replaceAtPath(d, "Beams/lower/Material/Young's Modulus", 1e5);
-      input::replaceAtPath(d, "Beams/upper/Start", vec("0.0, 0.0, 20.001"));
-      input::replaceAtPath(d, "Beams/upper/End", vec("0.0, 0.0, 10.001"));
-      input::replaceAtPath(d, "Supports/upper top/Displacement", vec("0.3, 0.2, -0.0105"));
-      input::replaceAtPath(d, "Load Stepping/Number of Increments", rect && type == "Augmented Lagrange" ? 32 : 8);
-      for (const std::string law : {"Penalty", "Augmented Lagrange"}) {
-        input::replaceAtPath(d, "Contact/Enforcement/" + law + "/Normal Penalty Parameter", 1e3);
-        input::replaceAtPath(d, "Contact/Enforcement/" + law + "/Tangential Penalty Parameter", 1e2);
-      }
-      const Worst w = runAndBalance(d, std::string(rect ? "end_to_end_rect_" : "end_to_end_circ_") + tag(type));
+      const Worst w = runAndBalance(endToEndSlide(type, rect),
+                                    std::string(rect ? "end_to_end_rect_" : "end_to_end_circ_") + tag(type));
       EXPECT_GT(w.bodies, 0) << type;
     }
 }

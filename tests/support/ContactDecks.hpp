@@ -302,4 +302,36 @@ inline Teuchos::ParameterList toRectangles(Teuchos::ParameterList deck, double r
   return deck;
 }
 
+// The named beams' sections made squares of the given sides.
+inline void squareSections(Deck& deck, std::initializer_list<std::pair<const char*, double>> sides) {
+  for (const auto& [beam, side] : sides) {
+    Deck& sec = deck.sublist("Beams").sublist(beam).sublist("Section");
+    sec.remove("Radius");
+    sec.set("Shape", std::string("Rectangle"));
+    sec.set("Width", side);
+    sec.set("Height", side);
+  }
+}
+
+// input/columns_end_to_end.xml slid with friction 0.3: the lower column stiffened (E = 1e5), the upper
+// one starting 0.001 above it, its top driven by (0.3, 0.2, -0.0105) in 8 increments (32 for
+// Augmented Lagrange, whose stick state depends on the step: docs/contact.md, "End-to-end contact"),
+// penalties 1e3 / 1e2;
+// rectangles: the lower column 1.2 x 1.2, the upper 1 x 1.
+inline Deck endToEndSlide(const std::string& type, bool rectangles) {
+  Deck d = inputDeck("columns_end_to_end.xml", type);
+  if (rectangles) squareSections(d, {{"lower", 1.2}, {"upper", 1.0}});
+  input::replaceAtPath(d, "Contact/Pairs/end to end/Friction Coefficient", 0.3);
+  input::replaceAtPath(d, "Beams/lower/Material/Young's Modulus", 1e5);
+  input::replaceAtPath(d, "Beams/upper/Start", vec("0.0, 0.0, 20.001"));
+  input::replaceAtPath(d, "Beams/upper/End", vec("0.0, 0.0, 10.001"));
+  input::replaceAtPath(d, "Supports/upper top/Displacement", vec("0.3, 0.2, -0.0105"));
+  input::replaceAtPath(d, "Load Stepping/Number of Increments", type == "Augmented Lagrange" ? 32 : 8);
+  for (const std::string law : {"Penalty", "Augmented Lagrange"}) {
+    input::replaceAtPath(d, "Contact/Enforcement/" + law + "/Normal Penalty Parameter", 1e3);
+    input::replaceAtPath(d, "Contact/Enforcement/" + law + "/Tangential Penalty Parameter", 1e2);
+  }
+  return d;
+}
+
 }  // namespace bc::test
