@@ -1,6 +1,8 @@
 // End contact: a column's free end face pressed onto a beam's side (the force from the two
-// stiffnesses in series) and slid along it with friction (mu N), each strategy, either beam as the
-// pair's A (circular sections; rectangular end faces still stop the run, UnseenContact tests).
+// stiffnesses in series) and slid along it with friction (mu N), its tangent against central
+// differences, an end driven through in one increment; end-to-end contact: two coaxial columns
+// pressed end to end (their axial stiffnesses in series) and one slid across the other with
+// friction. Each strategy, circular and rectangular sections, either beam as the pair's A.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -39,10 +41,11 @@ struct EndForces {
   double normal = 0.0, tangential = 0.0;
   int active = 0, slipping = 0;
 };
-EndForces endForces(const input::Problem& p) {
+// The active end points' forces (end-to-end points if asked, end points on a beam's side otherwise).
+EndForces endForces(const input::Problem& p, bool endToEnd = false) {
   EndForces f;
   for (const auto& [key, pt] : p.contact->points()) {
-    if (!key.end() || !pt.result.active) continue;
+    if (!key.end() || key.endToEnd() != endToEnd || !pt.result.active) continue;
     ++f.active;
     f.normal += norm(pt.normalForce);
     f.tangential += norm(pt.tangentialForce);
@@ -196,17 +199,6 @@ double endToEndForce(bool rectangles, double epsN) {
   return 0.01 / (10.0 / (1e3 * lower) + 10.0 / (2e3 * upper) + (epsN > 0.0 ? 1.0 / epsN : 0.0));
 }
 
-EndForces endToEndForces(const input::Problem& p) {
-  EndForces f;
-  for (const auto& [key, pt] : p.contact->points()) {
-    if (!key.endToEnd() || !pt.result.active) continue;
-    ++f.active;
-    f.normal += norm(pt.normalForce);
-    f.tangential += norm(pt.tangentialForce);
-    f.slipping += pt.result.slip[0] || pt.result.slip[1];
-  }
-  return f;
-}
 }  // namespace
 
 // Two coaxial columns, the upper one's end pressed onto the lower one's: the force of the two axial
@@ -222,7 +214,7 @@ TEST(EndToEndContact, ColumnsEndToEndCarryTheStiffnessesInSeries) {
           auto p = input::buildProblem(d, "end_to_end");
           const auto r = runQuiet(p, Tpetra::getDefaultComm(), "end_to_end");
           ASSERT_TRUE(r.report.completed) << type << ": " << r.report.failure;
-          const EndForces f = endToEndForces(p);
+          const EndForces f = endForces(p, true);
           const double exact = endToEndForce(rect, type == "Penalty" ? 1e5 : 0.0);
           if (increments == 4)
             std::printf("columns end to end, %s, %s, A %s: N %.9f, closed form %.9f (%+.2e), Newton %d\n",
@@ -252,7 +244,7 @@ TEST(EndToEndContact, EndSlidAcrossTheOtherEndStaysInTheCone) {
       auto p = input::buildProblem(endToEndSlide(type, rect), "end_to_end_slide");
       const auto r = runQuiet(p, Tpetra::getDefaultComm(), "end_to_end_slide");
       ASSERT_TRUE(r.report.completed) << type << ": " << r.report.failure;
-      const EndForces f = endToEndForces(p);
+      const EndForces f = endForces(p, true);
       std::printf("end slid across an end, %s, %s: N %.6f, |F_T| / (mu N) %.12f, %s, Newton %d\n",
                   rect ? "rectangles" : "circles", type.c_str(), f.normal, f.tangential / (0.3 * f.normal),
                   f.slipping ? "slip" : "stick", r.report.newtonIterations);
