@@ -32,6 +32,9 @@ ContactGeometry::ContactGeometry(std::shared_ptr<const elements::BeamSet> beams,
     inscribed_.push_back(b.section.shape == CrossSection::Shape::Rectangle
                              ? 0.5 * std::min(b.section.width, b.section.height)
                              : b.section.radius);
+    circumscribed_.push_back(b.section.shape == CrossSection::Shape::Rectangle
+                                 ? 0.5 * std::hypot(b.section.width, b.section.height)
+                                 : b.section.radius);
     std::vector<Line> lines;
     if (b.section.shape == CrossSection::Shape::Rectangle) {
       const double y = 0.5 * b.section.width, z = 0.5 * b.section.height;

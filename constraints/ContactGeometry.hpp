@@ -96,6 +96,8 @@ class ContactGeometry {
   bool freeEnd(int node) const { return freeEnd_.count(node) > 0; }
   // The radius of the largest circle in a beam's section, and the smaller of a pair's two.
   double inscribed(int beam) const { return inscribed_[beam]; }
+  // The radius of the smallest circle about the axis holding a beam's section.
+  double circumscribed(int beam) const { return circumscribed_[beam]; }
   double thinner(int pair) const { return std::min(inscribed_[pairs_[pair].beamA], inscribed_[pairs_[pair].beamB]); }
   int lineCount(int beam) const { return static_cast<int>(lines_[beam].size()); }
   bool rectangles(int pair) const;
@@ -162,6 +164,7 @@ class ContactGeometry {
   std::unordered_map<std::uint64_t, int> pairIndex_;
   std::set<int> freeEnd_;  // nodes at a beam end that no other element or pin uses
   std::vector<double> inscribed_;  // per beam: radius of the largest circle in its section
+  std::vector<double> circumscribed_;  // per beam: radius of the smallest circle about its section
 };
 
 }  // namespace bc::constraints

@@ -259,6 +259,26 @@ template <class T> T endReach(const LinePairInput& in, const Vec3<T>& u, const V
   return in.endRadius * smoothAbs<T>(1.0 - c * c);
 }
 
+// The held variations of end contact's three gaps (their values kept): the relative motion of the
+// two bodies' material points at one place, `relative` (zero in value), along the held orthonormal
+// directions dN, d1, d2. A unit multiplier then applies a unit force on each body at that place.
+template <class T>
+void holdAtOnePlace(Gaps<T>& g, const Vec3<T>& relative, const Vec3<T>& dN, const Vec3<T>& d1, const Vec3<T>& d2) {
+  const auto freeze = [](const Vec3<T>& v) { return Vec3<T>{{frozen(v[0]), frozen(v[1]), frozen(v[2])}}; };
+  const Vec3<T> motion = relative - freeze(relative);
+  g.gN = frozen(g.gN) + dot(motion, freeze(dN));
+  g.gT1 = frozen(g.gT1) + dot(motion, freeze(d1));
+  g.gT2 = frozen(g.gT2) + dot(motion, freeze(d2));
+}
+
+// The material point at c + r of a body whose frame at c is the orthonormal triad F[0..2] (an end's
+// triad, or a beam's section): r's coordinates in the triad held, the triad turning with the body.
+template <class T> Vec3<T> materialPointAt(const Vec3<T>& c, const Vec3<T>& r, const Vec3<T>* F) {
+  Vec3<T> on = c;
+  for (int a = 0; a < 3; ++a) on = on + frozen(dot(r, F[a])) * F[a];
+  return on;
+}
+
 // End-to-end contact (see endToEndKinematics in the header): P the four nodes' points, X = (e1, e2,
 // e3 of A's end, e1, e2, e3 of B's end), each e1 outward.
 template <class T>
@@ -266,7 +286,6 @@ Gaps<T> endToEndGaps(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* X
                      double offset2Prev, bool held, double* offsets = nullptr, Vec3d* supportPoint = nullptr) {
   using std::sqrt;
   Gaps<T> g;
-  const auto freeze = [](const Vec3<T>& v) { return Vec3<T>{{frozen(v[0]), frozen(v[1]), frozen(v[2])}}; };
   const Vec3<T>& cA = P[in.endNode];
   const Vec3<T>& cB = P[2 + in.otherEnd];
   const Vec3<T>* Y = X + 3;
@@ -280,16 +299,7 @@ Gaps<T> endToEndGaps(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* X
   g.gT2 = o2 - offset2Prev;
   if (held) {
     // (as end contact's: both ends' material points at A's support point q)
-    const Vec3<T> q = cA + support;
-    Vec3<T> onA = cA, onB = cB;
-    for (int a = 0; a < 3; ++a) {
-      onA = onA + frozen(dot(support, X[a])) * X[a];
-      onB = onB + frozen(dot(q - cB, Y[a])) * Y[a];
-    }
-    const Vec3<T> relative = onA - onB, held0 = freeze(relative);
-    g.gN = frozen(g.gN) + dot(relative - held0, freeze(Y[0]));
-    g.gT1 = frozen(g.gT1) + dot(relative - held0, freeze(Y[1]));
-    g.gT2 = frozen(g.gT2) + dot(relative - held0, freeze(Y[2]));
+    holdAtOnePlace(g, materialPointAt(cA, support, X) - materialPointAt(cB, cA + support - cB, Y), Y[0], Y[1], Y[2]);
   }
   g.xi = T(static_cast<double>(in.endNode));
   g.eta = T(static_cast<double>(in.otherEnd));
@@ -322,7 +332,6 @@ Gaps<T> endGaps(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, con
   const T lb = sqrt(dot(dB, dB));
   const Vec3<T> tB = (1.0 / lb) * dB;
   const Vec3<T> w = pE - xB;  // from B's line to the end's centre
-  const auto freeze = [](const Vec3<T>& v) { return Vec3<T>{{frozen(v[0]), frozen(v[1]), frozen(v[2])}}; };
   // B's reference vector at eta (the face normal, or the origin of the angle around the axis), made
   // normal to the centre line there (so that the distance along it does not change as the projection
   // moves along the line)
@@ -386,21 +395,14 @@ Gaps<T> endGaps(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, con
     // centre and the support point's coordinates in the end's triad (held); B's: its section at the
     // projection (eta held) and q's coordinates in B's frame there (held).
     const Vec3<T> q = pE + support;
-    Vec3<T> onEnd = pE;
-    for (int a = 0; a < 3; ++a) onEnd = onEnd + frozen(dot(support, X[a])) * X[a];
     Vec3<T> xh, dh;
     axisPoint(P[2], V[2], P[3], V[3], cubicB, frozen(g.eta), &xh, &dh, nullptr);
     const Vec3<T> th = (1.0 / sqrt(dot(dh, dh))) * dh;
     Vec3<T> mh = (1.0 - frozen(g.eta)) * X[3] + frozen(g.eta) * X[4];
     mh = mh - dot(mh, th) * th;
     mh = (1.0 / sqrt(dot(mh, mh))) * mh;
-    const Vec3<T> bh = cross(th, mh), r = q - xh;
-    const Vec3<T> onB = xh + frozen(dot(r, th)) * th + frozen(dot(r, mh)) * mh + frozen(dot(r, bh)) * bh;
-    const Vec3<T> relative = onEnd - onB, held0 = freeze(relative);
-    const Vec3<T> dN = freeze(-1.0 * u), d1 = freeze(across1), d2 = freeze(tB);
-    g.gN = frozen(g.gN) + dot(relative - held0, dN);
-    g.gT1 = frozen(g.gT1) + dot(relative - held0, d1);
-    g.gT2 = frozen(g.gT2) + dot(relative - held0, d2);
+    const Vec3<T> section[3] = {th, mh, cross(th, mh)};
+    holdAtOnePlace(g, materialPointAt(pE, support, X) - materialPointAt(xh, q - xh, section), -1.0 * u, across1, tB);
   }
   const Vec3<T> tA = P[1] - P[0], tBc = P[3] - P[2];
   g.cosine = dot(tA, tBc) / (sqrt(dot(tA, tA)) * sqrt(dot(tBc, tBc)));

@@ -487,9 +487,11 @@ double ContactManager::stepBound(const core::State& state, const std::vector<dou
     }
     return *next;
   };
+  // The gap above activation at step s0 (open) and at the full step; the target: a tenth of the
+  // present distance beyond activation.
   struct Crossing {
     const Point* p;
-    double activation, s0, a0, a1;  // the gap above activation at step s0 (open) and at the full step
+    double activation, s0, a0, a1, target;
   };
   std::vector<Crossing> crossing;
   bool pointBound = true;
@@ -511,19 +513,14 @@ double ContactManager::stepBound(const core::State& state, const std::vector<dou
     if (then.sinAngle < geometry_.options().minimumSinAngle) continue;
     const double a1 = then.gap - activation;
     if (a1 >= -0.1 * a0) continue;
-    crossing.push_back({&p, activation, 0.0, a0, a1});
+    crossing.push_back({&p, activation, 0.0, a0, a1, -0.1 * a0});
   }
   if (!pointBound) crossing.clear();
-  // The target: a tenth of the present distance beyond activation, -0.1 a0 of each point's own a0.
-  const auto interpolated = [](const Crossing& c, double target) {
-    return c.s0 + (1.0 - c.s0) * (c.a0 - target) / (c.a0 - c.a1);
-  };
-  std::vector<double> target(crossing.size());
-  for (std::size_t i = 0; i < crossing.size(); ++i) target[i] = -0.1 * crossing[i].a0;
+  const auto interpolated = [](const Crossing& c) { return c.s0 + (1.0 - c.s0) * (c.a0 - c.target) / (c.a0 - c.a1); };
   constexpr int kRounds = 8;
   for (int round = 0; round < kRounds && !crossing.empty(); ++round) {
     double s = 1.0;
-    for (std::size_t i = 0; i < crossing.size(); ++i) s = std::min(s, interpolated(crossing[i], target[i]));
+    for (const Crossing& c : crossing) s = std::min(s, interpolated(c));
     if (s >= 1.0 || round == kRounds - 1) {
       bound = std::min(bound, s);
       break;
@@ -533,10 +530,10 @@ double ContactManager::stepBound(const core::State& state, const std::vector<dou
     for (double& v : part) v *= s;
     at.applyIncrement(part);
     bool crossed = false;
-    for (std::size_t i = 0; i < crossing.size(); ++i) {
-      const double a = pointGeometry(*crossing[i].p, at).gap - crossing[i].activation;
+    for (Crossing& c : crossing) {
+      const double a = pointGeometry(*c.p, at).gap - c.activation;
       if (a <= 0.0) crossed = true;
-      if (a > 0.0 && s > crossing[i].s0) crossing[i].s0 = s, crossing[i].a0 = a;
+      if (a > 0.0 && s > c.s0) c.s0 = s, c.a0 = a;
     }
     if (crossed) {
       bound = std::min(bound, s);

@@ -329,10 +329,9 @@ void ContactSearch::checkNoUnseenContact(const core::State& state, bool atStart,
     if (!(c.distance < reach * (1.0 - 1e-9))) return;
     const bool endA = (c.s == 0.0 && geometry_.freeEnd(A.node1)) || (c.s == 1.0 && geometry_.freeEnd(A.node2));
     const bool endB = (c.t == 0.0 && geometry_.freeEnd(B.node1)) || (c.t == 1.0 && geometry_.freeEnd(B.node2));
-    // Line contact of circular sections sees parallel beams (two free ends nearest each other are
-    // end-to-end contact's, below, even in line contact).
-    if (lines && !geometry_.rectangles(pi) && !(endA && endB)) return;
+    // (Two free ends nearest each other are end-to-end contact's, below, even in line contact.)
     if (lines && !(endA && endB)) {
+      if (!geometry_.rectangles(pi)) return;  // (line contact of circular sections sees parallel beams)
       if (!(c.distance < reach - kUnresolvedLine * geometry_.thinner(pi)) || seen(pi, ea, eb)) return;
       const Vec3d at = a1 + c.s * (a2 - a1);
       std::ostringstream s;
@@ -389,7 +388,7 @@ void ContactSearch::checkNoUnseenContact(const core::State& state, bool atStart,
           << " here does not)";
     } else {
       s << "at the free ends of both beams, where no end-to-end point holds them (end-to-end contact takes two end "
-           "faces turned towards each other, one end's centre within the other's face and its circumscribed radius)";
+           "faces turned towards each other, where one end touches the other's face within its rim)";
     }
     if (atStart) throw core::InputError(s.str() + "; move the beams apart");
     throw std::runtime_error(s.str());

@@ -45,7 +45,7 @@ void PointContact::findPoints(int pi, int ea, int eb, long long visit, const cor
       // has its edges inside that face, where the closest points of its edges and the face's bounding
       // edges give spurious points 1 to 1.5 deep (the end point holds that end). Away from free ends
       // a deep new point is a real overlap (at the start: refused; within an increment: held).
-      const double reach = circumscribed(pair.beamA) + circumscribed(pair.beamB);
+      const double reach = geometry_.circumscribed(pair.beamA) + geometry_.circumscribed(pair.beamB);
       if (in.radiusSum == 0.0 && it == known.end() && cp.gap < -0.5 * geometry_.thinner(pi) &&
           (nearFreeEnd(ea, cp.pA, reach, s) || nearFreeEnd(eb, cp.pB, reach, s)))
         continue;
@@ -93,11 +93,6 @@ LinePairInput PointContact::endInput(int eE, int end, int eS, int face, const co
     in.acrossB = column(S.data.T0, 1);
   }
   return in;
-}
-
-double PointContact::circumscribed(int beam) const {
-  const auto& sec = geometry_.beams().beams()[beam].section;
-  return sec.shape == elements::CrossSection::Shape::Rectangle ? 0.5 * std::hypot(sec.width, sec.height) : sec.radius;
 }
 
 bool PointContact::nearFreeEnd(int e, const Vec3d& x, double reach, const core::State& s) const {
@@ -160,7 +155,7 @@ void PointContact::findEnds(int pi, int eE, int eS, bool ofB, long long visit, c
       // point for an end beyond B's far face (a gap below minus B's thickness and that radius) is no
       // contact either (an end that went through is the pass-through check's).
       const auto& secS = geometry_.beams().beams()[S.beam].section;
-      const double endReach = circumscribed(E.beam), thickness = face % 2 == 0 ? secS.width : secS.height;
+      const double endReach = geometry_.circumscribed(E.beam), thickness = face % 2 == 0 ? secS.width : secS.height;
       if (std::abs(cp.etaRate) > in.halfWidthB + endReach) continue;
       if (!have && cp.gap < -(thickness + endReach)) continue;
     }
@@ -182,14 +177,20 @@ void PointContact::findEnds(int pi, int eE, int eS, bool ofB, long long visit, c
   }
 }
 
+Vec3d PointContact::outwardAxis(int e, int node, const core::State& s) const {
+  const auto& E = geometry_.beams().elements()[e];
+  return (node == E.node1 ? -1.0 : 1.0) * (s.rotation[node] * column(E.data.T0, 0));
+}
+
 bool PointContact::beyondFreeEnd(int eE, int node, int eS, const core::State& s) const {
   const auto& E = geometry_.beams().elements()[eE];
   const auto& S = geometry_.beams().elements()[eS];
-  const Vec3d outE = (node == E.node1 ? -1.0 : 1.0) * (s.rotation[node] * column(E.data.T0, 0));
+  const Vec3d outE = outwardAxis(eE, node, s);
   for (const int nS : {S.node1, S.node2}) {
     if (!geometry_.freeEnd(nS)) continue;
-    const Vec3d outS = (nS == S.node1 ? -1.0 : 1.0) * (s.rotation[nS] * column(S.data.T0, 0));
-    if (dot(outE, outS) < 0.0 && dot(s.position[node] - s.position[nS], outS) > -circumscribed(E.beam)) return true;
+    const Vec3d outS = outwardAxis(eS, nS, s);
+    if (dot(outE, outS) < 0.0 && dot(s.position[node] - s.position[nS], outS) > -geometry_.circumscribed(E.beam))
+      return true;
   }
   return false;
 }
@@ -218,7 +219,7 @@ void PointContact::findEndToEnd(int pi, int ea, int eb, long long visit, const c
   const auto& elems = geometry_.beams().elements();
   const auto& A = elems[ea];
   const auto& B = elems[eb];
-  const double rA = circumscribed(A.beam), rB = circumscribed(B.beam);
+  const double rA = geometry_.circumscribed(A.beam), rB = geometry_.circumscribed(B.beam);
   for (int endA = 0; endA < 2; ++endA)
     for (int endB = 0; endB < 2; ++endB) {
       const int nA = endA == 0 ? A.node1 : A.node2, nB = endB == 0 ? B.node1 : B.node2;
@@ -237,10 +238,8 @@ void PointContact::findEndToEnd(int pi, int ea, int eb, long long visit, const c
       // end's centre in front of the plane (a new point no deeper than its circumscribed radius) and
       // its support point (where it touches) on the other face. (An end hanging over the other
       // face's rim touches that rim with its face: not modelled, refused where the faces overlap.)
-      const Vec3d outE = (end == 0 ? -1.0 : 1.0) * (s.rotation[ofB ? nB : nA] * in.endAxes[0]);
-      const Vec3d outO = s.rotation[ofB ? nA : nB] * in.otherAxes[0];
-      if (!(dot(outE, outO) < 0.0)) continue;
-      const double reach = circumscribed(elems[eE].beam);
+      if (!(dot(outwardAxis(ea, nA, s), outwardAxis(eb, nB, s)) < 0.0)) continue;
+      const double reach = geometry_.circumscribed(elems[eE].beam);
       if (!(haveA || haveB) && cp.gap < -reach) continue;
       const Vec3d q = cp.pA - cp.cB;
       const Vec3d e2 = s.rotation[ofB ? nA : nB] * in.otherAxes[1], e3 = s.rotation[ofB ? nA : nB] * in.otherAxes[2];

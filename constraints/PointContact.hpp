@@ -35,7 +35,8 @@ class PointContact {
   // element eS's surface (rectangles: its face `face`), in `s`.
   LinePairInput endInput(int eE, int end, int eS, int face, const core::State& s) const;
   // The end points of element eE's free ends (if any) on element eS, the pair's beam B's ends if ofB.
-  double circumscribed(int beam) const;
+  // The outward axis of element e at its node `node` (e1, minus at its first node), in `s`.
+  Vec3d outwardAxis(int e, int node, const core::State& s) const;
   bool nearFreeEnd(int e, const Vec3d& x, double reach, const core::State& s) const;
   void findEnds(int pi, int eE, int eS, bool ofB, long long visit, const core::State& s, const PointMap& known,
                 const CandidateOffer& offer) const;

@@ -213,7 +213,9 @@ void checkExample(const std::string& deckName, double costRatio = 0.0) {
     got[type] = {A[0], A[2], c.normal};
     newton[type] = r.report.newtonIterations;
   }
-  if (costRatio > 0.0) EXPECT_LE(newton["Augmented Lagrange"], costRatio * newton["Penalty"]);
+  if (costRatio > 0.0) {
+    EXPECT_LE(newton["Augmented Lagrange"], costRatio * newton["Penalty"]);
+  }
   const auto& l = got["Lagrange Multiplier"];
   const auto& a = got["Augmented Lagrange"];
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(a[k], l[k], 1e-4 * std::abs(l[k])) << "quantity " << k;

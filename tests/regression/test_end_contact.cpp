@@ -224,7 +224,9 @@ TEST(EndToEndContact, ColumnsEndToEndCarryTheStiffnessesInSeries) {
           EXPECT_NEAR(f.normal, exact, 1e-6 * exact) << type;
           // the upper end (the smaller face) presses on the lower one's
           for (const auto& [key, pt] : p.contact->points())
-            if (key.endToEnd()) EXPECT_EQ(p.beams->elements()[pt.elementA].beam, 1) << type;
+            if (key.endToEnd()) {
+              EXPECT_EQ(p.beams->elements()[pt.elementA].beam, 1) << type;
+            }
           EXPECT_TRUE(r.report.warnings.empty()) << r.report.warnings.front();
         }
 }
@@ -250,9 +252,13 @@ TEST(EndToEndContact, EndSlidAcrossTheOtherEndStaysInTheCone) {
                   f.slipping ? "slip" : "stick", r.report.newtonIterations);
       ASSERT_EQ(f.active, 1) << type;
       EXPECT_LE(f.tangential, 0.3 * f.normal * (1.0 + 1e-9)) << type;
-      if (f.slipping) EXPECT_NEAR(f.tangential, 0.3 * f.normal, 1e-9 * f.normal) << type;
+      if (f.slipping) {
+        EXPECT_NEAR(f.tangential, 0.3 * f.normal, 1e-9 * f.normal) << type;
+      }
       EXPECT_GT(f.tangential, 0.0) << type;
       const double lagrange = rect ? 2.42094064772 : 1.76019493106;  // (at 8, 16 and 32 increments)
-      if (fine) EXPECT_NEAR(f.normal, lagrange, 1e-4 * lagrange) << "Lagrange's state";
+      if (fine) {
+        EXPECT_NEAR(f.normal, lagrange, 1e-4 * lagrange) << "Lagrange's state";
+      }
     }
 }
