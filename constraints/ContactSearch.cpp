@@ -332,6 +332,13 @@ void ContactSearch::checkNoUnseenContact(const core::State& state, bool atStart,
     // (Two free ends nearest each other are end-to-end contact's, below, even in line contact.)
     if (lines && !(endA && endB)) {
       if (!geometry_.rectangles(pi)) return;  // (line contact of circular sections sees parallel beams)
+      // An element's material ends at the planes through its nodes: where the other axis's closest
+      // point lies beyond such a plane, the axes' distance is no overlap of these two elements (the
+      // neighbour past that node has its own pair; past a free end there is nothing, or end-to-end
+      // contact). Two beams in line had their elements' axial distances taken as overlaps.
+      const Vec3d pA = a1 + c.s * (a2 - a1), pB = b1 + c.t * (b2 - b1);
+      if ((c.s == 0.0 || c.s == 1.0) && dot(pB - pA, c.s == 0.0 ? a1 - a2 : a2 - a1) > 0.0) return;
+      if ((c.t == 0.0 || c.t == 1.0) && dot(pA - pB, c.t == 0.0 ? b1 - b2 : b2 - b1) > 0.0) return;
       if (!(c.distance < reach - kUnresolvedLine * geometry_.thinner(pi)) || seen(pi, ea, eb)) return;
       const Vec3d at = a1 + c.s * (a2 - a1);
       std::ostringstream s;
