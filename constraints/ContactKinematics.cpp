@@ -686,28 +686,47 @@ LineSegment lineSegment(const LinePairInput& in) {
   const bool cubicA = norm(in.dA) > 0.0;
   const Vec3d node[2] = {in.xB1 + in.RB1 * in.oB, in.xB2 + in.RB2 * in.oB};
   const Vec3d tau[2] = {in.RB1 * in.sB1, in.RB2 * in.sB2};
-  double root[2];
+  // inside_j(xi) >= 0 where A's point lies on B's element's side of plane j: past node 1's plane
+  // along tau_1, before node 2's along tau_2.
+  const auto inside = [&](int j, double xi) {
+    Vec3d x;
+    axisPoint(P[0], V[0], P[1], V[1], cubicA, xi, &x, static_cast<Vec3d*>(nullptr), static_cast<Vec3d*>(nullptr));
+    const double f = dot(tau[j], x - node[j]);
+    return j == 0 ? f : -f;
+  };
+  seg.lo = 0.0;
+  seg.hi = 1.0;
   for (int j = 0; j < 2; ++j) {
-    // Newton from the chord's root; the plane must cross A's axis at a clear angle.
+    // The plane must cross A's axis at a clear angle.
     const double along = dot(tau[j], pA2 - pA1);
-    if (!(std::abs(along) > 1e-3 * norm(tau[j]) * norm(pA2 - pA1))) return seg;
-    double xi = dot(tau[j], node[j] - pA1) / along;
-    for (int it = 0; it < 50; ++it) {
-      const double step = planeRoot(P, V, cubicA, node[j], tau[j], xi, 1) - xi;
+    if (!(std::abs(along) > 1e-3 * norm(tau[j]) * norm(pA2 - pA1))) return LineSegment{};
+    const double at0 = inside(j, 0.0), at1 = inside(j, 1.0);
+    if (!std::isfinite(at0) || !std::isfinite(at1)) return LineSegment{};
+    if (at0 >= 0.0 && at1 >= 0.0) continue;  // the whole element on B's side of this plane
+    if (at0 < 0.0 && at1 < 0.0) return LineSegment{};  // none of it
+    // The plane cuts A's element: its root inside [0, 1], by Newton's method kept in the bracket
+    // (bisection where a step would leave it). Only the root inside the element bounds the segment:
+    // a root on the cubic's extension beyond the element's ends (where Newton may wander between
+    // the cubic's other roots or diverge) would make the segment jump with the dofs.
+    double a = 0.0, b = 1.0, fa = at0;
+    double xi = at0 / (at0 - at1);  // the chord's root
+    for (int it = 0; it < 100; ++it) {
+      const double next = planeRoot(P, V, cubicA, node[j], tau[j], xi, 1);
+      const double fx = inside(j, xi);
+      if (fx == 0.0) break;
+      if ((fx < 0.0) == (fa < 0.0)) a = xi, fa = fx;
+      else b = xi;
+      const double step = (next > a && next < b) ? next - xi : 0.5 * (a + b) - xi;
       xi += step;
-      if (std::abs(step) < 1e-15 * (1.0 + std::abs(xi))) break;
+      if (std::abs(step) < 1e-15 * (1.0 + std::abs(xi)) || b - a < 1e-15) break;
     }
-    if (!std::isfinite(xi)) return seg;
-    root[j] = xi;
+    if (at0 < 0.0) {  // [xi, 1] lies on B's side
+      if (xi > seg.lo) seg.lo = xi, seg.loKind = j;
+    } else if (xi < seg.hi) {  // [0, xi]
+      seg.hi = xi, seg.hiKind = j;
+    }
   }
-  const int first = root[0] <= root[1] ? 0 : 1;  // the plane A meets first
-  seg.lo = root[first];
-  seg.loKind = first;
-  seg.hi = root[1 - first];
-  seg.hiKind = 1 - first;
-  if (seg.lo <= 0.0) seg.lo = 0.0, seg.loKind = -1;
-  if (seg.hi >= 1.0) seg.hi = 1.0, seg.hiKind = -1;
-  if (!(seg.hi > seg.lo)) seg = LineSegment{};
+  if (!(seg.hi > seg.lo)) return LineSegment{};
   return seg;
 }
 

@@ -290,6 +290,76 @@ TEST(LineKinematics, FaceContactOfRectangles) {
 // lies inside. Then R and K of the gaps, and the first variations of the Gauss point's xi and of the
 // segment's length, against central differences at general states (both bounds planes, one, none;
 // circles and faces; cubic axes and chords), the plane normals turning with B's nodes.
+// A segment's bounds against brute force: A's element (cubic, its nodes turned by up to 0.6 rad, so
+// that its extension beyond the element's ends bends away) and B's element nearly parallel, its node
+// planes tilted by up to 0.3 rad and placed so that they cut A inside its element, just beyond its
+// ends, or far beyond. The reference marks 200001 points of A's element between the planes (the
+// segment: from the first to the last). A root of the plane's equation on the cubic's extension,
+// where Newton's method from the chord's root wanders between roots or diverges, must not decide
+// the segment: before, such configurations lost their segment (empty) while A's element lay between
+// the planes, and the contact force jumped with the dofs.
+TEST(LineKinematics, SegmentEqualsThePointsBetweenThePlanes) {
+  std::mt19937 g(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  constexpr int kSamples = 200000;
+  int cut = 0, whole = 0, none = 0;
+  double worst = 0.0, worstRoot = 0.0;
+  for (int trial = 0; trial < 400; ++trial) {
+    LinePairInput in;
+    in.xA1 = {{0, 0, 0}};
+    in.xA2 = {{10, 0, 0}};
+    in.dA = in.dB = Vec3d{{10, 0, 0}};
+    in.RA1 = expSO3(Vec3d{{0.0, 0.6 * u(g), 0.6 * u(g)}});
+    in.RA2 = expSO3(Vec3d{{0.0, 0.6 * u(g), 0.6 * u(g)}});
+    const double x0 = 14.0 * u(g), lB = 10.0 + 4.0 * u(g);
+    in.xB1 = {{x0, 0.2 * u(g), 2.5}};
+    in.xB2 = {{x0 + lB, 0.2 * u(g), 2.5}};
+    in.RB1 = expSO3(Vec3d{{0.0, 0.3 * u(g), 0.3 * u(g)}});
+    in.RB2 = expSO3(Vec3d{{0.0, 0.3 * u(g), 0.3 * u(g)}});
+    in.sB1 = in.sB2 = Vec3d{{1, 0, 0}};
+    in.radiusSum = 2.0;
+    const Vec3d P[2] = {in.xA1, in.xA2}, V[2] = {in.RA1 * in.dA, in.RA2 * in.dA};
+    const Vec3d tau[2] = {in.RB1 * in.sB1, in.RB2 * in.sB2};
+    const auto plane = [&](int j, double xi) {
+      // The Hermite cubic (docs/contact.md, "The axes are cubic curves").
+      const double h1 = 1 - 3 * xi * xi + 2 * xi * xi * xi, h2 = xi - 2 * xi * xi + xi * xi * xi,
+                   h3 = 3 * xi * xi - 2 * xi * xi * xi, h4 = xi * xi * xi - xi * xi;
+      const Vec3d x = h1 * P[0] + h2 * V[0] + h3 * P[1] + h4 * V[1];
+      return dot(tau[j], x - (j == 0 ? in.xB1 : in.xB2));
+    };
+    double first = 2.0, last = -1.0;
+    for (int i = 0; i <= kSamples; ++i) {
+      const double xi = double(i) / kSamples;
+      if (plane(0, xi) >= 0.0 && plane(1, xi) <= 0.0) first = std::min(first, xi), last = std::max(last, xi);
+    }
+    const LineSegment seg = lineSegment(in);
+    if (last < first) {
+      ++none;
+      EXPECT_EQ(seg.length(), 0.0) << trial;
+      continue;
+    }
+    (first == 0.0 && last == 1.0 ? whole : cut)++;
+    ASSERT_GT(seg.length(), 0.0) << trial;
+    worst = std::max({worst, std::abs(seg.lo - first), std::abs(seg.hi - last)});
+    for (const auto [kind, at] : {std::make_pair(seg.loKind, seg.lo), std::make_pair(seg.hiKind, seg.hi)}) {
+      if (kind < 0) {
+        EXPECT_TRUE(at == 0.0 || at == 1.0) << trial;
+      } else {
+        worstRoot = std::max(worstRoot, std::abs(plane(kind, at)));
+      }
+    }
+  }
+  std::printf(
+      "segments: %d cut by a plane, %d whole, %d none; bounds within %.1e of the sampled ones, plane "
+      "residual at the roots %.1e\n",
+      cut, whole, none, worst, worstRoot);
+  EXPECT_GT(cut, 50);
+  EXPECT_GT(whole, 10);
+  EXPECT_GT(none, 10);
+  EXPECT_LT(worst, 1.0 / kSamples);
+  EXPECT_LT(worstRoot, 1e-12);
+}
+
 TEST(LineKinematics, SegmentBoundsAndTheirVariations) {
   LinePairInput in;
   in.xA1 = {{0, 0, 0}};
