@@ -72,9 +72,13 @@ std::string AutomaticPenalty::failureHint(const Teuchos::Comm<int>& comm, const 
   // Points with parameters chosen from the compliance: relaxAfterFailure lowers them for the retry.
   const bool automatic =
       std::any_of(points.begin(), points.end(), [](const auto& kv) { return kv.second.compliance[0] > 0.0; });
-  if (automatic && relaxations_ < kMaxRelaxations) {
+  const bool steering = enforcer_.relaxesFrictionSteering();
+  if ((automatic || steering) && relaxations_ < kMaxRelaxations) {
     cycling_ = true;
-    s << "; the automatic Tangential Penalty Parameters are lowered tenfold for the retry";
+    if (automatic) s << "; the automatic Tangential Penalty Parameters are lowered tenfold for the retry";
+    if (steering)
+      s << "; the Friction Complementarity Parameter is lowered tenfold for the retry (it steers Newton's stick and "
+           "slip guesses only: the solution does not depend on it)";
   }
   return s.str();
 }
@@ -97,7 +101,9 @@ void AutomaticPenalty::restore(core::CheckpointIn& in, double factor, int relaxa
 }
 
 std::string AutomaticPenalty::warning() const {
-  if (relaxations_ == 0) return "";
+  // (A strategy that relaxes its friction steering instead, Lagrange multipliers, has no penalties to
+  // warn of: its solution does not depend on what was lowered.)
+  if (relaxations_ == 0 || enforcer_.relaxesFrictionSteering()) return "";
   std::ostringstream s;
   s << "the automatic Tangential Penalty Parameters were lowered by a factor "
     << tangentialRelaxationFactor(relaxations_)

@@ -51,6 +51,9 @@ class AutomaticPenalty {
   void restore(core::CheckpointIn& in, double factor, int relaxations);
   // The warning of a run whose parameters were lowered (empty: none).
   std::string warning() const;
+  // Retries after slip directions cycled so far (each lowers automatic eps_T and the strategy's
+  // friction steering tenfold).
+  int relaxations() const { return relaxations_; }
 
  private:
   static constexpr int kMaxRelaxations = 6;

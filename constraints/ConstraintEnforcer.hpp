@@ -85,6 +85,10 @@ struct ContactPoint {
   // shortest of line A's elements at the node): (h / pi)^4 (1 / EI_A + 1 / EI_B) [length^2 / force],
   // EI each beam's stiffer bending stiffness. 0 elsewhere.
   double fieldCompliance = 0.0;
+  // 10^n after n Newton solves failed with slip directions cycling (ContactManager's retry; 1 before):
+  // a strategy whose friction rows have a parameter that only steers Newton, not the solution (Lagrange
+  // multipliers' Friction Complementarity Parameter), divides it by this (relaxesFrictionSteering).
+  double frictionRelaxation = 1.0;
 };
 
 // The forces of a point: for output, the progress line and the stopping tests.
@@ -131,6 +135,11 @@ class ConstraintEnforcer {
   // the length it stands for); 0 where a gap has no variation. It hands c to setCompliance once,
   // before the point is evaluated.
   virtual bool wantsCompliance(const PointState& s) const { return false; }
+  // True when the strategy's friction rows have a parameter that steers Newton only (any value has the
+  // same solution) and that it lowers by ContactPoint::frictionRelaxation: after a Newton solve fails
+  // with slip directions cycling, the retry then relaxes it (Lagrange multipliers: c_T of Isotropic
+  // Coulomb's complementarity function).
+  virtual bool relaxesFrictionSteering() const { return false; }
   virtual void setCompliance(PointState& s, const double compliance[3]) const {}
   // When Newton solves fail with slip directions cycling, the manager relaxes the tangential law of
   // the points it handed a compliance, for the retry: it counts the relaxations of the run

@@ -192,6 +192,7 @@ ContactPoint ContactGeometry::strategyView(const ContactPointRecord& p, const Co
   ContactPoint view{k, pairs_[p.key.pair].friction, p.end() ? FrictionLaw::IsotropicCoulomb : options_.frictionLaw,
                     pointMultipliers(p, state), blendWeight(p, k.axesCosine, nullptr, nullptr)};
   if (p.line()) view.measured[0] = false;
+  view.frictionRelaxation = frictionRelaxation_;
   return view;
 }
 

@@ -145,6 +145,9 @@ class ContactGeometry {
 
   // The point as its strategy sees it, with kinematics `k` in `state`.
   ContactPoint strategyView(const ContactPointRecord& p, const ContactKinematics& k, const core::State& state) const;
+  // The views' frictionRelaxation (ContactPoint): 10^n after n retries of Newton solves whose slip
+  // directions cycled.
+  void setFrictionRelaxation(double factor) { frictionRelaxation_ = factor; }
 
  private:
   struct Line {
@@ -154,6 +157,7 @@ class ContactGeometry {
   std::shared_ptr<const elements::BeamSet> beams_;
   std::vector<ContactPairSpec> pairs_;
   ContactOptions options_;
+  double frictionRelaxation_ = 1.0;
   bool lineContact_ = false;
   core::State reference_;
   std::vector<std::vector<Line>> lines_;  // per beam

@@ -458,6 +458,7 @@ void ContactManager::loadCommitted(core::CheckpointIn& in, const core::State& co
             std::to_string(lastPasses) + ", relaxations " + std::to_string(relaxations) + ")");
   lastPasses_ = static_cast<int>(lastPasses);
   penalty_.restore(in, relaxation, static_cast<int>(relaxations));
+  geometry_.setFrictionRelaxation(tangentialRelaxationFactor(penalty_.relaxations()));
   set_.load(in, n, committed);
   geometry_.setReference(committed);
   // (The line-contact warnings are not in the checkpoint: they are renewed from the steps that
@@ -565,6 +566,7 @@ double ContactManager::lineStepBound(const Point& p, const core::State& state,
 
 void ContactManager::restoreStep() {
   penalty_.relaxAfterFailure(set_.committed());
+  geometry_.setFrictionRelaxation(tangentialRelaxationFactor(penalty_.relaxations()));
   set_.restore();
   lines_.clearLevels(true);
   resumeLevels_ = true;

@@ -63,6 +63,7 @@ class LagrangeMultiplierEnforcer : public ConstraintEnforcer {
   bool acceptNormal(const ContactPoint& p, PointState& s) const override;
   bool acceptPoint(const ContactPoint& p, PointState& s, double& worstViolation) const override;
   int maximumPasses() const override { return maxPasses_; }
+  bool relaxesFrictionSteering() const override { return true; }
 
  private:
   // Isotropic Coulomb: adds the two friction rows; returns true when the point slips.

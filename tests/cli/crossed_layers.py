@@ -28,7 +28,7 @@ import xml.etree.ElementTree as ET
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from check_gold import set_parameter  # noqa: E402
-from generated_decks import run  # noqa: E402
+from generated_decks import run, summarize  # noqa: E402
 
 LAYOUTS = [("4x4 between nodes", 4, 9), ("8x8 on nodes", 8, 9), ("8x8 between nodes", 8, 11)]
 STRATEGIES = ["Penalty", "Lagrange Multiplier", "Augmented Lagrange"]
@@ -220,6 +220,63 @@ def check_friction_cycling(exe, work):
     return failures
 
 
+def check_lagrange_friction_steering(exe, work):
+    """16 x 16 layers pressed together at first contact (generate grid's defaults: gap 0.1, press 0.5,
+    friction 0.2) with Lagrange multipliers: with the Friction Complementarity Parameter c_T = 100 (the
+    default) the slip directions cycle at first contact (T = 0.2; the run stopped there before).
+    c_T steers Newton only, so the strategy lowers it tenfold per cycling failure: the run must
+    complete, say at the cut that it lowered c_T, write no warning, keep every point within the cone
+    (|F_T| <= mu N (1 + 1e-9)) and every beam's contact forces balanced by its supports (1e-6), and
+    land on the run with c_T = 1 from the start (total normal force 1e-6, each point's within 1e-4 of
+    the largest; friction depends on the path, and the two runs' steps differ)."""
+    deck = os.path.join(work, "grid16_lagrange.xml")
+    subprocess.run([exe, "generate", "grid", "--n", "16", "--m", "16", "--output", deck], check=True,
+                   capture_output=True)
+    results, failures = {}, 0
+    for c_t in (None, "1"):
+        tree = ET.parse(deck)
+        set_parameter(tree.getroot(), "Output/Write VTK", "bool", "false")
+        set_parameter(tree.getroot(), "Contact/Enforcement/Type", "string", "Lagrange Multiplier")
+        if c_t:
+            set_parameter(tree.getroot(), "Contact/Enforcement/Lagrange Multiplier/Friction Complementarity Parameter",
+                          "double", c_t)
+        name = os.path.join(work, "grid16_lagrange_" + (c_t or "default"))
+        tree.write(name + ".xml")
+        r = subprocess.run([exe, "run", name + ".xml", "--output", name], capture_output=True, text=True)
+        with open(os.path.join(name, "status.txt")) as f:
+            status = f.read().strip()
+        lowered = "Friction Complementarity Parameter is lowered tenfold" in r.stdout
+        print(f"16x16 pressed, Lagrange, friction 0.2, c_T {c_t or '100 (default)'}: exit {r.returncode}, "
+              f"{status.splitlines()[0][:80]}, lowered at a cut: {lowered}")
+        if r.returncode != 0:
+            failures += 1
+            continue
+        failures += (c_t is None) != lowered
+        failures += "warning" in status.lower()
+        _, total, balance, contact = summarize(name)
+        worst = 0.0
+        for c in contact:
+            if c["active"] != "1":
+                continue
+            n, t = abs(float(c["normal_force"])), float(c["tangential_force"])
+            if n > 0:
+                worst = max(worst, t / (0.2 * n))
+        largest = max(abs(v) for _, (f, h) in balance.items() for v in h)
+        imbalance = max(abs(f[i] + h[i]) for _, (f, h) in balance.items() for i in range(3))
+        print(f"  total normal force {total:.9f}, |F_T| / mu N at most {worst:.12f}, imbalance "
+              f"{imbalance / largest:.1e} of the largest reaction")
+        failures += not (worst <= 1 + 1e-9 and imbalance <= 1e-6 * largest)
+        results[c_t] = ({(c["pair"], c["line_A"], c["line_B"]): float(c["normal_force"]) for c in contact
+                         if c["active"] == "1"}, total)
+    if len(results) == 2:
+        (a, ta), (b, tb) = results[None], results["1"]
+        scale = max(abs(v) for v in a.values())
+        diff = max(abs(a[k] - b.get(k, 0.0)) for k in set(a) | set(b))
+        print(f"  against c_T = 1 from the start: total {abs(ta - tb) / abs(tb):.1e}, points {diff / scale:.1e}")
+        failures += not (set(a) == set(b) and abs(ta - tb) <= 1e-6 * abs(tb) and diff <= 1e-4 * scale)
+    return failures
+
+
 def main():
     exe, work, mpi = sys.argv[1], sys.argv[2], sys.argv[3:]
     os.makedirs(work, exist_ok=True)
@@ -227,6 +284,7 @@ def main():
     failures += check_over_constrained(exe, work)
     failures += check_laid_and_loaded(exe, work, mpi)
     failures += check_friction_cycling(exe, work)
+    failures += check_lagrange_friction_steering(exe, work)
     failures += check_reused_factorization(exe, work, mpi)
     if failures:
         sys.exit(f"{failures} check(s) failed")

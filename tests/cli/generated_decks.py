@@ -50,6 +50,12 @@ def run(exe, deck, out, mpi=None):
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode != 0:
         sys.exit(f"{deck}: exit {r.returncode}: {r.stderr.strip()[-300:]}")
+    return summarize(out)
+
+
+def summarize(out):
+    """A complete run's last step in OUT: its active contact points (pair, lines), total normal force,
+    per beam the contact forces on it and its support reactions (x, y, z), and the contact rows."""
     contact = rows_at_end(os.path.join(out, "contact_points.csv"))
     reactions = rows_at_end(os.path.join(out, "reactions.csv"))[0]
     active = sorted((c["pair"], c["line_A"], c["line_B"]) for c in contact if c["active"] == "1")
