@@ -280,7 +280,7 @@ void writeCaseTable(const StudyResults& r) {
   core::writeFileAtomically(r.dir / "cases.csv", csv.str());
 }
 
-void writeStudyJson(const StudyResults& r, int parallel) {
+void writeStudyJson(const StudyResults& r, int parallel, const std::string& caseProcesses, int processesStarted) {
   const StudyDeck& deck = r.deck;
   const ParameterList& b = *deck.baseDeck;
   r.out.add("study.json");
@@ -289,6 +289,7 @@ void writeStudyJson(const StudyResults& r, int parallel) {
     << ",\n  \"base_deck\": " << jsonString(deck.base.string()) << ",\n  \"at_T\": " << deck.atT
     << ",\n  \"reference_group\": " << jsonString(deck.study->get<std::string>("Reference Group"))
     << ",\n  \"timing_runs\": " << r.timing << ",\n  \"parallel\": " << parallel
+    << ",\n  \"case_processes\": " << jsonString(caseProcesses) << ",\n  \"processes_started\": " << processesStarted
     << ",\n  \"base\": {\"strategy\": " << jsonString(baseFact(b, "Contact/Enforcement", "Type"))
     << ", \"beams\": " << (b.isSublist("Beams") ? b.sublist("Beams").numParams() : 0)
     << ", \"increments\": " << jsonString(baseFact(b, "Load Stepping", "Number of Increments"))

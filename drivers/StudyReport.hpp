@@ -39,8 +39,9 @@ struct StudyResults {
 // reference and run figures.
 void writeCaseTable(const StudyResults& r);
 
-// Writes study.json: what the report script needs to know (with a few facts of the base deck).
-void writeStudyJson(const StudyResults& r, int parallel);
+// Writes study.json: what the report script needs to know (with a few facts of the base deck), and how
+// the cases ran (`caseProcesses`: "worker pool" or "process per case", with the processes started).
+void writeStudyJson(const StudyResults& r, int parallel, const std::string& caseProcesses, int processesStarted);
 
 // Runs the report script (report.md and the figures), recording every file it writes in the
 // manifest. Returns the script's exit code: 0 written, 4 a Python module is missing (the script said
