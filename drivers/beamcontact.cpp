@@ -128,11 +128,11 @@ const Command& studySpec() {
   static const Command c{
       "study",
       "Runs every case of a study deck (a base deck and the parameters to vary, docs/studies.md), N at a\n"
-      "time, and writes cases.csv, study.json, report.md and plots. The cases run in N worker processes\n"
-      "that each start MPI and Kokkos once and run case after case as beamcontact run would; a case whose\n"
-      "worker dies (a crash, an abort, a signal) is recorded with its cause, a new worker takes over and\n"
-      "the others go on. Run it without mpirun. Exit codes: 0 every case complete, 1 usage or input error,\n"
-      "2 some case did not complete, 4 every case complete but the report not written.",
+      "time, and writes cases.csv, study.json, report.md and plots. The cases run in N worker processes,\n"
+      "each started once and running case after case as beamcontact run would (no start-up per case); a\n"
+      "case whose worker dies (a crash, an abort, a signal) is recorded with its cause, a new worker takes\n"
+      "over and the others go on. Run it without mpirun. Exit codes: 0 every case complete, 1 usage or\n"
+      "input error, 2 some case did not complete, 4 every case complete but the report not written.",
       {{"STUDY.xml", "the study deck"}},
       {{"output", 'o', "DIR", "results/<study name>", "study directory"},
        {"overwrite", 0, "", "", "write beside files beamcontact did not write (passed on to every case)"},
@@ -143,8 +143,8 @@ const Command& studySpec() {
         false, true, "5"},
        {"no-report", 0, "", "", "write cases.csv and study.json only (no report.md, no plots: no matplotlib needed)"},
        {"process-per-case", 0, "", "off: a pool of N worker processes",
-        "run each case as a beamcontact run process of its own (each pays the start of MPI and Kokkos; "
-        "nothing one case or a plug-in leaves in a process reaches the next)"},
+        "run each case as a beamcontact run process of its own (each pays the program's start-up; nothing "
+        "that one case or a plug-in leaves in a process reaches the next)"},
        {"quiet", 'q', "", "",
         "print nothing but errors and warnings (no start line, no line per case, no closing lines) when every "
         "case completes"},
