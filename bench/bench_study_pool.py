@@ -3,8 +3,9 @@
 against a process per case (--process-per-case). Writes a penalty study of Example 1
 (input/example1.xml, Penalty, --cases values of the normal penalty parameter from 1e4 to 1e5, evenly
 spaced in log; VTK off unless --vtk: a copy of the deck with Output/Write VTK false) and runs `beamcontact study STUDY --parallel N --no-report --quiet`
---repeat times each way, the ways interleaved; prints each run's wall time, the medians, and the
-machine's load average before and after (the machine may be shared). Every run must complete every
+--repeat times each way, the ways interleaved; prints each run's wall time and CPU time (user + system
+of the study and all its processes), the medians, and the machine's load average before and after
+(the machine may be shared: the CPU time says what the study needs whatever else runs). Every run must complete every
 case, and both ways must give the same normal force in every case.
 
 Usage: bench_study_pool.py BEAMCONTACT [--cases 100] [--parallel 2] [--repeat 3] [--vtk] [--work DIR]
@@ -12,6 +13,7 @@ Usage: bench_study_pool.py BEAMCONTACT [--cases 100] [--parallel 2] [--repeat 3]
 import argparse
 import csv
 import os
+import resource
 import shutil
 import statistics
 import subprocess
@@ -53,16 +55,25 @@ def write_study(path, cases, vtk):
 """)
 
 
+def children_cpu():
+    """CPU seconds (user + system) of the ended children of this script and of theirs (a study's
+    workers or case processes, which it waits for)."""
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
 def once(exe, study, out, parallel, options):
     shutil.rmtree(out, ignore_errors=True)
+    cpu0 = children_cpu()
     t0 = time.perf_counter()
     r = subprocess.run([exe, "study", study, "--output", out, "--parallel", str(parallel), "--no-report", "--quiet",
                         *options], capture_output=True, text=True)
     wall = time.perf_counter() - t0
+    cpu = children_cpu() - cpu0
     if r.returncode != 0:
         raise SystemExit(f"bench_study_pool: the study {' '.join(options)} exited with {r.returncode}: {r.stderr}")
     rows = list(csv.DictReader(open(os.path.join(out, "cases.csv"))))
-    return wall, [row["F_N"] for row in rows]
+    return wall, cpu, [row["F_N"] for row in rows]
 
 
 def main():
@@ -83,21 +94,22 @@ def main():
     load_before = os.getloadavg()
     for _ in range(a.repeat):
         for i, (name, options) in enumerate(ways):
-            wall, f = once(a.exe, study, os.path.join(a.work, f"study{i}"), a.parallel, options)
-            times[name].append(wall)
+            wall, cpu, f = once(a.exe, study, os.path.join(a.work, f"study{i}"), a.parallel, options)
+            times[name].append((wall, cpu))
             forces.setdefault(name, f)
-            print(f"{name}: {wall:.2f} s", flush=True)
+            print(f"{name}: {wall:.2f} s, CPU {cpu:.2f} s", flush=True)
     load_after = os.getloadavg()
     if forces[ways[0][0]] != forces[ways[1][0]]:
         raise SystemExit("bench_study_pool: the two ways gave different normal forces")
     print(f"{a.cases} cases of Example 1 (Penalty, VTK {'on' if a.vtk else 'off'}), --parallel {a.parallel}, "
           f"medians of {a.repeat} interleaved runs; load average before {load_before[0]:.2f} {load_before[1]:.2f} "
           f"{load_before[2]:.2f}, after {load_after[0]:.2f} {load_after[1]:.2f} {load_after[2]:.2f}")
-    print(f"{'cases run':24s} {'median s':>9} {'min s':>7} {'max s':>7} {'per case s':>10}")
+    print(f"{'cases run':24s} {'median s':>9} {'min s':>7} {'max s':>7} {'per case s':>10} {'CPU s':>7}")
     for name, _ in ways:
-        t = times[name]
-        print(f"{name:24s} {statistics.median(t):9.2f} {min(t):7.2f} {max(t):7.2f} "
-              f"{statistics.median(t) / a.cases:10.3f}")
+        wall = [w for w, _ in times[name]]
+        cpu = statistics.median(c for _, c in times[name])
+        print(f"{name:24s} {statistics.median(wall):9.2f} {min(wall):7.2f} {max(wall):7.2f} "
+              f"{statistics.median(wall) / a.cases:10.3f} {cpu:7.2f}")
 
 
 if __name__ == "__main__":
