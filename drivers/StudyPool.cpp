@@ -6,10 +6,12 @@
 #include <signal.h>
 #include <spawn.h>
 
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -118,14 +120,33 @@ class ProcessPerCase : public CaseLauncher {
   int started_ = 0;
 };
 
+// Why a worker's pipe could not be made (`error`: errno), with what to do when the study ran out of
+// open files.
+std::string pipeFailure(int error) {
+  return "cannot make a pipe for a worker: " + std::string(std::strerror(error)) +
+         (error == EMFILE ? " (each worker takes 4 of the study's open files: run fewer cases at once with "
+                            "--parallel, or raise the limit, ulimit -n)"
+                          : "");
+}
+
 // Moves descriptor `fd` to 10 or above, closed on exec (so that it is neither 3 nor 4, the numbers a
 // worker's pipes take, nor inherited by another worker).
 int highDescriptor(int fd) {
   const int high = fcntl(fd, F_DUPFD_CLOEXEC, 10);
   const int saved = errno;
   ::close(fd);
-  if (high < 0) throw std::runtime_error("cannot set up a worker's pipe: " + std::string(std::strerror(saved)));
+  if (high < 0) throw std::runtime_error(pipeFailure(saved));
   return high;
+}
+
+// Raises this process's limit of open files (its soft limit, up to the hard one) to `count` where it is
+// lower: the pool holds two pipe ends per worker, and the usual soft limit, 1024, would stop a study
+// at --parallel 240 or so ("Too many open files" names it when the hard limit is lower still).
+void allowDescriptors(rlim_t count) {
+  rlimit limit{};
+  if (getrlimit(RLIMIT_NOFILE, &limit) != 0 || limit.rlim_cur >= count) return;
+  limit.rlim_cur = limit.rlim_max == RLIM_INFINITY ? count : std::min(count, limit.rlim_max);
+  setrlimit(RLIMIT_NOFILE, &limit);
 }
 
 // Writes all of `text` to `fd`; false when it cannot (EPIPE: the reader is gone).
@@ -149,7 +170,9 @@ class WorkerPool : public CaseLauncher {
         casesDir_(std::move(casesDir)),
         plugins_(std::move(plugins)),
         overwrite_(overwrite),
-        workers_(workers) {}
+        workers_(workers) {
+    allowDescriptors(4 * workers + 64);
+  }
 
   // An exception leaves the workers: their requests' pipes closed, they end after their case.
   ~WorkerPool() override {
@@ -245,12 +268,12 @@ class WorkerPool : public CaseLauncher {
   // would be), so that what starting MPI and Kokkos prints, or why the start failed, is in that log.
   Worker& startWorker(const Case& c) {
     int requests[2], replies[2];
-    if (pipe(requests) != 0) throw std::runtime_error("cannot make a pipe for a worker: " + core::systemReason());
+    if (pipe(requests) != 0) throw std::runtime_error(pipeFailure(errno));
     if (pipe(replies) != 0) {
-      const std::string why = core::systemReason();
+      const int why = errno;
       ::close(requests[0]);
       ::close(requests[1]);
-      throw std::runtime_error("cannot make a pipe for a worker: " + why);
+      throw std::runtime_error(pipeFailure(why));
     }
     Worker w;
     const int theirRequests = highDescriptor(requests[0]), theirReplies = highDescriptor(replies[1]);
