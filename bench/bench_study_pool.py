@@ -5,8 +5,9 @@ against a process per case (--process-per-case). Writes a penalty study of Examp
 spaced in log; VTK off unless --vtk: a copy of the deck with Output/Write VTK false) and runs `beamcontact study STUDY --parallel N --no-report --quiet`
 --repeat times each way, the ways interleaved; prints each run's wall time and CPU time (user + system
 of the study and all its processes), the medians, and the machine's load average before and after
-(the machine may be shared: the CPU time says what the study needs whatever else runs). Every run must complete every
-case, and both ways must give the same normal force in every case.
+(the machine may be shared: the CPU time says what the study needs whatever else runs). Every run
+must complete every case, and the two ways' first runs must agree: cases.csv but its measured
+columns, and every case's result CSVs and log byte for byte.
 
 Usage: bench_study_pool.py BEAMCONTACT [--cases 100] [--parallel 2] [--repeat 3] [--vtk] [--work DIR]
 """
@@ -72,8 +73,23 @@ def once(exe, study, out, parallel, options):
     cpu = children_cpu() - cpu0
     if r.returncode != 0:
         raise SystemExit(f"bench_study_pool: the study {' '.join(options)} exited with {r.returncode}: {r.stderr}")
-    rows = list(csv.DictReader(open(os.path.join(out, "cases.csv"))))
-    return wall, cpu, [row["F_N"] for row in rows]
+    return wall, cpu, results(out)
+
+
+CASE_FILES = ("steps.csv", "contact_points.csv", "newton.csv", "tracked_points.csv", "reactions.csv", "log.txt")
+
+
+def results(out):
+    """What must not depend on how the cases ran: cases.csv but its measured columns, and each case's
+    result CSVs and log as bytes."""
+    rows = [{k: v for k, v in row.items() if k not in ("solve_seconds", "peak_memory_mb")}
+            for row in csv.DictReader(open(os.path.join(out, "cases.csv")))]
+    files = {}
+    for case in sorted(os.listdir(os.path.join(out, "cases"))):
+        for name in CASE_FILES:
+            path = os.path.join(out, "cases", case, name)
+            files[f"{case}/{name}"] = open(path, "rb").read() if os.path.exists(path) else None
+    return rows, files
 
 
 def main():
@@ -90,17 +106,23 @@ def main():
     write_study(study, a.cases, a.vtk)
     ways = [("worker pool (default)", []), ("process per case", ["--process-per-case"])]
     times = {name: [] for name, _ in ways}
-    forces = {}
+    found = {}
     load_before = os.getloadavg()
     for _ in range(a.repeat):
         for i, (name, options) in enumerate(ways):
-            wall, cpu, f = once(a.exe, study, os.path.join(a.work, f"study{i}"), a.parallel, options)
+            wall, cpu, r = once(a.exe, study, os.path.join(a.work, f"study{i}"), a.parallel, options)
             times[name].append((wall, cpu))
-            forces.setdefault(name, f)
+            found.setdefault(name, r)
             print(f"{name}: {wall:.2f} s, CPU {cpu:.2f} s", flush=True)
     load_after = os.getloadavg()
-    if forces[ways[0][0]] != forces[ways[1][0]]:
-        raise SystemExit("bench_study_pool: the two ways gave different normal forces")
+    (rows, files), (their_rows, their_files) = found[ways[0][0]], found[ways[1][0]]
+    if rows != their_rows:
+        raise SystemExit("bench_study_pool: the two ways gave different cases.csv (outside the measured columns)")
+    differ = [name for name in files if files[name] != their_files.get(name)]
+    if differ:
+        raise SystemExit(f"bench_study_pool: {len(differ)} case files differ between the two ways: {differ[:5]}")
+    print(f"the two ways alike: cases.csv but solve_seconds and peak_memory_mb, and {len(files)} case files "
+          f"({', '.join(CASE_FILES)}) byte for byte")
     print(f"{a.cases} cases of Example 1 (Penalty, VTK {'on' if a.vtk else 'off'}), --parallel {a.parallel}, "
           f"medians of {a.repeat} interleaved runs; load average before {load_before[0]:.2f} {load_before[1]:.2f} "
           f"{load_before[2]:.2f}, after {load_after[0]:.2f} {load_after[1]:.2f} {load_after[2]:.2f}")
