@@ -1,8 +1,6 @@
 #include "Study.hpp"
 
 #include <fcntl.h>
-#include <signal.h>
-#include <spawn.h>
 
 #include <sys/file.h>
 #include <sys/wait.h>
@@ -20,12 +18,11 @@
 
 #include "BuildInfo.hpp"
 #include "StudyDeck.hpp"
+#include "StudyPool.hpp"
 #include "StudyReport.hpp"
 #include "core/Faults.hpp"
 #include "core/OutputDirectory.hpp"
 #include "core/Parameters.hpp"
-
-extern char** environ;
 
 namespace bc::drivers {
 
@@ -42,51 +39,6 @@ std::string selfExecutable() {
   const auto p = fs::read_symlink("/proc/self/exe", ec);
   if (ec) throw std::runtime_error("cannot locate the beamcontact executable (/proc/self/exe): " + ec.message());
   return p.string();
-}
-
-// Starts `command` (program path and arguments, no shell); with `log`, its stdout and stderr go to
-// that file.
-// With `ownGroup` it runs in a process group of its own, so a Ctrl-C at the terminal reaches the study
-// alone, which then stops its cases with one SIGTERM each (two signals would end a case at once).
-pid_t spawn(const std::vector<std::string>& command, const std::string& log = "", bool ownGroup = false) {
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  if (!log.empty()) {
-    posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW, 0644);
-    posix_spawn_file_actions_adddup2(&actions, 1, 2);
-  }
-  posix_spawnattr_t attributes;
-  posix_spawnattr_init(&attributes);
-  if (ownGroup) {
-    posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
-    posix_spawnattr_setpgroup(&attributes, 0);
-  }
-  std::vector<std::string> args = command;
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  pid_t pid = 0;
-  const int rc = posix_spawn(&pid, argv[0], &actions, &attributes, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  posix_spawnattr_destroy(&attributes);
-  if (rc != 0) throw std::runtime_error("cannot start " + command[0] + ": " + std::strerror(rc));
-  return pid;
-}
-
-// The exit code of a finished process, 128 + the signal when one killed it.
-int exitCode(int status) {
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
-}
-
-// Starts case `c` as `beamcontact run` of its deck into its folder (log.txt), in a process group of its own.
-pid_t launch(const std::string& exe, const Case& c, const std::vector<std::string>& plugins, bool overwrite) {
-  std::vector<std::string> command = {exe, "run", (c.dir / "deck.xml").string(), "--output", c.dir.string(), "--quiet"};
-  if (overwrite) command.push_back("--overwrite");
-  for (const auto& p : plugins) {
-    command.push_back("--plugin");
-    command.push_back(p);
-  }
-  return spawn(command, (c.dir / "log.txt").string(), true);
 }
 
 // A case in a progress line: its group and values (up to about 70 characters).
@@ -125,10 +77,10 @@ std::string findDocumentation() {
 }
 
 int runProgram(const std::vector<std::string>& command) {
-  const pid_t pid = spawn(command);
+  const pid_t pid = study::spawnProgram(command);
   int status = 0;
   if (waitpid(pid, &status, 0) < 0) throw std::runtime_error("waiting for " + command[0] + " failed");
-  return exitCode(status);
+  return study::exitCodeOf(status);
 }
 
 namespace {
@@ -257,18 +209,14 @@ void recordCaseStatus(Case& c, int stopSignal) {
   }
 }
 
-// Runs a study's cases as processes, several at once, recording each as it ends (the table is
-// rewritten, atomically, after every finished case, so an interrupted study keeps it).
+// Runs a study's cases, several at once (through `launcher`: a pool of workers or a process per case),
+// recording each as it ends (the table is rewritten, atomically, after every finished case, so an
+// interrupted study keeps it).
 class CaseRunner {
  public:
-  CaseRunner(std::vector<Case>& all, const StudyResults& results, const std::vector<std::string>& plugins,
-             const StudyOptions& options, int parallel)
-      : all_(all),
-        results_(results),
-        plugins_(plugins),
-        options_(options),
-        parallel_(parallel),
-        exe_(selfExecutable()) {}
+  CaseRunner(std::vector<Case>& all, const StudyResults& results, const StudyOptions& options, int parallel,
+             study::CaseLauncher& launcher)
+      : all_(all), results_(results), options_(options), parallel_(parallel), launcher_(launcher) {}
 
   // Runs every case not kept (`kept` of them are); returns the signal that stopped the study, 0 when
   // none did. SIGTERM / SIGINT: the running cases get SIGTERM (each stops at its next Newton
@@ -277,42 +225,34 @@ class CaseRunner {
     done_ = static_cast<std::size_t>(kept);
     t0_ = std::chrono::steady_clock::now();
     study::writeCaseTable(results_);
-    while (done_ < all_.size() && !(stopSignal_ && running_.empty())) {
-      while (!stopSignal_ && next_ < all_.size() && static_cast<int>(running_.size()) < parallel_) {
-        if (!all_[next_].kept) start(all_[next_]);
+    while (done_ < all_.size() && !(stopSignal_ && launcher_.running() == 0)) {
+      while (!stopSignal_ && next_ < all_.size() && static_cast<int>(launcher_.running()) < parallel_) {
+        if (!all_[next_].kept) launcher_.start(all_[next_]);
         ++next_;
       }
-      if (running_.empty()) break;
-      int status = 0;
-      const pid_t pid = waitpid(-1, &status, 0);
+      if (launcher_.running() == 0) break;
+      const auto ended = launcher_.wait();
       if (!stopSignal_ && core::receivedSignal()) stopRunning();
-      if (pid < 0) {
-        if (errno == EINTR) continue;
-        throw std::runtime_error("waiting for a case process failed");
-      }
-      const auto it = running_.find(pid);
-      if (it == running_.end()) continue;
-      Case& c = *it->second;
-      running_.erase(it);
-      c.exitCode = exitCode(status);
+      if (!ended.c) continue;
+      Case& c = *ended.c;
+      c.exitCode = ended.exitCode;
       if (options_.timing && c.exitCode == 0 && runAgainForTiming(c)) continue;
       ++done_;
       recordCaseStatus(c, stopSignal_);
       study::writeCaseTable(results_);
       printProgress(c);
     }
+    launcher_.finish();
     return stopSignal_;
   }
 
  private:
-  void start(Case& c) { running_[launch(exe_, c, plugins_, options_.overwrite)] = &c; }
-
   void stopRunning() {
     stopSignal_ = core::receivedSignal();
     std::printf("study %s: %s received; stopping the %zu running cases\n", results_.deck.stem.c_str(),
-                core::signalName(stopSignal_).c_str(), running_.size());
+                core::signalName(stopSignal_).c_str(), launcher_.running());
     std::fflush(stdout);
-    for (const auto& [p, c] : running_) kill(p, SIGTERM);
+    launcher_.stopRunning();
   }
 
   // Timing: a complete run adds its solve time; the case runs again until it has them all (true).
@@ -321,7 +261,7 @@ class CaseRunner {
     const auto seconds = summary.find("solve_seconds");
     if (seconds != summary.end()) c.timings.push_back(std::stod(seconds->second));
     if (static_cast<int>(c.timings.size()) < options_.timing && !stopSignal_ && !core::receivedSignal()) {
-      start(c);
+      launcher_.start(c);
       return true;
     }
     return false;
@@ -339,19 +279,18 @@ class CaseRunner {
 
   std::vector<Case>& all_;
   const StudyResults& results_;
-  const std::vector<std::string>& plugins_;
   const StudyOptions& options_;
   const int parallel_;
-  const std::string exe_;
-  std::map<pid_t, Case*> running_;
+  study::CaseLauncher& launcher_;
   std::size_t next_ = 0, done_ = 0;
   int stopSignal_ = 0;
   std::chrono::steady_clock::time_point t0_;
 };
 
-void printStart(const StudyDeck& deck, std::size_t cases, const fs::path& dir, int parallel, int timing, int kept) {
-  std::printf("study %s: %zu cases from %s, %d at a time, in %s", deck.stem.c_str(), cases, deck.base.string().c_str(),
-              parallel, dir.string().c_str());
+void printStart(const StudyDeck& deck, std::size_t cases, const fs::path& dir, int parallel, int timing, int kept,
+                const std::string& how) {
+  std::printf("study %s: %zu cases from %s, %d at a time (%s), in %s", deck.stem.c_str(), cases,
+              deck.base.string().c_str(), parallel, how.c_str(), dir.string().c_str());
   if (timing) std::printf(" (timing: each case %d times, VTK off)", timing);
   if (kept) std::printf(" (%d complete from an earlier run, kept)", kept);
   std::printf("\n");
@@ -377,15 +316,18 @@ int reportStopped(const StudyResults& results, int stopSignal) {
 // table are complete: one line says so, or the report script's own line names a missing module).
 // `report` is false with --no-report, `modules` false when the report's Python modules were found
 // missing before the cases ran (the report is then not attempted: that line was the message).
-int reportFinished(const StudyResults& results, int parallel, bool report, bool modules, bool quiet) {
+// `launcher` ran the cases (how, and the processes it started, go to study.json and the closing line).
+int reportFinished(const StudyResults& results, int parallel, const study::CaseLauncher& launcher, bool report,
+                   bool modules, bool quiet) {
   study::writeCaseTable(results);
-  study::writeStudyJson(results, parallel);
+  study::writeStudyJson(results, parallel, launcher.how(), launcher.processesStarted());
   const auto& all = results.all;
   const auto failed = std::count_if(all.begin(), all.end(), [](const Case& c) { return c.status != "complete"; });
   const std::string table = (results.dir / "cases.csv").string();
   if (!quiet)
-    std::printf("study %s: %zu cases, %td complete, %td not; table %s\n", results.deck.stem.c_str(), all.size(),
-                static_cast<std::ptrdiff_t>(all.size()) - failed, failed, table.c_str());
+    std::printf("study %s: %zu cases, %td complete, %td not; %d processes started (%s); table %s\n",
+                results.deck.stem.c_str(), all.size(), static_cast<std::ptrdiff_t>(all.size()) - failed, failed,
+                launcher.processesStarted(), launcher.how().c_str(), table.c_str());
   std::fflush(stdout);
   const int reportCode = !report ? 0 : !modules ? 4 : study::writeReport(results, quiet);
   if (reportCode != 0 && reportCode != 4)
@@ -420,15 +362,23 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
   const StudyResults results{
       deck, all, reference, options.timing, dir, out, core::runProvenance(buildProvenance(), 1, options.command)};
   const int parallel = parallelCases(deck, options);
-  CaseRunner runner(all, results, plugins, options, parallel);
+  // The cases run in a pool of `parallel` workers (each starts MPI and Kokkos once), or with
+  // --process-per-case each as a process of its own.
+  const std::string program = selfExecutable();
+  const auto launcher = options.processPerCase
+                            ? study::processPerCase(program, plugins, options.overwrite)
+                            : study::workerPool(program, dir / "cases", plugins, options.overwrite, parallel);
+  CaseRunner runner(all, results, options, parallel, *launcher);
   // A report that cannot be written is known before the cases run: the report script's one line (the
   // missing Python module, its Debian package and --no-report) comes first, not after the last case.
   const bool modules = !options.report || study::reportModulesPresent();
-  if (!options.quiet) printStart(deck, all.size(), dir, parallel, options.timing, kept);
+  if (!options.quiet)
+    printStart(deck, all.size(), dir, parallel, options.timing, kept,
+               options.processPerCase ? "a process per case" : "worker processes");
   core::installSignalHandlers(false);
   const int stopSignal = runner.run(kept);
   if (stopSignal) return reportStopped(results, stopSignal);
-  return reportFinished(results, parallel, options.report, modules, options.quiet);
+  return reportFinished(results, parallel, *launcher, options.report, modules, options.quiet);
 }
 
 }  // namespace bc::drivers

@@ -3,8 +3,10 @@
 // A study deck names a base deck and groups of cases. Each group varies parameters of the base deck
 // (any parameter path, e.g. "Contact/Enforcement/Penalty/Normal Penalty Parameter") over lists of
 // values; a group's cases are all combinations of its lists. Every case is written as a deck of its
-// own and run as a separate `beamcontact run` process (several at once), so a case that fails, even
-// by crashing, is recorded with its cause and the others go on. The study directory receives
+// own and run as `beamcontact run` would run it, several at once: by a pool of worker processes that
+// each start MPI and Kokkos once and run case after case, or (--process-per-case) each in a process
+// of its own (StudyPool.hpp). A case that fails, even by crashing its process, is recorded with its
+// cause and the others go on. The study directory receives
 //   cases/NNN/          each case's deck.xml, log.txt and its full results directory
 //   cases.csv           one row per case: group, the varied parameters, status and cause, outputs
 //                       at "At T" (with their error against the "Reference Group"), Newton
@@ -28,6 +30,7 @@ struct StudyOptions {
   bool quiet = false;  // --quiet: nothing on stdout when every case completes (errors and warnings on stderr)
   int timing = 0;  // > 0: fair timing: one case at a time, VTK off, each run this many times
   std::vector<std::string> plugins;  // --plugin libraries, passed on to every case
+  bool processPerCase = false;  // --process-per-case: each case a `beamcontact run` process (else a pool of workers)
   bool overwrite = false;  // --overwrite: write beside files beamcontact did not write (passed on to every case)
   std::string command;  // the study's command line, for its provenance (study.json, report.md)
 };

@@ -138,10 +138,28 @@ void writeTimings(std::ostream& csv, const Case& c) {
         << numberText(t.back()) << ',' << n;
 }
 
+// Case `c`'s figures: read from its results directory, and kept once the case is recorded (its
+// status is more than "not run": its results no longer change).
+const CaseFigures& figuresOf(const StudyResults& r, const Case& c, CaseFigures& scratch) {
+  const auto kept = r.figures.find(c.index);
+  if (kept != r.figures.end()) return kept->second;
+  CaseFigures f;
+  f.outputs = readOutputs(c.dir, r.deck.outputs, r.deck.atT);
+  f.summary = readSummary(c.dir);
+  const auto provenance = core::readFieldLines(readText(c.dir / "status.txt"));
+  f.version = core::field(provenance, "version");
+  f.commit = core::field(provenance, "commit");
+  if (c.status != "not run") return r.figures[c.index] = std::move(f);
+  scratch = std::move(f);
+  return scratch;
+}
+
 void writeRow(std::ostream& csv, const StudyResults& r, const Case& c,
               const std::map<std::string, std::string>& referenceValues) {
-  const auto values = readOutputs(c.dir, r.deck.outputs, r.deck.atT);
-  const auto summary = readSummary(c.dir);
+  CaseFigures scratch;
+  const CaseFigures& figures = figuresOf(r, c, scratch);
+  const auto& values = figures.outputs;
+  const auto& summary = figures.summary;
   csv << c.index << ',' << csvField(c.group);
   for (const auto& col : r.deck.columns) {
     const auto it = c.values.find(col);
@@ -159,8 +177,7 @@ void writeRow(std::ostream& csv, const StudyResults& r, const Case& c,
   }
   if (r.timing) writeTimings(csv, c);
   // What ran the case (a case kept from an earlier study may have run on another build).
-  const auto provenance = core::readFieldLines(readText(c.dir / "status.txt"));
-  csv << ',' << csvField(core::field(provenance, "version")) << ',' << csvField(core::field(provenance, "commit"));
+  csv << ',' << csvField(figures.version) << ',' << csvField(figures.commit);
   csv << ',' << csvField(c.cause) << '\n';
 }
 
@@ -272,15 +289,16 @@ std::string readText(const fs::path& file) {
 void writeCaseTable(const StudyResults& r) {
   std::ostringstream csv;
   csv << tableHeader(r);
+  CaseFigures scratch;
   const auto referenceValues = r.reference && r.reference->status == "complete"
-                                   ? readOutputs(r.reference->dir, r.deck.outputs, r.deck.atT)
+                                   ? figuresOf(r, *r.reference, scratch).outputs
                                    : std::map<std::string, std::string>{};
   for (const Case& c : r.all) writeRow(csv, r, c, referenceValues);
   r.out.add("cases.csv");
   core::writeFileAtomically(r.dir / "cases.csv", csv.str());
 }
 
-void writeStudyJson(const StudyResults& r, int parallel) {
+void writeStudyJson(const StudyResults& r, int parallel, const std::string& caseProcesses, int processesStarted) {
   const StudyDeck& deck = r.deck;
   const ParameterList& b = *deck.baseDeck;
   r.out.add("study.json");
@@ -289,6 +307,7 @@ void writeStudyJson(const StudyResults& r, int parallel) {
     << ",\n  \"base_deck\": " << jsonString(deck.base.string()) << ",\n  \"at_T\": " << deck.atT
     << ",\n  \"reference_group\": " << jsonString(deck.study->get<std::string>("Reference Group"))
     << ",\n  \"timing_runs\": " << r.timing << ",\n  \"parallel\": " << parallel
+    << ",\n  \"case_processes\": " << jsonString(caseProcesses) << ",\n  \"processes_started\": " << processesStarted
     << ",\n  \"base\": {\"strategy\": " << jsonString(baseFact(b, "Contact/Enforcement", "Type"))
     << ", \"beams\": " << (b.isSublist("Beams") ? b.sublist("Beams").numParams() : 0)
     << ", \"increments\": " << jsonString(baseFact(b, "Load Stepping", "Number of Increments"))

@@ -1,7 +1,9 @@
 // beamcontact: command-line driver. Parses arguments, reads and validates the deck, runs it.
 //   beamcontact run DECK.xml [-o DIR] [-q] [--overwrite] [--timers] [--restart DIR] [--plugin LIB]...
 //   beamcontact check DECK.xml [--plugin LIB]...
-//   beamcontact study STUDY.xml [-o DIR] [-q] [--parallel N] [--timing [N]] [--no-report] [--plugin LIB]...
+//   beamcontact study STUDY.xml [-o DIR] [-q] [--parallel N] [--timing [N]] [--no-report] [--process-per-case]
+//                     [--plugin LIB]...
+//   (beamcontact study-worker CASES_DIR ...: a study's worker, started by the study; drivers/StudyPool.hpp)
 //   beamcontact render RESULTS_DIR OUT.png [--stages T1,T2,...] [--view ELEV,AZIM] [--title TEXT]
 //   beamcontact generate KIND [--OPTION VALUE]... [-o FILE]
 //   beamcontact --print-valid-parameters [--format text|xml|yaml] [--plugin LIB]...
@@ -29,6 +31,7 @@
 #include <mpi.h>
 
 #include "Study.hpp"
+#include "StudyPool.hpp"
 #include "constraints/ContactManager.hpp"
 #include "constraints/EnforcerRegistry.hpp"
 #include "input/Plugins.hpp"
@@ -48,7 +51,7 @@ const char* kUsage =
     "usage: beamcontact run DECK.xml [-o DIR] [-q] [--overwrite] [--timers] [--restart DIR] [--plugin LIB]...\n"
     "       beamcontact check DECK.xml [--plugin LIB]...\n"
     "       beamcontact study STUDY.xml [-o DIR] [-q] [--overwrite] [--parallel N] [--timing [N]] [--no-report] "
-    "[--plugin LIB]...\n"
+    "[--process-per-case] [--plugin LIB]...\n"
     "       beamcontact render RESULTS_DIR OUT.png [--stages T1,T2,...] [--view ELEV,AZIM] [--title TEXT]\n"
     "       beamcontact generate grid|weave|network|strand [--OPTION VALUE]... [-o FILE]\n"
     "       beamcontact --print-valid-parameters [--format text|xml|yaml] [--plugin LIB]...\n"
@@ -124,10 +127,12 @@ const Command& checkSpec() {
 const Command& studySpec() {
   static const Command c{
       "study",
-      "Runs every case of a study deck (a base deck and the parameters to vary, docs/studies.md) as a\n"
-      "process of its own, N at a time, and writes cases.csv, study.json, report.md and plots. Run it\n"
-      "without mpirun. Exit codes: 0 every case complete, 1 usage or input error, 2 some case did not\n"
-      "complete, 4 every case complete but the report not written.",
+      "Runs every case of a study deck (a base deck and the parameters to vary, docs/studies.md), N at a\n"
+      "time, and writes cases.csv, study.json, report.md and plots. The cases run in N worker processes,\n"
+      "each started once and running case after case as beamcontact run would (no start-up per case); a\n"
+      "case whose worker dies (a crash, an abort, a signal) is recorded with its cause, a new worker takes\n"
+      "over and the others go on. Run it without mpirun. Exit codes: 0 every case complete, 1 usage or\n"
+      "input error, 2 some case did not complete, 4 every case complete but the report not written.",
       {{"STUDY.xml", "the study deck"}},
       {{"output", 'o', "DIR", "results/<study name>", "study directory"},
        {"overwrite", 0, "", "", "write beside files beamcontact did not write (passed on to every case)"},
@@ -137,6 +142,9 @@ const Command& studySpec() {
         "is the median, with its spread",
         false, true, "5"},
        {"no-report", 0, "", "", "write cases.csv and study.json only (no report.md, no plots: no matplotlib needed)"},
+       {"process-per-case", 0, "", "off: a pool of N worker processes",
+        "run each case as a beamcontact run process of its own (each pays the program's start-up; nothing "
+        "that one case or a plug-in leaves in a process reaches the next)"},
        {"quiet", 'q', "", "",
         "print nothing but errors and warnings (no start line, no line per case, no closing lines) when every "
         "case completes"},
@@ -209,6 +217,8 @@ void singletonWithoutDaemon() {
 
 // The command line as typed (before MPI and Kokkos take their own arguments out), for the provenance.
 std::string g_commandLine;
+// The program as it was started (argv[0]): a study's worker records its cases' command lines with it.
+std::string g_program;
 
 // beamcontact --version: the version and how this program was built.
 int versionCommand() {
@@ -278,6 +288,7 @@ int studyCommand(const std::vector<std::string>& args) {
   options.report = !p.has("no-report");
   options.overwrite = p.has("overwrite");
   options.quiet = p.has("quiet");
+  options.processPerCase = p.has("process-per-case");
   if (p.has("parallel")) {
     const std::string v = p.get("parallel");
     options.parallel = -1;
@@ -358,6 +369,7 @@ struct RunRequest {
   std::string deck, output, restart;
   bool quiet = false, overwrite = false, timers = false;
   std::vector<std::string> plugins;
+  std::string commandLine;  // for the run's provenance: as typed, or a study's command for the case
 };
 
 int runDeck(const RunRequest& request) {
@@ -393,7 +405,7 @@ int runDeck(const RunRequest& request) {
   options.overwrite = request.overwrite;
   for (const auto& p : bc::input::loadedPlugins())
     options.statusNotes.push_back("plug-in: " + p.path + " sha256 " + p.sha256);
-  options.provenance = bc::core::runProvenance(bc::drivers::buildProvenance(), comm->getSize(), g_commandLine);
+  options.provenance = bc::core::runProvenance(bc::drivers::buildProvenance(), comm->getSize(), request.commandLine);
   options.writeVtk = problem.writeVtk;
   options.progress = !request.quiet;
   options.printTimers = request.timers;
@@ -489,6 +501,7 @@ bool readRunRequest(const std::vector<std::string>& args, RunRequest& request) {
   request.overwrite = p.has("overwrite");
   request.timers = p.has("timers");
   request.plugins = p.all("plugin");
+  request.commandLine = g_commandLine;
   if (p.has("output") && request.output.find_first_not_of(' ') == std::string::npos)
     throw UsageError("run", "--output names no directory");
   if (p.has("restart") && request.restart.find_first_not_of(' ') == std::string::npos)
@@ -500,20 +513,75 @@ bool readRunRequest(const std::vector<std::string>& args, RunRequest& request) {
   return true;
 }
 
-// The commands that run under MPI (run, --print-valid-parameters), with MPI and Kokkos initialized
-// (their options read before), the signal handlers and the built-in strategies.
-int mpiCommand(int& argc, char**& argv, const RunRequest* run, const std::vector<std::string>& plugins,
-               bc::input::ReferenceFormat format = bc::input::ReferenceFormat::Text) {
+// One run of a deck, its errors mapped to the exit codes (MPI and Kokkos initialized): what
+// `beamcontact run` does, and what a study's worker does for each case.
+int runWithExitCodes(const RunRequest& request) {
+  const bool root = Tpetra::getDefaultComm()->getRank() == 0;
+  return withExitCodes(root, [&] {
+    const Working working;
+    return runDeck(request);
+  });
+}
+
+// Starts MPI (a singleton without the daemon when no launcher started this process) and Kokkos, then
+// the signal handlers and the built-in strategies, and runs `body`; MPI and Kokkos end with it.
+int underMpi(int& argc, char**& argv, const std::function<int()>& body) {
   singletonWithoutDaemon();
   Tpetra::ScopeGuard scope(&argc, &argv);
   guardExit();
   bc::core::installSignalHandlers();
   bc::constraints::registerBuiltinEnforcers();
-  const auto comm = Tpetra::getDefaultComm();
-  const bool root = comm->getRank() == 0;
-  return withExitCodes(root, [&] {
-    const Working working;
-    return run ? runDeck(*run) : printValidParameters(*comm, plugins, format, root);
+  return body();
+}
+
+// The commands that run under MPI (run, --print-valid-parameters), their options read before.
+int mpiCommand(int& argc, char**& argv, const RunRequest* run, const std::vector<std::string>& plugins,
+               bc::input::ReferenceFormat format = bc::input::ReferenceFormat::Text) {
+  return underMpi(argc, argv, [&] {
+    if (run) return runWithExitCodes(*run);
+    const auto comm = Tpetra::getDefaultComm();
+    const bool root = comm->getRank() == 0;
+    return withExitCodes(root, [&] { return printValidParameters(*comm, plugins, format, root); });
+  });
+}
+
+// beamcontact study-worker CASES_DIR [--overwrite] [--plugin LIB]...: a study's worker (not for use by
+// hand; drivers/StudyPool.hpp has its protocol). Its cases' command lines are parsed as `run`'s, and
+// each case runs as `beamcontact run` would run it.
+const Command& studyWorkerSpec() {
+  static const Command c{"study-worker",
+                         "Runs the cases a study sends it (beamcontact study starts it, with its pipes on file "
+                         "descriptors 3 and 4).",
+                         {{"CASES_DIR", "the study's cases folder"}},
+                         {{"overwrite", 0, "", "", "passed on to every case"}, kPlugin}};
+  return c;
+}
+
+int studyWorkerCommand(int& argc, char**& argv, const std::vector<std::string>& args) {
+  bc::drivers::cli::Parsed p;
+  if (!parseOrHelp(studyWorkerSpec(), args, p)) return 0;
+  try {
+    bc::drivers::study::prepareWorker();  // before MPI starts
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "beamcontact: %s\n", e.what());
+    return 1;
+  }
+  return underMpi(argc, argv, [&] {
+    return bc::drivers::study::serveCases(
+        g_program, p.positionals[0], p.all("plugin"), p.has("overwrite"), [](const std::vector<std::string>& command) {
+          // The same reading of the command line as `beamcontact run`'s, and its command line recorded.
+          RunRequest request;
+          try {
+            readRunRequest(std::vector<std::string>(command.begin() + 1, command.end()), request);
+          } catch (const UsageError& e) {
+            std::fprintf(stderr, "beamcontact: run: %s (see beamcontact run --help)\n", e.what());
+            return 1;
+          }
+          std::vector<const char*> argv;
+          for (const auto& a : command) argv.push_back(a.c_str());
+          request.commandLine = bc::core::commandLine(static_cast<int>(argv.size()), argv.data());
+          return runWithExitCodes(request);
+        });
   });
 }
 
@@ -523,8 +591,9 @@ int command(int& argc, char**& argv, const std::vector<std::string>& args) {
   bc::drivers::cli::Parsed p;
   if (name == "version" || name == "--version") return parseOrHelp(versionSpec(), args, p) ? versionCommand() : 0;
   if (name == "render") return renderCommand(args);
-  // A study only starts and watches case processes: no MPI in this process.
+  // A study only starts and watches case processes (workers): no MPI in this process.
   if (name == "study") return studyCommand(args);
+  if (name == "study-worker") return studyWorkerCommand(argc, argv, args);
   // generate writes a deck from a few parameters: no MPI in this process.
   if (name == "generate") return withExitCodes(true, [&] { return bc::drivers::generateDeck(args); });
   // check builds the model only: no MPI in this process (so it is quick to call many times).
@@ -555,6 +624,7 @@ int main(int argc, char** argv) {
   mallopt(M_TRIM_THRESHOLD, -1);
   std::vector<std::string> args(argv + 1, argv + argc);
   g_commandLine = bc::core::commandLine(argc, argv);
+  g_program = argv[0];
   bc::core::setDocumentationDirectory(bc::drivers::findDocumentation());
   guardExit();
   if (args.empty()) {

@@ -50,7 +50,8 @@ COMMON = ["--radius", "--youngs-modulus", "--friction", "--penalty", "--incremen
 EXPECTED = {
     ("run",): ["--output", "-o", "--overwrite", "--quiet", "-q", "--timers", "--restart"] + PLUGIN,
     ("check",): PLUGIN,
-    ("study",): ["--output", "-o", "--overwrite", "--parallel", "--timing", "--no-report", "--quiet", "-q"] + PLUGIN,
+    ("study",): ["--output", "-o", "--overwrite", "--parallel", "--timing", "--no-report", "--process-per-case",
+                 "--quiet", "-q"] + PLUGIN,
     ("render",): ["--stages", "--view", "--title"],
     ("version",): [],
     ("--print-valid-parameters",): ["--format"] + PLUGIN,

@@ -1,13 +1,15 @@
 #!/usr/bin/python3
 """Stops a study with SIGTERM and runs it again (tests/cli/decks/slow_study.xml, two cases at a time):
-- the study exits with 143 (128 + SIGTERM) soon after the signal, and no case process outlives it;
+- the study exits with 143 (128 + SIGTERM) soon after the signal, and no case process (worker, or
+  with --process-per-case the cases' own processes) outlives it;
 - cases.csv lists all four cases: those that were running "interrupted" (with their cause), those not
   started "not run"; no case directory says "running";
 - run again, the study keeps the complete cases (says so) and runs the others: exit 0, four complete,
   and each F_N equals the one of an uninterrupted run of the same deck alone;
 - Ctrl-C at a terminal (SIGINT to the study's whole process group): exit 130, and cases.csv agrees with
   every case's own status.txt (a case recorded complete says so itself; an interrupted one names the
-  signal)."""
+  signal).
+Usage: study_interrupt.py BEAMCONTACT DECK WORKDIR [--process-per-case]"""
 import os
 import csv
 import signal
@@ -17,8 +19,9 @@ import time
 from pathlib import Path
 
 exe, deck, out = sys.argv[1], sys.argv[2], Path(sys.argv[3])
+how = sys.argv[4:]  # how the cases run: nothing (the pool of workers) or --process-per-case
 subprocess.run(["rm", "-rf", str(out)])
-p = subprocess.Popen([exe, "study", deck, "--output", str(out), "--parallel", "2", "--no-report"],
+p = subprocess.Popen([exe, "study", deck, "--output", str(out), "--parallel", "2", "--no-report", *how],
                      stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
 # The signal goes once case 3 is running (cases 1 and 2 may be complete or running then).
 started = out / "cases" / "003" / "status.txt"
@@ -46,7 +49,7 @@ for r in rows:
     if status.exists():
         assert not status.read_text().startswith("running"), f"case {r['case']} still says running"
 
-again = subprocess.run([exe, "study", deck, "--output", str(out), "--parallel", "2", "--no-report"],
+again = subprocess.run([exe, "study", deck, "--output", str(out), "--parallel", "2", "--no-report", *how],
                        capture_output=True, text=True)
 print(again.stdout, again.stderr)
 assert again.returncode == 0, f"rerun exit {again.returncode}"
@@ -66,7 +69,7 @@ print(f"ok: stopped with {statuses}, resumed to 4 complete; case 4 F_N {rows[3][
 
 # Ctrl-C at a terminal: SIGINT to the foreground process group the study leads.
 subprocess.run(["rm", "-rf", str(out)])
-p = subprocess.Popen([exe, "study", deck, "--output", str(out), "--parallel", "2", "--no-report"],
+p = subprocess.Popen([exe, "study", deck, "--output", str(out), "--parallel", "2", "--no-report", *how],
                      stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True)
 deadline = time.time() + 60
 while time.time() < deadline and not (started.exists() and started.read_text().startswith("running")):

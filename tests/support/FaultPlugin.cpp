@@ -8,6 +8,7 @@
 //     construct-fail   the strategy "Test Penalty"'s constructor throws
 //     evaluate-fail    its evaluation throws (inside Newton)
 //     evaluate-exit    its evaluation calls exit(0)
+//     evaluate-abort   its evaluation calls std::abort() (the process ends by SIGABRT)
 //     multipliers      also registers "Test Lagrange Multiplier", the built-in Lagrange Multiplier
 //                      strategy under another name (a plug-in that adds multiplier rows)
 // Otherwise it registers "Test Penalty", the built-in Penalty strategy under another name.
@@ -46,6 +47,7 @@ class TestPenalty : public bc::constraints::PenaltyEnforcer {
                                         double* f, double* K) const override {
     if (mode("evaluate-fail")) throw std::runtime_error("Test Penalty's evaluation failed on purpose");
     if (mode("evaluate-exit")) std::exit(0);
+    if (mode("evaluate-abort")) std::abort();
     return PenaltyEnforcer::evaluate(p, s, f, K);
   }
 };
