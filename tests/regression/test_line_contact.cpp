@@ -750,8 +750,9 @@ TEST(LineContact, NarrowOnWideRectanglesCrossingAtASmallAngle) {
 // Not yet: 0 degrees. The rod parallel on the ground, pressed at its pinned ends, bows up and touches
 // the ground only at its ends (with eps_N = 1e3: one Gauss point active at each end, the rest open by
 // up to 0.03): contact at a beam end, which line contact's Gauss points resolve only as far as their
-// spacing. With eps_N = 1e4 and above Newton stalls there in the first increment (Penalty and
-// Augmented Lagrange for circles, every strategy for rectangles; docs/contact.md, "Not there yet").
+// spacing. With eps_N = 1e5 Penalty stalls there in the first increment and Augmented Lagrange runs
+// out of passes (circles), Lagrange multipliers stop at a singular matrix (rectangles); the others
+// complete (docs/contact.md, "Not there yet").
 TEST(LineContact, AngleSweepEveryStrategyBothSectionsCompletesInEquilibriumWithinTheCone) {
   const double mu = 0.3;
   for (const bool rectangles : {false, true})
