@@ -207,7 +207,8 @@ bool keepsClear(const FibreBox& box, const V& a, const V& b, const V& d, const V
   return true;
 }
 
-// The fibres (start, end) drawn from the sequence of `seed` and kept, in the order kept.
+// The fibres (start, end) drawn from the sequence of `seed` and kept, in the order kept: all
+// box.count of them, or fewer when 1000 draws per fibre did not place them all.
 std::vector<std::pair<V, V>> placeFibres(const FibreBox& box, std::uint64_t seed) {
   const double pi = std::acos(-1.0), L = box.L, H = box.H, len = box.len;
   std::mt19937_64 random(seed);
@@ -220,11 +221,7 @@ std::vector<std::pair<V, V>> placeFibres(const FibreBox& box, std::uint64_t seed
   core::PointGrid centres(len + box.reach);
   const long attempts = 1000L * box.count;
   for (long tries = 0; static_cast<int>(kept.size()) < box.count; ++tries) {
-    if (tries == attempts)
-      throw InputError("generate network: placed only " + std::to_string(kept.size()) + " of " +
-                       std::to_string(box.count) + " fibres in " + std::to_string(attempts) +
-                       " draws; give fewer --fibres, a smaller --radius, --gap or --min-angle, or a larger --box or "
-                       "--height");
+    if (tries == attempts) break;
     const V c{{uniform(0, L), uniform(0, L), uniform(0, H)}};
     const double phi = uniform(0, pi), theta = uniform(-box.tilt, box.tilt);
     const V d{{std::cos(theta) * std::cos(phi), std::cos(theta) * std::sin(phi), std::sin(theta)}};
@@ -243,6 +240,30 @@ std::vector<std::pair<V, V>> placeFibres(const FibreBox& box, std::uint64_t seed
     }
   }
   return kept;
+}
+
+// The refusal of a network whose fibres did not all fit: the message names the smallest --box (two
+// significant digits, from the density of the fibres placed, then 10 % larger at a time, up to 12
+// tries) in which the same seed and options place them all, as tried here.
+[[noreturn]] void refuseNetwork(const FibreBox& box, std::uint64_t seed, std::size_t placed) {
+  std::ostringstream s;
+  s << "generate network: placed only " << placed << " of " << box.count << " fibres in " << 1000L * box.count
+    << " draws; give fewer --fibres, a smaller --radius, --gap or --min-angle, or a larger --box or --height";
+  const auto roundUp = [](double x) {  // up to two significant digits
+    const double unit = std::pow(10.0, std::floor(std::log10(x)) - 1);
+    return std::ceil(x / unit - 1e-9) * unit;
+  };
+  double side = roundUp(box.L * std::sqrt(double(box.count) / double(std::max<std::size_t>(placed, 1))));
+  for (int k = 0; k < 12; ++k, side = roundUp(1.1 * side)) {
+    FibreBox larger = box;
+    larger.L = side;
+    if (static_cast<int>(placeFibres(larger, seed).size()) == box.count) {
+      s << " (--box " << side << " places them all with this seed and these options)";
+      throw InputError(s.str());
+    }
+  }
+  s << " (no --box up to " << side << " placed them all: the height, the angles or the gap bind)";
+  throw InputError(s.str());
 }
 
 // A random fibre network: straight circular fibres of one length with centres uniform in the box
@@ -268,7 +289,9 @@ ParameterList network(const Options& o) {
     throw InputError("generate network: need 0 <= tilt <= 90 and 0 <= min-angle < 90 (degrees)");
   if (!(compress >= 0 && compress < 1)) throw InputError("generate network: need 0 <= compress < 1");
   const FibreBox box{count, L, H, len, tilt, minAngle, r, gap, 2 * r + gap + compress * H};
-  const auto kept = placeFibres(box, static_cast<std::uint64_t>(o.whole("seed", 0, 2000000000)));
+  const auto seed = static_cast<std::uint64_t>(o.whole("seed", 0, 2000000000));
+  const auto kept = placeFibres(box, seed);
+  if (static_cast<int>(kept.size()) < count) refuseNetwork(box, seed, kept.size());
   ParameterList deck("BeamContact");
   ParameterList& beams = deck.sublist("Beams");
   ParameterList& supports = deck.sublist("Supports");
