@@ -687,11 +687,12 @@ LineSegment lineSegment(const LinePairInput& in) {
   const Vec3d node[2] = {in.xB1 + in.RB1 * in.oB, in.xB2 + in.RB2 * in.oB};
   const Vec3d tau[2] = {in.RB1 * in.sB1, in.RB2 * in.sB2};
   // inside_j(xi) >= 0 where A's point lies on B's element's side of plane j: past node 1's plane
-  // along tau_1, before node 2's along tau_2.
-  const auto inside = [&](int j, double xi) {
-    Vec3d x;
-    axisPoint(P[0], V[0], P[1], V[1], cubicA, xi, &x, static_cast<Vec3d*>(nullptr), static_cast<Vec3d*>(nullptr));
+  // along tau_1, before node 2's along tau_2; with its Newton step towards the plane in `step`.
+  const auto inside = [&](int j, double xi, double* step = nullptr) {
+    Vec3d x, dx;
+    axisPoint(P[0], V[0], P[1], V[1], cubicA, xi, &x, &dx, static_cast<Vec3d*>(nullptr));
     const double f = dot(tau[j], x - node[j]);
+    if (step) *step = dot(tau[j], node[j] - x) / dot(tau[j], dx);  // (planeRoot's step)
     return j == 0 ? f : -f;
   };
   seg.lo = 0.0;
@@ -711,8 +712,8 @@ LineSegment lineSegment(const LinePairInput& in) {
     double a = 0.0, b = 1.0, fa = at0;
     double xi = at0 / (at0 - at1);  // the chord's root
     for (int it = 0; it < 100; ++it) {
-      const double next = planeRoot(P, V, cubicA, node[j], tau[j], xi, 1);
-      const double fx = inside(j, xi);
+      double newton = 0.0;
+      const double fx = inside(j, xi, &newton), next = xi + newton;
       if (fx == 0.0) break;
       if ((fx < 0.0) == (fa < 0.0)) a = xi, fa = fx;
       else b = xi;

@@ -207,8 +207,11 @@ bool keepsClear(const FibreBox& box, const V& a, const V& b, const V& d, const V
   return true;
 }
 
+// Draws per fibre before a network whose fibres do not all fit is given up.
+constexpr long kDrawsPerFibre = 1000;
+
 // The fibres (start, end) drawn from the sequence of `seed` and kept, in the order kept: all
-// box.count of them, or fewer when 1000 draws per fibre did not place them all.
+// box.count of them, or fewer when kDrawsPerFibre draws per fibre did not place them all.
 std::vector<std::pair<V, V>> placeFibres(const FibreBox& box, std::uint64_t seed) {
   const double pi = std::acos(-1.0), L = box.L, H = box.H, len = box.len;
   std::mt19937_64 random(seed);
@@ -219,7 +222,7 @@ std::vector<std::pair<V, V>> placeFibres(const FibreBox& box, std::uint64_t seed
   // is tested against the fibres nearby, not against every fibre kept (the same fibres fail a draw,
   // so the deck is the same).
   core::PointGrid centres(len + box.reach);
-  const long attempts = 1000L * box.count;
+  const long attempts = kDrawsPerFibre * box.count;
   for (long tries = 0; static_cast<int>(kept.size()) < box.count; ++tries) {
     if (tries == attempts) break;
     const V c{{uniform(0, L), uniform(0, L), uniform(0, H)}};
@@ -247,7 +250,7 @@ std::vector<std::pair<V, V>> placeFibres(const FibreBox& box, std::uint64_t seed
 // tries) in which the same seed and options place them all, as tried here.
 [[noreturn]] void refuseNetwork(const FibreBox& box, std::uint64_t seed, std::size_t placed) {
   std::ostringstream s;
-  s << "generate network: placed only " << placed << " of " << box.count << " fibres in " << 1000L * box.count
+  s << "generate network: placed only " << placed << " of " << box.count << " fibres in " << kDrawsPerFibre * box.count
     << " draws; give fewer --fibres, a smaller --radius, --gap or --min-angle, or a larger --box or --height";
   const auto roundUp = [](double x) {  // up to two significant digits
     const double unit = std::pow(10.0, std::floor(std::log10(x)) - 1);

@@ -53,6 +53,13 @@ def run(exe, deck, out, mpi=None):
     return summarize(out)
 
 
+def worst_balance(balance):
+    """The largest difference of a beam's contact forces and support reactions (any component), relative to
+    the largest reaction, and that beam's name (`balance` as summarize gives it)."""
+    scale = max(abs(v) for f, s in balance.values() for v in s)
+    return max((max(abs(a + b) for a, b in zip(f, s)) / scale, name) for name, (f, s) in balance.items())
+
+
 def summarize(out):
     """A complete run's last step in OUT: its active contact points (pair, lines), total normal force,
     per beam the contact forces on it and its support reactions (x, y, z), and the contact rows."""
@@ -140,8 +147,7 @@ def main():
         tree.write(deck)
         active, total, balance, contact = run(exe, deck, os.path.join(work, strategy.replace(" ", "_")))
         results[strategy] = (active, total, contact)
-        scale = max(abs(v) for f, s in balance.values() for v in s)
-        worst, beam = max((max(abs(a + b) for a, b in zip(f, s)) / scale, name) for name, (f, s) in balance.items())
+        worst, beam = worst_balance(balance)
         touched = sum(1 for f, s in balance.values() if any(f))
         print(f"{strategy:20s} {len(active)} active points, total N {total:.6f}, {touched} of {len(balance)} beams "
               f"touched; worst balance of contact and supports {worst:.1e} (beam {beam})")
