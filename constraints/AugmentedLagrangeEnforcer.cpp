@@ -15,6 +15,11 @@ const core::ParameterSpec& AugmentedLagrangeEnforcer::spec() {
     p.add("Gap Tolerance", 1e-6, "stop augmenting when |g_N| and sticking |g_T| are below this [length]",
           core::positive(), "> 0");
     p.add("Maximum Augmentations", 50, "Newton solves allowed per increment (passes)", core::atLeast(1), ">= 1");
+    p.add("Maximum Coupled Constraints", 200,
+          "up to this many constrained gaps (normal, sticking lines) the estimates are updated together, with the "
+          "beams' compliance between the points (one solve with the beams' tangent per gap and pass); with more, "
+          "or 0, each point updates its own",
+          core::atLeast(0), ">= 0");
     p.add("Regularization Gap", 0.0,
           "width g0 of a C1 onset of the normal force centred on the augmented law's kink (0: the kinked law) "
           "at point contacts (line contact uses Lagrange's field rows); the augmentations still close the gap "
@@ -60,7 +65,8 @@ AugmentedLagrangeEnforcer::AugmentedLagrangeEnforcer(const Teuchos::ParameterLis
       choice_(v),
       tolerance_(v.get<double>("Gap Tolerance")),
       regularization_(v.get<double>("Regularization Gap")),
-      maxPasses_(v.get<int>("Maximum Augmentations")) {}
+      maxPasses_(v.get<int>("Maximum Augmentations")),
+      maxCoupled_(v.get<int>("Maximum Coupled Constraints")) {}
 
 std::unique_ptr<PointState> AugmentedLagrangeEnforcer::newPointState() const {
   auto s = std::make_unique<State>();
@@ -189,6 +195,45 @@ bool AugmentedLagrangeEnforcer::acceptPoint(const ContactPoint& p, PointState& s
     if (!stick) h.lastGap[1 + i] = 0.0;
   }
   return met;
+}
+
+int AugmentedLagrangeEnforcer::coupledConstraints(const ContactPoint& p, const PointState& s,
+                                                  CoupledConstraint out[3]) const {
+  const State& h = stateOf<State>(s);
+  if (h.lineNode) return 0;
+  h.penalties.require();
+  const double* eps = choice_.at(h.penalties);
+  const FrictionRegularization friction{{h.lambdaT[0], h.lambdaT[1]}, eps[1]};
+  const PointResult r = regularizedForces(p, smoothedAugmentedLaw(h.lambdaN, eps[0], regularization_), friction);
+  // On the linear branch of the law only (not open, not within the smooth onset).
+  if (!r.active || (regularization_ > 0.0 && -r.lambdaN < 0.5 * eps[0] * regularization_)) return 0;
+  int n = 0;
+  out[n] = CoupledConstraint{};
+  out[n].force[0] = 1.0;
+  bool stick[2];
+  for (int i = 0; i < 2; ++i) {
+    stick[i] = p.friction > 0.0 && !r.slip[i] && p.measured[i];
+    // A slipping line's force is the cone's: it follows the normal force.
+    if (!stick[i] && r.lambdaN != 0.0) out[n].force[1 + i] = r.lambdaT[i] / r.lambdaN;
+  }
+  ++n;
+  for (int i = 0; i < 2; ++i) {
+    if (!stick[i]) continue;
+    out[n] = CoupledConstraint{};
+    out[n].gap = 1 + i;
+    out[n].force[1 + i] = 1.0;
+    ++n;
+  }
+  return n;
+}
+
+void AugmentedLagrangeEnforcer::coupledUpdate(PointState& s, const CoupledConstraint* c, int n,
+                                              const double* delta) const {
+  State& h = stateOf<State>(s);
+  if (h.lineNode) return;
+  for (int j = 0; j < n; ++j) (c[j].gap == 0 ? h.lambdaN : h.lambdaT[c[j].gap - 1]) += delta[j];
+  // The per-point secant's gaps of the last pass belong to estimates that have moved since.
+  for (double& g : h.lastGap) g = 0.0;
 }
 
 void AugmentedLagrangeEnforcer::commitPoint(const ContactPoint& p, PointState& s) const {

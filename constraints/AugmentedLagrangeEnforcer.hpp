@@ -6,7 +6,8 @@
 // penalty parameters beyond that tolerance; they only change how many passes it takes.
 // Parameters (sublist "Augmented Lagrange"): "Normal Penalty Parameter", "Tangential Penalty
 // Parameter" [force/length] (each a number or "Automatic", PenaltyChoice.hpp), "Gap Tolerance"
-// [length], "Maximum Augmentations".
+// [length], "Maximum Augmentations", "Maximum Coupled Constraints" (the update coupled over the points,
+// ConstraintEnforcer::coupledConstraints; docs/contact.md, "Cost of the augmentations").
 //
 // On lines (line contact) the multipliers live on the nodes of line A as Lagrange's do
 // (LineField::Nodal, docs/contact.md "Augmented Lagrange on lines"): a line node's normal row is
@@ -97,6 +98,12 @@ class AugmentedLagrangeEnforcer : public ConstraintEnforcer {
   bool acceptNormal(const ContactPoint& p, PointState& s) const override;
   bool acceptPoint(const ContactPoint& p, PointState& s, double& worstViolation) const override;
   int maximumPasses() const override { return maxPasses_; }
+  // The normal gap of a point in contact beyond the smooth onset (its estimate moves the slipping
+  // lines' forces with the normal force) and each sticking line's gap; the update adds the deltas to
+  // the estimates.
+  int maximumCoupledConstraints() const override { return maxCoupled_; }
+  int coupledConstraints(const ContactPoint& p, const PointState& s, CoupledConstraint out[3]) const override;
+  void coupledUpdate(PointState& s, const CoupledConstraint* c, int n, const double* delta) const override;
   // acceptPoint has already set the estimates to the converged forces: report and keep those
   // (recomputing lambda_hat + eps g would count the last augmentation twice).
   PointResult reportedForces(const ContactPoint& p, const PointState& s) const override;
@@ -116,6 +123,7 @@ class AugmentedLagrangeEnforcer : public ConstraintEnforcer {
   double tolerance_;
   double regularization_;  // "Regularization Gap" g0 (smoothedAugmentedLaw)
   int maxPasses_;
+  int maxCoupled_;  // "Maximum Coupled Constraints"
 };
 
 }  // namespace bc::constraints

@@ -191,6 +191,29 @@ class ConstraintEnforcer {
   virtual bool lineNodeRows() const { return false; }
   virtual void evaluateLineNode(const ContactPoint& node, const PointState& s, double length, double* f,
                                 double* K) const {}
+  // --- estimates moved with Newton's step (optional) -------------------------------------------------
+  // A strategy whose points act through estimates of their forces (an augmented Lagrange method: the
+  // law is a penalty around the estimate) may let them move within Newton's iterations. Near the
+  // solution (core::Physics::coupleStep) the manager asks each acting point for its constraints g = 0
+  // (coupledConstraints: which gap, and the residual's derivative with respect to the constraint's
+  // estimate as coefficients of the first variations R_N, R_T1, R_T2) and solves, over all points at
+  // once, D delta = g + R du (du Newton's step, D_ij = R_i^T K^-1 F_j with K the model's tangent and F_j
+  // the derivative): the estimates' changes that close every gap at the end of the step, a Newton step
+  // on the motion and the estimates together. It hands each point its deltas (coupledUpdate, in the
+  // order of coupledConstraints) and adds -K^-1 F delta to the step. Only point contacts are coupled
+  // (no line contact in the model), at most maximumCoupledConstraints() constraints (each costs a solve
+  // with K); otherwise, and when K or D is singular, the step is Newton's alone. The fixed point is
+  // the strategy's own (its acceptPoint still decides): only the way there changes.
+  struct CoupledConstraint {
+    int gap = 0;  // 0: g_N, 1: g_T1, 2: g_T2 (and the estimate of that force)
+    // F_j as coefficients of (R_N, R_T1, R_T2): e.g. a slipping line's force follows the normal one.
+    double force[3] = {0.0, 0.0, 0.0};
+  };
+  virtual int maximumCoupledConstraints() const { return 0; }
+  virtual int coupledConstraints(const ContactPoint& p, const PointState& s, CoupledConstraint out[3]) const {
+    return 0;
+  }
+  virtual void coupledUpdate(PointState& s, const CoupledConstraint* c, int n, const double* delta) const {}
   // Upper bound on the Newton solves of one increment (active-set or augmentation passes).
   virtual int maximumPasses() const { return 1; }
   // The forces at the converged state, for output (before commitPoint). By default the evaluation

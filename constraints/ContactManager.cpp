@@ -326,6 +326,101 @@ bool ContactManager::acceptSolution(core::State& state) {
   return all;
 }
 
+bool ContactManager::coupleStep(core::State& state, std::vector<double>& du) {
+  const int limit = enforcer_->maximumCoupledConstraints();
+  if (limit <= 0 || !response_ || responseFailed_) return false;
+  // The constraints (ConstraintEnforcer::coupledConstraints) of the points that act: each with its
+  // gap predicted after the step (g + R du), its first variation (row) and the residual's derivative
+  // with respect to its estimate (column).
+  struct Entry {
+    PointState* state;
+    ConstraintEnforcer::CoupledConstraint c[3];
+    int n;
+  };
+  std::vector<Entry> entries;
+  std::vector<core::SparseLoad> rows, columns;
+  std::vector<double> delta;
+  for (auto& [key, p] : set_.current()) {
+    if (p.line() || p.node()) return false;  // line contact's field: unknowns of the system already
+    const PointState* acting = actingState(p);
+    if (!acting || !enforcer_->contributes(pointGeometry(p, state).gap, *acting)) continue;
+    const ContactKinematics k = kinematics(p, state, Variations::First);
+    const ContactPoint view = strategyView(p, k, state);
+    Entry e{&*p.state, {}, 0};
+    e.n = enforcer_->coupledConstraints(view, *p.state, e.c);
+    if (e.n == 0) continue;
+    if (static_cast<int>(rows.size()) + e.n > limit) return false;
+    const auto dofs = geometry_.pointDofs(p);
+    const GapDerivatives* gaps[3] = {&k.normal, &k.tangent1, &k.tangent2};
+    for (int j = 0; j < e.n; ++j) {
+      const GapDerivatives& g = *gaps[e.c[j].gap];
+      core::SparseLoad row, column;
+      row.dofs.assign(dofs.begin(), dofs.end());
+      column.dofs = row.dofs;
+      column.values.assign(dofs.size(), 0.0);
+      double predicted = g.value;
+      for (std::size_t d = 0; d < dofs.size(); ++d) {
+        row.values.push_back(g.R[d]);
+        predicted += g.R[d] * du[dofs[d]];
+        // The manager weights the point's residual by its blend weight: so does the estimate's share.
+        for (int l = 0; l < 3; ++l) column.values[d] += view.weight * e.c[j].force[l] * gaps[l]->R[d];
+      }
+      rows.push_back(std::move(row));
+      columns.push_back(std::move(column));
+      delta.push_back(predicted);
+    }
+    entries.push_back(e);
+  }
+  const std::size_t m = rows.size();
+  if (m == 0) return false;
+  core::ModelResponse response;
+  try {
+    response = response_(state, rows, columns);
+  } catch (const std::runtime_error&) {
+    responseFailed_ = true;  // a singular tangent: the augmentations stay between passes
+    return false;
+  }
+  // D delta = g + R du, D_ij = R_i^T K^-1 F_j: each estimate must move its own gap (D_jj > 0) and D
+  // must be regular; Gaussian elimination with partial pivoting, refused when a pivot is below 1e-12
+  // of the largest diagonal entry.
+  std::vector<double>& D = response.D;
+  double scale = 0.0;
+  for (std::size_t j = 0; j < m; ++j) {
+    if (!(D[j * m + j] > 0.0) || !std::isfinite(D[j * m + j])) return false;
+    scale = std::max(scale, D[j * m + j]);
+  }
+  for (std::size_t c = 0; c < m; ++c) {
+    std::size_t pivot = c;
+    for (std::size_t r = c + 1; r < m; ++r)
+      if (std::abs(D[r * m + c]) > std::abs(D[pivot * m + c])) pivot = r;
+    if (!(std::abs(D[pivot * m + c]) > 1e-12 * scale)) return false;
+    if (pivot != c) {
+      for (std::size_t j = 0; j < m; ++j) std::swap(D[c * m + j], D[pivot * m + j]);
+      std::swap(delta[c], delta[pivot]);
+    }
+    for (std::size_t r = c + 1; r < m; ++r) {
+      const double f = D[r * m + c] / D[c * m + c];
+      for (std::size_t j = c; j < m; ++j) D[r * m + j] -= f * D[c * m + j];
+      delta[r] -= f * delta[c];
+    }
+  }
+  for (std::size_t c = m; c-- > 0;) {
+    for (std::size_t j = c + 1; j < m; ++j) delta[c] -= D[c * m + j] * delta[j];
+    delta[c] /= D[c * m + c];
+    if (!std::isfinite(delta[c])) return false;
+  }
+  // The estimates move by delta, the motion by -K^-1 F delta.
+  std::size_t j = 0;
+  for (const Entry& e : entries) {
+    enforcer_->coupledUpdate(*e.state, e.c, e.n, &delta[j]);
+    j += e.n;
+  }
+  for (std::size_t c = 0; c < m; ++c)
+    for (std::size_t d = 0; d < du.size() && d < response.motion[c].size(); ++d)
+      du[d] -= delta[c] * response.motion[c][d];
+  return true;
+}
+
 void ContactManager::commitPoint(Point& p, const core::State& state) {
   ContactKinematics k = judgedKinematics(p, state);
   if (lines_.nodal() && p.line()) {

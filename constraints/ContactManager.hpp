@@ -59,6 +59,9 @@ class ContactManager : public core::Contribution {
   void loadCommitted(core::CheckpointIn& in, const core::State& committed) override;
   void markIterate() override { set_.mark(); }
   void useCompliance(core::ComplianceFunction compliance) override { penalty_.useCompliance(std::move(compliance)); }
+  void useResponse(core::ResponseFunction response) override { response_ = std::move(response); }
+  // The strategy's estimates moved with Newton's step (ConstraintEnforcer::coupledConstraints).
+  bool coupleStep(core::State& state, std::vector<double>& du) override;
   void useCommunicator(const Teuchos::RCP<const Teuchos::Comm<int>>& comm) override { search_.useCommunicator(comm); }
   static constexpr const char* kExtraOwner = kContactExtraOwner;
   double stepBound(const core::State& state, const std::vector<double>& du) const override;
@@ -156,6 +159,9 @@ class ContactManager : public core::Contribution {
   int lastPasses_ = 0;
   double worstViolation_ = 0.0;
   std::vector<double> violations_;
+  core::ResponseFunction response_;
+  // Coupled steps: off for the run once the model's tangent was singular there.
+  bool responseFailed_ = false;
 };
 
 }  // namespace bc::constraints

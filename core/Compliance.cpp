@@ -12,60 +12,123 @@
 
 namespace bc::core {
 
-std::vector<double> structureCompliance(const Model& model, const Physics& without, const State& state,
-                                        const std::vector<SparseLoad>& loads) {
-  // The assembler reads the contributions and the supports (held, at load factor 0).
-  Model structure;
-  structure.supports = model.supports;
-  for (const auto& c : model.contributions)
-    if (static_cast<const Physics*>(c.get()) != &without) structure.contributions.push_back(c);
-  Assembler assembler(Teuchos::rcp(new Teuchos::SerialComm<int>()), structure);
-  assembler.rebuild(state);
-  assembler.assemble(state, 0.0, true);
-  const Matrix& K = *assembler.matrix();
-  const auto& map = *K.getRowMap();
-  SerialKlu klu;
-  try {
-    klu.factor(K, false);
-  } catch (const std::exception& e) {
-    throw std::runtime_error(std::string("the structure without ") + without.name() +
-                             " is singular (a beam held only by " + without.name() + "?): " + e.what());
+namespace {
+// K of the model's contributions other than `without` (null: all of them) at `state` (supports held),
+// factored on this rank alone; loads are solved against it with the linear solver's checks.
+class StructureSolve {
+ public:
+  StructureSolve(const Model& model, const Physics* without, const State& state)
+      : without_(without ? without->name() : std::string("none")),
+        structure_(heldStructure(model, without)),
+        assembler_(Teuchos::rcp(new Teuchos::SerialComm<int>()), structure_) {
+    assembler_.rebuild(state);
+    assembler_.assemble(state, 0.0, true);
+    try {
+      klu_.factor(K(), false);
+    } catch (const std::exception& e) {
+      throw std::runtime_error("the structure without " + without_ + " is singular (a beam held only by " + without_ +
+                               "?): " + e.what());
+    }
   }
-  std::vector<double> result;
-  Vector b(K.getRowMap()), x(K.getRowMap());
-  for (const SparseLoad& load : loads) {
+  const Matrix& K() const { return *assembler_.matrix(); }
+  // b from the load (its entries on held dofs dropped); false when nothing is left (the structure
+  // does not give there).
+  bool load(const SparseLoad& load, Vector& b) const {
+    const auto& map = *K().getRowMap();
     b.putScalar(0.0);
-    {
-      auto bv = b.getDataNonConst();
-      for (std::size_t k = 0; k < load.dofs.size(); ++k)
-        if (!assembler.constrainedDofs().count(load.dofs[k])) bv[map.getLocalElement(load.dofs[k])] += load.values[k];
-    }
-    if (b.norm2() == 0.0) {  // a load on held dofs only: the structure does not give there
-      result.push_back(0.0);
-      continue;
-    }
+    auto bv = b.getDataNonConst();
+    for (std::size_t k = 0; k < load.dofs.size(); ++k)
+      if (!assembler_.constrainedDofs().count(load.dofs[k])) bv[map.getLocalElement(load.dofs[k])] += load.values[k];
+    bool any = false;
+    for (double v : bv) any = any || v != 0.0;
+    return any;
+  }
+  // x = K^-1 b; whether the solve passes the linear solver's checks: backward error, and
+  // ||K|| ||x|| / ||b||, a lower bound of K's condition number.
+  bool solve(const Vector& b, Vector& x) const {
     {
       const auto bv = b.getData();
       auto xv = x.getDataNonConst();
-      klu.solve(bv.getRawPtr(), xv.getRawPtr());
+      klu_.solve(bv.getRawPtr(), xv.getRawPtr());
     }
-    // The linear solver's checks: backward error, and ||K|| ||x|| / ||b||, a lower bound of K's
-    // condition number.
-    const SolveReport check = residualReport(K, b, x);
+    const SolveReport check = residualReport(K(), b, x);
+    return check.backwardError <= 1e-8 && check.conditionBound <= 1e14;
+  }
+  // x on every dof, in the order of the global dofs.
+  std::vector<double> gather(const Vector& x) { return assembler_.gatherToAll(x); }
+  [[noreturn]] void singular() const {
+    throw std::runtime_error("the structure without " + without_ + " is singular (a beam held only by " + without_ +
+                             "?)");
+  }
+
+ private:
+  static Model heldStructure(const Model& model, const Physics* without) {
+    Model structure;
+    structure.supports = model.supports;
+    for (const auto& c : model.contributions)
+      if (static_cast<const Physics*>(c.get()) != without) structure.contributions.push_back(c);
+    return structure;
+  }
+  std::string without_;
+  Model structure_;
+  Assembler assembler_;
+  SerialKlu klu_;
+};
+
+// r . x over a load's entries.
+double dotLoad(const SparseLoad& r, const Vector& x) {
+  const auto& map = *x.getMap();
+  const auto xv = x.getData();
+  double d = 0.0;
+  for (std::size_t k = 0; k < r.dofs.size(); ++k) {
+    const LO l = map.getLocalElement(r.dofs[k]);
+    if (l != Teuchos::OrdinalTraits<LO>::invalid()) d += r.values[k] * xv[l];
+  }
+  return d;
+}
+}  // namespace
+
+std::vector<double> structureCompliance(const Model& model, const Physics& without, const State& state,
+                                        const std::vector<SparseLoad>& loads) {
+  const StructureSolve structure(model, &without, state);
+  std::vector<double> result;
+  Vector b(structure.K().getRowMap()), x(structure.K().getRowMap());
+  for (const SparseLoad& load : loads) {
+    if (!structure.load(load, b)) {  // a load on held dofs only: the structure does not give there
+      result.push_back(0.0);
+      continue;
+    }
+    const bool solved = structure.solve(b, x);
     const double c = b.dot(x);
-    if (c > 0.0 && std::isfinite(c) && check.backwardError <= 1e-8 && check.conditionBound <= 1e14) {
+    if (solved && c > 0.0 && std::isfinite(c)) {
       result.push_back(c);
       continue;
     }
-    if (c > 0.0 || !std::isfinite(c))
-      throw std::runtime_error("the structure without " + without.name() + " is singular (a beam held only by " +
-                               without.name() + "?)");
+    if (c > 0.0 || !std::isfinite(c)) structure.singular();
     std::ostringstream s;
     s << "the structure without " << without.name() << " is not stable where " << without.name()
       << " acts (v^T K^-1 v = " << c << ")";
     throw std::runtime_error(s.str());
   }
   return result;
+}
+
+ModelResponse modelResponse(const Model& model, const State& state, const std::vector<SparseLoad>& rows,
+                            const std::vector<SparseLoad>& columns) {
+  StructureSolve structure(model, nullptr, state);
+  ModelResponse r;
+  r.D.assign(rows.size() * columns.size(), 0.0);
+  Vector b(structure.K().getRowMap()), x(structure.K().getRowMap());
+  for (std::size_t j = 0; j < columns.size(); ++j) {
+    if (!structure.load(columns[j], b)) {
+      r.motion.emplace_back(std::size_t(state.numDofs()), 0.0);
+      continue;
+    }
+    if (!structure.solve(b, x)) structure.singular();
+    for (std::size_t i = 0; i < rows.size(); ++i) r.D[i * columns.size() + j] = dotLoad(rows[i], x);
+    r.motion.push_back(structure.gather(x));
+  }
+  return r;
 }
 
 }  // namespace bc::core

@@ -6,10 +6,11 @@
 //
 // Every rank assembles and factors K in full on its own (the state is replicated), so the answer is
 // the same everywhere and no communication is needed; meant for the few calls of a run (new contact
-// points), not for every Newton iteration.
+// points; a strategy's augmentation passes on a few points), not for every Newton iteration.
 #pragma once
 #include <vector>
 
+#include "Contribution.hpp"
 #include "Model.hpp"
 
 namespace bc::core {
@@ -19,5 +20,12 @@ namespace bc::core {
 // only by contact) or not positive for a load (the structure buckled there).
 std::vector<double> structureCompliance(const Model& model, const Physics& without, const State& state,
                                         const std::vector<SparseLoad>& loads);
+
+// The model's response to loads: for each column load c_j the motion x_j = K^-1 c_j (on every dof, in
+// the order of the global dofs) and D_ij = r_i^T x_j for the rows r_i (row-major, rows x columns), K
+// the tangent of all the model's contributions at `state` (supports held): how far the model moves
+// along r_i under a unit load c_j. Throws std::runtime_error when K is singular.
+ModelResponse modelResponse(const Model& model, const State& state, const std::vector<SparseLoad>& rows,
+                            const std::vector<SparseLoad>& columns);
 
 }  // namespace bc::core

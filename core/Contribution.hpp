@@ -73,6 +73,15 @@ struct SparseLoad {
 // The structure's compliance where a contribution acts (Compliance.hpp): v^T K^-1 v for each load v,
 // K the tangent of the other contributions at `state`. Call on every rank with the same arguments.
 using ComplianceFunction = std::function<std::vector<double>(const State& state, const std::vector<SparseLoad>& loads)>;
+// The model's response to loads (Compliance.hpp, modelResponse): for each column c_j the motion
+// K^-1 c_j on every dof, and r_i^T K^-1 c_j for the rows r_i (row-major), K the tangent of every
+// contribution (the caller's too) at `state`. Call on every rank with the same arguments.
+struct ModelResponse {
+  std::vector<double> D;
+  std::vector<std::vector<double>> motion;
+};
+using ResponseFunction = std::function<ModelResponse(const State& state, const std::vector<SparseLoad>& rows,
+                                                     const std::vector<SparseLoad>& columns)>;
 
 // The physics: what the contribution couples and adds to the residual and tangent, and its part in
 // Newton's iteration.
@@ -111,6 +120,15 @@ class Physics {
   // The solver hands every contribution the compliance of the structure without it, for parameters
   // chosen from the structure's stiffness (automatic penalty parameters); kept by those that use it.
   virtual void useCompliance(ComplianceFunction compliance) {}
+  // And the whole model's response to loads, for a step coupled over several constraints (coupleStep).
+  virtual void useResponse(ResponseFunction response) {}
+  // Newton's step `du` from `state` (every dof: nodal and extra unknowns), before it is taken, near the
+  // solution of the increment (its residual below 1e-2 of the solve's first, the step not shortened,
+  // no backtracking): a contribution that enforces constraints through estimates it keeps between
+  // iterations (an augmented Lagrange method) may move them with the step, so that the step is a
+  // Newton step on the motion and the estimates together. It changes its estimates and adds to du the
+  // motion their change causes; returns whether it did. Called on every rank with the same arguments.
+  virtual bool coupleStep(State& state, std::vector<double>& du) { return false; }
   // The solver hands every contribution the communicator of its ranks: work that every rank would
   // otherwise do alike (a contact search's narrow phase) may be shared out and its results
   // exchanged, in the collective hooks above (prepareIteration). Without it the work is done whole.

@@ -117,6 +117,10 @@ StaticSolver::StaticSolver(Teuchos::RCP<const Comm> comm, Model& model, SolverSe
     c->useCompliance([this, self](const State& state, const std::vector<SparseLoad>& loads) {
       return structureCompliance(model_, *self, state, loads);
     });
+    c->useResponse(
+        [this](const State& state, const std::vector<SparseLoad>& rows, const std::vector<SparseLoad>& columns) {
+          return modelResponse(model_, state, rows, columns);
+        });
     c->useCommunicator(comm_);
   }
 }
@@ -470,6 +474,7 @@ struct StaticSolver::Newton {
   double best = 0.0;
   int progressAt = 0;
   static constexpr int kStallIterations = 4;
+  static constexpr double kCoupleBelow = 1e-2;  // coupleStep below this fraction of the solve's first residual
   // The iterate at hand: its number (overall and within the pass), whether its graph was rebuilt,
   // and its measures.
   int k = 0, kp = 0;
@@ -713,6 +718,13 @@ struct StaticSolver::Newton {
     {
       ScopedTimer stepBound(s.timer_, "Step Bound");
       for (auto& c : s.model_.contributions) bound = std::min(bound, c->stepBound(s.trial_, inc));
+    }
+    // Near the solution, contributions may move the estimates they keep with the step (coupleStep):
+    // the step is then Newton's on the motion and the estimates together, and its norm counts both.
+    if (bound >= 1.0 && !searching && kp >= 1 && rn <= kCoupleBelow * firstResidual) {
+      ScopedTimer coupled(s.timer_, "Coupled Step");
+      for (auto& c : s.model_.contributions)
+        if (c->coupleStep(s.trial_, inc)) ++report.coupledSteps;
     }
     double n2 = 0.0;
     for (GlobalDof g = 0; g < ndof; ++g) n2 += inc[g] * inc[g];  // the full Newton step decides convergence

@@ -54,6 +54,7 @@ struct StepReport {
   int backtracks = 0;  // line-search step halvings, over all iterations
   int stalls = 0;  // Newton solves that stalled and went on with backtracking (When Stalled)
   int boundedSteps = 0;  // Newton steps shortened because a contact would close within them
+  int coupledSteps = 0;  // Newton steps that moved a contribution's estimates too (Physics::coupleStep)
   int passes = 1;  // Newton solves of the increment (augmentation / active-set passes)
   std::vector<NewtonIterate> history;
 };
