@@ -58,6 +58,30 @@ double overRelaxedUpdate(AugmentedLagrangeEnforcer::State& h, int line, double g
   h.lastGap[line] = gap;
   return (omega - 1.0) * eps * gap;
 }
+// Isotropic Coulomb slip: the friction force's direction is the trial's, lambda_hat_T + eps_T M g_T,
+// so it lies along the slip s = g_T1 a - g_T2 b only once the estimate is the force itself (the fixed
+// point; Lagrange multipliers slide along s). The part of s across the force F is that estimate's
+// error, a length: |s|^2 - (F . s)^2 / |F|^2 with F . s = lambda_T . g_T and |F|^2 = |lambda_T|_{M^-1}^2
+// (CoulombFriction.hpp); all of s when it runs against the force.
+// The same signed, (F x s) . (a x b) / |F| / |a x b|: which side of the force the slip lies on.
+double signedSlipAcrossForce(const ContactKinematics& k, const double lambdaT[2]) {
+  const double c = k.cosine, g[2] = {k.tangent1.value, k.tangent2.value};
+  const double f2 = cone::lengthSquared(c, lambdaT);
+  if (!(f2 > 0.0)) return 0.0;
+  // f = M^-1 lambda_T, the force's components along (a, -b); F x s = (f_2 g_1 - f_1 g_2) a x b.
+  const double f[2] = {(lambdaT[0] + c * lambdaT[1]) / (1.0 - c * c), (c * lambdaT[0] + lambdaT[1]) / (1.0 - c * c)};
+  return (f[1] * g[0] - f[0] * g[1]) * std::sqrt(std::max(0.0, 1.0 - c * c)) / std::sqrt(f2);
+}
+double slipAcrossForce(const ContactKinematics& k, const double lambdaT[2]) {
+  const double g[2] = {k.tangent1.value, k.tangent2.value};
+  double Mg[2];
+  cone::metric(k.cosine, g, Mg);
+  const double s2 = std::max(0.0, g[0] * Mg[0] + g[1] * Mg[1]);
+  const double along = lambdaT[0] * g[0] + lambdaT[1] * g[1];
+  const double f2 = cone::lengthSquared(k.cosine, lambdaT);
+  if (!(f2 > 0.0) || along < 0.0) return std::sqrt(s2);
+  return std::sqrt(std::max(0.0, s2 - along * along / f2));
+}
 }  // namespace
 
 AugmentedLagrangeEnforcer::AugmentedLagrangeEnforcer(const Teuchos::ParameterList& v)
@@ -174,6 +198,8 @@ bool AugmentedLagrangeEnforcer::acceptPoint(const ContactPoint& p, PointState& s
     const GapDerivatives* gt[2] = {&k.tangent1, &k.tangent2};
     for (int i = 0; i < 2; ++i)
       if (p.friction > 0.0 && !r.slip[i]) violation = std::max(violation, std::abs(gt[i]->value));
+    if (p.friction > 0.0 && p.law == FrictionLaw::IsotropicCoulomb && r.slip[0])
+      violation = std::max(violation, slipAcrossForce(k, r.lambdaT));
   } else {
     violation = std::max(0.0, -k.normal.value);
   }
@@ -189,10 +215,31 @@ bool AugmentedLagrangeEnforcer::acceptPoint(const ContactPoint& p, PointState& s
   h.lambdaN = r.lambdaN + (normalLinear ? overRelaxedUpdate(h, 0, k.normal.value, epsN) : 0.0);
   if (!normalLinear) h.lastGap[0] = 0.0;
   const GapDerivatives* gt[2] = {&k.tangent1, &k.tangent2};
+  const bool isotropicSlip =
+      r.active && !onset && p.friction > 0.0 && p.law == FrictionLaw::IsotropicCoulomb && r.slip[0];
   for (int i = 0; i < 2; ++i) {
     const bool stick = normalLinear && p.friction > 0.0 && !r.slip[i] && p.law == FrictionLaw::PerLine;
     h.lambdaT[i] = r.lambdaT[i] + (stick ? overRelaxedUpdate(h, 1 + i, gt[i]->value, eps[1]) : 0.0);
-    if (!stick) h.lastGap[1 + i] = 0.0;
+    if (!stick && !(isotropicSlip && i == 0)) h.lastGap[1 + i] = 0.0;
+  }
+  // Isotropic Coulomb slip: the estimate turns towards the slip, over-relaxed by a secant on the signed
+  // slip across the force, as the gaps are: lambda_hat_T = the cone's force along lambda_T + (omega - 1)
+  // eps_T M g_T (omega 1: the converged force, the plain update).
+  if (isotropicSlip) {
+    const double across = signedSlipAcrossForce(k, r.lambdaT);
+    if (std::abs(across) > tolerance_) {
+      overRelaxedUpdate(h, 1, across, eps[1]);
+      const double g[2] = {k.tangent1.value, k.tangent2.value};
+      double Mg[2];
+      cone::metric(k.cosine, g, Mg);
+      const double t[2] = {r.lambdaT[0] + (h.omega[1] - 1.0) * eps[1] * Mg[0],
+                           r.lambdaT[1] + (h.omega[1] - 1.0) * eps[1] * Mg[1]};
+      const double length = std::sqrt(cone::lengthSquared(k.cosine, t));
+      if (length > 0.0)
+        for (int i = 0; i < 2; ++i) h.lambdaT[i] = -p.friction * r.lambdaN * t[i] / length;
+    } else {
+      h.lastGap[1] = 0.0;
+    }
   }
   return met;
 }
@@ -231,9 +278,11 @@ void AugmentedLagrangeEnforcer::coupledUpdate(PointState& s, const CoupledConstr
                                               const double* delta) const {
   State& h = stateOf<State>(s);
   if (h.lineNode) return;
-  for (int j = 0; j < n; ++j) (c[j].gap == 0 ? h.lambdaN : h.lambdaT[c[j].gap - 1]) += delta[j];
-  // The per-point secant's gaps of the last pass belong to estimates that have moved since.
-  for (double& g : h.lastGap) g = 0.0;
+  // (The per-point secant's gap of the last pass belongs to an estimate that has moved since.)
+  for (int j = 0; j < n; ++j) {
+    (c[j].gap == 0 ? h.lambdaN : h.lambdaT[c[j].gap - 1]) += delta[j];
+    h.lastGap[c[j].gap] = 0.0;
+  }
 }
 
 void AugmentedLagrangeEnforcer::commitPoint(const ContactPoint& p, PointState& s) const {
