@@ -128,6 +128,7 @@ struct Assembler::RowPattern {
 };
 
 void Assembler::rebuild(const State& state) {
+  ++generation_;
   RowPattern rows;
   {
     ScopedTimer timer(timer_, "Rows");

@@ -43,6 +43,8 @@ class Assembler {
   Teuchos::RCP<Matrix> matrix() const { return matrix_; }
   Teuchos::RCP<Vector> residual() const { return residual_; }
   const std::set<GlobalDof>& constrainedDofs() const { return constrained_; }
+  // How many times the graph was built: a matrix of the same generation has the same pattern.
+  int generation() const { return generation_; }
   Teuchos::RCP<const Comm> comm() const { return comm_; }
 
   // Every entry of an owned-map vector on every rank (for the replicated state and output).
@@ -51,6 +53,7 @@ class Assembler {
   const std::vector<double>& fullResidual() const { return fullResidual_; }
 
  private:
+  int generation_ = 0;
   using FEGraph = Tpetra::FECrsGraph<LO, GO, Node>;
   using FEMatrix = Tpetra::FECrsMatrix<Scalar, LO, GO, Node>;
   struct RowPattern;

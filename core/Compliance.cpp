@@ -54,8 +54,8 @@ class StructureSolve {
     const SolveReport check = residualReport(K(), b, x);
     return check.backwardError <= 1e-8 && check.conditionBound <= 1e14;
   }
-  // x on every dof, in the order of the global dofs.
-  std::vector<double> gather(const Vector& x) { return assembler_.gatherToAll(x); }
+  const std::set<GlobalDof>& held() const { return assembler_.constrainedDofs(); }
+  const SerialLu& lu() const { return klu_; }
   [[noreturn]] void singular() const {
     throw std::runtime_error("the structure without " + without_ + " is singular (a beam held only by " + without_ +
                              "?)");
@@ -116,17 +116,40 @@ std::vector<double> structureCompliance(const Model& model, const Physics& witho
 ModelResponse modelResponse(const Model& model, const State& state, const std::vector<SparseLoad>& rows,
                             const std::vector<SparseLoad>& columns) {
   StructureSolve structure(model, nullptr, state);
+  return factoredResponse(structure.K(), structure.held(), structure.lu(), rows, columns);
+}
+
+ModelResponse factoredResponse(const Matrix& K, const std::set<GlobalDof>& held, const SerialLu& lu,
+                               const std::vector<SparseLoad>& rows, const std::vector<SparseLoad>& columns) {
+  const auto& map = *K.getRowMap();
+  const std::size_t n = map.getGlobalNumElements();
   ModelResponse r;
   r.D.assign(rows.size() * columns.size(), 0.0);
-  Vector b(structure.K().getRowMap()), x(structure.K().getRowMap());
+  Vector b(K.getRowMap()), x(K.getRowMap());
   for (std::size_t j = 0; j < columns.size(); ++j) {
-    if (!structure.load(columns[j], b)) {
-      r.motion.emplace_back(std::size_t(state.numDofs()), 0.0);
-      continue;
+    r.motion.emplace_back(n, 0.0);
+    b.putScalar(0.0);
+    bool any = false;
+    {
+      auto bv = b.getDataNonConst();
+      for (std::size_t k = 0; k < columns[j].dofs.size(); ++k)
+        if (!held.count(columns[j].dofs[k]) && columns[j].values[k] != 0.0) {
+          bv[map.getLocalElement(columns[j].dofs[k])] += columns[j].values[k];
+          any = true;
+        }
     }
-    if (!structure.solve(b, x)) structure.singular();
+    if (!any) continue;  // a load on held dofs only: the model does not move
+    {
+      const auto bv = b.getData();
+      auto xv = x.getDataNonConst();
+      lu.solve(bv.getRawPtr(), xv.getRawPtr());
+    }
+    const SolveReport check = residualReport(K, b, x);
+    if (!(check.backwardError <= 1e-8 && check.conditionBound <= 1e14))
+      throw std::runtime_error("the model's tangent is singular");
     for (std::size_t i = 0; i < rows.size(); ++i) r.D[i * columns.size() + j] = dotLoad(rows[i], x);
-    r.motion.push_back(structure.gather(x));
+    const auto xv = x.getData();
+    for (LO l = 0; l < static_cast<LO>(xv.size()); ++l) r.motion[j][map.getGlobalElement(l)] = xv[l];
   }
   return r;
 }

@@ -8,10 +8,12 @@
 // the same everywhere and no communication is needed; meant for the few calls of a run (new contact
 // points; a strategy's augmentation passes on a few points), not for every Newton iteration.
 #pragma once
+#include <set>
 #include <vector>
 
 #include "Contribution.hpp"
 #include "Model.hpp"
+#include "linalg/SerialLu.hpp"
 
 namespace bc::core {
 
@@ -27,5 +29,9 @@ std::vector<double> structureCompliance(const Model& model, const Physics& witho
 // along r_i under a unit load c_j. Throws std::runtime_error when K is singular.
 ModelResponse modelResponse(const Model& model, const State& state, const std::vector<SparseLoad>& rows,
                             const std::vector<SparseLoad>& columns);
+// The same from a one-process matrix K already factored by `lu`, the entries of the loads on the
+// `held` dofs dropped (Newton's own tangent on one rank: no assembly).
+ModelResponse factoredResponse(const Matrix& K, const std::set<GlobalDof>& held, const SerialLu& lu,
+                               const std::vector<SparseLoad>& rows, const std::vector<SparseLoad>& columns);
 
 }  // namespace bc::core

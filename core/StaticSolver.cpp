@@ -12,6 +12,7 @@
 #include "Checkpoint.hpp"
 #include "Faults.hpp"
 #include "ScopedTimer.hpp"
+#include "linalg/SerialKlu.hpp"
 
 #include <iterator>
 
@@ -117,12 +118,27 @@ StaticSolver::StaticSolver(Teuchos::RCP<const Comm> comm, Model& model, SolverSe
     c->useCompliance([this, self](const State& state, const std::vector<SparseLoad>& loads) {
       return structureCompliance(model_, *self, state, loads);
     });
-    c->useResponse(
-        [this](const State& state, const std::vector<SparseLoad>& rows, const std::vector<SparseLoad>& columns) {
-          return modelResponse(model_, state, rows, columns);
-        });
+    c->useResponse([this](const State& state, const std::vector<SparseLoad>& rows,
+                          const std::vector<SparseLoad>& columns) { return response(state, rows, columns); });
     c->useCommunicator(comm_);
   }
+}
+
+ModelResponse StaticSolver::response(const State& state, const std::vector<SparseLoad>& rows,
+                                     const std::vector<SparseLoad>& columns) {
+  // (Contributions ask from within Newton's step, after its solve: the matrix is the tangent at trial_.)
+  if (comm_->getSize() > 1 || &state != &trial_ || assembler_.matrix().is_null())
+    return modelResponse(model_, state, rows, columns);
+  const Matrix& K = *assembler_.matrix();
+  if (!responseLu_) responseLu_ = std::make_unique<SerialKlu>();
+  try {
+    responseLu_->factor(K, responseGeneration_ == assembler_.generation());
+  } catch (const std::exception& e) {
+    responseGeneration_ = -1;
+    throw std::runtime_error(std::string("the model's tangent is singular: ") + e.what());
+  }
+  responseGeneration_ = assembler_.generation();
+  return factoredResponse(K, assembler_.constrainedDofs(), *responseLu_, rows, columns);
 }
 
 namespace {

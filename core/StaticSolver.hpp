@@ -26,6 +26,7 @@
 // run is reported incomplete.
 #pragma once
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,7 @@
 #include "LinearSolver.hpp"
 #include "Model.hpp"
 #include "Parameters.hpp"
+#include "linalg/SerialLu.hpp"
 
 namespace bc::core {
 
@@ -138,6 +140,13 @@ class StaticSolver {
   State previous_;  // the converged state before committed_ (for the predictor)
   double previousT_ = -1.0, committedT_ = 0.0;  // their load factors; previousT_ < 0: none yet
   bool graphStale_ = false;
+  // The model's response to loads (Physics::useResponse): on one rank from Newton's own tangent at
+  // trial_, factored here once more (refactored while the graph's generation is the same); else
+  // assembled and factored anew on each rank (modelResponse).
+  ModelResponse response(const State& state, const std::vector<SparseLoad>& rows,
+                         const std::vector<SparseLoad>& columns);
+  std::unique_ptr<SerialLu> responseLu_;
+  int responseGeneration_ = -1;
   // Where the load stepping stands: the configured increment, the load factor reached within it, its
   // cut level and the converged pieces at that level.
   struct Progress {
