@@ -16,9 +16,9 @@ const core::ParameterSpec& AugmentedLagrangeEnforcer::spec() {
           core::positive(), "> 0");
     p.add("Maximum Augmentations", 50, "Newton solves allowed per increment (passes)", core::atLeast(1), ">= 1");
     p.add("Maximum Coupled Constraints", 200,
-          "up to this many constrained gaps (normal, sticking lines) the estimates are updated together, with the "
-          "beams' compliance between the points (one solve with the beams' tangent per gap and pass); with more, "
-          "or 0, each point updates its own",
+          "up to this many constrained gaps (normal, sticking lines) the estimates move with Newton's steps near the "
+          "solution, coupled over the points through the model's tangent (one solve with it per gap and coupled "
+          "step); with more, or 0, each point updates its own between passes",
           core::atLeast(0), ">= 0");
     p.add("Regularization Gap", 0.0,
           "width g0 of a C1 onset of the normal force centred on the augmented law's kink (0: the kinked law) "
@@ -227,7 +227,7 @@ bool AugmentedLagrangeEnforcer::acceptPoint(const ContactPoint& p, PointState& s
   // eps_T M g_T (omega 1: the converged force, the plain update).
   if (isotropicSlip) {
     const double across = signedSlipAcrossForce(k, r.lambdaT);
-    if (std::abs(across) > tolerance_) {
+    if (!met && p.weight * std::abs(across) > tolerance_) {
       overRelaxedUpdate(h, 1, across, eps[1]);
       const double g[2] = {k.tangent1.value, k.tangent2.value};
       double Mg[2];

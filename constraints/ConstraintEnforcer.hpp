@@ -201,9 +201,11 @@ class ConstraintEnforcer {
   // the derivative): the estimates' changes that close every gap at the end of the step, a Newton step
   // on the motion and the estimates together. It hands each point its deltas (coupledUpdate, in the
   // order of coupledConstraints) and adds -K^-1 F delta to the step. Only point contacts are coupled
-  // (no line contact in the model), at most maximumCoupledConstraints() constraints (each costs a solve
-  // with K); otherwise, and when K or D is singular, the step is Newton's alone. The fixed point is
-  // the strategy's own (its acceptPoint still decides): only the way there changes.
+  // (no line point among the contact points), at most maximumCoupledConstraints() constraints (each
+  // costs a solve with K per coupled step), and only once the constraints are the same as at the
+  // iterate before; otherwise, and when D is singular, the step is Newton's alone (when K is singular:
+  // for the rest of the increment). The fixed point is the strategy's own (its acceptPoint still
+  // decides): only the way there changes.
   struct CoupledConstraint {
     int gap = 0;  // 0: g_N, 1: g_T1, 2: g_T2 (and the estimate of that force)
     // F_j as coefficients of (R_N, R_T1, R_T2): e.g. a slipping line's force follows the normal one.

@@ -61,8 +61,11 @@ class ContactManager : public core::Contribution {
   void useCompliance(core::ComplianceFunction compliance) override { penalty_.useCompliance(std::move(compliance)); }
   void useResponse(core::ResponseFunction response) override { response_ = std::move(response); }
   // The strategy's estimates moved with Newton's step (ConstraintEnforcer::coupledConstraints).
-  bool coupleStep(core::State& state, std::vector<double>& du) override;
-  void useCommunicator(const Teuchos::RCP<const Teuchos::Comm<int>>& comm) override { search_.useCommunicator(comm); }
+  bool coupleStep(core::State& state, std::vector<double>& du, bool near) override;
+  void useCommunicator(const Teuchos::RCP<const Teuchos::Comm<int>>& comm) override {
+    comm_ = comm;
+    search_.useCommunicator(comm);
+  }
   static constexpr const char* kExtraOwner = kContactExtraOwner;
   double stepBound(const core::State& state, const std::vector<double>& du) const override;
   void returnToIterate() override { set_.returnToMark(); }
@@ -160,8 +163,16 @@ class ContactManager : public core::Contribution {
   double worstViolation_ = 0.0;
   std::vector<double> violations_;
   core::ResponseFunction response_;
-  // Coupled steps: off for the run once the model's tangent was singular there.
+  Teuchos::RCP<const Teuchos::Comm<int>> comm_;
+  // An evaluation for the model's response (coupleStep), not a Newton iterate's: no friction watch.
+  mutable bool quietEvaluation_ = false;
+  // Coupled steps: off for the rest of the increment once the model's tangent was singular; the constraints
+  // (point, gap, sliding directions) at the Newton iterate that last asked, and its number (iterate_
+  // counts prepareIteration's calls): a step is coupled only when they are the same as at the
+  // iterate before.
   bool responseFailed_ = false;
+  long iterate_ = 0, signatureIterate_ = -2;
+  std::vector<std::array<long long, 5>> signature_;
 };
 
 }  // namespace bc::constraints

@@ -6,7 +6,9 @@
 //
 // Every rank assembles and factors K in full on its own (the state is replicated), so the answer is
 // the same everywhere and no communication is needed; meant for the few calls of a run (new contact
-// points; a strategy's augmentation passes on a few points), not for every Newton iteration.
+// points), not for every Newton iteration. modelResponse is asked at Newton iterations near the
+// solution for a few constraints (ContactManager::coupleStep) on several ranks; on one rank the
+// solver answers from its own tangent (factoredResponse).
 #pragma once
 #include <set>
 #include <vector>

@@ -122,13 +122,14 @@ class Physics {
   virtual void useCompliance(ComplianceFunction compliance) {}
   // And the whole model's response to loads, for a step coupled over several constraints (coupleStep).
   virtual void useResponse(ResponseFunction response) {}
-  // Newton's step `du` from `state` (every dof: nodal and extra unknowns), before it is taken, near the
-  // solution of the increment (its residual below 1e-2 of the solve's first, the step not shortened,
-  // no backtracking): a contribution that enforces constraints through estimates it keeps between
-  // iterations (an augmented Lagrange method) may move them with the step, so that the step is a
-  // Newton step on the motion and the estimates together. It changes its estimates and adds to du the
-  // motion their change causes; returns whether it did. Called on every rank with the same arguments.
-  virtual bool coupleStep(State& state, std::vector<double>& du) { return false; }
+  // Newton's step `du` from `state` (every dof: nodal and extra unknowns), before it is taken: a
+  // contribution that enforces constraints through estimates it keeps between iterations (an
+  // augmented Lagrange method) may move them with the step, so that the step is a Newton step on the
+  // motion and the estimates together. It changes its estimates and adds to du the motion their
+  // change causes; returns whether it did. Asked at every step (`near` false: only to follow the
+  // iterates); it may act only when `near`: the residual below 1e-2 of the solve's first, the step
+  // not shortened, no backtracking. Called on every rank with the same arguments.
+  virtual bool coupleStep(State& state, std::vector<double>& du, bool near) { return false; }
   // The solver hands every contribution the communicator of its ranks: work that every rank would
   // otherwise do alike (a contact search's narrow phase) may be shared out and its results
   // exchanged, in the collective hooks above (prepareIteration). Without it the work is done whole.

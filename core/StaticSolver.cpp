@@ -131,14 +131,19 @@ ModelResponse StaticSolver::response(const State& state, const std::vector<Spars
     return modelResponse(model_, state, rows, columns);
   const Matrix& K = *assembler_.matrix();
   if (!responseLu_) responseLu_ = std::make_unique<SerialKlu>();
-  try {
-    responseLu_->factor(K, responseGeneration_ == assembler_.generation());
-  } catch (const std::exception& e) {
-    responseGeneration_ = -1;
-    throw std::runtime_error(std::string("the model's tangent is singular: ") + e.what());
+  // Refactored with the last pivot order while the graph is the same; a solve that fails its checks
+  // with those pivots is done again with a fresh factorization (as LinearSolver does).
+  for (bool refactor : {responseGeneration_ == assembler_.generation(), false}) {
+    try {
+      responseLu_->factor(K, refactor);
+      responseGeneration_ = assembler_.generation();
+      return factoredResponse(K, assembler_.constrainedDofs(), *responseLu_, rows, columns);
+    } catch (const std::runtime_error& e) {
+      responseGeneration_ = -1;
+      if (!refactor) throw std::runtime_error(std::string("the model's tangent is singular: ") + e.what());
+    }
   }
-  responseGeneration_ = assembler_.generation();
-  return factoredResponse(K, assembler_.constrainedDofs(), *responseLu_, rows, columns);
+  throw std::logic_error("unreachable");
 }
 
 namespace {
@@ -737,10 +742,20 @@ struct StaticSolver::Newton {
     }
     // Near the solution, contributions may move the estimates they keep with the step (coupleStep):
     // the step is then Newton's on the motion and the estimates together, and its norm counts both.
-    if (bound >= 1.0 && !searching && kp >= 1 && rn <= kCoupleBelow * firstResidual) {
-      ScopedTimer coupled(s.timer_, "Coupled Step");
+    {
+      ScopedTimer coupledTimer(s.timer_, "Coupled Step");
+      const bool near = bound >= 1.0 && !searching && kp >= 1 && rn <= kCoupleBelow * firstResidual;
+      bool coupled = false;
       for (auto& c : s.model_.contributions)
-        if (c->coupleStep(s.trial_, inc)) ++report.coupledSteps;
+        if (c->coupleStep(s.trial_, inc, near)) {
+          ++report.coupledSteps;
+          coupled = true;
+        }
+      // The coupled step is bounded as Newton's is: a contact it would close ends it.
+      if (coupled) {
+        ScopedTimer stepBound(s.timer_, "Step Bound");
+        for (auto& c : s.model_.contributions) bound = std::min(bound, c->stepBound(s.trial_, inc));
+      }
     }
     double n2 = 0.0;
     for (GlobalDof g = 0; g < ndof; ++g) n2 += inc[g] * inc[g];  // the full Newton step decides convergence
