@@ -283,6 +283,9 @@ void AugmentedLagrangeEnforcer::coupledUpdate(PointState& s, const CoupledConstr
     (c[j].gap == 0 ? h.lambdaN : h.lambdaT[c[j].gap - 1]) += delta[j];
     h.lastGap[c[j].gap] = 0.0;
   }
+  // A point the step would pull keeps no tensile estimate: it opens, and closes again as any other
+  // (a tensile estimate would hold it open until it penetrated by lambda_hat_N / eps_N).
+  h.lambdaN = std::min(0.0, h.lambdaN);
 }
 
 void AugmentedLagrangeEnforcer::commitPoint(const ContactPoint& p, PointState& s) const {

@@ -744,7 +744,10 @@ struct StaticSolver::Newton {
     // the step is then Newton's on the motion and the estimates together, and its norm counts both.
     {
       ScopedTimer coupledTimer(s.timer_, "Coupled Step");
-      const bool near = bound >= 1.0 && !searching && kp >= 1 && rn <= kCoupleBelow * firstResidual;
+      // (Not on the step after which When Stalled starts backtracking: the iterate it keeps would
+      // carry the moved estimates with the unmoved motion.)
+      const bool stalls = settings.lineSearch == LineSearch::WhenStalled && kp - progressAt >= kStallIterations;
+      const bool near = bound >= 1.0 && !searching && !stalls && kp >= 1 && rn <= kCoupleBelow * firstResidual;
       bool coupled = false;
       for (auto& c : s.model_.contributions)
         if (c->coupleStep(s.trial_, inc, near)) {
