@@ -61,9 +61,8 @@ double overRelaxedUpdate(AugmentedLagrangeEnforcer::State& h, int line, double g
 // Isotropic Coulomb slip: the friction force's direction is the trial's, lambda_hat_T + eps_T M g_T,
 // so it lies along the slip s = g_T1 a - g_T2 b only once the estimate is the force itself (the fixed
 // point; Lagrange multipliers slide along s). The part of s across the force F is that estimate's
-// error, a length: |s|^2 - (F . s)^2 / |F|^2 with F . s = lambda_T . g_T and |F|^2 = |lambda_T|_{M^-1}^2
-// (CoulombFriction.hpp); all of s when it runs against the force.
-// The same signed, (F x s) . (a x b) / |F| / |a x b|: which side of the force the slip lies on.
+// error, a length, signed by the side of the force the slip lies on: (F x s) . (a x b) / |F| / |a x b|,
+// F = f_1 a - f_2 b with f = M^-1 lambda_T and |F|^2 = |lambda_T|_{M^-1}^2 (CoulombFriction.hpp).
 double signedSlipAcrossForce(const ContactKinematics& k, const double lambdaT[2]) {
   const double c = k.cosine, g[2] = {k.tangent1.value, k.tangent2.value};
   const double f2 = cone::lengthSquared(c, lambdaT);
@@ -72,15 +71,15 @@ double signedSlipAcrossForce(const ContactKinematics& k, const double lambdaT[2]
   const double f[2] = {(lambdaT[0] + c * lambdaT[1]) / (1.0 - c * c), (c * lambdaT[0] + lambdaT[1]) / (1.0 - c * c)};
   return (f[1] * g[0] - f[0] * g[1]) * std::sqrt(std::max(0.0, 1.0 - c * c)) / std::sqrt(f2);
 }
+// Its size, the stopping test's measure; all of |s| (|s|^2 = g_T . M g_T) when the slip runs against the
+// force (F . s = lambda_T . g_T < 0) or there is no force.
 double slipAcrossForce(const ContactKinematics& k, const double lambdaT[2]) {
   const double g[2] = {k.tangent1.value, k.tangent2.value};
+  if (cone::lengthSquared(k.cosine, lambdaT) > 0.0 && lambdaT[0] * g[0] + lambdaT[1] * g[1] >= 0.0)
+    return std::abs(signedSlipAcrossForce(k, lambdaT));
   double Mg[2];
   cone::metric(k.cosine, g, Mg);
-  const double s2 = std::max(0.0, g[0] * Mg[0] + g[1] * Mg[1]);
-  const double along = lambdaT[0] * g[0] + lambdaT[1] * g[1];
-  const double f2 = cone::lengthSquared(k.cosine, lambdaT);
-  if (!(f2 > 0.0) || along < 0.0) return std::sqrt(s2);
-  return std::sqrt(std::max(0.0, s2 - along * along / f2));
+  return std::sqrt(std::max(0.0, g[0] * Mg[0] + g[1] * Mg[1]));
 }
 }  // namespace
 
@@ -162,6 +161,17 @@ PointResult AugmentedLagrangeEnforcer::evaluate(const ContactPoint& p, const Poi
   return regularizedEvaluate(p, smoothedAugmentedLaw(h.lambdaN, eps[0], regularization_), friction, f, K);
 }
 
+PointResult AugmentedLagrangeEnforcer::lawForces(const ContactPoint& p, const State& h) const {
+  h.penalties.require();
+  const double* eps = choice_.at(h.penalties);
+  const FrictionRegularization friction{{h.lambdaT[0], h.lambdaT[1]}, eps[1]};
+  return regularizedForces(p, smoothedAugmentedLaw(h.lambdaN, eps[0], regularization_), friction);
+}
+
+bool AugmentedLagrangeEnforcer::inOnset(const PointResult& r, const State& h) const {
+  return regularization_ > 0.0 && r.active && -r.lambdaN < 0.5 * choice_.at(h.penalties)[0] * regularization_;
+}
+
 bool AugmentedLagrangeEnforcer::acceptNormal(const ContactPoint& p, PointState& s) const {
   State& h = stateOf<State>(s);
   if (!h.lineNode) return true;
@@ -182,15 +192,13 @@ bool AugmentedLagrangeEnforcer::acceptPoint(const ContactPoint& p, PointState& s
     return settled && violation <= tolerance_;
   }
   const ContactKinematics& k = p.kinematics;
-  h.penalties.require();
+  const PointResult r = lawForces(p, h);
   const double* eps = choice_.at(h.penalties);
   const double epsN = eps[0];
-  const FrictionRegularization friction{{h.lambdaT[0], h.lambdaT[1]}, eps[1]};
-  const PointResult r = regularizedForces(p, smoothedAugmentedLaw(h.lambdaN, epsN, regularization_), friction);
   double violation = 0.0;
   // With a Regularization Gap, a point whose force is within the smooth onset (below eps_N g0 / 2)
   // is left regularized: its gap lies within g0 / 2 of zero by construction.
-  const bool onset = regularization_ > 0.0 && r.active && -r.lambdaN < 0.5 * epsN * regularization_;
+  const bool onset = inOnset(r, h);
   if (onset) {
     violation = std::max(0.0, std::min(-k.normal.value, std::abs(k.normal.value) - 0.5 * regularization_));
   } else if (r.active) {
@@ -248,12 +256,9 @@ int AugmentedLagrangeEnforcer::coupledConstraints(const ContactPoint& p, const P
                                                   CoupledConstraint out[3]) const {
   const State& h = stateOf<State>(s);
   if (h.lineNode) return 0;
-  h.penalties.require();
-  const double* eps = choice_.at(h.penalties);
-  const FrictionRegularization friction{{h.lambdaT[0], h.lambdaT[1]}, eps[1]};
-  const PointResult r = regularizedForces(p, smoothedAugmentedLaw(h.lambdaN, eps[0], regularization_), friction);
+  const PointResult r = lawForces(p, h);
   // On the linear branch of the law only (not open, not within the smooth onset).
-  if (!r.active || (regularization_ > 0.0 && -r.lambdaN < 0.5 * eps[0] * regularization_)) return 0;
+  if (!r.active || inOnset(r, h)) return 0;
   int n = 0;
   out[n] = CoupledConstraint{};
   out[n].force[0] = 1.0;

@@ -115,6 +115,10 @@ class AugmentedLagrangeEnforcer : public ConstraintEnforcer {
  private:
   // A line node's eps_N (lineEpsN).
   double lineEpsN(const ContactPoint& node) const;
+  // A point's forces by the law around its estimates (no assembly), and whether they lie within the
+  // smooth onset of the Regularization Gap (below eps_N g0 / 2).
+  PointResult lawForces(const ContactPoint& p, const State& h) const;
+  bool inOnset(const PointResult& r, const State& h) const;
   // The line nodes' active set and friction rows (Lagrange's, with this strategy's Gap Tolerance
   // and Maximum Augmentations).
   LagrangeMultiplierEnforcer field_;

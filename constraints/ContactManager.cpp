@@ -329,11 +329,47 @@ bool ContactManager::acceptSolution(core::State& state) {
   return all;
 }
 
+namespace {
+// Solves the m x m system D x = b (row-major D, b overwritten by x) by Gaussian elimination with
+// partial pivoting; false when D is not regular enough: a pivot below 1e-12 of the largest diagonal
+// entry, a diagonal entry not positive, or x not finite.
+bool solvePositiveDiagonal(std::vector<double>& D, std::vector<double>& b) {
+  const std::size_t m = b.size();
+  double scale = 0.0;
+  for (std::size_t j = 0; j < m; ++j) {
+    if (!(D[j * m + j] > 0.0) || !std::isfinite(D[j * m + j])) return false;
+    scale = std::max(scale, D[j * m + j]);
+  }
+  for (std::size_t c = 0; c < m; ++c) {
+    std::size_t pivot = c;
+    for (std::size_t r = c + 1; r < m; ++r)
+      if (std::abs(D[r * m + c]) > std::abs(D[pivot * m + c])) pivot = r;
+    if (!(std::abs(D[pivot * m + c]) > 1e-12 * scale)) return false;
+    if (pivot != c) {
+      for (std::size_t j = 0; j < m; ++j) std::swap(D[c * m + j], D[pivot * m + j]);
+      std::swap(b[c], b[pivot]);
+    }
+    for (std::size_t r = c + 1; r < m; ++r) {
+      const double f = D[r * m + c] / D[c * m + c];
+      for (std::size_t j = c; j < m; ++j) D[r * m + j] -= f * D[c * m + j];
+      b[r] -= f * b[c];
+    }
+  }
+  for (std::size_t c = m; c-- > 0;) {
+    for (std::size_t j = c + 1; j < m; ++j) b[c] -= D[c * m + j] * b[j];
+    b[c] /= D[c * m + c];
+    if (!std::isfinite(b[c])) return false;
+  }
+  return true;
+}
+}  // namespace
+
 bool ContactManager::coupleStep(core::State& state, std::vector<double>& du, bool near) {
   const int limit = enforcer_->maximumCoupledConstraints();
   if (limit <= 0 || !response_ || responseFailed_) return false;
-  // The constraints (ConstraintEnforcer::coupledConstraints) of the points that act: each with its
-  // gap predicted after the step (g + R du), its first variation (row) and the residual's derivative
+  // The constraints (ConstraintEnforcer::coupledConstraints) of the points that act, with their
+  // signature (point, gap, sliding directions); near the solution also each constraint's gap
+  // predicted after the step (g + gradient . du), its gradient (row) and the residual's derivative
   // with respect to its estimate (column).
   struct Entry {
     PointState* state;
@@ -354,10 +390,15 @@ bool ContactManager::coupleStep(core::State& state, std::vector<double>& du, boo
     Entry e{&*p.state, {}, 0};
     e.n = enforcer_->coupledConstraints(view, *p.state, e.c);
     if (e.n == 0) continue;
-    if (static_cast<int>(rows.size()) + e.n > limit) return false;
+    if (static_cast<int>(signature.size()) + e.n > limit) return false;
+    entries.push_back(e);
+    const auto code = key.code();
     const auto dofs = geometry_.pointDofs(p);
     const GapDerivatives* gaps[3] = {&k.normal, &k.tangent1, &k.tangent2};
     for (int j = 0; j < e.n; ++j) {
+      const auto sign = [&](int l) { return (e.c[j].force[l] > 0.0) - (e.c[j].force[l] < 0.0); };
+      signature.push_back({code[0], code[1], code[2], e.c[j].gap, sign(1) + 3 * sign(2)});
+      if (!near) continue;
       const GapDerivatives& g = *gaps[e.c[j].gap];
       core::SparseLoad row, column;
       row.dofs.assign(dofs.begin(), dofs.end());
@@ -376,16 +417,8 @@ bool ContactManager::coupleStep(core::State& state, std::vector<double>& du, boo
       columns.push_back(std::move(column));
       delta.push_back(predicted);
     }
-    entries.push_back(e);
-    for (int j = 0; j < e.n; ++j) {
-      const auto code = p.key.code();
-      signature.push_back({code[0], code[1], code[2], e.c[j].gap,
-                           (e.c[j].force[1] > 0.0) - (e.c[j].force[1] < 0.0) +
-                               3 * ((e.c[j].force[2] > 0.0) - (e.c[j].force[2] < 0.0))});
-    }
   }
-  const std::size_t m = rows.size();
-  if (m == 0) return false;
+  if (signature.empty()) return false;
   // Only once the constraints have settled: the same points, gaps and sliding directions at the last
   // iterate (while contacts still open, close, stick or slip, a step coupled on this iterate's set
   // moves estimates the next iterate drops or lacks; measured: the 16 x 16 grid's first contact
@@ -414,42 +447,16 @@ bool ContactManager::coupleStep(core::State& state, std::vector<double>& du, boo
     responseFailed_ = true;  // a singular tangent: the augmentations wait for the passes in this increment
     return false;
   }
-  // D delta = g + R du, D_ij = R_i^T K^-1 F_j: each estimate must move its own gap (D_jj > 0) and D
-  // must be regular; Gaussian elimination with partial pivoting, refused when a pivot is below 1e-12
-  // of the largest diagonal entry.
-  std::vector<double>& D = response.D;
-  double scale = 0.0;
-  for (std::size_t j = 0; j < m; ++j) {
-    if (!(D[j * m + j] > 0.0) || !std::isfinite(D[j * m + j])) return false;
-    scale = std::max(scale, D[j * m + j]);
-  }
-  for (std::size_t c = 0; c < m; ++c) {
-    std::size_t pivot = c;
-    for (std::size_t r = c + 1; r < m; ++r)
-      if (std::abs(D[r * m + c]) > std::abs(D[pivot * m + c])) pivot = r;
-    if (!(std::abs(D[pivot * m + c]) > 1e-12 * scale)) return false;
-    if (pivot != c) {
-      for (std::size_t j = 0; j < m; ++j) std::swap(D[c * m + j], D[pivot * m + j]);
-      std::swap(delta[c], delta[pivot]);
-    }
-    for (std::size_t r = c + 1; r < m; ++r) {
-      const double f = D[r * m + c] / D[c * m + c];
-      for (std::size_t j = c; j < m; ++j) D[r * m + j] -= f * D[c * m + j];
-      delta[r] -= f * delta[c];
-    }
-  }
-  for (std::size_t c = m; c-- > 0;) {
-    for (std::size_t j = c + 1; j < m; ++j) delta[c] -= D[c * m + j] * delta[j];
-    delta[c] /= D[c * m + c];
-    if (!std::isfinite(delta[c])) return false;
-  }
+  // D delta = g + gradient . du, D_ij = gradient_i^T K^-1 F_j: each estimate must move its own gap
+  // (D_jj > 0) and D must be regular.
+  if (!solvePositiveDiagonal(response.D, delta)) return false;
   // The estimates move by delta, the motion by -K^-1 F delta.
   std::size_t j = 0;
   for (const Entry& e : entries) {
     enforcer_->coupledUpdate(*e.state, e.c, e.n, &delta[j]);
     j += e.n;
   }
-  for (std::size_t c = 0; c < m; ++c)
+  for (std::size_t c = 0; c < delta.size(); ++c)
     for (std::size_t d = 0; d < du.size() && d < response.motion[c].size(); ++d)
       du[d] -= delta[c] * response.motion[c][d];
   return true;

@@ -13,12 +13,39 @@
 namespace bc::core {
 
 namespace {
+// b from a load on K's rows, its entries on the `held` dofs dropped; false when nothing is left (the
+// structure does not give there).
+bool loadVector(const SparseLoad& load, const std::set<GlobalDof>& held, Vector& b) {
+  const auto& map = *b.getMap();
+  b.putScalar(0.0);
+  auto bv = b.getDataNonConst();
+  for (std::size_t k = 0; k < load.dofs.size(); ++k)
+    if (!held.count(load.dofs[k])) bv[map.getLocalElement(load.dofs[k])] += load.values[k];
+  bool any = false;
+  for (double v : bv) any = any || v != 0.0;
+  return any;
+}
+
+// x = K^-1 b with the factorization `lu` of K; whether the solve passes the linear solver's checks:
+// backward error, and ||K|| ||x|| / ||b||, a lower bound of K's condition number.
+bool checkedSolve(const Matrix& K, const SerialLu& lu, const Vector& b, Vector& x) {
+  {
+    const auto bv = b.getData();
+    auto xv = x.getDataNonConst();
+    lu.solve(bv.getRawPtr(), xv.getRawPtr());
+  }
+  const SolveReport check = residualReport(K, b, x);
+  return check.backwardError <= 1e-8 && check.conditionBound <= 1e14;
+}
+
 // K of the model's contributions other than `without` (null: all of them) at `state` (supports held),
 // factored on this rank alone; loads are solved against it with the linear solver's checks.
 class StructureSolve {
  public:
   StructureSolve(const Model& model, const Physics* without, const State& state)
-      : without_(without ? without->name() : std::string("none")),
+      : singular_(without ? "the structure without " + without->name() + " is singular (a beam held only by " +
+                                without->name() + "?)"
+                          : std::string("the model's tangent is singular")),
         structure_(heldStructure(model, without)),
         assembler_(Teuchos::rcp(new Teuchos::SerialComm<int>()), structure_) {
     assembler_.rebuild(state);
@@ -26,40 +53,13 @@ class StructureSolve {
     try {
       klu_.factor(K(), false);
     } catch (const std::exception& e) {
-      throw std::runtime_error("the structure without " + without_ + " is singular (a beam held only by " + without_ +
-                               "?): " + e.what());
+      throw std::runtime_error(singular_ + ": " + e.what());
     }
   }
   const Matrix& K() const { return *assembler_.matrix(); }
-  // b from the load (its entries on held dofs dropped); false when nothing is left (the structure
-  // does not give there).
-  bool load(const SparseLoad& load, Vector& b) const {
-    const auto& map = *K().getRowMap();
-    b.putScalar(0.0);
-    auto bv = b.getDataNonConst();
-    for (std::size_t k = 0; k < load.dofs.size(); ++k)
-      if (!assembler_.constrainedDofs().count(load.dofs[k])) bv[map.getLocalElement(load.dofs[k])] += load.values[k];
-    bool any = false;
-    for (double v : bv) any = any || v != 0.0;
-    return any;
-  }
-  // x = K^-1 b; whether the solve passes the linear solver's checks: backward error, and
-  // ||K|| ||x|| / ||b||, a lower bound of K's condition number.
-  bool solve(const Vector& b, Vector& x) const {
-    {
-      const auto bv = b.getData();
-      auto xv = x.getDataNonConst();
-      klu_.solve(bv.getRawPtr(), xv.getRawPtr());
-    }
-    const SolveReport check = residualReport(K(), b, x);
-    return check.backwardError <= 1e-8 && check.conditionBound <= 1e14;
-  }
   const std::set<GlobalDof>& held() const { return assembler_.constrainedDofs(); }
   const SerialLu& lu() const { return klu_; }
-  [[noreturn]] void singular() const {
-    throw std::runtime_error("the structure without " + without_ + " is singular (a beam held only by " + without_ +
-                             "?)");
-  }
+  [[noreturn]] void singular() const { throw std::runtime_error(singular_); }
 
  private:
   static Model heldStructure(const Model& model, const Physics* without) {
@@ -69,7 +69,7 @@ class StructureSolve {
       if (static_cast<const Physics*>(c.get()) != without) structure.contributions.push_back(c);
     return structure;
   }
-  std::string without_;
+  std::string singular_;  // what a singular K means
   Model structure_;
   Assembler assembler_;
   SerialKlu klu_;
@@ -94,11 +94,11 @@ std::vector<double> structureCompliance(const Model& model, const Physics& witho
   std::vector<double> result;
   Vector b(structure.K().getRowMap()), x(structure.K().getRowMap());
   for (const SparseLoad& load : loads) {
-    if (!structure.load(load, b)) {  // a load on held dofs only: the structure does not give there
+    if (!loadVector(load, structure.held(), b)) {  // a load on held dofs only: the structure does not give there
       result.push_back(0.0);
       continue;
     }
-    const bool solved = structure.solve(b, x);
+    const bool solved = checkedSolve(structure.K(), structure.lu(), b, x);
     const double c = b.dot(x);
     if (solved && c > 0.0 && std::isfinite(c)) {
       result.push_back(c);
@@ -128,25 +128,8 @@ ModelResponse factoredResponse(const Matrix& K, const std::set<GlobalDof>& held,
   Vector b(K.getRowMap()), x(K.getRowMap());
   for (std::size_t j = 0; j < columns.size(); ++j) {
     r.motion.emplace_back(n, 0.0);
-    b.putScalar(0.0);
-    bool any = false;
-    {
-      auto bv = b.getDataNonConst();
-      for (std::size_t k = 0; k < columns[j].dofs.size(); ++k)
-        if (!held.count(columns[j].dofs[k]) && columns[j].values[k] != 0.0) {
-          bv[map.getLocalElement(columns[j].dofs[k])] += columns[j].values[k];
-          any = true;
-        }
-    }
-    if (!any) continue;  // a load on held dofs only: the model does not move
-    {
-      const auto bv = b.getData();
-      auto xv = x.getDataNonConst();
-      lu.solve(bv.getRawPtr(), xv.getRawPtr());
-    }
-    const SolveReport check = residualReport(K, b, x);
-    if (!(check.backwardError <= 1e-8 && check.conditionBound <= 1e14))
-      throw std::runtime_error("the model's tangent is singular");
+    if (!loadVector(columns[j], held, b)) continue;  // a load on held dofs only: the model does not move
+    if (!checkedSolve(K, lu, b, x)) throw std::runtime_error("the model's tangent is singular");
     for (std::size_t i = 0; i < rows.size(); ++i) r.D[i * columns.size() + j] = dotLoad(rows[i], x);
     const auto xv = x.getData();
     for (LO l = 0; l < static_cast<LO>(xv.size()); ++l) r.motion[j][map.getGlobalElement(l)] = xv[l];

@@ -735,11 +735,13 @@ struct StaticSolver::Newton {
       }
     }
     inc = s.assembler_.gatherToAll(*x);
-    bound = 1.0;
-    {
+    // The largest fraction of the step the contributions allow.
+    const auto boundStep = [&] {
       ScopedTimer stepBound(s.timer_, "Step Bound");
       for (auto& c : s.model_.contributions) bound = std::min(bound, c->stepBound(s.trial_, inc));
-    }
+    };
+    bound = 1.0;
+    boundStep();
     // Near the solution, contributions may move the estimates they keep with the step (coupleStep):
     // the step is then Newton's on the motion and the estimates together, and its norm counts both.
     {
@@ -755,10 +757,7 @@ struct StaticSolver::Newton {
           coupled = true;
         }
       // The coupled step is bounded as Newton's is: a contact it would close ends it.
-      if (coupled) {
-        ScopedTimer stepBound(s.timer_, "Step Bound");
-        for (auto& c : s.model_.contributions) bound = std::min(bound, c->stepBound(s.trial_, inc));
-      }
+      if (coupled) boundStep();
     }
     double n2 = 0.0;
     for (GlobalDof g = 0; g < ndof; ++g) n2 += inc[g] * inc[g];  // the full Newton step decides convergence
