@@ -77,7 +77,7 @@ def main():
         options = (["--friction", "0", "--elements", str(n + 1), "--gap", "0", "--press", "0", "--load", repr(load)]
                    if a.model == "grid" else ["--friction", "0.2"])
         subprocess.run([a.exe, "generate", a.model, "--n", str(n), "--m", str(n), "--increments", str(a.increments),
-                        "--output", base] + options, check=True, capture_output=True)
+                        "--overwrite", "--output", base] + options, check=True, capture_output=True)
         text = open(base).read()
         for strategy in strategies:
             for variant in variants:

@@ -86,7 +86,7 @@ def main():
             # the first iteration, so Lagrange multipliers' rows are there in the short run too.
             load = 0.1 * 384 * 1e5 * (3.141592653589793 / 4) / (5 * n * (10.0 * (n + 1)) ** 3)
             subprocess.run([a.exe, "generate", "grid", "--n", str(n), "--m", str(n), "--gap", "0", "--press", "0",
-                            "--load", str(load), "--output", deck], check=True)
+                            "--load", str(load), "--overwrite", "--output", deck], check=True)
             with open(deck) as f:
                 text = f.read()
             text = text.replace('name="Type" type="string" value="Penalty"', f'name="Type" type="string" value="{strategy}"', 1)

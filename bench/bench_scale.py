@@ -132,7 +132,7 @@ def main():
         else:
             options = []
         subprocess.run([a.exe, "generate", a.model, "--n", str(n), "--m", str(n), "--friction", str(a.friction),
-                        "--increments", str(a.increments), "--output", base] + options, check=True, capture_output=True)
+                        "--increments", str(a.increments), "--overwrite", "--output", base] + options, check=True, capture_output=True)
         text = open(base).read()
         for strategy in strategies:
             deck = os.path.join(a.work, f"{a.model}{n}_{SHORT.get(strategy, strategy)}.xml")

@@ -74,7 +74,7 @@ def generated(beamcontact, work):
     out = []
     for kind, args in (("strand", []), ("weave", ["--n", "4", "--m", "4"]), ("network", ["--fibres", "20"])):
         path = os.path.join(work, "decks", kind + ".xml")
-        subprocess.run([beamcontact, "generate", kind, *args, "--output", path], check=True,
+        subprocess.run([beamcontact, "generate", kind, *args, "--overwrite", "--output", path], check=True,
                        stdout=subprocess.DEVNULL)
         out += [(kind, path, 1), (kind + "_np2", path, 2)]
     return out

@@ -331,7 +331,21 @@ void ContactSearch::checkNoUnseenContact(const core::State& state, bool atStart,
     const bool endB = (c.t == 0.0 && geometry_.freeEnd(B.node1)) || (c.t == 1.0 && geometry_.freeEnd(B.node2));
     // (Two free ends nearest each other are end-to-end contact's, below, even in line contact.)
     if (lines && !(endA && endB)) {
-      if (!geometry_.rectangles(pi)) return;  // (line contact of circular sections sees parallel beams)
+      // Line contact of circular sections sees parallel beams whose axes lie apart, along the line
+      // between them. Axes that (nearly) coincide have no such line: no point sees them, and at the
+      // start a deck with such beams (one rod inside the other) ran "complete".
+      if (!geometry_.rectangles(pi)) {
+        if (!(c.distance <= 1e-6 * reach) && !(atStart && !seen(pi, ea, eb))) return;
+        if (atStart && geometry_.options().allowInitialPenetration && !(c.distance <= 1e-6 * reach)) return;
+        const Vec3d at = a1 + c.s * (a2 - a1);
+        std::ostringstream s;
+        s << "beams \"" << beams[pair.beamA].name << "\" and \"" << beams[pair.beamB].name << "\" overlap near ("
+          << at[0] << ", " << at[1] << ", " << at[2] << "), axes " << c.distance << " apart (their radii sum to "
+          << reach << "), in line contact where no line point sees the overlap"
+          << (c.distance <= 1e-6 * reach ? " (the axes coincide: no direction separates them)" : "");
+        if (atStart) throw core::InputError(s.str() + "; move the beams apart");
+        throw std::runtime_error(s.str());
+      }
       // An element's material ends at the planes through its nodes: where the other axis's closest
       // point lies beyond such a plane, the axes' distance is no overlap of these two elements (the
       // neighbour past that node has its own pair; past a free end there is nothing, or end-to-end

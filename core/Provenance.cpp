@@ -13,8 +13,8 @@
 namespace bc::core {
 
 namespace {
-const char* const kKeys[] = {"version", "compiler", "commit", "build_type", "trilinos",
-                             "mpi",     "date",     "host",   "ranks",      "command"};
+const char* const kKeys[] = {"version", "compiler", "commit", "build_type", "trilinos",   "mpi",
+                             "date",    "host",     "ranks",  "command",    "deck_sha256"};
 }
 
 std::string mpiLibraryVersion() {

@@ -14,7 +14,8 @@
 namespace bc::core {
 
 // Key and value, in the order they are written; keys are single words (version, commit, build_type,
-// trilinos, mpi, compiler; for a run also date, host, ranks, command).
+// trilinos, mpi, compiler; for a run also date, host, ranks, command and deck_sha256, the digest of
+// the deck file the run read).
 using Fields = std::vector<std::pair<std::string, std::string>>;
 
 // The MPI library's own version line, shortened to its name and version ("Open MPI v4.1.4"); may be

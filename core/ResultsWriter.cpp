@@ -242,12 +242,14 @@ void ResultsWriter::checkStepsFitCheckpoint(int step, double T) const {
                      shortest(T) + ", steps.csv's at T = " + shortest(lastT) + " (it is not this directory's run)");
 }
 
-// Each table keeps its header and its whole rows of steps up to `step`.
+// Each table keeps its header and its whole rows of steps up to `step`. Every table is read before
+// any is written: a missing one refuses the restart with every file as it was.
 void ResultsWriter::truncateTablesAfter(int step) {
   const fs::path dir(dir_);
   std::vector<std::string> csvs = {"steps.csv", "newton.csv", "tracked_points.csv", "reactions.csv"};
   for (const auto& c : model_.contributions)
     if (!c->tableName().empty()) csvs.push_back(c->tableName());
+  std::vector<std::string> keptTables;
   for (const auto& name : csvs) {
     std::ifstream in(dir / name);
     if (!in) throw InputError("cannot restart in \"" + dir_ + "\": " + name + " is missing");
@@ -268,8 +270,9 @@ void ResultsWriter::truncateTablesAfter(int step) {
       const long s = std::strtol(line.c_str(), &end, 10);
       if (end == line.c_str() + comma && s <= step) kept += line + "\n";
     }
-    writeFileAtomically(own(name), kept);
+    keptTables.push_back(std::move(kept));
   }
+  for (std::size_t i = 0; i < csvs.size(); ++i) writeFileAtomically(own(csvs[i]), keptTables[i]);
 }
 
 // results.pvd: the entries of the kept files.

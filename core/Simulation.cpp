@@ -66,7 +66,9 @@ double resume(StaticSolver& solver, RunSummary& summary, const RunOptions& optio
             " (a run continues only with the version that started it)");
   in.label("deck");
   if (in.word() != options.fingerprint)
-    in.fail("it was written for another deck (the deck changed outside its Output sublist)");
+    in.fail(
+        "it was written for another deck (the deck changed outside its Output sublist, or its Output/Tracked "
+        "Points changed)");
   in.label("summary");
   const long long passes = in.integer(), maxIterations = in.integer();
   const double earlierSeconds = in.real();

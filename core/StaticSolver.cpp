@@ -499,7 +499,7 @@ struct StaticSolver::Newton {
   // The iterate at hand: its number (overall and within the pass), whether its graph was rebuilt,
   // and its measures.
   int k = 0, kp = 0;
-  bool rebuilt = false, likelyConverged = false;
+  bool rebuilt = false, likelyConverged = false, finite = true;
   double incrementScale = 0.0, rn = 0.0, reactionNorm = 0.0, loadNorm = 0.0, reference = 0.0;
 
   // Predictor: the nodal dofs continue the last converged increment, scaled to this one (the
@@ -566,6 +566,16 @@ struct StaticSolver::Newton {
       s.assembler_.assemble(s.trial_, Tb, !likelyConverged);
     }
     rn = scaledNorm2(*s.assembler_.residual());
+    // Every entry of the residual, reactions included, and every node's place and rotation must be
+    // numbers: overflowing loads or prescribed motions (1e300) leave a state of infinities whose
+    // residual can still measure 0 on the free dofs.
+    finite = true;
+    for (double v : s.assembler_.fullResidual()) finite = finite && std::isfinite(v);
+    for (int n = 0; finite && n < s.trial_.numNodes(); ++n)
+      for (int i = 0; i < 3; ++i) {
+        finite = finite && std::isfinite(s.trial_.position[n][i]);
+        for (int j = 0; j < 3; ++j) finite = finite && std::isfinite(s.trial_.rotation[n](i, j));
+      }
     std::vector<double> entries;
     for (GlobalDof g : s.assembler_.constrainedDofs()) entries.push_back(s.assembler_.fullResidual()[g]);
     reactionNorm = safeNorm2(entries);
@@ -667,6 +677,10 @@ struct StaticSolver::Newton {
   // augmentation, active set), or another iteration.
   Verdict verdict() {
     if (!std::isfinite(rn)) return fail("the residual is not finite");
+    if (!finite)
+      return fail(
+          "the state is not finite (a reaction, a node's place or rotation overflowed: loads or prescribed "
+          "motions too large for double precision?)");
     if (kp > 0 && rn > settings.divergenceFactor * std::max(reference, 1e-300))
       return fail("Newton diverged (residual above Divergence Factor times its reference)");
     if (converged()) {

@@ -497,21 +497,25 @@ cli::Command commandOf(const std::string& kind, const Options& o) {
       "force); docs/input.md describes each generator.";
   for (const auto& [name, value] : o.values)
     c.options.push_back({name, 0, "X", shortNumber(value.first), value.second});
-  c.options.push_back({"output", 'o', "FILE", "print the deck on standard output", "the deck file to write"});
+  c.options.push_back({"output", 'o', "FILE", "print the deck on standard output",
+                       "the deck file to write (a new file, or with --overwrite any regular file)"});
+  c.options.push_back({"overwrite", 0, "", "", "replace FILE if it exists (a deck you edited is lost)"});
   return c;
 }
 
-// Reads the options of `args` (after the kind) into `o`; returns --output (empty: none), or nullopt
-// when --help was printed.
-std::optional<std::string> readOptions(const std::vector<std::string>& args, const std::string& kind, Options& o) {
+// Reads the options of `args` (after the kind) into `o` and `overwrite`; returns --output (empty:
+// none), or nullopt when --help was printed.
+std::optional<std::string> readOptions(const std::vector<std::string>& args, const std::string& kind, Options& o,
+                                       bool& overwrite) {
   const cli::Command command = commandOf(kind, o);
   const cli::Parsed parsed = cli::parse(command, std::vector<std::string>(args.begin() + 2, args.end()));
   if (parsed.help) {
     std::fputs(cli::help(command).c_str(), stdout);
     return std::nullopt;
   }
+  overwrite = parsed.has("overwrite");
   for (const auto& [key, values] : parsed.values) {
-    if (key == "output") continue;
+    if (key == "output" || key == "overwrite") continue;
     const std::string& text = values.back();
     std::size_t used = 0;
     double v = 0;
@@ -555,8 +559,8 @@ std::string deckXml(const std::string& kind, const Options& o, const ParameterLi
   return xml.str();
 }
 
-// Writes a deck to `output`, or prints it when empty.
-void writeDeck(const std::string& xml, const std::string& output) {
+// Writes a deck to `output` (an existing file only with `overwrite`), or prints it when empty.
+void writeDeck(const std::string& xml, const std::string& output, bool overwrite) {
   if (output.empty()) {
     std::fputs(xml.c_str(), stdout);
   } else {
@@ -570,6 +574,9 @@ void writeDeck(const std::string& xml, const std::string& output) {
                               : std::filesystem::is_directory(status) ? "a folder"
                                                                       : "not a regular file (a device or a pipe)") +
                              "; give the path of a deck file, or leave out --output to print the deck");
+    if (std::filesystem::exists(status) && !overwrite)
+      throw core::InputError("generate: --output \"" + output +
+                             "\" exists; add --overwrite to replace it, or give another file");
     core::writeFileAtomically(output, xml);
   }
 }
@@ -581,7 +588,7 @@ int generateDeck(const std::vector<std::string>& args) {
   if (args.size() < 2 || args[1] == "--help" || args[1] == "-h") {
     if (args.size() < 2) throw cli::UsageError("generate", "a kind is needed: " + kinds);
     std::printf(
-        "usage: beamcontact generate KIND [--OPTION VALUE]... [-o FILE]\n\n"
+        "usage: beamcontact generate KIND [--OPTION VALUE]... [-o FILE [--overwrite]]\n\n"
         "Writes a many-beam deck from a few parameters (docs/input.md). KIND is one of\n"
         "  grid      two layers of crossing beams pressed together\n"
         "  weave     a plain-weave mat of undulating yarns whose warps are pulled\n"
@@ -595,13 +602,14 @@ int generateDeck(const std::vector<std::string>& args) {
   if (kind != "grid" && kind != "weave" && kind != "network" && kind != "strand")
     throw cli::UsageError("generate", "unknown kind \"" + kind + "\"; kinds are " + kinds);
   Options o = optionsOf(kind);
-  const auto output = readOptions(args, kind, o);
+  bool overwrite = false;
+  const auto output = readOptions(args, kind, o, overwrite);
   if (!output) return 0;
   const ParameterList deck = kind == "grid"     ? grid(o)
                              : kind == "weave"  ? weave(o)
                              : kind == "strand" ? strand(o)
                                                 : network(o);
-  writeDeck(deckXml(kind, o, deck), *output);
+  writeDeck(deckXml(kind, o, deck), *output, overwrite);
   // Where the deck went (printed decks say nothing: stdout is the deck).
   if (!output->empty())
     std::printf("generate %s: wrote %s (%d beams); run it with: beamcontact run %s\n", kind.c_str(), output->c_str(),

@@ -22,6 +22,8 @@
 #include "StudyReport.hpp"
 #include "core/Faults.hpp"
 #include "core/OutputDirectory.hpp"
+#include "core/Provenance.hpp"
+#include "core/Sha256.hpp"
 #include "core/Parameters.hpp"
 
 namespace bc::drivers {
@@ -150,7 +152,8 @@ void removeEarlierStudy(core::OutputDirectory& out, const fs::path& dir, std::si
 }
 
 // Gives case `c` its folder in `dir`/cases and writes its deck there. A case whose folder holds the
-// same deck (same parameters, same base deck) and a complete run is kept from an earlier run of the
+// same deck (same parameters, same base deck) and a complete run of that deck (its status.txt names
+// the deck's SHA-256: not a run of another deck into the folder) is kept from an earlier run of the
 // study (returns true); any other case folder is cleared and prepared anew.
 bool prepareCase(core::OutputDirectory& out, const fs::path& dir, const StudyDeck& deck, Case& c,
                  const StudyOptions& options) {
@@ -159,7 +162,8 @@ bool prepareCase(core::OutputDirectory& out, const fs::path& dir, const StudyDec
   c.dir = dir / "cases" / name;
   const std::string xml = study::caseDeckXml(deck, c, options.timing != 0);
   if (!options.timing && study::readText(c.dir / "deck.xml") == xml &&
-      study::runStatusLine(c.dir).rfind("complete", 0) == 0) {
+      study::runStatusLine(c.dir).rfind("complete", 0) == 0 &&
+      core::field(core::readFieldLines(study::readText(c.dir / "status.txt")), "deck_sha256") == core::sha256Hex(xml)) {
     c.status = "complete";
     c.kept = true;
     c.exitCode = 0;
@@ -349,11 +353,13 @@ int runStudy(const std::string& studyFile, const StudyOptions& options) {
   const std::vector<std::string> plugins = absolutePlugins(options.plugins);
   refuseUnderMpirun();
   const StudyDeck deck = study::readStudyDeck(studyFile, options.plugins);
-  // The study directory, the cases the groups expand to, and each case's deck in its folder.
+  // The cases the groups expand to (each with a step at At T), the study directory, and each case's
+  // deck in its folder.
+  std::vector<Case> all = study::expandCases(deck.groups);
+  for (const Case& c : all) study::checkAtTIsAStep(deck, c);
   const fs::path dir =
       options.output.empty() ? fs::path(deck.study->get<std::string>("Output Directory")) : fs::path(options.output);
   core::OutputDirectory out = openStudyDirectory(dir, deck, options);
-  std::vector<Case> all = study::expandCases(deck.groups);
   const Case* reference = study::referenceCase(deck, all);
   removeEarlierStudy(out, dir, all.size());
   int kept = 0;

@@ -8,6 +8,7 @@
 
 #include "core/Faults.hpp"
 #include "core/Parameters.hpp"
+#include "core/StaticSolver.hpp"
 #include "input/Plugins.hpp"
 #include "input/XmlDeck.hpp"
 
@@ -349,6 +350,39 @@ const Case* referenceCase(const StudyDeck& deck, const std::vector<Case>& all) {
                              : "group \"" + referenceGroup + "\" has " + std::to_string(n) +
                                    " cases; the reference must be a group of one case"));
   return &*std::find_if(all.begin(), all.end(), [&](const Case& c) { return c.group == referenceGroup; });
+}
+
+void checkAtTIsAStep(const StudyDeck& deck, const Case& c) {
+  ParameterList caseDeck(*deck.baseDeck);
+  for (const auto& [var, value] : c.settings)
+    setValue(caseDeck, *var, value, "case " + std::to_string(c.index) + " (group \"" + c.group + "\")");
+  const ParameterList& stepping = caseDeck.sublist("Load Stepping");
+  std::vector<double> steps;
+  std::string how;
+  if (stepping.isType<Teuchos::Array<double>>("Load Factors")) {
+    for (double t : stepping.get<Teuchos::Array<double>>("Load Factors")) steps.push_back(t);
+    how = "its Load Factors";
+  } else {
+    int n = core::loadSteppingSpec().reference().get<int>("Number of Increments");
+    if (stepping.isParameter("Number of Increments")) {
+      if (!stepping.isType<int>("Number of Increments")) return;  // the case's run names the wrong type
+      n = stepping.get<int>("Number of Increments");
+    }
+    if (n < 1 || n > 10000000) return;  // the case's run refuses it
+    for (int k = 1; k <= n; ++k) steps.push_back(double(k) / n);
+    how = "Number of Increments " + std::to_string(n);
+  }
+  if (steps.empty()) return;
+  const double atT = deck.atT;
+  for (double t : steps)
+    if (std::abs(t - atT) <= 1e-9 * std::max(1.0, std::abs(atT))) return;
+  std::ostringstream m;
+  m << "parameter \"" << deck.root << "/At T\" = " << atT << " is not a load step of case " << c.index << " (group \""
+    << c.group << "\", " << how << ": steps at ";
+  for (std::size_t i = 0; i < steps.size() && i < 6; ++i) m << (i ? ", " : "") << steps[i];
+  if (steps.size() > 6) m << ", ...";
+  m << "); the outputs are read at a converged step: choose an At T on every case's steps";
+  throw InputError(m.str());
 }
 
 std::string caseDeckXml(const StudyDeck& deck, const Case& c, bool timing) {

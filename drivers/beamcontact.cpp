@@ -41,6 +41,7 @@
 #include "core/Faults.hpp"
 #include "BuildInfo.hpp"
 #include "core/Provenance.hpp"
+#include "core/Sha256.hpp"
 #include "core/Simulation.hpp"
 #include "input/Deck.hpp"
 #include "input/Reference.hpp"
@@ -381,9 +382,11 @@ int runDeck(const RunRequest& request) {
   // any rank ends every rank with the first failing rank's message.
   Teuchos::ParameterList list;
   bc::input::Problem problem;
+  std::string deckDigest;
   bc::core::collectively(*comm, [&] {
     bc::core::injectFault("deck");
     list = bc::input::readDeckFile(deck);
+    deckDigest = bc::core::sha256File(deck);
     // The deck's Plugins (and digests) against --plugin before any library is loaded.
     bc::input::checkDeckPlugins(list, deck, request.plugins);
   });
@@ -406,6 +409,7 @@ int runDeck(const RunRequest& request) {
   for (const auto& p : bc::input::loadedPlugins())
     options.statusNotes.push_back("plug-in: " + p.path + " sha256 " + p.sha256);
   options.provenance = bc::core::runProvenance(bc::drivers::buildProvenance(), comm->getSize(), request.commandLine);
+  options.provenance.emplace_back("deck_sha256", deckDigest);  // a study keeps a case only if it ran the case's deck
   options.writeVtk = problem.writeVtk;
   options.progress = !request.quiet;
   options.printTimers = request.timers;

@@ -399,8 +399,8 @@ std::array<bool, 6> parseFixed(const std::string& text, const std::string& path)
     int k = 0;
     while (k < 6 && word != names[k]) ++k;
     if (k == 6)
-      throw InputError("parameter \"" + path + "/Fixed\": \"" + word +
-                       "\" is not a component; use \"all\" or ux uy uz rx ry rz");
+      throw InputError("parameter \"" + path + "/Fixed\": \"" + word + "\" is not a component; use \"all\" alone, or " +
+                       "components among ux uy uz rx ry rz");
     fixed[k] = any = true;
   }
   if (!any) throw InputError("parameter \"" + path + "/Fixed\" is empty; use \"all\" or ux uy uz rx ry rz");
@@ -621,14 +621,24 @@ elements::Beam beamSectionAndMaterial(ParameterList& b, const std::string& name,
 }
 
 // A beam's elements have a length and a section orientation across them.
-void checkElements(const elements::Beam& beam, const std::vector<Vec3d>& points, const std::string& path) {
+// (`given`: the deck sets Section Orientation; else the default the beam's shape chose, which a message
+// must not blame on a parameter the deck does not have.)
+void checkElements(const elements::Beam& beam, const std::vector<Vec3d>& points, const std::string& path, bool given) {
   for (std::size_t k = 0; k + 1 < points.size(); ++k) {
     const Vec3d axis = points[k + 1] - points[k];
     const double L = norm(axis);
     if (!(L > 0.0)) throw InputError("beam \"" + path + "\" has an element of zero length (coincident points)");
-    if (norm(cross(beam.sectionY, (1.0 / L) * axis)) <= 1e-8 * norm(beam.sectionY))
-      throw InputError("parameter \"" + path + "/Section Orientation\" is zero or parallel to element " +
-                       std::to_string(k) + " of the beam (give a direction across the beam)");
+    if (norm(cross(beam.sectionY, (1.0 / L) * axis)) <= 1e-8 * norm(beam.sectionY)) {
+      if (given)
+        throw InputError("parameter \"" + path + "/Section Orientation\" is zero or parallel to element " +
+                         std::to_string(k) + " of the beam (give a direction across the beam)");
+      std::ostringstream m;
+      m << "beam \"" << path << "\": the default section orientation (" << beam.sectionY[0] << ", " << beam.sectionY[1]
+        << ", " << beam.sectionY[2] << "), chosen from the beam's first element, lies along element " << k
+        << " (elements of one beam turning through that direction, or too few elements per turn of a curve): give "
+           "\"Section Orientation\", a direction across every element (for a beam in the XY plane: {0, 0, 1})";
+      throw InputError(m.str());
+    }
   }
 }
 
@@ -681,7 +691,7 @@ BeamsRead readBeams(Problem& p, ParameterList& deck, const std::string& top) {
                 elements::Beam beam = beamSectionAndMaterial(b, name, path);
                 const int ne = b.get<int>("Elements");
                 const std::vector<Vec3d> points = beamPoints(b, path, ne, beam.sectionY);
-                checkElements(beam, points, path);
+                checkElements(beam, points, path, b.isParameter("Section Orientation"));
                 checkBeamScale(beam, points, path);
                 checkModelSize(read.reference.size() + points.size());
                 const int first = static_cast<int>(read.reference.size());
@@ -807,7 +817,15 @@ void readLoads(Problem& p, ParameterList& deck, const std::string& top, const Lo
 // Load Stepping, Nonlinear Solver and Linear Solver.
 void readSolvers(Problem& p, ParameterList& deck, const std::string& top) {
   ParameterList& stepping = deck.sublist("Load Stepping");
+  // Load Factors replace Number of Increments: a deck (or a study varying one of them) that gives
+  // both would run one and silently ignore the other.
+  const bool factors = stepping.isParameter("Load Factors");
+  if (factors && stepping.isParameter("Number of Increments"))
+    throw InputError("\"" + top +
+                     "/Load Stepping\" gives both \"Load Factors\" and \"Number of Increments\": "
+                     "Load Factors replace the increments; give one of them");
   core::loadSteppingSpec().apply(stepping, top + "/Load Stepping");
+  if (factors) stepping.remove("Number of Increments", false);  // its default, unused
   ParameterList& newton = deck.sublist("Nonlinear Solver");
   core::newtonSpec().apply(newton, top + "/Nonlinear Solver");
   p.solver = core::readSolverSettings(stepping, newton);
@@ -909,8 +927,14 @@ Problem buildProblem(ParameterList deck, const std::string& deckName) {
 }
 
 std::string deckFingerprint(const Problem& problem) {
+  // The Output sublist may change between a run and its restart (where VTK files go, how often),
+  // except its tracked points: tracked_points.csv's columns are theirs, and rows of other points
+  // under the same header would pass for the same quantities.
   ParameterList deck = problem.effective;
+  const bool tracked = deck.sublist("Output").isSublist("Tracked Points");
+  const ParameterList points = tracked ? deck.sublist("Output").sublist("Tracked Points") : ParameterList();
   deck.remove("Output", false);
+  if (tracked) deck.sublist("Output").sublist("Tracked Points").setParameters(points);
   std::ostringstream xml;
   Teuchos::writeParameterListToXmlOStream(deck, xml);
   char hex[32];

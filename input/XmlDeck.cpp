@@ -474,11 +474,18 @@ ParameterList readParameterXmlFile(const std::string& path) {
     f.read(text.data(), static_cast<std::streamsize>(size));
     text.resize(static_cast<std::size_t>(f.gcount()));
   }
-  if (f.peek() != std::ifstream::traits_type::eof()) {  // grown since, or no size known: the rest
-    std::ostringstream rest;
-    rest << f.rdbuf();
-    text += rest.str();
-    if (text.size() > kMaxBytes) throw InputError("file \"" + path + "\" is " + kTooLarge);
+  // Grown since, or no size known (a pipe, a device): the rest, a chunk at a time, within the limit and
+  // only while it is text (/dev/zero or /dev/urandom would otherwise be read until memory runs out).
+  std::vector<char> chunk(std::size_t(1) << 20);
+  while (f.peek() != std::ifstream::traits_type::eof()) {
+    f.read(chunk.data(), static_cast<std::streamsize>(chunk.size()));
+    const auto got = static_cast<std::size_t>(f.gcount());
+    const auto nul = std::find(chunk.begin(), chunk.begin() + got, '\0') - chunk.begin();
+    if (static_cast<std::size_t>(nul) < got)
+      throw InputError("file \"" + path + "\" holds a NUL byte (byte " + std::to_string(text.size() + nul + 1) +
+                       "); a deck is UTF-8 text");
+    if (text.size() + got > kMaxBytes) throw InputError("file \"" + path + "\" is " + kTooLarge);
+    text.append(chunk.data(), got);
   }
   return parseParameterXml(text, path);
 }

@@ -46,7 +46,7 @@ def check(ok, what):
 
 
 PLUGIN = ["--plugin"]
-COMMON = ["--radius", "--youngs-modulus", "--friction", "--penalty", "--increments", "--output", "-o"]
+COMMON = ["--radius", "--youngs-modulus", "--friction", "--penalty", "--increments", "--output", "-o", "--overwrite"]
 EXPECTED = {
     ("run",): ["--output", "-o", "--overwrite", "--quiet", "-q", "--timers", "--restart"] + PLUGIN,
     ("check",): PLUGIN,
@@ -183,6 +183,14 @@ check(r.returncode == 0, f"generate grid --n=2 -o: exit {r.returncode} {r.stderr
 text = read(grid)
 check('name="x2"' in text and 'name="x3"' not in text and 'name="y1"' in text and 'name="y2"' not in text,
       "generate grid --n=2 --m 1: not 2 x 1 beams")
+# An existing file (a deck the user edited) is replaced only with --overwrite.
+with open(grid, "w") as f:
+    f.write("my edited deck\n")
+r = run("generate", "grid", "--n", "2", "--m", "1", "-o", grid)
+check(r.returncode == 1 and "--overwrite" in r.stderr and read(grid) == "my edited deck\n",
+      f"generate -o over an existing file: exit {r.returncode} {r.stderr!r}, file {read(grid)[:40]!r}")
+r = run("generate", "grid", "--n", "2", "--m", "1", "-o", grid, "--overwrite")
+check(r.returncode == 0 and 'name="x2"' in read(grid), f"generate -o --overwrite: exit {r.returncode} {r.stderr!r}")
 
 # A negative number is a value, not an option: the top layer's ends move up by 0.5.
 r = run("generate", "grid", "--n", "1", "--m", "1", "--press", "-0.5")

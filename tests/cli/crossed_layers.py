@@ -38,7 +38,7 @@ def deck_for(exe, work, name, n, elements, strategy):
     base = os.path.join(work, f"grid{n}_{elements}.xml")
     if not os.path.exists(base):
         subprocess.run([exe, "generate", "grid", "--n", str(n), "--m", str(n), "--elements", str(elements),
-                        "--output", base], check=True, capture_output=True)
+                        "--overwrite", "--output", base], check=True, capture_output=True)
     tree = ET.parse(base)
     set_parameter(tree.getroot(), "Contact/Enforcement/Type", "string", strategy)
     set_parameter(tree.getroot(), "Output/Write VTK", "bool", "false")
@@ -99,7 +99,7 @@ def check_laid_and_loaded(exe, work, mpi):
     to the load 64."""
     deck = os.path.join(work, "laid.xml")
     subprocess.run([exe, "generate", "grid", "--n", "8", "--m", "8", "--elements", "9", "--gap", "0", "--press", "0",
-                    "--load", "1", "--friction", "0", "--output", deck], check=True, capture_output=True)
+                    "--load", "1", "--friction", "0", "--overwrite", "--output", deck], check=True, capture_output=True)
     tree = ET.parse(deck)
     set_parameter(tree.getroot(), "Output/Write VTK", "bool", "false")
     tree.write(deck)
@@ -195,7 +195,7 @@ def check_friction_cycling(exe, work):
         deck = os.path.join(work, f"cycling_{penalty}.xml")
         subprocess.run([exe, "generate", "grid", "--n", str(n), "--m", str(n), "--elements", str(n + 1), "--gap", "0",
                         "--press", "0", "--load", repr(load), "--penalty", "1e4" if penalty == "Automatic" else penalty,
-                        "--increments", "1", "--output", deck], check=True, capture_output=True)
+                        "--increments", "1", "--overwrite", "--output", deck], check=True, capture_output=True)
         tree = ET.parse(deck)
         set_parameter(tree.getroot(), "Output/Write VTK", "bool", "false")
         set_parameter(tree.getroot(), "Load Stepping/Maximum Step Cuts", "int", "5" if penalty == "Automatic" else "0")
@@ -229,7 +229,7 @@ def check_lagrange_friction_steering(exe, work):
     land on the run with c_T = 1 from the start (total normal force 1e-6, each point's within 1e-4 of
     the largest; friction depends on the path, and the two runs' steps differ)."""
     deck = os.path.join(work, "grid16_lagrange.xml")
-    subprocess.run([exe, "generate", "grid", "--n", "16", "--m", "16", "--output", deck], check=True,
+    subprocess.run([exe, "generate", "grid", "--n", "16", "--m", "16", "--overwrite", "--output", deck], check=True,
                    capture_output=True)
     results, failures = {}, 0
     for c_t in (None, "1"):
@@ -284,7 +284,7 @@ def check_augmented_lagrange_first_contact(exe, work):
     every point within the cone (1 + 1e-9) and every beam balanced (1e-6), and end on the same total
     normal force (1e-4: each meets the Gap Tolerance 1e-6 its own way, and friction depends on the path)."""
     deck = os.path.join(work, "grid16_augmented.xml")
-    subprocess.run([exe, "generate", "grid", "--n", "16", "--m", "16", "--output", deck], check=True,
+    subprocess.run([exe, "generate", "grid", "--n", "16", "--m", "16", "--overwrite", "--output", deck], check=True,
                    capture_output=True)
     totals, failures = [], 0
     for coupled in (200, 0):

@@ -86,7 +86,7 @@ def main():
         load = 0.1 * 384 * 1e5 * math.pi / 4 / (5 * n * span ** 3)
         deck = os.path.join(work, f"layers{n}.xml")
         subprocess.run([exe, "generate", "grid", "--n", str(n), "--m", str(n), "--elements", str(elements), "--gap",
-                        "0", "--press", "0", "--friction", "0", "--load", repr(load), "--increments", "2", "--output",
+                        "0", "--press", "0", "--friction", "0", "--load", repr(load), "--increments", "2", "--overwrite", "--output",
                         deck], check=True, capture_output=True)
         text = open(deck).read().replace('<ParameterList name="BeamContact">', '<ParameterList name="BeamContact">'
                                          '<ParameterList name="Output"><Parameter name="Write VTK" type="bool" '

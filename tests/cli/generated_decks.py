@@ -104,7 +104,7 @@ def check_strand_lines(contact):
 
 def check_stalled_newton(exe, work):
     deck = os.path.join(work, "friction.xml")
-    subprocess.run([exe, "generate", "network"] + GENERATOR_OPTIONS["network"][:-2] + ["--friction", "0.2", "--output", deck],
+    subprocess.run([exe, "generate", "network"] + GENERATOR_OPTIONS["network"][:-2] + ["--friction", "0.2", "--overwrite", "--output", deck],
                    check=True)
     failures = 0
     for search, should_cut in (("None", True), ("When Stalled", False)):
@@ -130,7 +130,7 @@ def main():
     kind, exe, work, mpi = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4:]
     os.makedirs(work, exist_ok=True)
     base = os.path.join(work, kind + ".xml")
-    subprocess.run([exe, "generate", kind] + GENERATOR_OPTIONS[kind] + ["--output", base], check=True)
+    subprocess.run([exe, "generate", kind] + GENERATOR_OPTIONS[kind] + ["--overwrite", "--output", base], check=True)
     results = {}
     failures = 0
     for strategy in STRATEGIES.get(kind, ["Penalty", "Lagrange Multiplier", "Augmented Lagrange"]):

@@ -297,6 +297,9 @@ def value_of(type_, text_):
 
 # Resolved by the run (core/LinearSolver.hpp, resolveLinearSolver), each with its reason as the doc string.
 CHOSEN_BY_THE_RUN = {"Linear Solver/Direct Solver", "Linear Solver/Reuse Factorization"}
+# A parameter another given one replaces: absent from the effective deck (which runs as a deck, and a
+# deck may not give both).
+REPLACED_BY = {"Load Stepping/Number of Increments": "Load Stepping/Load Factors"}
 compared = 0
 for name_, (tree, out) in decks.items():
     file = os.path.join(out, "effective_parameters.xml")
@@ -329,6 +332,8 @@ for name_, (tree, out) in decks.items():
                   f"{name_}: {path}: printed {value!r} ({use}), the run's choice {got} without its reason "
                   f"({docs.get(path)!r})")
             compared += 1
+        elif path in REPLACED_BY and REPLACED_BY[path] in given:
+            check(path not in effective, f"{name_}: {path} in the effective deck beside {REPLACED_BY[path]}")
         elif use == "default" and path not in given:
             got = effective.get(path)
             check(got is not None and got[0] == type_ and value_of(type_, got[1]) == value_of(type_, value),

@@ -19,6 +19,7 @@
 """
 import csv
 import datetime
+import hashlib
 import os
 import re
 import shlex
@@ -147,7 +148,8 @@ def check_run(out, ranks, command_words):
         fail(f"{out}/summary.csv has {len(summary_lines)} lines (a header and a row)")
     row = next(csv.DictReader(open(os.path.join(out, "summary.csv"))))
     columns = {k: v for k, v in row.items() if k in ("version", "commit", "build_type", "trilinos", "mpi",
-                                                        "compiler", "date", "host", "ranks", "command")}
+                                                        "compiler", "date", "host", "ranks", "command",
+                                                        "deck_sha256")}
     xml = open(os.path.join(out, "effective_parameters.xml")).read()
     pi = re.search(r"<\?beamcontact(.*?)\?>", xml, re.S)
     if not pi:
@@ -157,7 +159,7 @@ def check_run(out, ranks, command_words):
               for k, v in re.findall(r'(\w+)="([^"]*)"', pi[1])}
     for name, got in (("status.txt", fields), ("summary.csv", columns), ("effective_parameters.xml", in_xml)):
         for key in ("version", "commit", "build_type", "trilinos", "mpi", "compiler", "date", "host", "ranks",
-                    "command"):
+                    "command", "deck_sha256"):
             if key not in got:
                 fail(f"{out}/{name} has no {key}")
         if got["version"] != version or got["commit"] != commit:
@@ -174,8 +176,12 @@ def check_run(out, ranks, command_words):
         fail(f"host {fields['host']} (this is {socket.gethostname()}), ranks {fields['ranks']} (expected {ranks})")
     if shlex.split(fields["command"]) != command_words:
         fail(f"command {fields['command']!r}, expected {' '.join(command_words)!r}")
+    # The digest of the deck the run read (a study keeps a case only if its run read the case's deck).
+    digest = hashlib.sha256(open(command_words[2], "rb").read()).hexdigest()
+    if fields["deck_sha256"] != digest:
+        fail(f"deck_sha256 {fields['deck_sha256']}, the deck's SHA-256 {digest}")
     # The figures come first, as before; the provenance columns after "warnings".
-    if summary_lines[0].split(",")[0] != "completed" or summary_lines[0].split(",")[-11] != "warnings":
+    if summary_lines[0].split(",")[0] != "completed" or summary_lines[0].split(",")[-12] != "warnings":
         fail(f"summary.csv header: {summary_lines[0]}")
     if row["completed"] != "1" or not summary_lines[1].startswith("1,1,50,"):
         fail(f"summary.csv row: {summary_lines[1]}")
