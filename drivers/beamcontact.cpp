@@ -40,6 +40,7 @@
 
 #include "core/Faults.hpp"
 #include "BuildInfo.hpp"
+#include "core/OutputDirectory.hpp"
 #include "core/Provenance.hpp"
 #include "core/Sha256.hpp"
 #include "core/Simulation.hpp"
@@ -468,6 +469,8 @@ int checkCommand(const std::vector<std::string>& args) {
     for (const auto& plugin : plugins) bc::input::loadPlugin(plugin);
     const auto problem = bc::input::buildProblem(std::exchange(list, Teuchos::ParameterList()),
                                                  std::filesystem::path(deck).stem().string());
+    // The deck's own output path as run takes it (relative, no "..", no links); --output replaces it.
+    bc::core::checkDeckOutputPath(problem.outputDirectory, "Output/Directory");
     std::printf("ok: %s: %d nodes, %zu elements, %d joints, %zu supports, %zu loads, %zu contact points at the start\n",
                 deck.c_str(), problem.model.initial.numNodes(), problem.beams->elements().size(), problem.joints,
                 problem.model.supports.size(), problem.model.loads.size(),

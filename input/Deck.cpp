@@ -628,6 +628,18 @@ void checkElements(const elements::Beam& beam, const std::vector<Vec3d>& points,
     const Vec3d axis = points[k + 1] - points[k];
     const double L = norm(axis);
     if (!(L > 0.0)) throw InputError("beam \"" + path + "\" has an element of zero length (coincident points)");
+    // An element that turns back along the one before lies inside it: the beam overlaps itself (a
+    // polyline retracing a segment, an arc of 360 degrees in 2 elements).
+    if (k > 0) {
+      const Vec3d before = points[k] - points[k - 1];
+      const double c = dot(before, axis) / (norm(before) * L);
+      if (c < -0.999)
+        throw InputError("beam \"" + path + "\": elements " + std::to_string(k - 1) + " and " + std::to_string(k) +
+                         " turn back along each other (by " +
+                         std::to_string(static_cast<int>(std::lround(std::acos(std::max(-1.0, c)) * 180.0 / M_PI))) +
+                         " degrees): the beam would overlap itself; give its points (or more elements of a curve) so "
+                         "that no element turns back");
+    }
     if (norm(cross(beam.sectionY, (1.0 / L) * axis)) <= 1e-8 * norm(beam.sectionY)) {
       if (given)
         throw InputError("parameter \"" + path + "/Section Orientation\" is zero or parallel to element " +
