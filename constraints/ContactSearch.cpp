@@ -331,21 +331,6 @@ void ContactSearch::checkNoUnseenContact(const core::State& state, bool atStart,
     const bool endB = (c.t == 0.0 && geometry_.freeEnd(B.node1)) || (c.t == 1.0 && geometry_.freeEnd(B.node2));
     // (Two free ends nearest each other are end-to-end contact's, below, even in line contact.)
     if (lines && !(endA && endB)) {
-      // Line contact of circular sections sees parallel beams whose axes lie apart, along the line
-      // between them. Axes that (nearly) coincide have no such line: no point sees them, and at the
-      // start a deck with such beams (one rod inside the other) ran "complete".
-      if (!geometry_.rectangles(pi)) {
-        if (!(c.distance <= 1e-6 * reach) && !(atStart && !seen(pi, ea, eb))) return;
-        if (atStart && geometry_.options().allowInitialPenetration && !(c.distance <= 1e-6 * reach)) return;
-        const Vec3d at = a1 + c.s * (a2 - a1);
-        std::ostringstream s;
-        s << "beams \"" << beams[pair.beamA].name << "\" and \"" << beams[pair.beamB].name << "\" overlap near ("
-          << at[0] << ", " << at[1] << ", " << at[2] << "), axes " << c.distance << " apart (their radii sum to "
-          << reach << "), in line contact where no line point sees the overlap"
-          << (c.distance <= 1e-6 * reach ? " (the axes coincide: no direction separates them)" : "");
-        if (atStart) throw core::InputError(s.str() + "; move the beams apart");
-        throw std::runtime_error(s.str());
-      }
       // An element's material ends at the planes through its nodes: where the other axis's closest
       // point lies beyond such a plane, the axes' distance is no overlap of these two elements (the
       // neighbour past that node has its own pair; past a free end there is nothing, or end-to-end
@@ -353,6 +338,29 @@ void ContactSearch::checkNoUnseenContact(const core::State& state, bool atStart,
       const Vec3d pA = a1 + c.s * (a2 - a1), pB = b1 + c.t * (b2 - b1);
       if ((c.s == 0.0 || c.s == 1.0) && dot(pB - pA, c.s == 0.0 ? a1 - a2 : a2 - a1) > 0.0) return;
       if ((c.t == 0.0 || c.t == 1.0) && dot(pA - pB, c.t == 0.0 ? b1 - b2 : b2 - b1) > 0.0) return;
+      // Line contact of circular sections sees parallel beams whose axes lie apart, along the line
+      // between them. Axes that (nearly) coincide have no such line: no point sees them, and at the
+      // start a deck with such beams (one rod inside the other) ran "complete". At the start, also an
+      // overlap by more than half the thinner section that no point sees (not a chord's sagitta:
+      // a helical wire's chords come closer to a core than its curve by a few hundredths of it).
+      if (!geometry_.rectangles(pi)) {
+        const bool coincide = c.distance <= 1e-6 * reach;
+        const bool deep = c.distance < reach - 0.5 * geometry_.thinner(pi);
+        // (Two coaxial ends pressed together overlap along the axis where their end-to-end point
+        // holds them: seen.)
+        const bool refuse = coincide
+                                ? !seen(pi, ea, eb)
+                                : atStart && deep && !geometry_.options().allowInitialPenetration && !seen(pi, ea, eb);
+        if (!refuse) return;
+        const Vec3d at = a1 + c.s * (a2 - a1);
+        std::ostringstream s;
+        s << "beams \"" << beams[pair.beamA].name << "\" and \"" << beams[pair.beamB].name << "\" overlap near ("
+          << at[0] << ", " << at[1] << ", " << at[2] << "), axes " << c.distance << " apart (their radii sum to "
+          << reach << "), in line contact where no line point sees the overlap"
+          << (coincide ? " (the axes coincide: no direction separates them)" : "");
+        if (atStart) throw core::InputError(s.str() + "; move the beams apart");
+        throw std::runtime_error(s.str());
+      }
       if (!(c.distance < reach - kUnresolvedLine * geometry_.thinner(pi)) || seen(pi, ea, eb)) return;
       const Vec3d at = a1 + c.s * (a2 - a1);
       std::ostringstream s;
