@@ -878,10 +878,38 @@ void readOutput(Problem& p, ParameterList& deck, const std::string& top, const s
               });
 }
 
+// A given penalty parameter so far above the beams' stiffness that theirs is lost in the matrix's
+// round-off: the solve fails as singular, a message blaming the supports. (eps_N 1e30 on beams of
+// E A / L = 3e5.) The bound, 1e10 times the stiffest element's E A / L, leaves the beams 1e-6 of
+// double precision; the paper's examples use 1e-2 to 3e2 times theirs.
+void checkPenaltyScale(const Problem& p, const ParameterList& enforcement, const std::string& path) {
+  double stiffest = 0.0;
+  for (const auto& e : p.beams->elements()) {
+    const auto& beam = p.beams->beams()[e.beam];
+    stiffest = std::max(stiffest, beam.material.youngsModulus * beam.section.area() / e.data.L0);
+  }
+  if (!(stiffest > 0.0) || !enforcement.isParameter("Type")) return;
+  const std::string type = enforcement.get<std::string>("Type");
+  if (!enforcement.isSublist(type)) return;
+  const ParameterList& own = enforcement.sublist(type);
+  for (const char* name : {"Normal Penalty Parameter", "Tangential Penalty Parameter"}) {
+    if (!own.isType<double>(name)) continue;
+    const double eps = own.get<double>(name);
+    if (!(eps > 1e10 * stiffest)) continue;
+    std::ostringstream m;
+    m << "parameter \"" << path << "/" << type << "/" << name << "\" = " << eps << " is " << eps / stiffest
+      << " times the stiffest element's E A / L (" << stiffest
+      << "): the beams' own stiffness would be lost in the matrix's round-off (a singular solve); choose at most 1e10 "
+         "times it, or \"Automatic\"";
+    throw InputError(m.str());
+  }
+}
+
 // Contact (when the deck has it), its memory estimate, and the linear solver it needs.
 void readContact(Problem& p, ParameterList& deck, const std::string& top) {
   if (deck.isSublist("Contact")) {
     buildContact(p, deck.sublist("Contact"), top + "/Contact");
+    checkPenaltyScale(p, deck.sublist("Contact").sublist("Enforcement"), top + "/Contact/Enforcement");
     // (Multipliers, and a plug-in's strategy, at the larger cost per point.)
     const std::string type = deck.sublist("Contact").sublist("Enforcement").get<std::string>("Type");
     const bool builtIn = constraints::findEnforcer(type, top + "/Contact/Enforcement/Type").origin == "built-in";
