@@ -122,7 +122,8 @@ std::vector<std::string> ContactReport::warnings() const {
       << 100.0 * worst.first / inscribed << " % of the thinner section's inscribed radius) near (" << worst.second[0]
       << ", " << worst.second[1] << ", " << worst.second[2] << "), more than " << 100.0 * kDeep
       << " %: the sections overlap visibly there, so the forces are those of a soft contact law, not of contact; "
-         "raise the Normal Penalty Parameter (or use Augmented Lagrange or Lagrange Multiplier)";
+         "raise the Normal Penalty Parameter (or lower a Regularization Gap comparable to this depth, or use Augmented "
+         "Lagrange or Lagrange Multiplier)";
     w.push_back(s.str());
   }
   lineWarnings(w);
