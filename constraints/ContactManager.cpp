@@ -225,10 +225,6 @@ std::string ContactManager::failureHint(const Teuchos::Comm<int>& comm) const {
   return penalty_.failureHint(comm, set_.current());
 }
 
-namespace {
-constexpr double kUnseenLineDepth = 0.05;  // (the depth from which the penetration warning calls sections overlapped)
-}  // namespace
-
 bool ContactManager::held(int pi, int ea, int eb, const core::State& state, bool penetrating) const {
   const auto& elems = geometry_.beams().elements();
   for (const auto& [key, p] : set_.current()) {
@@ -240,13 +236,13 @@ bool ContactManager::held(int pi, int ea, int eb, const core::State& state, bool
     // (Seeing needs the gap's value only: a point that acts, or one that penetrates, whose strategy
     // has not taken it up yet, as Lagrange's points at the start.)
     if (!penetrating) {
-      // (A line point deeper than kUnseenLineDepth of the thinner section's inscribed radius that no
+      // (A line point deeper than kDeep of the thinner section's inscribed radius that no
       // multiplier or law takes up sees nothing: the active set accepted it, and the beams would pass
       // through each other with no force. Two face-to-face cantilevers loaded in one large increment
       // ended "complete" with the rod 29 % of its inscribed radius inside the other, no contact force.)
       const double gap = pointGeometry(p, state).gap;
       const bool takenUp = acting && enforcer_->contributes(gap, *acting);
-      if (takenUp || (gap <= 0.0 && !(p.line() && gap < -kUnseenLineDepth * geometry_.thinner(pi)))) return true;
+      if (takenUp || (gap <= 0.0 && !(p.line() && gap < -kDeep * geometry_.thinner(pi)))) return true;
       continue;
     }
     if (!acting) continue;

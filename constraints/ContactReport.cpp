@@ -7,9 +7,6 @@
 namespace bc::constraints {
 
 namespace {
-// An active point penetrating by more than this fraction of the thinner section's inscribed radius
-// is reported: at that depth the sections overlap visibly, and a penalty law is far from contact.
-constexpr double kDeep = 0.05;
 // A line point whose applied force has |F_T| > mu |F_N| + this |F_N| is reported. Every strategy's
 // multipliers satisfy the cone and a Gauss point applies them along unit vectors (docs/contact.md, "The
 // Coulomb cone on lines"); a Lagrange field's Gauss point sees interpolated multipliers, whose friction

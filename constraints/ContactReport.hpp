@@ -15,6 +15,11 @@
 
 namespace bc::constraints {
 
+// A penetration deeper than this fraction of the thinner section's inscribed radius: the sections
+// overlap visibly there. An active point that deep is reported (a penalty law is far from contact);
+// a line point that deep which nothing takes up sees no contact (ContactManager::held).
+constexpr double kDeep = 0.05;
+
 class ContactReport {
  public:
   ContactReport(const ContactGeometry& geometry, const ConstraintEnforcer& enforcer, const LineContact& lines,

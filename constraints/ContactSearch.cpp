@@ -335,6 +335,16 @@ void ContactSearch::checkNoUnseenContact(const core::State& state, bool atStart,
     if (!(c.distance < reach * (1.0 - 1e-9))) return;
     const bool endA = (c.s == 0.0 && geometry_.freeEnd(A.node1)) || (c.s == 1.0 && geometry_.freeEnd(A.node2));
     const bool endB = (c.t == 0.0 && geometry_.freeEnd(B.node1)) || (c.t == 1.0 && geometry_.freeEnd(B.node2));
+    // The refusal: "beams A and B overlap near (x, y, z), axes d apart" and `why`; at the start an
+    // input error, in a run the increment's failure.
+    const auto refuse = [&](const std::string& why) {
+      const Vec3d at = a1 + c.s * (a2 - a1);
+      std::ostringstream s;
+      s << "beams \"" << beams[pair.beamA].name << "\" and \"" << beams[pair.beamB].name << "\" overlap near (" << at[0]
+        << ", " << at[1] << ", " << at[2] << "), axes " << c.distance << " apart" << why;
+      if (atStart) throw core::InputError(s.str() + "; move the beams apart");
+      throw std::runtime_error(s.str());
+    };
     // (Two free ends nearest each other are end-to-end contact's, below, even in line contact.)
     if (lines && !(endA && endB)) {
       // An element's material ends at the planes through its nodes: where the other axis's closest
@@ -360,29 +370,21 @@ void ContactSearch::checkNoUnseenContact(const core::State& state, bool atStart,
         const bool deep = c.distance < reach - 0.5 * geometry_.thinner(pi);
         // (Two coaxial ends pressed together overlap along the axis where their end-to-end point
         // holds them: seen.)
-        const bool refuse = coincide
+        const bool unseen = coincide
                                 ? !seen(pi, ea, eb)
                                 : atStart && deep && !geometry_.options().allowInitialPenetration && !seen(pi, ea, eb);
-        if (!refuse) return;
-        const Vec3d at = a1 + c.s * (a2 - a1);
-        std::ostringstream s;
-        s << "beams \"" << beams[pair.beamA].name << "\" and \"" << beams[pair.beamB].name << "\" overlap near ("
-          << at[0] << ", " << at[1] << ", " << at[2] << "), axes " << c.distance << " apart (their radii sum to "
-          << reach << "), in line contact where no line point sees the overlap"
-          << (coincide ? " (the axes coincide: no direction separates them)" : "");
-        if (atStart) throw core::InputError(s.str() + "; move the beams apart");
-        throw std::runtime_error(s.str());
+        if (!unseen) return;
+        std::ostringstream why;
+        why << " (their radii sum to " << reach << "), in line contact where no line point sees the overlap"
+            << (coincide ? " (the axes coincide: no direction separates them)" : "");
+        refuse(why.str());
       }
       if (!(c.distance < reach - kUnresolvedLine * geometry_.thinner(pi)) || seen(pi, ea, eb)) return;
-      const Vec3d at = a1 + c.s * (a2 - a1);
-      std::ostringstream s;
-      s << "beams \"" << beams[pair.beamA].name << "\" and \"" << beams[pair.beamB].name << "\" overlap near (" << at[0]
-        << ", " << at[1] << ", " << at[2] << "), axes " << c.distance
-        << " apart (their sections' inscribed radii sum to " << reach
-        << "), in line contact of rectangular sections where no line point sees the overlap (line contact "
-        << "sees an edge of one beam on the face of the other facing it)";
-      if (atStart) throw core::InputError(s.str() + "; move the beams apart");
-      throw std::runtime_error(s.str());
+      std::ostringstream why;
+      why << " (their sections' inscribed radii sum to " << reach
+          << "), in line contact of rectangular sections where no line point sees the overlap (line contact "
+          << "sees an edge of one beam on the face of the other facing it)";
+      refuse(why.str());
     }
     const double sine = norm(cross(a2 - a1, b2 - b1)) / (norm(a2 - a1) * norm(b2 - b1));
     const bool parallel = !lines && !(endA && endB) && sine < geometry_.options().minimumSinAngle;
@@ -423,10 +425,8 @@ void ContactSearch::checkNoUnseenContact(const core::State& state, bool atStart,
                              geometry_.rectangles(pi) && c.distance < reach - kUnresolvedLine * geometry_.thinner(pi);
     if (!parallel && !endToEnd && !unseenFaces) return;
     if (!parallel && seen(pi, ea, eb)) return;  // (two ends held by their end-to-end point, faces by a point)
-    const Vec3d at = a1 + c.s * (a2 - a1);
     std::ostringstream s;
-    s << "beams \"" << beams[pair.beamA].name << "\" and \"" << beams[pair.beamB].name << "\" overlap near (" << at[0]
-      << ", " << at[1] << ", " << at[2] << "), axes " << c.distance << " apart, ";
+    s << ", ";
     if (unseenFaces) {
       s << "rectangular sections crossing at a small angle (sine " << sine
         << ") whose faces overlap (the axes are closer than the sections' inscribed radii sum, " << reach
@@ -443,8 +443,7 @@ void ContactSearch::checkNoUnseenContact(const core::State& state, bool atStart,
       s << "at the free ends of both beams, where no end-to-end point holds them (end-to-end contact takes two end "
            "faces turned towards each other, where one end touches the other's face within its rim)";
     }
-    if (atStart) throw core::InputError(s.str() + "; move the beams apart");
-    throw std::runtime_error(s.str());
+    refuse(s.str());
   });
 }
 

@@ -352,10 +352,20 @@ const Case* referenceCase(const StudyDeck& deck, const std::vector<Case>& all) {
   return &*std::find_if(all.begin(), all.end(), [&](const Case& c) { return c.group == referenceGroup; });
 }
 
-void checkAtTIsAStep(const StudyDeck& deck, const Case& c) {
+bool isAtT(double T, double atT) { return std::abs(T - atT) <= 1e-9 * std::max(1.0, std::abs(atT)); }
+
+namespace {
+// The base deck with case `c`'s values.
+ParameterList withCaseValues(const StudyDeck& deck, const Case& c) {
   ParameterList caseDeck(*deck.baseDeck);
   for (const auto& [var, value] : c.settings)
     setValue(caseDeck, *var, value, "case " + std::to_string(c.index) + " (group \"" + c.group + "\")");
+  return caseDeck;
+}
+}  // namespace
+
+void checkAtTIsAStep(const StudyDeck& deck, const Case& c) {
+  ParameterList caseDeck = withCaseValues(deck, c);
   const ParameterList& stepping = caseDeck.sublist("Load Stepping");
   std::vector<double> steps;
   std::string how;
@@ -375,7 +385,7 @@ void checkAtTIsAStep(const StudyDeck& deck, const Case& c) {
   if (steps.empty()) return;
   const double atT = deck.atT;
   for (double t : steps)
-    if (std::abs(t - atT) <= 1e-9 * std::max(1.0, std::abs(atT))) return;
+    if (isAtT(t, atT)) return;
   std::ostringstream m;
   m << "parameter \"" << deck.root << "/At T\" = " << atT << " is not a load step of case " << c.index << " (group \""
     << c.group << "\", " << how << ": steps at ";
@@ -386,9 +396,7 @@ void checkAtTIsAStep(const StudyDeck& deck, const Case& c) {
 }
 
 std::string caseDeckXml(const StudyDeck& deck, const Case& c, bool timing) {
-  ParameterList caseDeck(*deck.baseDeck);
-  for (const auto& [var, value] : c.settings)
-    setValue(caseDeck, *var, value, "case " + std::to_string(c.index) + " (group \"" + c.group + "\")");
+  ParameterList caseDeck = withCaseValues(deck, c);
   // The case's deck names its folder where a deck may (relative, no ".."), so it can be run again
   // by itself; otherwise it keeps the default (results/deck). The study runs it with --output.
   const bool deckMayName = c.dir.is_relative() &&

@@ -86,6 +86,8 @@ const Case* referenceCase(const StudyDeck& deck, const std::vector<Case>& all);
 // The deck `c` runs, as XML: the base deck with the case's values, naming the case's folder where a
 // deck may; with `timing`, VTK output off.
 std::string caseDeckXml(const StudyDeck& deck, const Case& c, bool timing);
+// Whether load factor `T` (a step's, as a results table gives it) is the study's `atT`.
+bool isAtT(double T, double atT);
 // Refuses a study whose "At T" is not a load step of case `c` (its deck's Load Factors, or its Number
 // of Increments equal steps): the outputs are read at a converged step, and the case would end
 // complete with none.

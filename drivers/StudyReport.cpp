@@ -45,7 +45,7 @@ std::string jsonString(const std::string& s) {
 // Reads the outputs of a finished case at load factor `atT`; empty text where the run did not get there.
 std::map<std::string, std::string> readOutputs(const fs::path& dir, const std::vector<Output>& outputs, double atT) {
   std::map<std::string, std::string> out;
-  auto atRow = [&](double T) { return std::abs(T - atT) <= 1e-9 * std::max(1.0, std::abs(atT)); };
+  auto atRow = [&](double T) { return isAtT(T, atT); };
   std::ifstream tracked(dir / "tracked_points.csv");
   std::string line;
   std::vector<std::string> header;

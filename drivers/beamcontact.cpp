@@ -42,7 +42,6 @@
 #include "BuildInfo.hpp"
 #include "core/OutputDirectory.hpp"
 #include "core/Provenance.hpp"
-#include "core/Sha256.hpp"
 #include "core/Simulation.hpp"
 #include "input/Deck.hpp"
 #include "input/Reference.hpp"
@@ -386,8 +385,7 @@ int runDeck(const RunRequest& request) {
   std::string deckDigest;
   bc::core::collectively(*comm, [&] {
     bc::core::injectFault("deck");
-    list = bc::input::readDeckFile(deck);
-    deckDigest = bc::core::sha256File(deck);
+    list = bc::input::readDeckFile(deck, &deckDigest);
     // The deck's Plugins (and digests) against --plugin before any library is loaded.
     bc::input::checkDeckPlugins(list, deck, request.plugins);
   });

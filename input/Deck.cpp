@@ -931,9 +931,9 @@ void readContact(Problem& p, ParameterList& deck, const std::string& top) {
 
 }  // namespace
 
-ParameterList readDeckFile(const std::string& path) {
+ParameterList readDeckFile(const std::string& path, std::string* sha256) {
   if (!std::filesystem::exists(path)) throw InputError("deck file \"" + path + "\" does not exist");
-  return readParameterXmlFile(path);
+  return readParameterXmlFile(path, sha256);
 }
 
 Problem buildProblem(ParameterList deck, const std::string& deckName) {

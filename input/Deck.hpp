@@ -39,8 +39,9 @@ struct Problem {
   Teuchos::ParameterList effective;  // the whole deck with defaults filled in
 };
 
-// Parses the file; throws core::InputError naming the file for a missing file or malformed XML.
-Teuchos::ParameterList readDeckFile(const std::string& path);
+// Parses the file (with `sha256`, also the digest of the text read); throws core::InputError naming
+// the file for a missing file or malformed XML.
+Teuchos::ParameterList readDeckFile(const std::string& path, std::string* sha256 = nullptr);
 // Validates `deck` (defaults are filled in place) and builds the problem. The enforcement strategies
 // must be registered first (constraints::registerBuiltinEnforcers()). `deckName` names the default
 // results directory ("results/<deckName>").

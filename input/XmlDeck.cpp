@@ -19,6 +19,7 @@
 
 #include "core/Checkpoint.hpp"
 #include "core/Parameters.hpp"
+#include "core/Sha256.hpp"
 
 namespace bc::input {
 
@@ -445,7 +446,7 @@ ParameterList parseParameterXml(const std::string& text, const std::string& sour
   return Parser(text, source).parse();
 }
 
-ParameterList readParameterXmlFile(const std::string& path) {
+ParameterList readParameterXmlFile(const std::string& path, std::string* sha256) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw InputError("file \"" + path + "\" does not exist");
   if (std::filesystem::is_directory(path, ec)) throw InputError("\"" + path + "\" is a directory, not a deck file");
@@ -476,8 +477,9 @@ ParameterList readParameterXmlFile(const std::string& path) {
   }
   // Grown since, or no size known (a pipe, a device): the rest, a chunk at a time, within the limit and
   // only while it is text (/dev/zero or /dev/urandom would otherwise be read until memory runs out).
-  std::vector<char> chunk(std::size_t(1) << 20);
+  std::vector<char> chunk;
   while (f.peek() != std::ifstream::traits_type::eof()) {
+    chunk.resize(std::size_t(1) << 20);  // (allocated only when there is a rest)
     f.read(chunk.data(), static_cast<std::streamsize>(chunk.size()));
     const auto got = static_cast<std::size_t>(f.gcount());
     const auto nul = std::find(chunk.begin(), chunk.begin() + got, '\0') - chunk.begin();
@@ -487,6 +489,7 @@ ParameterList readParameterXmlFile(const std::string& path) {
     if (text.size() + got > kMaxBytes) throw InputError("file \"" + path + "\" is " + kTooLarge);
     text.append(chunk.data(), got);
   }
+  if (sha256) *sha256 = core::sha256Hex(text);
   return parseParameterXml(text, path);
 }
 

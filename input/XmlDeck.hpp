@@ -25,7 +25,8 @@ namespace bc::input {
 // Parses `text`; `source` names it in messages ("deck.xml"). Throws core::InputError.
 Teuchos::ParameterList parseParameterXml(const std::string& text, const std::string& source);
 // Reads and parses a file. Throws core::InputError for a missing, unreadable or oversized file.
-Teuchos::ParameterList readParameterXmlFile(const std::string& path);
+// With `sha256`, also the SHA-256 of the text read (hex), from the one reading.
+Teuchos::ParameterList readParameterXmlFile(const std::string& path, std::string* sha256 = nullptr);
 
 // Parameter paths ("Contact/Enforcement/Type", relative to the list given): the sublist at a path
 // (created when `create`, else an InputError naming the path), and a parameter set at a path (its

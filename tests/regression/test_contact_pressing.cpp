@@ -310,7 +310,9 @@ TEST(PaperExamples, Example2IsotropicCoulombAugmentedLagrangeSlidesWhereLagrange
     std::printf("example2.xml Isotropic Coulomb, %s: A (%.9f, %.9f)  N %.6f  Newton %d\n", type, A[0], A[2], c.normal,
                 r.report.newtonIterations);
     for (const auto& [key, pt] : p.contact->points())
-      if (pt.result.active) EXPECT_TRUE(pt.result.slip[0] && pt.result.slip[1]);
+      if (pt.result.active) {
+        EXPECT_TRUE(pt.result.slip[0] && pt.result.slip[1]);
+      }
     got[type] = {A[0], A[2], c.normal};
   }
   const auto& l = got["Lagrange Multiplier"];
