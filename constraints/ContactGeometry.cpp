@@ -64,9 +64,10 @@ std::pair<double, double> ContactGeometry::blendAngles(int pair) const {
   // Circular sections: the deck's angles. Rectangular ones: their edges' point contact holds down to
   // small angles (crossings at 0.1 .. 12 degrees complete), while the face contact's edges missed
   // B's edges on A's face at a crossing when only A's edges took part (crossings at 4 .. 12 degrees
-  // failed at first contact with the deck's angles; not measured since B's edges take part): line
-  // contact only where the edges are parallel within Parallel Line Tolerance, and the blend up to
-  // twice that angle.
+  // failed at first contact with the deck's angles; with B's edges taking part, crossings at 1 and 2
+  // degrees pressed with friction still stop: Lagrange's rows on both beams' edges become dependent):
+  // line contact only where the edges are parallel within Parallel Line Tolerance, and the blend up
+  // to twice that angle.
   if (!rectangles(pair)) return {options_.lineAngle, options_.pointAngle};
   const double parallel = std::asin(std::min(1.0, options_.minimumSinAngle));
   return {parallel, 2.0 * parallel};

@@ -49,6 +49,8 @@ class ContactSearch {
   void checkNoPassThrough(const core::State& state, const std::function<bool(int, int, int)>& held) const;
 
  private:
+  // How deep the rectangular sections of elements ea and eb overlap across A's axis (negative: apart).
+  double sectionOverlap(const core::State& state, int ea, int eb) const;
   const ContactGeometry& geometry_;
   Teuchos::RCP<const Teuchos::Comm<int>> comm_;
 };

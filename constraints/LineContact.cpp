@@ -297,26 +297,51 @@ double LineContact::fieldCompliance(const PointKey& node) const {
 }
 
 std::pair<std::array<int, 2>, int> LineContact::facing(int eA, int eB, const core::State& s) const {
-  const BeamElement &a = geometry_.beams().elements()[eA], &b = geometry_.beams().elements()[eB];
-  const Vec3d mA = 0.5 * (s.position[a.node1] + s.position[a.node2]);
-  const Vec3d mB = 0.5 * (s.position[b.node1] + s.position[b.node2]);
-  const Vec3d tA = s.position[a.node2] - s.position[a.node1];
-  Vec3d d = mB - mA;
+  // The faces that touch are those across the direction that separates the two sections most (or
+  // lets them overlap least): of the four face normals of the two sections, the one along which the
+  // centres lie furthest beyond the two sections' reach. (The direction between the axes alone took
+  // the side faces of two flat beams crossing at 2 degrees where their axes lay further apart
+  // sideways than up, and refused the deck for an overlap of those side faces.) Decided for the
+  // element pair in one order, so that both ways round agree where two directions tie (squares).
+  const auto& elems = geometry_.beams().elements();
+  const bool swapped = eB < eA;
+  const BeamElement &a = elems[swapped ? eB : eA], &b = elems[swapped ? eA : eB];
+  // Between the axes' closest points (elements of a crossing that overlap along the axes only in
+  // part lie apart sideways by the crossing's drift between their midpoints).
+  const Vec3d &a1 = s.position[a.node1], &a2 = s.position[a.node2];
+  const Vec3d &b1 = s.position[b.node1], &b2 = s.position[b.node2];
+  const SegmentClosest c = segmentClosest(a1, a2, b1, b2);
+  const Vec3d tA = a2 - a1;
+  Vec3d d = (b1 + c.t * (b2 - b1)) - (a1 + c.s * tA);
   d = d - (dot(d, tA) / dot(tA, tA)) * tA;
   // Face f of a section: outward normal +e2, +e3, -e2, -e3 for f = 0..3 (current: R_1 T0).
-  const auto best = [&](const BeamElement& e, const Vec3d& towards) {
+  const auto normal = [&](const BeamElement& e, int f) {
+    return (f < 2 ? 1.0 : -1.0) * (s.rotation[e.node1] * column(e.data.T0, 1 + f % 2));
+  };
+  const auto reach = [&](const BeamElement& e, const Vec3d& u) {
+    const auto& sec = geometry_.beams().beams()[e.beam].section;
+    return 0.5 * sec.width * std::abs(dot(u, normal(e, 0))) + 0.5 * sec.height * std::abs(dot(u, normal(e, 1)));
+  };
+  const auto toward = [&](const BeamElement& e, const Vec3d& u) {
     int face = 0;
-    double most = -1e300;
-    for (int f = 0; f < 4; ++f) {
-      const Vec3d n = (f < 2 ? 1.0 : -1.0) * (s.rotation[e.node1] * column(e.data.T0, 1 + f % 2));
-      if (dot(n, towards) > most) {
-        most = dot(n, towards);
-        face = f;
-      }
-    }
+    for (int f = 1; f < 4; ++f)
+      if (dot(normal(e, f), u) > dot(normal(e, face), u)) face = f;
     return face;
   };
-  const int faceA = best(a, d), faceB = best(b, -1.0 * d);
+  Vec3d best{};
+  double most = -1e300;
+  for (const BeamElement* e : {&a, &b})
+    for (int f = 0; f < 2; ++f) {
+      Vec3d u = normal(*e, f);
+      if (dot(u, d) < 0.0) u = -1.0 * u;
+      const double separation = dot(u, d) - reach(a, u) - reach(b, u);
+      if (separation > most + 1e-12 * (1.0 + std::abs(most))) {  // (ties keep the first: A's, then B's)
+        most = separation;
+        best = u;
+      }
+    }
+  int faceA = toward(a, best), faceB = toward(b, -1.0 * best);
+  if (swapped) std::swap(faceA, faceB);
   // A's edges on its face (lines 0..3 at (+y,+z), (-y,+z), (-y,-z), (+y,-z)).
   static const std::array<int, 2> edgesOf[4] = {{0, 3}, {0, 1}, {1, 2}, {2, 3}};
   return {edgesOf[faceA], faceB};

@@ -498,12 +498,13 @@ TEST(LineContact, OverlapBetweenGaussPointsIsReported) {
 
 // Rectangular sections crossing at small angles: point contact of their edges down to Parallel Line
 // Tolerance, face contact (line contact) only below it. The beams of the test above, with 2 x 1
-// sections, crossing at 12 .. 1 degrees, pressed together, Penalty: every crossing completes with
-// point contact. (With the circles' blend angles, 5 and 15 degrees, the crossings at 4 .. 12 degrees
-// failed at first contact when the face contact saw A's edges on B's face only, not B's edges on
-// A's face. Exactly parallel, this loading still fails at first contact, T = 0.85: docs/contact.md.)
+// sections, crossing at 12, 8 and 4 degrees, pressed together, Penalty: every crossing completes with
+// point contact. (At 1 degree the rod's held ends lie on the ground's: the next test.) (With the circles' blend angles,
+// 5 and 15 degrees, the crossings at 4 .. 12 degrees failed at first contact when the face contact saw A's edges on B's
+// face only, not B's edges on A's face. Exactly parallel, this loading still fails at first contact, T = 0.85:
+// docs/contact.md.)
 TEST(LineContact, RectanglesCrossingAtSmallAnglesComplete) {
-  for (const double degrees : {12.0, 8.0, 4.0, 1.0}) {
+  for (const double degrees : {12.0, 8.0, 4.0}) {
     auto deck = toRectangles(parallelBeams("Penalty", 20, 12, 0.0, 1e5, 6, degrees, 0.1));
     pressCrossing(deck);
     auto p = input::buildProblem(deck, "rectangles_crossing");
@@ -522,6 +523,63 @@ TEST(LineContact, RectanglesCrossingAtSmallAnglesComplete) {
     EXPECT_EQ(lines, 0);
     EXPECT_GT(points, 0);
   }
+}
+
+// Rectangles crossing at 1 degree are in point contact (above Parallel Line Tolerance), whose points
+// sit where the edges cross; faces lying on each other along the beams elsewhere are not seen, and a
+// run must not end "complete" with them overlapping:
+// - the crossing above, pressed at the rod's clamped ends, which at 1 degree lie on the ground's
+//   clamped ends (held together and pressed into each other by 0.02): the run stops naming the faces'
+//   overlap (it ended "complete" with the rod's ends in the ground);
+// - two pinned 2 x 1 beams at 1 degree, the upper under q = 0.01 (consistent loads), Lagrange: in
+//   point contact the run stops the same way (it ended "complete" with 0.3195, 37 % below the line
+//   contact it is); forced into line contact (Parallel Line Tolerance sin 2 degrees) it completes with
+//   a total within 1 % of q L / 2, the closed form at 0 degrees (two identical pinned beams deflect
+//   alike, each carrying q / 2; measured 0.4 % below at 1 degree), and at 2 degrees it completes
+//   (the faces in contact chosen as those the sections' separating axes give: the direction between
+//   the axes picked the side faces there and refused the deck for an overlap at the start).
+TEST(LineContact, RectanglesFaceOnFaceAtOneDegreeAreSeenOrStopTheRun) {
+  const auto facesOverlap = [](const std::string& failure) {
+    return failure.find("whose faces overlap by") != std::string::npos;
+  };
+  {
+    auto deck = toRectangles(parallelBeams("Penalty", 20, 12, 0.0, 1e5, 6, 1.0, 0.1));
+    pressCrossing(deck);
+    auto p = input::buildProblem(deck, "rectangles_one_degree");
+    const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "rectangles_one_degree");
+    EXPECT_FALSE(r.report.completed);
+    EXPECT_TRUE(facesOverlap(r.report.failure)) << r.report.failure;
+  }
+  const double q = 0.01;
+  const auto pinned = [&](double degrees, double parallel) {
+    auto deck = toRectangles(parallelBeams("Lagrange Multiplier", 10, 10, 0.0, 1e5, 6, degrees));
+    for (const char* beam : {"ground", "rod"}) {
+      support(deck, beam, 0, "ux uy uz rx");
+      support(deck, beam, 10, "uy uz rx");
+    }
+    uniformLoad(deck, "rod", 10, q);
+    input::replaceAtPath(deck, "Load Stepping/Number of Increments", 10);
+    if (parallel > 0.0) input::setAtPath(deck, "Contact/Parallel Line Tolerance", parallel);
+    auto p = input::buildProblem(deck, "pinned_rectangles");
+    const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "pinned_rectangles");
+    double total = 0.0;
+    for (const auto& [key, pt] : p.contact->points())
+      if (!pt.node() && pt.result.active) total += -pt.result.lambdaN;
+    return std::make_pair(r, total);
+  };
+  const auto [point, unused] = pinned(1.0, 0.0);
+  (void)unused;
+  EXPECT_FALSE(point.report.completed);
+  EXPECT_TRUE(facesOverlap(point.report.failure)) << point.report.failure;
+  const double lines = std::sin(2.0 * std::acos(-1.0) / 180.0);
+  const auto [one, total] = pinned(1.0, lines);
+  ASSERT_TRUE(one.report.completed) << one.report.failure;
+  std::printf("pinned rectangles at 1 degree in line contact: total %.6f (q L / 2 = %.6f at 0 degrees)\n", total,
+              q * 50.0);
+  EXPECT_NEAR(total, q * 50.0, 0.01 * q * 50.0);
+  const auto [two, totalTwo] = pinned(2.0, lines);
+  EXPECT_TRUE(two.report.completed) << two.report.failure;
+  std::printf("pinned rectangles at 2 degrees in line contact: total %.6f\n", totalTwo);
 }
 
 // Rectangular sections lying face to face are in line contact on the two edges of A's upper face
