@@ -381,10 +381,11 @@ void ContactSearch::checkNoUnseenContact(const core::State& state, bool atStart,
     const Vec3d &b1 = state.position[B.node1], &b2 = state.position[B.node2];
     const SegmentClosest c = segmentClosest(a1, a2, b1, b2);
     // (Rectangles may overlap with their axes further apart than the inscribed radii sum, up to the
-    // half diagonals' sum: only the small-angle test of their faces, below, looks there.)
+    // half diagonals' sum: there only the tests of their sections' overlap, sectionOverlap, look.)
     const bool inner = c.distance < reach * (1.0 - 1e-9);
-    if (!inner && !(geometry_.rectangles(pi) && !lines &&
-                    c.distance < geometry_.circumscribed(pair.beamA) + geometry_.circumscribed(pair.beamB)))
+    const bool rectangles = geometry_.rectangles(pi);
+    if (!inner &&
+        !(rectangles && c.distance < geometry_.circumscribed(pair.beamA) + geometry_.circumscribed(pair.beamB)))
       return;
     const bool endA = (c.s == 0.0 && geometry_.freeEnd(A.node1)) || (c.s == 1.0 && geometry_.freeEnd(A.node2));
     const bool endB = (c.t == 0.0 && geometry_.freeEnd(B.node1)) || (c.t == 1.0 && geometry_.freeEnd(B.node2));
@@ -399,7 +400,7 @@ void ContactSearch::checkNoUnseenContact(const core::State& state, bool atStart,
       throw std::runtime_error(s.str());
     };
     // (Two free ends nearest each other are end-to-end contact's, below, even in line contact.)
-    if (inner && lines && !(endA && endB)) {
+    if ((inner || rectangles) && lines && !(endA && endB)) {
       // An element's material ends at the planes through its nodes: where the other axis's closest
       // point lies beyond such a plane, the axes' distance is no overlap of these two elements (the
       // neighbour past that node has its own pair; past a free end there is nothing, or end-to-end
@@ -432,9 +433,13 @@ void ContactSearch::checkNoUnseenContact(const core::State& state, bool atStart,
             << (coincide ? " (the axes coincide: no direction separates them)" : "");
         refuse(why.str());
       }
-      if (!(c.distance < reach - kUnresolvedLine * geometry_.thinner(pi)) || seen(pi, ea, eb)) return;
+      // (Rectangles: their sections' overlap, sectionOverlap; the axes' distance against the
+      // inscribed radii missed a 10 x 1 plate pushed 1.5 into a 1 x 5 beam in one increment, which
+      // ended "complete" with no force.)
+      const double depth = sectionOverlap(state, ea, eb);
+      if (!(depth > kUnresolvedLine * geometry_.thinner(pi)) || seen(pi, ea, eb)) return;
       std::ostringstream why;
-      why << " (their sections' inscribed radii sum to " << reach
+      why << " (their sections overlap by " << depth
           << "), in line contact of rectangular sections where no line point sees the overlap (line contact "
           << "sees an edge of one beam on the face of the other facing it)";
       refuse(why.str());

@@ -742,6 +742,87 @@ TEST(LineContact, NarrowOnWideRectanglesCarryTheLoadEitherWayRound) {
   }
 }
 
+// A flat plate on a tall beam in one increment: two cantilevers clamped at x = 0, the ground 1 wide
+// and 5 tall, the rod a 10 x 1 plate lying on it, loaded by q = 0.01 (consistent loads; alone its
+// tip would go 1.5 down, through the ground). With exact contact both deflect alike: the traction is
+// uniform, p = q I_g / (I_g + I_r) = q 125 / 135 (I_g = 125 / 12, I_r = 10 / 12), total p L on the
+// ground's two edges (Penalty: the rod's clamp lowered by p / (2 eps_N), as above). Every strategy,
+// either beam as A, in one increment: complete, the total within 1e-4 of p L (measured 2.3e-5
+// Penalty, 4.3e-5 Lagrange and Augmented Lagrange: below), the same either way round (1e-8).
+// Before, Lagrange and Augmented Lagrange ended "complete" with no force and the plate 1.5 inside
+// the ground: the axes (2.5 apart) were further apart than the inscribed radii sum (1), which the
+// unseen-overlap test took for apart; it now tests the sections' overlap (separating axes) and cuts
+// the increment.
+TEST(LineContact, FlatPlateOnATallBeamInOneIncrementCarriesTheClosedFormTraction) {
+  const int n = 10;
+  const double q = 0.01, L = 100.0, p = q * 125.0 / 135.0, eps = 100.0;
+  double onePlate = 0.0;  // the force with the tall beam as A
+  for (const std::string type : {"Penalty", "Lagrange Multiplier", "Augmented Lagrange"})
+    for (const bool plateIsA : {false, true}) {
+      auto deck = narrowOnWide(type, plateIsA, n);
+      for (const auto& [beam, width, height] :
+           {std::make_tuple("ground", 1.0, 5.0), std::make_tuple("rod", 10.0, 1.0)}) {
+        input::replaceAtPath(deck, std::string("Beams/") + beam + "/Section/Width", width);
+        input::replaceAtPath(deck, std::string("Beams/") + beam + "/Section/Height", height);
+      }
+      for (const char* end : {"Start", "End"}) {
+        auto x = deck.sublist("Beams").sublist("rod").get<Teuchos::Array<double>>(end);
+        x[2] = 3.0;
+        deck.sublist("Beams").sublist("rod").set(end, x);
+      }
+      input::setAtPath(deck, "Contact/Enforcement/Penalty/Normal Penalty Parameter", eps);
+      if (type == "Augmented Lagrange")
+        input::setAtPath(deck, "Contact/Enforcement/Augmented Lagrange/Gap Tolerance", 1e-10);
+      support(deck, "ground", 0, "all");
+      support(deck, "rod", 0, "all", type == "Penalty" ? -p / (2 * eps) : 0.0);
+      uniformLoad(deck, "rod", n, q);
+      auto problem = input::buildProblem(deck, "plate_on_tall");
+      const auto r = test::runQuiet(problem, Tpetra::getDefaultComm(), "plate_on_tall");
+      ASSERT_TRUE(r.report.completed) << type << ": " << r.report.failure;
+      const NarrowSums s = narrowSums(problem, plateIsA);
+      std::printf("%s, A the %s: %d steps, force on the plate %.10f (p L = %.10f), deepest %.2e\n", type.c_str(),
+                  plateIsA ? "plate" : "tall beam", r.report.steps, s.onRod, p * L, s.deepest);
+      // (The closed form is linear: the faces lie 2.5 above the ground's axis and 0.5 below the
+      // plate's, so the nodes' turns theta (up to 1.5e-3) change their gap by 3 theta^2 / 2 on a
+      // deflection of 0.11, about 3e-5 of it: 1e-4.)
+      EXPECT_NEAR(s.onRod, p * L, 1e-4 * p * L) << type;
+      if (plateIsA) EXPECT_NEAR(s.onRod, onePlate, 1e-8 * p * L) << type << ": either way round";
+      onePlate = s.onRod;
+    }
+}
+
+// The narrow-on-wide cantilevers with the narrow one lifted 0.2 and loaded by q = 1 in one increment
+// (Penalty, eps_N 1e4, 10 elements): its first Newton step turns the narrow beam's elements by about
+// 2 degrees against the wide one's, beyond the rectangles' blend (twice Parallel Line Tolerance), so
+// its line points carry nothing there, and no edges cross for point contact. They counted as seeing
+// the overlap, and the run ended "complete" with the narrow beam 2.1 inside the other and no force;
+// now the increment is cut. Must: complete, the force on the narrow beam balance its load and clamp
+// (1e-8), and equal the answer of 20 increments (1e-8; measured equal to 10 digits, 35.7416).
+TEST(LineContact, LiftedNarrowBeamPressedInOneIncrementEqualsTwentyIncrements) {
+  const int n = 10;
+  const double q = 1.0, L = 100.0;
+  std::map<int, double> force;
+  for (const int increments : {1, 20}) {
+    auto deck = narrowOnWide("Penalty", false, n, 0.0, 0.0, 0.2);
+    input::setAtPath(deck, "Contact/Enforcement/Penalty/Normal Penalty Parameter", 1e4);
+    input::replaceAtPath(deck, "Load Stepping/Number of Increments", increments);
+    support(deck, "ground", 0, "all");
+    support(deck, "rod", 0, "all");
+    uniformLoad(deck, "rod", n, q);
+    auto problem = input::buildProblem(deck, "lifted_narrow");
+    const auto r = test::runQuiet(problem, Tpetra::getDefaultComm(), "lifted_narrow");
+    ASSERT_TRUE(r.report.completed) << increments << " increments: " << r.report.failure;
+    const NarrowSums s = narrowSums(problem, false);
+    const double reaction = lastReactions(test::scratchDirectory("lifted_narrow_np1")).at("rod 0_Fz");
+    std::printf("lifted narrow beam, %2d increments: %d steps, force on it %.10f, its clamp %.10f\n", increments,
+                r.report.steps, s.onRod, reaction);
+    EXPECT_NEAR(s.onRod + reaction, q * L, 1e-8 * q * L);
+    EXPECT_GT(s.onRod, 0.0);
+    force[increments] = s.onRod;
+  }
+  EXPECT_NEAR(force[1], force[20], 1e-8 * force[20]);
+}
+
 // Narrow on wide rectangles crossing at 2 degrees, forced into line contact (Parallel Line
 // Tolerance sin 3 degrees): the wide beam from x = 20 to 80, the narrow one (length 100) turned about
 // (50, 0) and lifted by 0.1, both clamped at their ends, the narrow one's ends (beyond the wide beam)
