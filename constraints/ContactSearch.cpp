@@ -323,20 +323,32 @@ double ContactSearch::sectionOverlap(const core::State& state, int ea, int eb) c
   const Vec3d &a1 = state.position[A.node1], &a2 = state.position[A.node2];
   const Vec3d &b1 = state.position[B.node1], &b2 = state.position[B.node2];
   const Vec3d tA = (1.0 / norm(a2 - a1)) * (a2 - a1), tB = b2 - b1;
-  const auto across = [&](const BeamElement& e, int k) {  // a section axis (k = 1, 2) across A's axis
-    const Vec3d v = state.rotation[e.node1] * column(e.data.T0, k);
+  // A section's axes (k = 1, 2) at u along its element, the nodes' blended (a twisting element's
+  // section turns between them), across A's axis.
+  const auto across = [&](const BeamElement& e, double u, int k) {
+    const Vec3d v = (1.0 - u) * (state.rotation[e.node1] * column(e.data.T0, k)) +
+                    u * (state.rotation[e.node2] * column(e.data.T0, k));
     const Vec3d w = v - dot(v, tA) * tA;
     const double n = norm(w);
     return n > 0.0 ? (1.0 / n) * w : w;
   };
-  const Vec3d axes[2][2] = {{across(A, 1), across(A, 2)}, {across(B, 1), across(B, 2)}};
   const auto reach = [&](const BeamElement& e, const Vec3d(&x)[2], const Vec3d& u) {
     const auto& sec = beams[e.beam].section;
     return 0.5 * sec.width * std::abs(dot(u, x[0])) + 0.5 * sec.height * std::abs(dot(u, x[1]));
   };
-  // Stations: A's nodes and middle projected on B's axis, and B's on A's, where they fall on the
+  // A point of an element's axis at u: the cubic Hermite curve through its nodes with the nodal
+  // tangents R_m (X_2 - X_1), line contact's axis (a bent element's chord lies off it by up to
+  // 4 / 27 of its tangents' turn times its length, more than the depth this test looks for).
+  const auto axis = [&](const BeamElement& e, double u) {
+    const Vec3d d1 = e.data.L0 * (state.rotation[e.node1] * column(e.data.T0, 0));
+    const Vec3d d2 = e.data.L0 * (state.rotation[e.node2] * column(e.data.T0, 0));
+    const double h1 = 1.0 - 3.0 * u * u + 2.0 * u * u * u, h2 = u - 2.0 * u * u + u * u * u;
+    const double h3 = 3.0 * u * u - 2.0 * u * u * u, h4 = u * u * u - u * u;
+    return h1 * state.position[e.node1] + h2 * d1 + h3 * state.position[e.node2] + h4 * d2;
+  };
+  // Stations: A's nodes and middle projected on B's chord, and B's on A's, where they fall on the
   // other element (a closest point of two elements side by side that do not overlap along their
-  // axes compares sections an element apart).
+  // axes compares sections an element apart), the sections' centres on the two axes there.
   const Vec3d uA = a2 - a1;
   double deepest = -std::numeric_limits<double>::infinity();
   for (int side = 0; side < 2; ++side)
@@ -345,7 +357,9 @@ double ContactSearch::sectionOverlap(const core::State& state, int ea, int eb) c
       const Vec3d &o = side == 0 ? b1 : a1, &u = side == 0 ? tB : uA;
       const double t = dot(p - o, u) / dot(u, u);
       if (t < 0.0 || t > 1.0) continue;
-      Vec3d d = side == 0 ? o + t * u - p : p - (o + t * u);
+      const double onA = side == 0 ? r : t, onB = side == 0 ? t : r;
+      const Vec3d axes[2][2] = {{across(A, onA, 1), across(A, onA, 2)}, {across(B, onB, 1), across(B, onB, 2)}};
+      Vec3d d = axis(B, onB) - axis(A, onA);
       d = d - dot(d, tA) * tA;
       double depth = std::numeric_limits<double>::infinity();
       for (const auto& pair : axes)
