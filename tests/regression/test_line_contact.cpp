@@ -580,6 +580,24 @@ TEST(LineContact, RectanglesFaceOnFaceAtOneDegreeAreSeenOrStopTheRun) {
   const auto [two, totalTwo] = pinned(2.0, lines);
   EXPECT_TRUE(two.report.completed) << two.report.failure;
   std::printf("pinned rectangles at 2 degrees in line contact: total %.6f\n", totalTwo);
+  // Stiff beams (E = 1e9, q = 1: 3.9e-3 deflection at mid-span), Penalty (eps_N 1e9) with 20 elements, at 0.5 and
+  // 1 degree: the faces come 2e-4 inside each other at the quarter points, so the run must stop (it
+  // ended "complete" with 5 q L / 16, the single central point's answer, 37 % below q L / 2, while the
+  // test took overlaps below 1e-3 of the inscribed radius for none).
+  for (const double degrees : {0.5, 1.0}) {
+    auto deck = toRectangles(parallelBeams("Penalty", 20, 20, 0.0, 1e9, 6, degrees));
+    input::setAtPath(deck, "Contact/Enforcement/Penalty/Normal Penalty Parameter", 1e9);
+    for (const char* beam : {"ground", "rod"}) {
+      support(deck, beam, 0, "ux uy uz rx");
+      support(deck, beam, 20, "uy uz rx");
+    }
+    uniformLoad(deck, "rod", 20, 1.0);
+    input::replaceAtPath(deck, "Load Stepping/Number of Increments", 2);
+    auto p = input::buildProblem(deck, "stiff_rectangles");
+    const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "stiff_rectangles");
+    EXPECT_FALSE(r.report.completed) << degrees << " degrees";
+    EXPECT_TRUE(facesOverlap(r.report.failure)) << degrees << " degrees: " << r.report.failure;
+  }
 }
 
 // Rectangular sections lying face to face are in line contact on the two edges of A's upper face
