@@ -72,6 +72,16 @@ inline void orient(ClosestPoints& cp, double sigma, double radiusSum) {
 // The unit vector t_B x t_A / |t_B x t_A| (the normal before its orientation sigma).
 inline Vec3d lineCross(const ClosestPoints& cp) { return cp.sigma * cp.normal; }
 
+// How far a section reaches from its centre along the unit direction u: a rectangle whose width lies
+// along e2 and height along e3, or a disc normal to e1.
+inline double sectionReach(const elements::CrossSection& sec, const Vec3d& e1, const Vec3d& e2, const Vec3d& e3,
+                           const Vec3d& u) {
+  if (sec.shape == elements::CrossSection::Shape::Rectangle)
+    return 0.5 * sec.width * std::abs(dot(u, e2)) + 0.5 * sec.height * std::abs(dot(u, e3));
+  const double c = dot(u, e1);
+  return sec.radius * std::sqrt(std::max(0.0, 1.0 - c * c));
+}
+
 class ContactGeometry {
  public:
   // `lineContact`: the strategy enforces lines (and the options switch line contact on).
@@ -141,6 +151,10 @@ class ContactGeometry {
   // The blend weight at the axes' angle in `s` (without variations).
   double blendWeightAt(const ContactPointRecord& p, const core::State& s) const {
     return blendWeight(p, std::cos(axisAngle(p.elementA, p.elementB, s)), nullptr, nullptr);
+  }
+  // A point of a blended pair whose weight is zero in `s`: it carries nothing there.
+  bool carriesNothing(const ContactPointRecord& p, const core::State& s) const {
+    return blends(p.key.pair) && blendWeightAt(p, s) == 0.0;
   }
 
   // The point as its strategy sees it, with kinematics `k` in `state`.

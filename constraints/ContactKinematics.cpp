@@ -516,6 +516,12 @@ void segmentPoint(const Vec3<T>* P, const Vec3<T>* V, const Vec3<T>* S, bool cub
 
 }  // namespace
 
+Vec3d hermitePoint(const Vec3d& P1, const Vec3d& V1, const Vec3d& P2, const Vec3d& V2, double u) {
+  Vec3d x;
+  hermite(P1, V1, P2, V2, u, &x, nullptr, nullptr);
+  return x;
+}
+
 ClosestPoints closestPoints(const LinePairInput& in) {
   ClosestPoints cp;
   const Vec3d pA1 = in.xA1 + in.RA1 * in.oA, pA2 = in.xA2 + in.RA2 * in.oA;

@@ -149,6 +149,10 @@ struct ContactKinematics {
   Vector24 segmentR{};
 };
 
+// The cubic Hermite curve through P1, P2 with end tangents V1, V2 (per unit parameter) at u: line
+// contact's axis of an element, with V_m = R_m (X_2 - X_1).
+Vec3d hermitePoint(const Vec3d& P1, const Vec3d& V1, const Vec3d& P2, const Vec3d& V2, double u);
+
 // Line contact (circular sections, nearly parallel axes) at the Gauss point xi of axis A: its
 // projection on axis B (the point of B's Hermite axis where t_B(eta) . (p_B - p_A) = 0, by Newton's
 // method from the chord's projection), in double precision (sinAngle of the chords, xi, eta, pA, pB,

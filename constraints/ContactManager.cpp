@@ -189,7 +189,7 @@ void ContactManager::evaluate(const core::State& state, const OwnsDof& owns, cor
     const PointState* acting = actingState(p);
     if (!acting || !enforcer_->contributes(pointGeometry(p, state).gap, *acting)) continue;
     // A point of a blended pair whose weight is zero now carries nothing (the angle, cheap, first).
-    if (geometry_.blends(p.key.pair) && geometry_.blendWeightAt(p, state) == 0.0) continue;
+    if (geometry_.carriesNothing(p, state)) continue;
     const ContactKinematics k = kinematics(p, state);
     const int n = static_cast<int>(d.size());
     if (lines_.nodal() && p.line()) {
@@ -236,7 +236,7 @@ bool ContactManager::held(int pi, int ea, int eb, const core::State& state, bool
     // line points of a narrow rectangle whose elements turned by 2 degrees against the wide one's
     // in one Newton step, where no edges cross for point contact, held the overlap as "seen" while
     // the run ended "complete" with the narrow beam 2.1 inside the other and no force.)
-    if (geometry_.blends(pi) && geometry_.blendWeightAt(p, state) == 0.0) continue;
+    if (geometry_.carriesNothing(p, state)) continue;
     const PointState* acting = actingState(p);
     // (Seeing needs the gap's value only: a point that acts, or one that penetrates, whose strategy
     // has not taken it up yet, as Lagrange's points at the start.)
@@ -703,7 +703,7 @@ double ContactManager::lineStepBound(const Point& p, const core::State& state,
   // bounds the step; bounding on every crossing of zero made Newton crawl (two parallel rods pressed
   // together: 10 steps with, 15 with cuts, without). (The weighted gaps of a Lagrange field's line
   // nodes are averages of these points' gaps.)
-  if (geometry_.blends(p.key.pair) && geometry_.blendWeightAt(p, state) == 0.0) return 1.0;
+  if (geometry_.carriesNothing(p, state)) return 1.0;
   const double g0 = pointGeometry(p, state).gap;
   const double depth = kLineStepDepth * geometry_.thinner(p.key.pair), from = std::min(g0, 0.0);
   const double g1 = pointGeometry(p, stepped()).gap;

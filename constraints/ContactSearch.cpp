@@ -339,18 +339,14 @@ double ContactSearch::sectionOverlap(const core::State& state, int ea, int eb) c
     return n > 0.0 ? (1.0 / n) * w : w;
   };
   const auto reach = [&](const BeamElement& e, const Vec3d(&x)[2], const Vec3d& u) {
-    const auto& sec = beams[e.beam].section;
-    return 0.5 * sec.width * std::abs(dot(u, x[0])) + 0.5 * sec.height * std::abs(dot(u, x[1]));
+    return sectionReach(beams[e.beam].section, tA, x[0], x[1], u);
   };
-  // A point of an element's axis at u: the cubic Hermite curve through its nodes with the nodal
-  // tangents R_m (X_2 - X_1), line contact's axis (a bent element's chord lies off it by up to
-  // 4 / 27 of its tangents' turn times its length, more than the depth this test looks for).
+  // A point of an element's axis at u: line contact's cubic axis, hermitePoint (a bent element's chord
+  // lies off it by up to 4 / 27 of its tangents' turn times its length, more than the depth this test
+  // looks for).
   const auto axis = [&](const BeamElement& e, double u) {
-    const Vec3d d1 = e.data.L0 * (state.rotation[e.node1] * column(e.data.T0, 0));
-    const Vec3d d2 = e.data.L0 * (state.rotation[e.node2] * column(e.data.T0, 0));
-    const double h1 = 1.0 - 3.0 * u * u + 2.0 * u * u * u, h2 = u - 2.0 * u * u + u * u * u;
-    const double h3 = 3.0 * u * u - 2.0 * u * u * u, h4 = u * u * u - u * u;
-    return h1 * state.position[e.node1] + h2 * d1 + h3 * state.position[e.node2] + h4 * d2;
+    const auto tangent = [&](int node) { return e.data.L0 * (state.rotation[node] * column(e.data.T0, 0)); };
+    return hermitePoint(state.position[e.node1], tangent(e.node1), state.position[e.node2], tangent(e.node2), u);
   };
   // Stations: A's nodes and middle projected on B's chord, and B's on A's, where they fall on the
   // other element (a closest point of two elements side by side that do not overlap along their
@@ -439,7 +435,7 @@ void ContactSearch::checkNoUnseenContact(const core::State& state, bool atStart,
       // start a deck with such beams (one rod inside the other) ran "complete". At the start, also an
       // overlap by more than half the thinner section that no point sees (not a chord's sagitta:
       // a helical wire's chords come closer to a core than its curve by a few hundredths of it).
-      if (!geometry_.rectangles(pi)) {
+      if (!rectangles) {
         const bool coincide = c.distance <= 1e-6 * reach;
         const bool deep = c.distance < reach - 0.5 * geometry_.thinner(pi);
         // (Two coaxial ends pressed together overlap along the axis where their end-to-end point
@@ -480,13 +476,9 @@ void ContactSearch::checkNoUnseenContact(const core::State& state, bool atStart,
       const double length = norm(d);
       if (length == 0.0) return true;
       const auto reach = [&](const BeamElement& e, int node, const Vec3d& u) {
-        const auto& sec = beams[e.beam].section;
         const Mat3d& R = state.rotation[node];
-        if (sec.shape == elements::CrossSection::Shape::Rectangle)
-          return 0.5 * sec.width * std::abs(dot(u, R * column(e.data.T0, 1))) +
-                 0.5 * sec.height * std::abs(dot(u, R * column(e.data.T0, 2)));
-        const double c1 = dot(u, R * column(e.data.T0, 0));
-        return sec.radius * std::sqrt(std::max(0.0, 1.0 - c1 * c1));
+        return sectionReach(beams[e.beam].section, R * column(e.data.T0, 0), R * column(e.data.T0, 1),
+                            R * column(e.data.T0, 2), u);
       };
       const Vec3d axes[3] = {(1.0 / length) * d, state.rotation[nA] * column(A.data.T0, 0),
                              state.rotation[nB] * column(B.data.T0, 0)};
@@ -499,9 +491,10 @@ void ContactSearch::checkNoUnseenContact(const core::State& state, bool atStart,
     // and no point of the pair there holds them, the overlap is unseen. (Two face-to-face cantilevers
     // loaded in one increment turned by 0.6 degrees and ended "complete" with one 0.72 inside the
     // other and no contact force.)
-    const bool unseenFaces = !lines && !endA && !endB && !parallel && sine < kSmallFaceAngleSine &&
-                             geometry_.rectangles(pi) &&
-                             sectionOverlap(state, ea, eb) > kSectionOverlap * geometry_.thinner(pi);
+    const double facesOverlap = !lines && !endA && !endB && !parallel && sine < kSmallFaceAngleSine && rectangles
+                                    ? sectionOverlap(state, ea, eb)
+                                    : -std::numeric_limits<double>::infinity();
+    const bool unseenFaces = facesOverlap > kSectionOverlap * geometry_.thinner(pi);
     if (!inner && !unseenFaces) return;
     if (!parallel && !endToEnd && !unseenFaces) return;
     if (!parallel && seen(pi, ea, eb)) return;  // (two ends held by their end-to-end point, faces by a point)
@@ -509,7 +502,7 @@ void ContactSearch::checkNoUnseenContact(const core::State& state, bool atStart,
     s << ", ";
     if (unseenFaces) {
       s << "rectangular sections crossing at a small angle (sine " << sine << ", " << std::asin(sine) * 180.0 / M_PI
-        << " degrees) whose faces overlap by " << sectionOverlap(state, ea, eb)
+        << " degrees) whose faces overlap by " << facesOverlap
         << " where no contact point sees them: point contact sees their edges where they cross, and line contact "
            "(faces against edges) takes rectangles only below Contact/Parallel Line Tolerance ("
         << geometry_.options().minimumSinAngle

@@ -319,8 +319,8 @@ std::pair<std::array<int, 2>, int> LineContact::facing(int eA, int eB, const cor
     return (f < 2 ? 1.0 : -1.0) * (s.rotation[e.node1] * column(e.data.T0, 1 + f % 2));
   };
   const auto reach = [&](const BeamElement& e, const Vec3d& u) {
-    const auto& sec = geometry_.beams().beams()[e.beam].section;
-    return 0.5 * sec.width * std::abs(dot(u, normal(e, 0))) + 0.5 * sec.height * std::abs(dot(u, normal(e, 1)));
+    return sectionReach(geometry_.beams().beams()[e.beam].section, s.rotation[e.node1] * column(e.data.T0, 0),
+                        normal(e, 0), normal(e, 1), u);
   };
   const auto toward = [&](const BeamElement& e, const Vec3d& u) {
     int face = 0;

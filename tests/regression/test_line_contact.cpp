@@ -804,7 +804,9 @@ TEST(LineContact, FlatPlateOnATallBeamInOneIncrementCarriesTheClosedFormTraction
       // plate's, so the nodes' turns theta (up to 1.5e-3) change their gap by 3 theta^2 / 2 on a
       // deflection of 0.11, about 3e-5 of it: 1e-4.)
       EXPECT_NEAR(s.onRod, p * L, 1e-4 * p * L) << type;
-      if (plateIsA) EXPECT_NEAR(s.onRod, onePlate, 1e-8 * p * L) << type << ": either way round";
+      if (plateIsA) {
+        EXPECT_NEAR(s.onRod, onePlate, 1e-8 * p * L) << type << ": either way round";
+      }
       onePlate = s.onRod;
     }
 }
