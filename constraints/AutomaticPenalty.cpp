@@ -53,7 +53,11 @@ void AutomaticPenalty::handCompliance(ContactPointRecord& p) const {
 void AutomaticPenalty::watchFriction(const PointKey& key, const PointResult& r, bool tangent) const {
   if (!tangent || !r.active || !(r.slip[0] || r.slip[1])) return;
   FrictionWatch& w = frictionWatch_[key];
-  if (w.force[0] * r.lambdaT[0] + w.force[1] * r.lambdaT[1] < 0.0) ++w.reversals;
+  ++w.since;
+  if (w.force[0] * r.lambdaT[0] + w.force[1] * r.lambdaT[1] < 0.0) {
+    ++w.reversals;
+    w.since = 0;
+  }
   w.force = {r.lambdaT[0], r.lambdaT[1]};
 }
 

@@ -89,6 +89,10 @@ struct ContactPoint {
   // a strategy whose friction rows have a parameter that only steers Newton, not the solution (Lagrange
   // multipliers' Friction Complementarity Parameter), divides it by this (relaxesFrictionSteering).
   double frictionRelaxation = 1.0;
+  // The point's friction force reversed its direction twice in this Newton solve (slip directions cycling):
+  // a strategy whose friction force is a return mapping may take a secant of it in its tangent, which
+  // changes Newton's path, not the solution (the residual stays the law's).
+  bool secantFriction = false;
 };
 
 // The forces of a point: for output, the progress line and the stopping tests.

@@ -198,9 +198,12 @@ void ContactManager::evaluate(const core::State& state, const OwnsDof& owns, cor
       f.assign(n, 0.0);
       K.assign(std::size_t(n) * n, 0.0);
       // (A slipping point's friction force is compared with the last tangent assembly's: failureHint.)
-      penalty_.watchFriction(
-          key, enforcer_->evaluate(strategyView(p, k, state), *p.state, f.data(), tangent ? K.data() : nullptr),
-          tangent && !quietEvaluation_);
+      // (Its secant, once its friction force reversed: not in the model's response for a coupled step,
+      // quiet, which every rank computes for every point.)
+      ContactPoint view = strategyView(p, k, state);
+      view.secantFriction = !quietEvaluation_ && penalty_.secant(key);
+      penalty_.watchFriction(key, enforcer_->evaluate(view, *p.state, f.data(), tangent ? K.data() : nullptr),
+                             tangent && !quietEvaluation_);
     }
     // Weighted by the blend between point and line contact (w(u), its gradient in the tangent:
     // K <- w K + f (x) grad w) and, for a line point, by the length it stands for (which moves with
@@ -437,6 +440,16 @@ bool ContactManager::coupleStep(core::State& state, std::vector<double>& du, boo
   signature_ = std::move(signature);
   signatureIterate_ = iterate_;
   if (!settled || !near) return false;
+  // Not while a sliding point takes its friction's secant in Newton's tangent (its force reversed in
+  // this solve): the response below would differ from Newton's matrix there, and each rank knows only
+  // its own points' reversals.
+  int reversed = penalty_.anySecant() ? 1 : 0;
+  if (comm_) {
+    int any = 0;
+    Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MAX, 1, &reversed, &any);
+    reversed = any;
+  }
+  if (reversed) return false;
   // The model's response, the same on every rank (each factors its own copy on several ranks: they
   // decide together, and the evaluation does not count as a Newton iterate's for the friction watch).
   core::ModelResponse response;

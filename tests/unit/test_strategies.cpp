@@ -4,9 +4,11 @@
 // friction laws, frictionless, slipping and sticking (StrategyCheck.hpp). No Tpetra, no MPI.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 
 #include "constraints/EnforcerRegistry.hpp"
+#include "constraints/RegularizedContactLaw.hpp"
 #include "constraints/StrategyCheck.hpp"
 
 using namespace bc;
@@ -33,5 +35,58 @@ TEST(Strategies, EveryRegisteredStrategyHasATangentMatchingCentralDifferences) {
     // The situations reach both branches of the return mapping.
     EXPECT_GT(slipping, 0) << entry.name;
     EXPECT_GT(sticking, 0) << entry.name;
+  }
+}
+
+// The friction secant a point takes once its slip direction cycles (ContactPoint::secantFriction):
+// a sliding point (g_N = -0.01, eps_N 1e4: lambda_N = -100, cone radius mu |lambda_N| = 20; slip
+// g_T = (0.05, -0.03) with eps_T 1e3, lines at cosine 0.3: both lines slip under either law) with unit gap gradients,
+// so that K's rows and columns 0, 1, 2 are d lambda_a / d g_b. The residual must be the law's to the
+// last bit; the friction rows must not depend on g_N, and map the slip to the friction force
+// (K_TT g_T = lambda_T, the secant's definition with no estimate); Newton's own tangent has no
+// stiffness along the slip (K_TT M^-1 trial = 0, the projection's derivative). Both laws.
+TEST(RegularizedLaw, FrictionSecantKeepsTheResidualAndMapsTheSlipToTheForce) {
+  using namespace constraints;
+  constexpr int n = kPairDofs;
+  ContactKinematics k;
+  k.normal.value = -0.01;
+  k.tangent1.value = 0.05;
+  k.tangent2.value = -0.03;
+  k.cosine = 0.3;
+  GapDerivatives* g[3] = {&k.normal, &k.tangent1, &k.tangent2};
+  for (int a = 0; a < 3; ++a) g[a]->R[a] = g[a]->gradient[a] = 1.0;
+  for (const FrictionLaw law : {FrictionLaw::IsotropicCoulomb, FrictionLaw::PerLine}) {
+    FrictionRegularization t;
+    t.penalty = 1e3;
+    double f[2][n] = {}, K[2][n * n] = {};
+    for (int secant = 0; secant < 2; ++secant) {
+      ContactPoint p{k, 0.2, law};
+      p.secantFriction = secant == 1;
+      const PointResult r = regularizedEvaluate(p, linearNormalLaw(0.0, 1e4), t, f[secant], K[secant]);
+      ASSERT_TRUE(r.active && r.slip[0] && r.slip[1]);
+    }
+    for (int i = 0; i < n; ++i) EXPECT_EQ(f[0][i], f[1][i]);
+    const double gT[2] = {k.tangent1.value, k.tangent2.value}, c = k.cosine;
+    // (The trial, eps_T M g_T for Isotropic Coulomb, eps_T g_T Per Line; M^-1 of it.)
+    const double trial[2] = {law == FrictionLaw::IsotropicCoulomb ? 1e3 * (gT[0] - c * gT[1]) : 1e3 * gT[0],
+                             law == FrictionLaw::IsotropicCoulomb ? 1e3 * (gT[1] - c * gT[0]) : 1e3 * gT[1]};
+    const double along[2] = {(trial[0] + c * trial[1]) / (1 - c * c), (c * trial[0] + trial[1]) / (1 - c * c)};
+    for (int i = 1; i < 3; ++i) {
+      const double force = f[1][i], mapped = K[1][n * i + 1] * gT[0] + K[1][n * i + 2] * gT[1];
+      const double consistent = K[0][n * i + 1] * along[0] + K[0][n * i + 2] * along[1];
+      std::printf(
+          "%s, friction row %d: force %.12g, secant K_TT g_T %.12g, normal coupling %g (Newton's %g), "
+          "Newton's K_TT M^-1 trial %.3g\n",
+          law == FrictionLaw::IsotropicCoulomb ? "Isotropic Coulomb" : "Per Line", i, force, mapped, K[1][n * i],
+          K[0][n * i], consistent);
+      EXPECT_NEAR(mapped, force, 1e-12 * std::abs(force));
+      EXPECT_EQ(K[1][n * i], 0.0);
+      EXPECT_NE(K[0][n * i], 0.0);
+      if (law == FrictionLaw::IsotropicCoulomb) {
+        EXPECT_NEAR(consistent, 0.0, 1e-12 * std::abs(force));
+      }
+    }
+    // The normal row is the law's in both.
+    for (int j = 0; j < n; ++j) EXPECT_EQ(K[0][j], K[1][j]);
   }
 }
