@@ -257,16 +257,24 @@ const std::string& injectedFault() {
 
 bool faultInjection() { return !injectedFault().empty(); }
 
-void injectFault(const char* place) {
+bool faultAt(const char* place) {
   const std::string& spec = injectedFault();
-  if (spec.empty()) return;
+  if (spec.empty()) return false;
   const auto colon = spec.find(':');
-  if (spec.substr(0, colon) != place) return;
+  if (spec.substr(0, colon) != place) return false;
   int rank = 0;
   int initialized = 0;
   MPI_Initialized(&initialized);
   if (initialized) MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  if (colon != std::string::npos && std::atoi(spec.c_str() + colon + 1) != rank) return;
+  return colon == std::string::npos || std::atoi(spec.c_str() + colon + 1) == rank;
+}
+
+void injectFault(const char* place) {
+  if (!faultAt(place)) return;
+  int rank = 0;
+  int initialized = 0;
+  MPI_Initialized(&initialized);
+  if (initialized) MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   throw std::runtime_error(std::string("injected fault at ") + place + " on rank " + std::to_string(rank));
 }
 

@@ -116,6 +116,9 @@ void injectFault(const char* place);
 // Whether BEAMCONTACT_INJECT_FAULT is set (the same on every rank: mpirun passes the environment), so a
 // place that needs an agreement of its own only for the hook pays for it only then.
 bool faultInjection();
+// The same hook for a fault that is not an exception: true at `place` on the rank the spec names
+// ("step": Newton's step changed on that rank alone, to show that the ranks stop together).
+bool faultAt(const char* place);
 
 // The status file of the run in progress (rank 0; "" when none), for a last word when the process is
 // ended from outside the normal path (an exit() in a plug-in): recordFailureInStatus rewrites it in

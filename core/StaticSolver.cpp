@@ -773,6 +773,14 @@ struct StaticSolver::Newton {
       // The coupled step is bounded as Newton's is: a contact it would close ends it.
       if (coupled) boundStep();
     }
+    if (faultInjection() && faultAt("step") && !inc.empty()) inc[0] += 1e-3;
+    if (!sameOnEveryRank(inc)) {
+      failure =
+          "the ranks computed different Newton steps (a contribution's step depends on the rank: a "
+          "strategy or plug-in that reads rank-local data where every rank must agree); stopped, as the "
+          "ranks would otherwise go on from different states";
+      throw std::runtime_error(failure);
+    }
     double n2 = 0.0;
     for (GlobalDof g = 0; g < ndof; ++g) n2 += inc[g] * inc[g];  // the full Newton step decides convergence
     if (bound < 1.0) {
@@ -783,6 +791,22 @@ struct StaticSolver::Newton {
     report.history[k].linearIterations = lin.iterations;
     report.history[k].linearResidual = lin.relativeResidual;
     return true;
+  }
+
+  // Whether every rank holds the same step: a weighted sum of its entries, its least and largest
+  // over the ranks equal to 1e-12 of its scale (each rank gathers the same solution, and the
+  // contributions' changes to it must not depend on the rank).
+  bool sameOnEveryRank(const std::vector<double>& inc) const {
+    if (s.comm_->getSize() < 2) return true;
+    double sum[2] = {0.0, 0.0};
+    for (std::size_t g = 0; g < inc.size(); ++g) {
+      sum[0] += inc[g] * double(1 + g % 7);
+      sum[1] += std::abs(inc[g]);
+    }
+    const double local[2] = {sum[0], -sum[0]};
+    double least[2] = {0.0, 0.0};
+    Teuchos::reduceAll(*s.comm_, Teuchos::REDUCE_MIN, 2, local, least);
+    return std::abs(-least[1] - least[0]) <= 1e-12 * 7.0 * sum[1];
   }
 
   // The step taken: added to the step's motion, line search switched on when Newton stalls (When

@@ -36,6 +36,9 @@ cases = [
     ("assembly", {"BEAMCONTACT_INJECT_FAULT": "assembly:1"}, deck, r"injected fault at assembly on rank 1"),
     ("linear solve", {"BEAMCONTACT_INJECT_FAULT": "solve:1"}, deck, r"injected fault at solve on rank 1"),
     ("output", {"BEAMCONTACT_INJECT_FAULT": "output:1"}, deck, r"injected fault at output on rank 1"),
+    # Newton's step changed on rank 1 alone (no exception): the ranks would converge or fail apart and
+    # the run hang in the next collective; they stop together at the first such step.
+    ("diverging step", {"BEAMCONTACT_INJECT_FAULT": "step:1"}, deck, r"the ranks computed different Newton steps"),
 ]
 failed = 0
 for name, extra, d, pattern in cases:
