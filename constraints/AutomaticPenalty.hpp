@@ -47,12 +47,11 @@ class AutomaticPenalty {
   // Whether a point takes it, and whether any of this rank's points does.
   bool secant(const PointKey& key) const {
     const auto it = frictionWatch_.find(key);
-    return it != frictionWatch_.end() && it->second.reversals >= kSecantReversals &&
-           it->second.since < kSecantAssemblies;
+    return it != frictionWatch_.end() && it->second.secant();
   }
   bool anySecant() const {
     for (const auto& [key, w] : frictionWatch_)
-      if (w.reversals >= kSecantReversals && w.since < kSecantAssemblies) return true;
+      if (w.secant()) return true;
     return false;
   }
   // After a failed Newton solve: what the slip directions say, and whether the retry relaxes.
@@ -82,6 +81,7 @@ class AutomaticPenalty {
     std::array<double, 2> force{};
     int reversals = 0;
     int since = 0;  // tangent assemblies since the last reversal
+    bool secant() const { return reversals >= kSecantReversals && since < kSecantAssemblies; }
   };
   const ConstraintEnforcer& enforcer_;
   const LineContact& lines_;

@@ -198,8 +198,8 @@ void ContactManager::evaluate(const core::State& state, const OwnsDof& owns, cor
       f.assign(n, 0.0);
       K.assign(std::size_t(n) * n, 0.0);
       // (A slipping point's friction force is compared with the last tangent assembly's: failureHint.)
-      // (Its secant, once its friction force reversed: not in the model's response for a coupled step,
-      // quiet, which every rank computes for every point.)
+      // (Its secant while its friction force cycles, AutomaticPenalty::secant: not in the model's response
+      // for a coupled step, quiet, which every rank computes for every point.)
       ContactPoint view = strategyView(p, k, state);
       view.secantFriction = !quietEvaluation_ && penalty_.secant(key);
       penalty_.watchFriction(key, enforcer_->evaluate(view, *p.state, f.data(), tangent ? K.data() : nullptr),
@@ -440,7 +440,7 @@ bool ContactManager::coupleStep(core::State& state, std::vector<double>& du, boo
   signature_ = std::move(signature);
   signatureIterate_ = iterate_;
   if (!settled || !near) return false;
-  // Not while a sliding point takes its friction's secant in Newton's tangent (its force reversed in
+  // Not while a sliding point takes its friction's secant in Newton's tangent (its force cycled in
   // this solve): the response below would differ from Newton's matrix there, and each rank knows only
   // its own points' reversals.
   int reversed = penalty_.anySecant() ? 1 : 0;

@@ -55,10 +55,11 @@ bool lawForces(const ContactPoint& p, const NormalLaw& normal, const FrictionReg
       // radius / |trial| (the force's share of the trial; Per Line: of each line's) times the trial's
       // derivative, without the normal force's share. The consistent tangent has no stiffness along
       // the slip, and where the stick zone is narrower than Newton's motions the slip direction flips.
-      const double n = std::sqrt(cone::value(cone::lengthSquared(c, trial)));
+      const bool isotropic = p.law == FrictionLaw::IsotropicCoulomb;
+      const double n = isotropic ? std::sqrt(cone::value(cone::lengthSquared(c, trial))) : 0.0;
       for (int i = 0; i < 2; ++i) {
         if (!slip[i]) continue;
-        const double length = p.law == FrictionLaw::IsotropicCoulomb ? n : std::abs(trial[i].val());
+        const double length = isotropic ? n : std::abs(trial[i].val());
         const double secant = length > 0.0 ? radius.val() / length : 0.0;
         lam[1 + i] = F(lam[1 + i].val()) + secant * (trial[i] - trial[i].val());
       }

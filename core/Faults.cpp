@@ -257,25 +257,26 @@ const std::string& injectedFault() {
 
 bool faultInjection() { return !injectedFault().empty(); }
 
+namespace {
+int worldRank() {
+  int rank = 0, initialized = 0;
+  MPI_Initialized(&initialized);
+  if (initialized) MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  return rank;
+}
+}  // namespace
+
 bool faultAt(const char* place) {
   const std::string& spec = injectedFault();
   if (spec.empty()) return false;
   const auto colon = spec.find(':');
   if (spec.substr(0, colon) != place) return false;
-  int rank = 0;
-  int initialized = 0;
-  MPI_Initialized(&initialized);
-  if (initialized) MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  return colon == std::string::npos || std::atoi(spec.c_str() + colon + 1) == rank;
+  return colon == std::string::npos || std::atoi(spec.c_str() + colon + 1) == worldRank();
 }
 
 void injectFault(const char* place) {
   if (!faultAt(place)) return;
-  int rank = 0;
-  int initialized = 0;
-  MPI_Initialized(&initialized);
-  if (initialized) MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  throw std::runtime_error(std::string("injected fault at ") + place + " on rank " + std::to_string(rank));
+  throw std::runtime_error(std::string("injected fault at ") + place + " on rank " + std::to_string(worldRank()));
 }
 
 std::string oneLine(const std::exception& e) {

@@ -49,6 +49,17 @@ def deck_for(exe, work, name, n, elements, strategy):
     return deck
 
 
+def worst_cone(contact, mu):
+    """The largest |F_T| / (mu N) over the active points of a run's last contact rows."""
+    return max((float(c["tangential_force"]) / (mu * abs(float(c["normal_force"]))) for c in contact
+                if c["active"] == "1" and abs(float(c["normal_force"])) > 0), default=0.0)
+
+
+def normal_forces(contact):
+    """The active points' normal forces by (pair, line A, line B)."""
+    return {(c["pair"], c["line_A"], c["line_B"]): float(c["normal_force"]) for c in contact if c["active"] == "1"}
+
+
 def check_layout(exe, work, mpi, name, n, elements):
     failures = 0
     totals = {}
@@ -254,19 +265,12 @@ def check_lagrange_friction_steering(exe, work):
         failures += (c_t is None) != lowered
         failures += "warning" in status.lower()
         _, total, balance, contact = summarize(name)
-        worst = 0.0
-        for c in contact:
-            if c["active"] != "1":
-                continue
-            n, t = abs(float(c["normal_force"])), float(c["tangential_force"])
-            if n > 0:
-                worst = max(worst, t / (0.2 * n))
+        worst = worst_cone(contact, 0.2)
         imbalance = worst_balance(balance)[0]
         print(f"  total normal force {total:.9f}, |F_T| / mu N at most {worst:.12f}, imbalance "
               f"{imbalance:.1e} of the largest reaction")
         failures += not (worst <= 1 + 1e-9 and imbalance <= 1e-6)
-        results[c_t] = ({(c["pair"], c["line_A"], c["line_B"]): float(c["normal_force"]) for c in contact
-                         if c["active"] == "1"}, total)
+        results[c_t] = (normal_forces(contact), total)
     if len(results) == 2:
         (a, ta), (b, tb) = results[None], results["1"]
         scale = max(abs(v) for v in a.values())
@@ -307,8 +311,7 @@ def check_augmented_lagrange_first_contact(exe, work):
         _, total, balance, contact = summarize(name)
         with open(os.path.join(name, "summary.csv")) as f:
             newton = next(csv.DictReader(f))["newton_iterations"]
-        worst = max((float(c["tangential_force"]) / (0.2 * abs(float(c["normal_force"]))) for c in contact
-                     if c["active"] == "1" and abs(float(c["normal_force"])) > 0), default=0.0)
+        worst = worst_cone(contact, 0.2)
         imbalance = worst_balance(balance)[0]
         print(f"  Newton {newton}, total normal force {total:.9f}, |F_T| / mu N at most "
               f"{worst:.12f}, imbalance {imbalance:.1e}")
@@ -354,13 +357,8 @@ def check_cycling_friction_completes(exe, work):
                 continue
             _, total, balance, contact = summarize(name)
             imbalance = worst_balance(balance)[0]
-            worst = max((float(c["tangential_force"]) / (0.2 * abs(float(c["normal_force"]))) for c in contact
-                         if c["active"] == "1" and abs(float(c["normal_force"])) > 0), default=0.0)
-            force = {}
-            for c in contact:
-                if c["active"] == "1":
-                    k = (c["pair"], c["line_A"], c["line_B"])
-                    force[k] = force.get(k, 0.0) + float(c["normal_force"])
+            worst = worst_cone(contact, 0.2)
+            force = normal_forces(contact)
             crossings[strategy] = force
             print(f"  {len(force)} points carry, total normal force {total:.9f}, imbalance {imbalance:.1e}, "
                   f"|F_T| / mu N at most {worst:.12f}")
