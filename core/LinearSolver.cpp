@@ -1,6 +1,8 @@
 #include "LinearSolver.hpp"
 
+#include <algorithm>
 #include <stdexcept>
+#include <vector>
 
 namespace bc::core {
 
@@ -111,6 +113,26 @@ const ParameterSpec& linearSolverSpec() {
     return s;
   }();
   return spec;
+}
+
+void applyLinearSolverParameters(Teuchos::ParameterList& user, const std::string& path) {
+  static const std::vector<std::string> directOnly = {"Direct Solver", "Reuse Iteration Limit"};
+  static const std::vector<std::string> gmresOnly = {"Preconditioner", "Fill Level",         "Overlap",
+                                                     "Tolerance",      "Maximum Iterations", "Restart"};
+  std::vector<std::string> given;
+  for (const auto& names : {directOnly, gmresOnly})
+    for (const auto& name : names)
+      if (user.isParameter(name)) given.push_back(name);
+  const bool typeGiven = user.isParameter("Type");
+  linearSolverSpec().apply(user, path);
+  const std::string type = user.get<std::string>("Type");
+  const auto& foreign = type == "Direct" ? gmresOnly : directOnly;
+  for (const auto& name : given)
+    if (std::find(foreign.begin(), foreign.end(), name) != foreign.end())
+      throw InputError(
+          "parameter \"" + path + "/" + name + "\" applies to Type \"" + (type == "Direct" ? "GMRES" : "Direct") +
+          "\" only, and \"" + path + "/Type\" is \"" + type + "\"" + (typeGiven ? "" : " (the default)") +
+          ": it would be ignored; remove it, or set Type to \"" + (type == "Direct" ? "GMRES" : "Direct") + "\"");
 }
 
 namespace {

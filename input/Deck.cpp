@@ -842,7 +842,7 @@ void readSolvers(Problem& p, ParameterList& deck, const std::string& top) {
   core::newtonSpec().apply(newton, top + "/Nonlinear Solver");
   p.solver = core::readSolverSettings(stepping, newton);
   ParameterList& linear = deck.sublist("Linear Solver");
-  core::linearSolverSpec().apply(linear, top + "/Linear Solver");
+  core::applyLinearSolverParameters(linear, top + "/Linear Solver");
   p.linearSolver = linear;
 }
 
