@@ -170,16 +170,25 @@ void ContactReport::lineWarnings(std::vector<std::string>& w) const {
   }
   for (const auto& [pair, held] : lines_.heldEnds()) {
     std::ostringstream s;
+    const std::string beamA = beams[pairs[pair].beamA].name;
     s << std::setprecision(3) << "contact pair \"" << pairs[pair].name << "\": supports hold both beams near ("
       << held.at[0] << ", " << held.at[1] << ", " << held.at[2]
-      << "), where their slopes turned the contact normal so that the gap they hold "
-      << "there is " << held.gap << ", a penetration that " << enforcer_.type()
-      << "'s rigid line contact cannot remove: closing it within an element of beam \"" << beams[pairs[pair].beamA].name
-      << "\" takes tractions of about E I |g| / h^4 = " << held.traction << " (" << 100.0 * held.ratio()
-      << " % of the mean traction " << held.mean
-      << "), which grow as h^-4 when the beams are refined, and so do the errors of the contact force and the "
-         "reactions; hold only one of the two beams there, or use Penalty (which takes the gap with a force "
-         "eps_N |g|)";
+      << "), where their slopes turned the contact normal so that the gap they hold there is " << held.gap
+      << ", a penetration that no contact force can remove (the force there goes into the supports and is set by "
+         "the strategy and the mesh, not by the beams): ";
+    if (held.excess > 0.0)
+      s << "the contact points on beam \"" << beamA << "\"'s end element there carry " << held.excess
+        << " per length beyond the mean traction " << held.mean << " (" << held.excess / held.mean << " times it)";
+    if (held.excess > 0.0 && held.traction > 0.0) s << "; ";
+    if (held.traction > 0.0)
+      s << enforcer_.type() << "'s rigid line contact closes it within an element of beam \"" << beamA
+        << "\" with tractions of about E I |g| / h^4 = " << held.traction << " (" << 100.0 * held.traction / held.mean
+        << " % of the mean traction " << held.mean
+        << "), which grow as h^-4 when the beams are refined, and so do the errors of the contact force and the "
+           "reactions";
+    s << "; hold only one of the two beams there"
+      << (lines_.nodal() ? ", or use Penalty (which takes the gap with a force eps_N |g|)"
+                         : ", or lower the penalty (which takes the gap with a force eps_N |g|)");
     w.push_back(s.str());
   }
   for (const auto& [pair, worst] : outsideCone_) {

@@ -730,42 +730,68 @@ bool LineContact::heldEnd(const ContactPointRecord& p, int side, const core::Sta
 void LineContact::checkHeldEnds(const PointMap& points, const core::State& s) {
   // Two beams held by supports at the same place (two rods pinned at the same x) keep their gap
   // there: when they bend, their slope turns the contact normal, and the gap the supports hold
-  // becomes -2 r (1 - cos theta), a penetration no multiplier can remove. A rigid line constraint
-  // (a nodal field: its weighted gaps are zero) then closes the gap within the field's first
-  // element of length h, which takes tractions of about EI |g| / h^4 (E I the softer beam's): they
-  // grow as the elements are refined, and so do the errors of the total force and the reactions.
-  // A penalty law takes the same gap with a force eps_N |g|.
+  // becomes -2 r (1 - cos theta), a penetration the contact cannot remove (its first variation in the
+  // free motions vanishes: the force there is not determined by the beams). A rigid line constraint
+  // (a nodal field: its weighted gaps are zero) closes the gap within the field's first element of
+  // length h, which takes tractions of about EI |g| / h^4 (E I the softer beam's): they grow as the
+  // elements are refined, and so do the errors of the total force and the reactions. A penalty law
+  // takes the same gap with a force eps_N |g|; point and end contact there (rectangles' corners at
+  // the held ends) with whatever their constraint needs. Both show as force on A's end element
+  // beyond the line's mean traction, which is measured for every strategy.
   const auto& elems = geometry_.beams().elements();
-  std::map<int, std::pair<double, double>> load;  // pair -> (sum |lambda_N|, sum of lengths)
+  // The line's mean traction, pair -> (sum |lambda_N|, sum of lengths) of its active Gauss points off
+  // A's end elements (where the held ends' forces are), and of all of them (a line of end elements).
+  struct Load {
+    double inner = 0.0, innerLength = 0.0, all = 0.0, allLength = 0.0;
+    double mean() const { return innerLength > 0.0 ? inner / innerLength : (allLength > 0.0 ? all / allLength : 0.0); }
+  };
+  std::map<int, Load> load;
   for (const auto& [key, p] : points) {
     if (!p.line() || !p.result.active || p.length <= 0.0) continue;
-    load[p.key.pair].first += std::abs(p.result.lambdaN);
-    load[p.key.pair].second += p.length;
+    const BeamElement& a = elems[p.elementA];
+    const int last = static_cast<int>(geometry_.beams().beams()[a.beam].nodes.size()) - 2;
+    Load& l = load[p.key.pair];
+    l.all += std::abs(p.result.lambdaN);
+    l.allLength += p.length;
+    if (a.index == 0 || a.index == last) continue;
+    l.inner += std::abs(p.result.lambdaN);
+    l.innerLength += p.length;
   }
-  // (The end's gap is the same for every Gauss point of an element pair's line: judged once.)
+  // (The end's gap is the same for every Gauss point of an element pair's line: judged once. A
+  // Gauss point whether it acts or not: the held end's force may sit at point or end contact.)
   std::set<std::tuple<int, int, int, int, int>> judged;  // (pair, element A, element B, edge, face)
   for (const auto& [key, p] : points) {
-    if (!p.line() || !p.result.active) continue;
+    if (!p.line()) continue;
     if (!judged.insert({p.key.pair, p.elementA, p.elementB, p.edge(), p.face()}).second) continue;
     const BeamElement &a = elems[p.elementA], &b = elems[p.elementB];
     for (int side = 0; side < 2; ++side) {
       ClosestPoints cp;
       int endA = -1;
-      if (!heldEnd(p, side, s, &cp, &endA)) continue;
+      if (!heldEnd(p, side, s, &cp, &endA) || !(cp.gap < 0.0)) continue;
       const double EI = std::min({a.data.EIy, a.data.EIz, b.data.EIy, b.data.EIz});
       const double h = a.data.L0;
-      const double traction = EI * std::abs(std::min(cp.gap, 0.0)) / (h * h * h * h);
+      const double traction = nodal_ ? EI * std::abs(cp.gap) / (h * h * h * h) : 0.0;
       const auto l = load.find(p.key.pair);
-      const double mean = l != load.end() && l->second.second > 0.0 ? l->second.first / l->second.second : 0.0;
-      if (!(mean > 0.0) || !(traction > kHeldEndTraction * mean)) continue;
+      const double mean = l != load.end() ? l->second.mean() : 0.0;
+      // The force of the pair's active points (of every kind) on A's end element, per its length.
+      const Vec3d x0 = s.position[endA], inward = s.position[endA == a.node1 ? a.node2 : a.node1] - x0;
+      double zone = 0.0;
+      for (const auto& [other, q] : points) {
+        if (q.key.pair != p.key.pair || q.node() || !q.result.active) continue;
+        const double along = dot(q.position - x0, inward) / dot(inward, inward);
+        if (along >= -1e-6 && along <= 1.0) zone += std::abs(q.result.lambdaN);
+      }
+      const double excess = std::max(zone / h - mean, 0.0);
+      HeldEnd held{cp.gap, traction, excess, mean, s.position[endA]};
+      if (!(held.severity() > 1.0)) continue;
       HeldEnd& worst = heldEnds_[p.key.pair];
-      if (traction / mean > worst.ratio()) worst = {cp.gap, traction, mean, s.position[endA]};
+      if (held.severity() > worst.severity()) worst = held;
     }
   }
 }
 
 void LineContact::checkResolution(const PointMap& points, const core::State& state) {
-  if (nodal_) checkHeldEnds(points, state);
+  checkHeldEnds(points, state);
   // The Gauss points of line contact see the gap only where they are. Where the contact zone of an
   // element pair is shorter than their spacing (axes crossing at a small angle) the beams can overlap
   // between them, unseen. Per element pair (and, for rectangles, edge of A) with line points that

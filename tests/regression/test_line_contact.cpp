@@ -267,6 +267,49 @@ TEST(LineContact, AGapThatSupportsHoldAtBothBeamsEndsIsReportedWhenRigidContactC
   EXPECT_NEAR(gap, expected, 0.02 * std::abs(expected));
 }
 
+// The same held ends with soft beams (E = 1e5, q = 0.01, 10 elements: end slopes of 0.04 for circles),
+// where the held gap's force is not small: it goes from one beam's supports into the other's, and the
+// contact force is the strategy's and the mesh's, not the beams' (whose exact share is q L / 2, each
+// beam carrying q / 2). Every strategy that completes warns, naming the force on A's end element
+// beyond the line's mean traction:
+// - circles, Penalty (eps_N 1e4): the total was 5.5 q L / 2, "complete" without a word;
+// - 2 x 1 rectangles with the rod turned by 0.08 degrees (point contact and end contact at the
+//   rectangles' corners share the held ends with the line), Lagrange multipliers: the end points
+//   carried 1771 times the load q L; Penalty: 4.3 times q L / 2.
+TEST(LineContact, HeldEndsWarnWithEveryStrategyWhereTheirForceGoesIntoTheSupports) {
+  const double q = 0.01, L = 100.0;
+  struct Case {
+    std::string type;
+    bool rectangles;
+    double degrees;
+  };
+  for (const Case& c :
+       {Case{"Penalty", false, 0.0}, Case{"Lagrange Multiplier", true, 0.08}, Case{"Penalty", true, 0.08}}) {
+    auto deck = parallelBeams(c.type, 10, 10, 0.0, 1e5, 6, c.degrees);
+    if (c.rectangles) deck = toRectangles(deck);
+    for (const char* beam : {"ground", "rod"}) {
+      support(deck, beam, 0, "ux uy uz rx");
+      support(deck, beam, 10, "uy uz rx");
+    }
+    uniformLoad(deck, "rod", 10, q);
+    input::replaceAtPath(deck, "Load Stepping/Number of Increments", 10);
+    auto p = input::buildProblem(deck, "held_soft_ends");
+    const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "held_soft_ends");
+    ASSERT_TRUE(r.report.completed) << c.type << ": " << r.report.failure;
+    double total = 0.0;
+    for (const auto& [key, pt] : p.contact->points())
+      if (!pt.node() && pt.result.active) total += std::abs(pt.result.lambdaN);
+    std::string warning;
+    for (const auto& w : r.report.warnings)
+      if (w.find("supports hold both beams") != std::string::npos) warning = w;
+    std::printf("%s, %s at %g degrees: total contact force %.6g (q L / 2 = %g)\n  %s\n", c.type.c_str(),
+                c.rectangles ? "rectangles" : "circles", c.degrees, total, 0.5 * q * L, warning.c_str());
+    EXPECT_GT(total, 2.0 * 0.5 * q * L) << c.type;  // the held ends' force, why the warning is needed
+    EXPECT_NE(warning.find("end element there carry"), std::string::npos) << c.type << ": " << warning;
+    EXPECT_NE(warning.find("hold only one of the two beams there"), std::string::npos) << warning;
+  }
+}
+
 // Lagrange multipliers on a line (a mortar field on the nodes of line A, linear between them,
 // constant on the end elements). Two identical cantilevers (E = 1e9, clamped at x = 0), the rod
 // lying on the ground and loaded by q per length: with the contact exact, both deflect alike, so
