@@ -15,13 +15,27 @@ const core::ParameterSpec& PenaltyEnforcer::spec() {
           "(eps_N (|g| - g0 / 2)); a smooth onset for contacts that close many points at once (line contact, "
           "dense grids); 0: linear from the first touch [length]",
           core::nonNegative(), ">= 0");
+    p.addChoice("Active Set", "Each Iteration", {"Each Iteration", "Between Solves"},
+                "Each Iteration: a point acts while it penetrates, judged at every Newton iterate; Between "
+                "Solves: the points that act are fixed for a Newton solve (their springs hold in tension too) "
+                "and changed after it (penetrating points join, points in tension leave, and Newton solves "
+                "again), as Lagrange multipliers' are: for many points closing at once on soft beams, where "
+                "the active set changing within Newton's iterations makes it cycle");
     return p;
   }();
   return s;
 }
 
 PenaltyEnforcer::PenaltyEnforcer(const Teuchos::ParameterList& v)
-    : choice_(v), regularization_(v.get<double>("Regularization Gap")) {}
+    : choice_(v),
+      regularization_(v.get<double>("Regularization Gap")),
+      betweenSolves_(v.get<std::string>("Active Set") == "Between Solves") {
+  if (betweenSolves_ && regularization_ > 0.0)
+    throw core::InputError(
+        "parameter \"Contact/Enforcement/Penalty/Regularization Gap\" smooths the onset of contact judged at every "
+        "Newton iterate, and \"Contact/Enforcement/Penalty/Active Set\" is \"Between Solves\" (whose springs are "
+        "linear and hold in tension while the solve lasts): give one of them");
+}
 
 std::unique_ptr<PointState> PenaltyEnforcer::newPointState() const {
   auto s = std::make_unique<State>();
@@ -42,7 +56,21 @@ PointResult PenaltyEnforcer::evaluate(const ContactPoint& p, const PointState& s
   h.penalties.require();
   const double* eps = choice_.at(h.penalties);
   const FrictionRegularization friction{{h.lambdaT[0], h.lambdaT[1]}, eps[1]};
+  if (betweenSolves_) {
+    if (!h.engaged) return PointResult{};
+    return regularizedEvaluate(p, linearNormalLaw(0.0, eps[0]), friction, f, K, true);
+  }
   return regularizedEvaluate(p, smoothedPenaltyLaw(eps[0], regularization_), friction, f, K);
+}
+
+bool PenaltyEnforcer::acceptNormal(const ContactPoint& p, PointState& s) const {
+  if (!betweenSolves_) return true;
+  State& h = stateOf<State>(s);
+  const double g = p.kinematics.normal.value;
+  // Joins where it penetrates, leaves where its spring is in tension (the gap open).
+  if (h.engaged == (g < 0.0) || (h.engaged && g == 0.0)) return true;
+  h.engaged = g < 0.0;
+  return false;
 }
 
 std::vector<double> PenaltyEnforcer::outputValues(const ContactPoint& p, const PointState& s) const {
@@ -60,7 +88,10 @@ void PenaltyEnforcer::commitPoint(const ContactPoint& p, PointState& s) const {
   state.penalties.require();
   const double* eps = choice_.at(state.penalties);
   const FrictionRegularization friction{{state.lambdaT[0], state.lambdaT[1]}, eps[1]};
-  const PointResult r = regularizedForces(p, smoothedPenaltyLaw(eps[0], regularization_), friction);
+  const PointResult r =
+      betweenSolves_
+          ? (state.engaged ? regularizedForces(p, linearNormalLaw(0.0, eps[0]), friction, true) : PointResult{})
+          : regularizedForces(p, smoothedPenaltyLaw(eps[0], regularization_), friction);
   for (int i = 0; i < 2; ++i) state.lambdaT[i] = r.lambdaT[i];
 }
 

@@ -24,10 +24,12 @@ class PenaltyEnforcer : public ConstraintEnforcer {
   struct State : PointStateOf<State> {
     double lambdaT[2] = {0.0, 0.0};
     PointPenalties penalties;
+    bool engaged = false;  // Active Set = Between Solves: in the active set for the Newton solve
     void fields(StateFields& v) override {
       v.real("lambda_T1", lambdaT[0]);
       v.real("lambda_T2", lambdaT[1]);
       penalties.fields(v);
+      v.flag("engaged", engaged);
     }
   };
 
@@ -37,8 +39,14 @@ class PenaltyEnforcer : public ConstraintEnforcer {
   void setCompliance(PointState& s, const double compliance[3]) const override;
   // Automatic eps_T: chosen again from the tangential compliances times 10^relaxations.
   void relaxTangential(PointState& s, const double compliance[3], int relaxations) const override;
-  bool contributes(double gapN, const PointState&) const override { return gapN <= 0.0; }
-  double activationGap(const PointState&) const override { return 0.0; }
+  bool contributes(double gapN, const PointState& s) const override {
+    return betweenSolves_ ? stateOf<State>(s).engaged : gapN <= 0.0;
+  }
+  double activationGap(const PointState& s) const override {
+    return betweenSolves_ ? ConstraintEnforcer::activationGap(s) : 0.0;
+  }
+  bool acceptNormal(const ContactPoint& p, PointState& s) const override;
+  int maximumPasses() const override { return betweenSolves_ ? kPassesBetweenSolves : 1; }
   PointResult evaluate(const ContactPoint& p, const PointState& s, double* f, double* K) const override;
   bool acceptPoint(const ContactPoint& p, PointState& s, double& worstViolation) const override;
   void commitPoint(const ContactPoint& p, PointState& s) const override;
@@ -49,6 +57,10 @@ class PenaltyEnforcer : public ConstraintEnforcer {
   // The law's parameters: eps_N, eps_T (given once here, or chosen per point) and g0.
   PenaltyChoice choice_;
   double regularization_;  // "Regularization Gap" g0 (smoothedPenaltyLaw)
+  // "Active Set" = "Between Solves": the points that act are fixed for a Newton solve (their springs
+  // hold in tension too) and changed after it, as Lagrange multipliers' are.
+  bool betweenSolves_ = false;
+  static constexpr int kPassesBetweenSolves = 50;
 };
 
 }  // namespace bc::constraints

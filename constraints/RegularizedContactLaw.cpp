@@ -33,7 +33,7 @@ namespace {
 
 // The multipliers as functions of s = (g_N, g_T1, g_T2, c); active = lambda_N < 0.
 bool lawForces(const ContactPoint& p, const NormalLaw& normal, const FrictionRegularization& t, LawScalar lam[3],
-               bool slip[2]) {
+               bool slip[2], bool bilateral) {
   using F = LawScalar;
   const ContactKinematics& k = p.kinematics;
   const F gN(4, 0, k.normal.value), c(4, 3, k.cosine);
@@ -44,8 +44,8 @@ bool lawForces(const ContactPoint& p, const NormalLaw& normal, const FrictionReg
   // Exactly at the law's onset (a point touching, as two layers laid on each other at the start) the
   // point takes part with no force and the law's stiffness (the derivative from the closed side):
   // Newton's first step then sees the contact instead of passing through it.
-  if (lam[0].val() > 0.0 || (lam[0].val() == 0.0 && lam[0].dx(0) == 0.0)) return false;
-  if (p.friction > 0.0) {
+  if (!bilateral && (lam[0].val() > 0.0 || (lam[0].val() == 0.0 && lam[0].dx(0) == 0.0))) return false;
+  if (p.friction > 0.0 && !(bilateral && lam[0].val() > 0.0)) {
     F trial[2];
     frictionTrial(p.law, c, g, t.lambdaHat, t.penalty, trial);
     const F radius = -p.friction * lam[0];
@@ -82,18 +82,19 @@ PointResult result(bool active, const LawScalar lam[3], const bool slip[2]) {
 
 }  // namespace
 
-PointResult regularizedForces(const ContactPoint& p, const NormalLaw& normal, const FrictionRegularization& t) {
+PointResult regularizedForces(const ContactPoint& p, const NormalLaw& normal, const FrictionRegularization& t,
+                              bool bilateral) {
   LawScalar lam[3];
   bool slip[2];
-  const bool active = lawForces(p, normal, t, lam, slip);
+  const bool active = lawForces(p, normal, t, lam, slip, bilateral);
   return result(active, lam, slip);
 }
 
 PointResult regularizedEvaluate(const ContactPoint& p, const NormalLaw& normal, const FrictionRegularization& t,
-                                double* f, double* K) {
+                                double* f, double* K, bool bilateral) {
   LawScalar lam[3];
   bool slip[2];
-  const bool active = lawForces(p, normal, t, lam, slip);
+  const bool active = lawForces(p, normal, t, lam, slip, bilateral);
   if (!active) return result(false, lam, slip);
   const ContactKinematics& k = p.kinematics;
   constexpr int n = kPairDofs;

@@ -45,10 +45,12 @@ struct FrictionRegularization {
   double penalty = 0.0;  // eps_T [force/length]
 };
 
-// The forces the law gives for a point (no assembly).
-PointResult regularizedForces(const ContactPoint& p, const NormalLaw& normal, const FrictionRegularization& t);
+// The forces the law gives for a point (no assembly). `bilateral`: the law acts in tension too (a
+// point held in the active set for a whole Newton solve; no friction while in tension).
+PointResult regularizedForces(const ContactPoint& p, const NormalLaw& normal, const FrictionRegularization& t,
+                              bool bilateral = false);
 // Adds the residual (24) and tangent (24 x 24, may be null) of a point; returns its forces.
 PointResult regularizedEvaluate(const ContactPoint& p, const NormalLaw& normal, const FrictionRegularization& t,
-                                double* f, double* K);
+                                double* f, double* K, bool bilateral = false);
 
 }  // namespace bc::constraints

@@ -10,6 +10,7 @@
 #include "constraints/EnforcerRegistry.hpp"
 #include "constraints/RegularizedContactLaw.hpp"
 #include "constraints/StrategyCheck.hpp"
+#include "core/Parameters.hpp"
 
 using namespace bc;
 
@@ -35,6 +36,35 @@ TEST(Strategies, EveryRegisteredStrategyHasATangentMatchingCentralDifferences) {
     // The situations reach both branches of the return mapping.
     EXPECT_GT(slipping, 0) << entry.name;
     EXPECT_GT(sticking, 0) << entry.name;
+  }
+}
+
+// Penalty with Active Set = Between Solves: an engaged point's spring is linear and bilateral for the
+// Newton solve (no Regularization Gap), so its tangent is checked as the registry's default is, in every
+// situation (both laws, frictionless, slipping and sticking); a Regularization Gap with it is an input
+// error (it would be ignored).
+TEST(Strategies, PenaltyWithItsActiveSetBetweenSolvesHasATangentMatchingCentralDifferences) {
+  constraints::registerBuiltinEnforcers();
+  for (const auto& entry : constraints::enforcers()) {
+    if (entry.name != "Penalty") continue;
+    Teuchos::ParameterList params = entry.spec->example();
+    params.set("Active Set", std::string("Between Solves"));
+    entry.spec->apply(params, entry.name);
+    const auto strategy = entry.create(params);
+    int checked = 0;
+    for (const auto& c : constraints::checkTangent(*strategy)) {
+      std::printf("Penalty, Between Solves: %-28s slipping lines %d: max |K - central differences| / max |K| = %.2e\n",
+                  c.situation.c_str(), c.slipping, c.relativeError());
+      EXPECT_TRUE(c.acts) << c.situation;
+      EXPECT_LT(c.relativeError(), 1e-6) << c.situation;
+      ++checked;
+    }
+    EXPECT_GT(checked, 0);
+    Teuchos::ParameterList both = entry.spec->example();
+    both.set("Active Set", std::string("Between Solves"));
+    both.set("Regularization Gap", 1e-3);
+    entry.spec->apply(both, entry.name);
+    EXPECT_THROW(entry.create(both), core::InputError);
   }
 }
 
