@@ -377,7 +377,7 @@ def check_cycling_friction_completes(exe, work):
             failures += not diff <= tolerance * scale
     return failures
 
-def check_penalty_between_solves(exe, work):
+def check_penalty_between_solves(exe, work, mpi):
     """Penalty with Active Set = Between Solves (its points fixed for a Newton solve, changed after it,
     as Lagrange multipliers' are) on the 16 x 16 layers pressed together, frictionless and with friction
     0.2 (generate grid's other defaults: every crossing touches at T = 0.2, eps_N 1e4). With its points
@@ -385,7 +385,8 @@ def check_penalty_between_solves(exe, work):
     L^3 about 1e-3 of eps_N per crossing) turn a wrong active set into steps 1e3 times the motion. Checks:
     both complete; each beam's contact forces balance its supports (1e-6); |F_T| <= mu N (1 + 1e-9); at
     each crossing the normal force is Lagrange's to 5e-3 of the largest (the penalty's compliance;
-    measured 2.1e-3 frictionless, 5.9e-4 with friction) and the same crossings carry."""
+    measured 2.1e-3 frictionless, 5.9e-4 with friction) and the same crossings carry; the frictionless
+    Penalty run on 2 ranks writes the 1-rank contact rows (1e-8 of the largest force; measured 1.4e-9)."""
     failures = 0
     for friction in ("0", "0.2"):
         deck = os.path.join(work, f"between_{friction}.xml")
@@ -422,6 +423,14 @@ def check_penalty_between_solves(exe, work):
             print(f"  Penalty against Lagrange, crossing by crossing: {diff / scale:.1e} of the largest force, "
                   f"{len(penalty)} and {len(reference)} crossings carry")
             failures += not (diff <= 5e-3 * scale and set(penalty) == set(reference))
+        if friction == "0" and "Penalty" in crossings:
+            name = os.path.join(work, "between_0_Penalty")
+            _, _, _, contact2 = run(exe, name + ".xml", name + "_np2", mpi)
+            two = normal_forces(contact2)
+            scale = max(abs(v) for v in crossings["Penalty"].values())
+            diff = max(abs(two.get(k, 0.0) - v) for k, v in crossings["Penalty"].items())
+            print(f"  Penalty (Between Solves) on 2 ranks against 1: {diff / scale:.1e} of the largest force")
+            failures += not (diff <= 1e-8 * scale and set(two) == set(crossings["Penalty"]))
     return failures
 
 
@@ -435,7 +444,7 @@ def main():
     failures += check_lagrange_friction_steering(exe, work)
     failures += check_augmented_lagrange_first_contact(exe, work)
     failures += check_cycling_friction_completes(exe, work)
-    failures += check_penalty_between_solves(exe, work)
+    failures += check_penalty_between_solves(exe, work, mpi)
     failures += check_reused_factorization(exe, work, mpi)
     if failures:
         sys.exit(f"{failures} check(s) failed")
