@@ -61,7 +61,59 @@ void AutomaticPenalty::watchFriction(const PointKey& key, const PointResult& r, 
   w.force = {r.lambdaT[0], r.lambdaT[1]};
 }
 
+void AutomaticPenalty::watchActive(const PointKey& key, bool acts, bool tangent) const {
+  if (!tangent) return;
+  auto it = activeWatch_.find(key);
+  if (it == activeWatch_.end()) {
+    if (acts) activeWatch_[key].acts = true;
+    return;
+  }
+  if (it->second.acts != acts) ++it->second.changes;
+  it->second.acts = acts;
+}
+
 std::string AutomaticPenalty::failureHint(const Teuchos::Comm<int>& comm, const PointMap& points) const {
+  std::string active = activeSetHint(comm, points);
+  std::string friction = frictionHint(comm, points);
+  if (active.empty() || friction.empty()) return active + friction;
+  return active + "; " + friction;
+}
+
+std::string AutomaticPenalty::activeSetHint(const Teuchos::Comm<int>& comm, const PointMap& points) const {
+  // Points that join and leave the active set back and forth within a Newton solve: many points
+  // closing at once on beams soft against the contact's stiffness (generate grid's layers), where a
+  // wrong active set makes Newton's steps far longer than the motion. Fixing the points that act for
+  // each Newton solve, and changing them after it, as Lagrange multipliers do, gets through.
+  // Or points that join and leave while the step bound (which stops a step where an open point
+  // would pass its activation) shortens most steps to a crawl: the 32 x 32 layers, whose steps it cut
+  // to 1e-4 of themselves.
+  int local[3] = {static_cast<int>(activeWatch_.size()), 0, 0}, global[3] = {0, 0, 0};
+  for (const auto& [key, w] : activeWatch_) {
+    local[1] += w.changes >= kCyclingChanges;
+    local[2] += w.changes >= 1;
+  }
+  Teuchos::reduceAll(comm, Teuchos::REDUCE_SUM, 3, local, global);
+  const bool cycling = global[1] >= 2 && global[1] >= global[0] / 8;
+  const bool crawling = steps_ >= 10 && 2 * crawling_ >= steps_ && global[2] >= 2 && global[2] >= global[0] / 8;
+  if (!cycling && !crawling) return "";
+  std::ostringstream s;
+  if (cycling)
+    s << global[1] << " of " << global[0] << " contact points joined or left the active set " << kCyclingChanges
+      << " times or more in this Newton solve (the active set changing within Newton's iterations)";
+  else
+    s << "the step bound shortened " << crawling_ << " of " << steps_ << " Newton steps to below " << kCrawlingBound
+      << " of themselves while " << global[2] << " of " << global[0]
+      << " contact points joined or left the active set (the active set changing within Newton's iterations)";
+  fixActive_ = enforcer_.fixActiveSet(true);
+  enforcer_.fixActiveSet(false);
+  if (fixActive_)
+    s << "; the retry fixes the points that act for each Newton solve and changes them after it (as Penalty's "
+         "Active Set = Between Solves does for a whole run)";
+  (void)points;
+  return s.str();
+}
+
+std::string AutomaticPenalty::frictionHint(const Teuchos::Comm<int>& comm, const PointMap& points) const {
   // Slip directions that flip back and forth at many points: the friction force's jump across zero
   // slip is steeper than the beams can follow, and Newton cycles between mirror images.
   int local[2] = {static_cast<int>(frictionWatch_.size()), 0}, global[2] = {0, 0};
@@ -88,6 +140,10 @@ std::string AutomaticPenalty::failureHint(const Teuchos::Comm<int>& comm, const 
 }
 
 void AutomaticPenalty::relaxAfterFailure(PointMap& committed) {
+  if (fixActive_ && enforcer_.fixActiveSet(true))
+    for (auto& [key, p] : committed)
+      if (!p.node()) enforcer_.engage(*p.state, p.result.active);
+  fixActive_ = false;
   if (cycling_) {
     ++relaxations_;
     for (auto& [key, p] : committed)

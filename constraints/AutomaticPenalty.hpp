@@ -36,7 +36,19 @@ class AutomaticPenalty {
   // This rank's slipping points in the present Newton solve: compares a point's friction force at a
   // tangent assembly with the one before (a reversal counts); forgotten after a step or a failure.
   void watchFriction(const PointKey& key, const PointResult& r, bool tangent) const;
-  void forgetFriction() { frictionWatch_.clear(); }
+  void forgetFriction() {
+    frictionWatch_.clear();
+    activeWatch_.clear();
+    steps_ = crawling_ = 0;
+  }
+  // The step bound of each Newton iteration (ContactManager::stepBound): how often it crawled.
+  void watchBound(double bound) const {
+    ++steps_;
+    crawling_ += bound < kCrawlingBound;
+  }
+  // This rank's points in the present Newton solve: whether a point acts at a tangent assembly, against
+  // the one before (a change counts; points that never acted are not kept).
+  void watchActive(const PointKey& key, bool acts, bool tangent) const;
   // A point whose friction force reversed twice in the present Newton solve (a cycle) lets its strategy
   // take the secant of its friction in the tangent (ContactPoint::secantFriction) until
   // kSecantAssemblies tangent assemblies have passed without another reversal; then Newton's own
@@ -56,6 +68,9 @@ class AutomaticPenalty {
   }
   // After a failed Newton solve: what the slip directions say, and whether the retry relaxes.
   std::string failureHint(const Teuchos::Comm<int>& comm, const PointMap& points) const;
+  // Its two parts: the active set, and the slip directions (each "" when they say nothing).
+  std::string activeSetHint(const Teuchos::Comm<int>& comm, const PointMap& points) const;
+  std::string frictionHint(const Teuchos::Comm<int>& comm, const PointMap& points) const;
   // Before the retry of a failed increment: lowers the automatic tangential parameters of the
   // committed points if failureHint found them cycling.
   void relaxAfterFailure(PointMap& committed);
@@ -77,6 +92,15 @@ class AutomaticPenalty {
   static constexpr int kSecantReversals = 2;
   static constexpr int kSecantAssemblies = 6;
   static constexpr int kCyclingReversals = 3;  // reversals of a point's friction force within a Newton solve
+  static constexpr int kCyclingChanges = 2;  // changes of a point's acting within a Newton solve
+  static constexpr double kCrawlingBound = 1e-2;  // a step bound this short crawls
+  mutable int steps_ = 0, crawling_ = 0;
+  struct ActiveWatch {
+    bool acts = false;
+    int changes = 0;
+  };
+  mutable std::map<PointKey, ActiveWatch> activeWatch_;
+  mutable bool fixActive_ = false;  // failureHint: the retry fixes the active set for each Newton solve
   struct FrictionWatch {
     std::array<double, 2> force{};
     int reversals = 0;

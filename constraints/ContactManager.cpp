@@ -187,9 +187,11 @@ void ContactManager::evaluate(const core::State& state, const OwnsDof& owns, cor
     if (!evaluatesHere(p, d, owns)) continue;
     // The full kinematics (with their derivatives) only where the point acts.
     const PointState* acting = actingState(p);
-    if (!acting || !enforcer_->contributes(pointGeometry(p, state).gap, *acting)) continue;
-    // A point of a blended pair whose weight is zero now carries nothing (the angle, cheap, first).
-    if (geometry_.carriesNothing(p, state)) continue;
+    // (Whether it acts, against the last tangent assembly's: failureHint.)
+    const bool acts =
+        acting && enforcer_->contributes(pointGeometry(p, state).gap, *acting) && !geometry_.carriesNothing(p, state);
+    penalty_.watchActive(key, acts, tangent && !quietEvaluation_);
+    if (!acts) continue;
     const ContactKinematics k = kinematics(p, state);
     const int n = static_cast<int>(d.size());
     if (lines_.nodal() && p.line()) {
@@ -563,6 +565,7 @@ void ContactManager::commitPoint(Point& p, const core::State& state) {
 
 void ContactManager::commitStep(const core::State& state) {
   penalty_.forgetFriction();
+  enforcer_->fixActiveSet(false);  // (a failed increment's retries only: AutomaticPenalty::relaxAfterFailure)
   responseFailed_ = false;
   const auto gaps =
       lines_.nodal() ? lines_.nodeGaps(set_.current(), state) : std::map<PointKey, LineContact::NodeGap>{};
@@ -701,6 +704,7 @@ double ContactManager::stepBound(const core::State& state, const std::vector<dou
       break;
     }
   }
+  penalty_.watchBound(bound);
   return bound;
 }
 

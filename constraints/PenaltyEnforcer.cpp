@@ -56,7 +56,7 @@ PointResult PenaltyEnforcer::evaluate(const ContactPoint& p, const PointState& s
   h.penalties.require();
   const double* eps = choice_.at(h.penalties);
   const FrictionRegularization friction{{h.lambdaT[0], h.lambdaT[1]}, eps[1]};
-  if (betweenSolves_) {
+  if (betweenSolves()) {
     if (!h.engaged) return PointResult{};
     return regularizedEvaluate(p, linearNormalLaw(0.0, eps[0]), friction, f, K, true);
   }
@@ -64,7 +64,7 @@ PointResult PenaltyEnforcer::evaluate(const ContactPoint& p, const PointState& s
 }
 
 bool PenaltyEnforcer::acceptNormal(const ContactPoint& p, PointState& s) const {
-  if (!betweenSolves_) return true;
+  if (!betweenSolves()) return true;
   State& h = stateOf<State>(s);
   const double g = p.kinematics.normal.value;
   // Joins where it penetrates, leaves where its spring is in tension (the gap open).
@@ -89,7 +89,7 @@ void PenaltyEnforcer::commitPoint(const ContactPoint& p, PointState& s) const {
   const double* eps = choice_.at(state.penalties);
   const FrictionRegularization friction{{state.lambdaT[0], state.lambdaT[1]}, eps[1]};
   const PointResult r =
-      betweenSolves_
+      betweenSolves()
           ? (state.engaged ? regularizedForces(p, linearNormalLaw(0.0, eps[0]), friction, true) : PointResult{})
           : regularizedForces(p, smoothedPenaltyLaw(eps[0], regularization_), friction);
   for (int i = 0; i < 2; ++i) state.lambdaT[i] = r.lambdaT[i];

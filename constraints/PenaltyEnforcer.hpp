@@ -40,13 +40,19 @@ class PenaltyEnforcer : public ConstraintEnforcer {
   // Automatic eps_T: chosen again from the tangential compliances times 10^relaxations.
   void relaxTangential(PointState& s, const double compliance[3], int relaxations) const override;
   bool contributes(double gapN, const PointState& s) const override {
-    return betweenSolves_ ? stateOf<State>(s).engaged : gapN <= 0.0;
+    return betweenSolves() ? stateOf<State>(s).engaged : gapN <= 0.0;
   }
   double activationGap(const PointState& s) const override {
-    return betweenSolves_ ? ConstraintEnforcer::activationGap(s) : 0.0;
+    return betweenSolves() ? ConstraintEnforcer::activationGap(s) : 0.0;
   }
   bool acceptNormal(const ContactPoint& p, PointState& s) const override;
-  int maximumPasses() const override { return betweenSolves_ ? kPassesBetweenSolves : 1; }
+  int maximumPasses() const override { return betweenSolves() ? kPassesBetweenSolves : 1; }
+  // (Not with a Regularization Gap: the retry would solve the linear law's problem.)
+  bool fixActiveSet(bool on) const override {
+    fixedForRetry_ = on && !(regularization_ > 0.0);
+    return fixedForRetry_ || !on;
+  }
+  void engage(PointState& s, bool acts) const override { stateOf<State>(s).engaged = acts; }
   PointResult evaluate(const ContactPoint& p, const PointState& s, double* f, double* K) const override;
   bool acceptPoint(const ContactPoint& p, PointState& s, double& worstViolation) const override;
   void commitPoint(const ContactPoint& p, PointState& s) const override;
@@ -60,6 +66,8 @@ class PenaltyEnforcer : public ConstraintEnforcer {
   // "Active Set" = "Between Solves": the points that act are fixed for a Newton solve (their springs
   // hold in tension too) and changed after it, as Lagrange multipliers' are.
   bool betweenSolves_ = false;
+  mutable bool fixedForRetry_ = false;  // fixActiveSet: the retries of an increment, until a step is accepted
+  bool betweenSolves() const { return betweenSolves_ || fixedForRetry_; }
   static constexpr int kPassesBetweenSolves = 50;
 };
 
