@@ -72,14 +72,15 @@ void AutomaticPenalty::watchActive(const PointKey& key, bool acts, bool tangent)
   it->second.acts = acts;
 }
 
-std::string AutomaticPenalty::failureHint(const Teuchos::Comm<int>& comm, const PointMap& points) const {
-  std::string active = activeSetHint(comm, points);
+std::string AutomaticPenalty::failureHint(const Teuchos::Comm<int>& comm, const PointMap& points,
+                                          bool frictional) const {
+  std::string active = activeSetHint(comm, frictional);
   std::string friction = frictionHint(comm, points);
   if (active.empty() || friction.empty()) return active + friction;
   return active + "; " + friction;
 }
 
-std::string AutomaticPenalty::activeSetHint(const Teuchos::Comm<int>& comm, const PointMap& points) const {
+std::string AutomaticPenalty::activeSetHint(const Teuchos::Comm<int>& comm, bool frictional) const {
   // Points that join and leave the active set back and forth within a Newton solve: many points
   // closing at once on beams soft against the contact's stiffness (generate grid's layers), where a
   // wrong active set makes Newton's steps far longer than the motion. Fixing the points that act for
@@ -104,12 +105,14 @@ std::string AutomaticPenalty::activeSetHint(const Teuchos::Comm<int>& comm, cons
     s << "the step bound shortened " << crawling_ << " of " << steps_ << " Newton steps to below " << kCrawlingBound
       << " of themselves while " << global[2] << " of " << global[0]
       << " contact points joined or left the active set (the active set changing within Newton's iterations)";
-  fixActive_ = enforcer_.fixActiveSet(true);
+  // (Whether the strategy can fix its active set: asked, and undone until the retry.)
+  const bool can = enforcer_.fixActiveSet(true);
   enforcer_.fixActiveSet(false);
+  fixActive_ = can && !frictional;
   if (fixActive_)
     s << "; the retry fixes the points that act for each Newton solve and changes them after it (as Penalty's "
          "Active Set = Between Solves does for a whole run)";
-  (void)points;
+  else if (can) s << "; Active Set = Between Solves (the points that act fixed for each Newton solve) may help";
   return s.str();
 }
 

@@ -67,9 +67,11 @@ class AutomaticPenalty {
     return false;
   }
   // After a failed Newton solve: what the slip directions say, and whether the retry relaxes.
-  std::string failureHint(const Teuchos::Comm<int>& comm, const PointMap& points) const;
+  // `frictional`: a pair has friction (the retry then does not fix the active set: measured, the 16 x 16
+  // layers with friction 0.2, whose retries in Newton's own active set complete, stopped with it).
+  std::string failureHint(const Teuchos::Comm<int>& comm, const PointMap& points, bool frictional) const;
   // Its two parts: the active set, and the slip directions (each "" when they say nothing).
-  std::string activeSetHint(const Teuchos::Comm<int>& comm, const PointMap& points) const;
+  std::string activeSetHint(const Teuchos::Comm<int>& comm, bool frictional) const;
   std::string frictionHint(const Teuchos::Comm<int>& comm, const PointMap& points) const;
   // Before the retry of a failed increment: lowers the automatic tangential parameters of the
   // committed points if failureHint found them cycling.

@@ -227,7 +227,9 @@ void ContactManager::evaluate(const core::State& state, const OwnsDof& owns, cor
 }
 
 std::string ContactManager::failureHint(const Teuchos::Comm<int>& comm) const {
-  return penalty_.failureHint(comm, set_.current());
+  const auto& pairs = geometry_.pairs();
+  const bool frictional = std::any_of(pairs.begin(), pairs.end(), [](const auto& pair) { return pair.friction > 0.0; });
+  return penalty_.failureHint(comm, set_.current(), frictional);
 }
 
 bool ContactManager::held(int pi, int ea, int eb, const core::State& state, bool penetrating) const {
