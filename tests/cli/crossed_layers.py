@@ -50,6 +50,19 @@ def deck_for(exe, work, name, n, elements, strategy):
     return deck
 
 
+def run_variant(exe, deck, name, settings):
+    """Runs `deck` with the (path, type, value) `settings` and VTK off, written to NAME.xml, into NAME;
+    returns the exit code and the first line of its status."""
+    tree = ET.parse(deck)
+    set_parameter(tree.getroot(), "Output/Write VTK", "bool", "false")
+    for path, kind, value in settings:
+        set_parameter(tree.getroot(), path, kind, value)
+    tree.write(name + ".xml")
+    r = subprocess.run([exe, "run", name + ".xml", "--output", name, "--quiet"], capture_output=True, text=True)
+    with open(os.path.join(name, "status.txt")) as f:
+        return r.returncode, f.read().strip().splitlines()[0]
+
+
 def worst_cone(contact, mu):
     """The largest |F_T| / (mu N) over the active points of a run's last contact rows."""
     return max((float(c["tangential_force"]) / (mu * abs(float(c["normal_force"]))) for c in contact
@@ -343,17 +356,10 @@ def check_cycling_friction_completes(exe, work):
                        capture_output=True)
         crossings = {}
         for strategy in STRATEGIES:
-            tree = ET.parse(deck)
-            set_parameter(tree.getroot(), "Output/Write VTK", "bool", "false")
-            set_parameter(tree.getroot(), "Contact/Enforcement/Type", "string", strategy)
             name = os.path.join(work, f"cycling_{kind}_{strategy.replace(' ', '_')}")
-            tree.write(name + ".xml")
-            r = subprocess.run([exe, "run", name + ".xml", "--output", name, "--quiet"], capture_output=True,
-                               text=True)
-            with open(os.path.join(name, "status.txt")) as f:
-                status = f.read().strip().splitlines()[0]
-            print(f"{kind} {' x '.join(options[1::2])}, friction 0.2, {strategy}: exit {r.returncode}, {status[:80]}")
-            if r.returncode != 0:
+            code, status = run_variant(exe, deck, name, [("Contact/Enforcement/Type", "string", strategy)])
+            print(f"{kind} {' x '.join(options[1::2])}, friction 0.2, {strategy}: exit {code}, {status[:80]}")
+            if code != 0:
                 failures += 1
                 continue
             _, total, balance, contact = summarize(name)
@@ -396,19 +402,13 @@ def check_penalty_between_solves(exe, work, mpi):
                         "--output", deck], check=True, capture_output=True)
         crossings = {}
         for strategy in ("Lagrange Multiplier", "Penalty"):
-            tree = ET.parse(deck)
-            set_parameter(tree.getroot(), "Output/Write VTK", "bool", "false")
-            set_parameter(tree.getroot(), "Contact/Enforcement/Type", "string", strategy)
-            set_parameter(tree.getroot(), "Contact/Enforcement/Penalty/Active Set", "string", "Between Solves")
             name = os.path.join(work, f"between_{friction}_{strategy.replace(' ', '_')}")
-            tree.write(name + ".xml")
-            r = subprocess.run([exe, "run", name + ".xml", "--output", name, "--quiet"], capture_output=True,
-                               text=True)
-            with open(os.path.join(name, "status.txt")) as f:
-                status = f.read().strip().splitlines()[0]
+            code, status = run_variant(exe, deck, name, [
+                ("Contact/Enforcement/Type", "string", strategy),
+                ("Contact/Enforcement/Penalty/Active Set", "string", "Between Solves")])
             print(f"grid 16 x 16, friction {friction}, {strategy} (Penalty: Active Set Between Solves): "
-                  f"exit {r.returncode}, {status[:80]}")
-            if r.returncode != 0:
+                  f"exit {code}, {status[:80]}")
+            if code != 0:
                 failures += 1
                 continue
             _, total, balance, contact = summarize(name)
@@ -434,16 +434,10 @@ def check_penalty_between_solves(exe, work, mpi):
             print(f"  Penalty (Between Solves) on 2 ranks against 1: {diff / scale:.1e} of the largest force")
             failures += not (diff <= 1e-8 * scale and set(two) == set(crossings["Penalty"]))
         if friction == "0" and "Lagrange Multiplier" in crossings:
-            tree = ET.parse(deck)
-            set_parameter(tree.getroot(), "Output/Write VTK", "bool", "false")
             name = os.path.join(work, "between_0_default")
-            tree.write(name + ".xml")
-            r = subprocess.run([exe, "run", name + ".xml", "--output", name, "--quiet"], capture_output=True,
-                               text=True)
-            with open(os.path.join(name, "status.txt")) as f:
-                status = f.read().strip().splitlines()[0]
-            print(f"grid 16 x 16, frictionless, Penalty (default Active Set): exit {r.returncode}, {status[:80]}")
-            if r.returncode != 0:
+            code, status = run_variant(exe, deck, name, [])
+            print(f"grid 16 x 16, frictionless, Penalty (default Active Set): exit {code}, {status[:80]}")
+            if code != 0:
                 failures += 1
                 continue
             with open(os.path.join(name, "steps.csv")) as f:
