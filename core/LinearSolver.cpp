@@ -127,8 +127,20 @@ void applyLinearSolverParameters(Teuchos::ParameterList& user, const std::string
   linearSolverSpec().apply(user, path);
   const std::string type = user.get<std::string>("Type");
   const auto& foreign = type == "Direct" ? gmresOnly : directOnly;
+  // (A foreign parameter at its default value changes nothing: effective_parameters.xml, which a run
+  // writes with every default, is a deck again.)
+  static const Teuchos::ParameterList defaults = linearSolverSpec().example();
+  const auto atDefault = [&](const std::string& name) {
+    if (!defaults.isParameter(name)) return false;
+    const Teuchos::ParameterEntry &a = user.getEntry(name), &b = defaults.getEntry(name);
+    if (a.isType<double>() && b.isType<double>()) return a.getValue<double>(nullptr) == b.getValue<double>(nullptr);
+    if (a.isType<int>() && b.isType<int>()) return a.getValue<int>(nullptr) == b.getValue<int>(nullptr);
+    if (a.isType<std::string>() && b.isType<std::string>())
+      return a.getValue<std::string>(nullptr) == b.getValue<std::string>(nullptr);
+    return false;
+  };
   for (const auto& name : given)
-    if (std::find(foreign.begin(), foreign.end(), name) != foreign.end())
+    if (std::find(foreign.begin(), foreign.end(), name) != foreign.end() && !atDefault(name))
       throw InputError(
           "parameter \"" + path + "/" + name + "\" applies to Type \"" + (type == "Direct" ? "GMRES" : "Direct") +
           "\" only, and \"" + path + "/Type\" is \"" + type + "\"" + (typeGiven ? "" : " (the default)") +

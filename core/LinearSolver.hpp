@@ -19,8 +19,8 @@ namespace bc::core {
 const ParameterSpec& linearSolverSpec();
 // Validates the deck's Linear Solver list `user` at `path` (linearSolverSpec().apply) and refuses a
 // parameter of the other Type's family that the deck gives (Direct Solver or Reuse Iteration Limit with
-// GMRES; Preconditioner, Fill Level, Overlap, Tolerance, Maximum Iterations or Restart with Direct): it
-// would be ignored, and the run would use a solver the deck does not describe.
+// GMRES; Preconditioner, Fill Level, Overlap, Tolerance, Maximum Iterations or Restart with Direct) set
+// away from its default: it would be ignored, and the run would use a solver the deck does not describe.
 void applyLinearSolverParameters(Teuchos::ParameterList& user, const std::string& path);
 
 // Direct Solver = Automatic (the default): the sparse LU by the model's size, its contact points and
