@@ -105,9 +105,7 @@ std::string AutomaticPenalty::activeSetHint(const Teuchos::Comm<int>& comm, bool
     s << "the step bound shortened " << crawling_ << " of " << steps_ << " Newton steps to below " << kCrawlingBound
       << " of themselves while " << global[2] << " of " << global[0]
       << " contact points joined or left the active set (the active set changing within Newton's iterations)";
-  // (Whether the strategy can fix its active set: asked, and undone until the retry.)
-  const bool can = enforcer_.fixActiveSet(true);
-  enforcer_.fixActiveSet(false);
+  const bool can = enforcer_.canFixActiveSet();
   fixActive_ = can && !frictional;
   if (fixActive_)
     s << "; the retry fixes the points that act for each Newton solve and changes them after it (as Penalty's "
@@ -143,9 +141,11 @@ std::string AutomaticPenalty::frictionHint(const Teuchos::Comm<int>& comm, const
 }
 
 void AutomaticPenalty::relaxAfterFailure(PointMap& committed) {
-  if (fixActive_ && enforcer_.fixActiveSet(true))
+  if (fixActive_) {
+    enforcer_.fixActiveSet(true);
     for (auto& [key, p] : committed)
       if (!p.node()) enforcer_.engage(*p.state, p.result.active);
+  }
   fixActive_ = false;
   if (cycling_) {
     ++relaxations_;

@@ -223,11 +223,12 @@ class ConstraintEnforcer {
   // Upper bound on the Newton solves of one increment (active-set or augmentation passes).
   virtual int maximumPasses() const { return 1; }
   // For the retries of an increment in which many points joined and left the active set within
-  // Newton's iterations (AutomaticPenalty::failureHint): on = true fixes the points that act for each
-  // Newton solve, as Lagrange multipliers' are, each committed point told by engage() whether it acted
-  // at the last converged state; on = false once a step is accepted. Returns whether the strategy can
-  // (the default: no).
-  virtual bool fixActiveSet(bool on) const { return false; }
+  // Newton's iterations (AutomaticPenalty::failureHint): whether the strategy can fix the points that
+  // act for each Newton solve, as Lagrange multipliers' are (the default: no); on = true does so, each
+  // committed point told by engage() whether it acted at the last converged state; on = false once a
+  // step is accepted.
+  virtual bool canFixActiveSet() const { return false; }
+  virtual void fixActiveSet(bool on) const {}
   virtual void engage(PointState& s, bool acts) const {}
   // The forces at the converged state, for output (before commitPoint). By default the evaluation
   // without assembly.

@@ -56,11 +56,12 @@ PointResult PenaltyEnforcer::evaluate(const ContactPoint& p, const PointState& s
   h.penalties.require();
   const double* eps = choice_.at(h.penalties);
   const FrictionRegularization friction{{h.lambdaT[0], h.lambdaT[1]}, eps[1]};
-  if (betweenSolves()) {
-    if (!h.engaged) return PointResult{};
-    return regularizedEvaluate(p, linearNormalLaw(0.0, eps[0]), friction, f, K, true);
-  }
-  return regularizedEvaluate(p, smoothedPenaltyLaw(eps[0], regularization_), friction, f, K);
+  if (betweenSolves() && !h.engaged) return PointResult{};
+  return regularizedEvaluate(p, normalLaw(eps[0]), friction, f, K, betweenSolves());
+}
+
+NormalLaw PenaltyEnforcer::normalLaw(double epsN) const {
+  return betweenSolves() ? linearNormalLaw(0.0, epsN) : smoothedPenaltyLaw(epsN, regularization_);
 }
 
 bool PenaltyEnforcer::acceptNormal(const ContactPoint& p, PointState& s) const {
@@ -88,10 +89,9 @@ void PenaltyEnforcer::commitPoint(const ContactPoint& p, PointState& s) const {
   state.penalties.require();
   const double* eps = choice_.at(state.penalties);
   const FrictionRegularization friction{{state.lambdaT[0], state.lambdaT[1]}, eps[1]};
-  const PointResult r =
-      betweenSolves()
-          ? (state.engaged ? regularizedForces(p, linearNormalLaw(0.0, eps[0]), friction, true) : PointResult{})
-          : regularizedForces(p, smoothedPenaltyLaw(eps[0], regularization_), friction);
+  const PointResult r = betweenSolves() && !state.engaged
+                            ? PointResult{}
+                            : regularizedForces(p, normalLaw(eps[0]), friction, betweenSolves());
   for (int i = 0; i < 2; ++i) state.lambdaT[i] = r.lambdaT[i];
 }
 

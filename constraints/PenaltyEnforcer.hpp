@@ -48,10 +48,8 @@ class PenaltyEnforcer : public ConstraintEnforcer {
   bool acceptNormal(const ContactPoint& p, PointState& s) const override;
   int maximumPasses() const override { return betweenSolves() ? kPassesBetweenSolves : 1; }
   // (Not with a Regularization Gap: the retry would solve the linear law's problem.)
-  bool fixActiveSet(bool on) const override {
-    fixedForRetry_ = on && !(regularization_ > 0.0);
-    return fixedForRetry_ || !on;
-  }
+  bool canFixActiveSet() const override { return !(regularization_ > 0.0); }
+  void fixActiveSet(bool on) const override { fixedForRetry_ = on && canFixActiveSet(); }
   void engage(PointState& s, bool acts) const override { stateOf<State>(s).engaged = acts; }
   PointResult evaluate(const ContactPoint& p, const PointState& s, double* f, double* K) const override;
   bool acceptPoint(const ContactPoint& p, PointState& s, double& worstViolation) const override;
@@ -68,6 +66,9 @@ class PenaltyEnforcer : public ConstraintEnforcer {
   bool betweenSolves_ = false;
   mutable bool fixedForRetry_ = false;  // fixActiveSet: the retries of an increment, until a step is accepted
   bool betweenSolves() const { return betweenSolves_ || fixedForRetry_; }
+  // The normal law: smoothed by the Regularization Gap, or, fixed between solves, linear (and
+  // bilateral: regularizedEvaluate's last argument) while the point is engaged.
+  NormalLaw normalLaw(double epsN) const;
   static constexpr int kPassesBetweenSolves = 50;
 };
 

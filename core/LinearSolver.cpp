@@ -131,13 +131,7 @@ void applyLinearSolverParameters(Teuchos::ParameterList& user, const std::string
   // writes with every default, is a deck again.)
   static const Teuchos::ParameterList defaults = linearSolverSpec().example();
   const auto atDefault = [&](const std::string& name) {
-    if (!defaults.isParameter(name)) return false;
-    const Teuchos::ParameterEntry &a = user.getEntry(name), &b = defaults.getEntry(name);
-    if (a.isType<double>() && b.isType<double>()) return a.getValue<double>(nullptr) == b.getValue<double>(nullptr);
-    if (a.isType<int>() && b.isType<int>()) return a.getValue<int>(nullptr) == b.getValue<int>(nullptr);
-    if (a.isType<std::string>() && b.isType<std::string>())
-      return a.getValue<std::string>(nullptr) == b.getValue<std::string>(nullptr);
-    return false;
+    return defaults.isParameter(name) && user.getEntry(name).getAny(false) == defaults.getEntry(name).getAny(false);
   };
   for (const auto& name : given)
     if (std::find(foreign.begin(), foreign.end(), name) != foreign.end() && !atDefault(name))
