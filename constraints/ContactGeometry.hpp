@@ -56,6 +56,9 @@ struct ContactOptions {
 struct Candidate {
   int elementA, elementB;
   ClosestPoints cp;
+  // A Gauss point of a nodal line field on a part of the field that a free end of the other beam cuts
+  // (LineContact::offerSegment): the part's hat functions are stretched over the piece it covers.
+  bool endCut = false;
 };
 // How the narrow phase offers a candidate: with how far outside its elements' centres it lies and
 // an order (ContactSearch::detect keeps, per key, the lowest (outside, order)).

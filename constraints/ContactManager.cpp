@@ -192,7 +192,9 @@ void ContactManager::evaluate(const core::State& state, const OwnsDof& owns, cor
         acting && enforcer_->contributes(pointGeometry(p, state).gap, *acting) && !geometry_.carriesNothing(p, state);
     penalty_.watchActive(key, acts, tangent && !quietEvaluation_);
     if (!acts) continue;
-    const ContactKinematics k = kinematics(p, state);
+    // (A residual alone needs the first variations: the second ones, by nested AD for line points,
+    // cost most of a line contact's evaluation.)
+    const ContactKinematics k = kinematics(p, state, tangent ? Variations::Second : Variations::First);
     const int n = static_cast<int>(d.size());
     if (lines_.nodal() && p.line()) {
       if (!lines_.evaluateNodal(p, k, state, set_.current(), f, tangent ? &K : nullptr, nullptr)) continue;

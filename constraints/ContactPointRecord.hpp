@@ -50,6 +50,9 @@ struct ContactPointRecord {
   // across B, endProjection), the Gauss point's parameter
   // on A's element at the last detection, and the length of line A it stood for at the last commit.
   double etaRate = 0.0, xi = 0.0, length = 0.0;
+  // A Gauss point of a nodal field on a part of the field that a free end of the other beam cuts
+  // (Candidate::endCut, at the last detection): the part's hat functions stretched over the piece.
+  bool endCut = false;
   double across2 = 0.0;  // an end-to-end point: the end's second offset on the other end's face
   PointStateHolder state;  // the strategy's
   int extraOffset = -1, extraCount = 0;  // its multipliers in State::extra (as laid out last)

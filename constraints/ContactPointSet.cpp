@@ -62,6 +62,7 @@ bool ContactPointSet::update(const std::map<PointKey, Candidate>& candidates) {
     p.elementA = c.elementA;
     p.elementB = c.elementB;
     p.xi = c.cp.xi;
+    p.endCut = c.endCut;
     // A new line point's side: its normal at the last converged state (where the beams had not
     // passed through each other), so a point found after they did has a deeply negative gap.
     if (p.line() && dot(p.normal, p.normal) == 0.0) p.normal = lines_.geometry(p, geometry_.reference()).normal;

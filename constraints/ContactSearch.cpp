@@ -111,12 +111,14 @@ void exchangeChoices(const Teuchos::Comm<int>& comm, std::map<PointKey, Offer>& 
     double outside;
     long long visit;
     ClosestPoints cp;
+    bool endCut;
   };
   static_assert(std::is_trivially_copyable_v<Record>, "records travel as bytes");
   std::vector<Record> mine;
   mine.reserve(chosen.size());
   for (const auto& [key, o] : chosen)
-    mine.push_back(Record{key, o.candidate.elementA, o.candidate.elementB, o.outside, o.visit, o.candidate.cp});
+    mine.push_back(Record{key, o.candidate.elementA, o.candidate.elementB, o.outside, o.visit, o.candidate.cp,
+                          o.candidate.endCut});
   // The byte counts as 64-bit integers, so that every rank takes the same decision on their total.
   const long long bytes = static_cast<long long>(mine.size() * sizeof(Record));
   std::vector<long long> sizes(ranks);
@@ -132,7 +134,7 @@ void exchangeChoices(const Teuchos::Comm<int>& comm, std::map<PointKey, Offer>& 
   MPI_Allgatherv(mine.data(), static_cast<int>(bytes), MPI_BYTE, all.data(), counts.data(), offsets.data(), MPI_BYTE,
                  raw);
   chosen.clear();
-  for (const Record& r : all) offer(r.key, Candidate{r.elementA, r.elementB, r.cp}, r.outside, r.visit);
+  for (const Record& r : all) offer(r.key, Candidate{r.elementA, r.elementB, r.cp, r.endCut}, r.outside, r.visit);
 }
 
 }  // namespace

@@ -452,6 +452,19 @@ void LineContact::offerSegment(int pi, int ea, int eb, int edge, int face, doubl
   for (int part = 0; part < (1 << level); ++part) {
     const LineSegment sub = partSegment(seg, level, part);
     if (!(sub.length() > kSliver)) continue;
+    // Where a free end of B cuts the part, the part's two hat functions are stretched over the piece
+    // B covers (fieldShares): the node beyond B's end then stands at that end, whose force is a point
+    // force (B's end pressed onto A), and its weighted gap is weighted towards that end. With the
+    // hats of the whole part, the node beyond reached the piece with values up to its share of the
+    // part only: where B's end lay 0.1 past a node of A's elements of length 5 its row was scaled by
+    // 2 % (Augmented Lagrange ran out of passes), and a force at an end 1 past the node was smeared
+    // over the element and the next (8 % low). A part B covers to its end is unchanged.
+    bool endCut = false;
+    if (nodal_) {
+      const double m = 1 << level, a = part / m, b = (part + 1) / m;
+      endCut = (seg.hiKind >= 0 && seg.hi < b && freeBound(seg.hiKind, seg.hi)) ||
+               (seg.loKind >= 0 && seg.lo > a && freeBound(seg.loKind, seg.lo));
+    }
     for (int q = 0; q < (int)gaussXi_.size(); ++q) {
       const ClosestPoints cp = lineProjection(in, sub.lo + sub.length() * gaussXi_[q]);
       const PointKey key = PointKey::gaussPoint(pi, ea, eb, edge, face, gaussIndex(level, part, q));
@@ -465,7 +478,7 @@ void LineContact::offerSegment(int pi, int ea, int eb, int edge, int face, doubl
             inside > 0.0 ? in.halfWidthB - inside * (isKnown ? 1e-3 : 0.05) : in.halfWidthB * (isKnown ? 1.05 : 1.001);
         if (std::abs(cp.lateral) > reach) continue;
       }
-      offer(key, Candidate{ea, eb, cp}, 0.0, -visit);  // the last visit wins
+      offer(key, Candidate{ea, eb, cp, endCut}, 0.0, -visit);  // the last visit wins
     }
   }
 }
@@ -537,10 +550,12 @@ std::vector<LineContact::FieldShare> LineContact::fieldShares(const ContactPoint
   std::vector<FieldShare> shares;
   const int level = fieldLevel(p.key.pair, p.edge(), p.elementA), m = 1 << level;
   const int part = partOf(p.xi, m);
-  const double t = xi * m - part;
+  // A part that a free end of B cuts (offerSegment): the hats stretched over the piece B covers, whose
+  // Gauss point is at its Gauss parameter on that piece whatever the dofs (N fixed, no slope).
+  const double t = p.endCut ? gaussXi_[gaussOf(p.gauss())] : xi * m - part;
   for (int side = 0; side < 2; ++side) {
     const int node = fieldNodeAt(p.elementA, level, part + side);
-    const double N = side == 0 ? 1.0 - t : t, slope = side == 0 ? -m : m;
+    const double N = side == 0 ? 1.0 - t : t, slope = p.endCut ? 0.0 : (side == 0 ? -m : m);
     if (!shares.empty() && shares.back().node == node) {
       shares.back().N += N;
       shares.back().slope += slope;

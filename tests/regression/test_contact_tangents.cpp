@@ -78,12 +78,15 @@ TEST(LineContact, TangentMatchesCentralDifferences) {
   // depends on the angle: its gradient enters the tangent).
   // Rectangular sections too (face to face: A's upper edges on B's lower face; with the rod half as
   // wide, its lower edges on the ground's upper face, the points' roles swapped; 2 Gauss points).
+  // The rod starting at x = 20 (shift), inside the ground's second element (16.7 .. 33.3): its free end
+  // cuts that element's field, whose hat functions are stretched over the piece the rod covers.
   struct Case {
     std::string type;
     double degrees;
     bool rectangles;
     double rodWidth = 2.0;
     int gauss = 4;
+    double shift = 2.0;
   };
   for (const Case& c : std::vector<Case>{{"Penalty", 0.0, false},
                                          {"Augmented Lagrange", 0.0, false},
@@ -95,7 +98,9 @@ TEST(LineContact, TangentMatchesCentralDifferences) {
                                          {"Lagrange Multiplier", 0.0, true},
                                          {"Penalty", 0.0, true, 1.0, 2},
                                          {"Lagrange Multiplier", 0.0, true, 1.0, 2},
-                                         {"Augmented Lagrange", 0.0, true, 1.0, 2}}) {
+                                         {"Augmented Lagrange", 0.0, true, 1.0, 2},
+                                         {"Lagrange Multiplier", 0.0, false, 2.0, 4, 20.0},
+                                         {"Augmented Lagrange", 0.0, false, 2.0, 4, 20.0}}) {
     const std::string& type = c.type;
     const double degrees = c.degrees;
     // (Lifted by 1e-6: touching at exactly zero gap, the crossing's point carries a round-off force
@@ -106,7 +111,7 @@ TEST(LineContact, TangentMatchesCentralDifferences) {
     const bool field = type != "Penalty";
     const bool lm = field && degrees > 0;
     const int nGround = lm ? 30 : 6, nRod = lm ? 25 : 5;
-    auto deck = parallelBeams(type, nGround, nRod, 2.0, 1e5, c.gauss, degrees, 1e-6);
+    auto deck = parallelBeams(type, nGround, nRod, c.shift, 1e5, c.gauss, degrees, 1e-6);
     if (c.rectangles) deck = toRectangles(deck, c.rodWidth);
     // Friction along the axes.
     input::replaceAtPath(deck, "Contact/Pairs/line/Friction Coefficient", 0.3);
@@ -147,7 +152,7 @@ TEST(LineContact, TangentMatchesCentralDifferences) {
       ASSERT_GT(s.extra.size(), 0u);
       for (std::size_t i = 0; i < s.extra.size(); ++i) s.extra[i] = -0.1 * (1.0 + 0.37 * i) * (i % 4 == 3 ? -1 : 1);
     }
-    int active = 0, points = 0, slipping = 0, swapped = 0, interior = 0;
+    int active = 0, points = 0, slipping = 0, swapped = 0, interior = 0, cut = 0;
     for (const auto& [key, q] : p.contact->points()) {
       interior += q.node() && constraints::LineContact::interiorNode(q.key.node) && q.extraCount > 0;
       if (q.node()) continue;
@@ -155,6 +160,7 @@ TEST(LineContact, TangentMatchesCentralDifferences) {
       const auto k = p.contact->kinematics(q, s);
       const bool on = acting && p.contact->enforcer().contributes(k.normal.value, *acting);
       active += on;
+      cut += on && q.line() && q.endCut && p.beams->elements()[q.elementA].index > 0;
       swapped += on && q.line() && p.beams->elements()[q.elementA].beam != p.contact->pairs()[0].beamA;
       points += on && !q.line();
       if (on && q.line() && !field) {
@@ -168,11 +174,14 @@ TEST(LineContact, TangentMatchesCentralDifferences) {
     std::printf(
         "%s, %s, %.0f degrees: line contact tangent vs central differences: max error / max |K| = %.2e (%d "
         "points active, %d of them point contacts, %d with swapped roles, %d line points slipping, %d interior field "
-        "nodes)\n",
+        "nodes, %d on a part cut by the rod's end)\n",
         type.c_str(), c.rectangles ? (c.rodWidth < 2.0 ? "narrow rod on rectangle" : "rectangles") : "circles", degrees,
-        err / kmax, active, points, swapped, slipping, interior);
+        err / kmax, active, points, swapped, slipping, interior, cut);
     if (field && degrees > 0) {
       EXPECT_GT(interior, 0) << type;
+    }
+    if (field && c.shift > 2.0) {
+      EXPECT_GT(cut, 0) << type;  // Gauss points of the stretched hats, off the ground's end element
     }
     // The narrow rod's edges on the ground's face carry the contact, with the roles swapped. (With
     // equal widths the push turns the rod's nodes by up to 0.12 about z, and where its edges swing
