@@ -139,6 +139,7 @@ void AugmentedLagrangeEnforcer::relaxTangential(PointState& s, const double comp
 double AugmentedLagrangeEnforcer::activationGap(const PointState& s) const {
   const State& h = stateOf<State>(s);
   if (h.lineNode) return field_.activationGap(h.field);
+  if (fixed_) return ConstraintEnforcer::activationGap(s);  // (no step bound while the set is fixed)
   h.penalties.require();
   return 0.5 * regularization_ - h.lambdaN / choice_.at(h.penalties)[0];
 }
@@ -146,8 +147,13 @@ double AugmentedLagrangeEnforcer::activationGap(const PointState& s) const {
 bool AugmentedLagrangeEnforcer::contributes(double gapN, const PointState& s) const {
   const State& h = stateOf<State>(s);
   if (h.lineNode) return field_.contributes(gapN, h.field);
+  if (fixed_) return h.engaged;
   h.penalties.require();
   return h.lambdaN + choice_.at(h.penalties)[0] * (gapN - 0.5 * regularization_) <= 0.0;
+}
+
+NormalLaw AugmentedLagrangeEnforcer::normalLaw(const State& h, double epsN) const {
+  return fixed_ ? linearNormalLaw(h.lambdaN, epsN) : smoothedAugmentedLaw(h.lambdaN, epsN, regularization_);
 }
 
 PointResult AugmentedLagrangeEnforcer::evaluate(const ContactPoint& p, const PointState& s, double* f,
@@ -158,14 +164,16 @@ PointResult AugmentedLagrangeEnforcer::evaluate(const ContactPoint& p, const Poi
   h.penalties.require();
   const double* eps = choice_.at(h.penalties);
   const FrictionRegularization friction{{h.lambdaT[0], h.lambdaT[1]}, eps[1]};
-  return regularizedEvaluate(p, smoothedAugmentedLaw(h.lambdaN, eps[0], regularization_), friction, f, K);
+  if (fixedOut(h)) return PointResult{};
+  return regularizedEvaluate(p, normalLaw(h, eps[0]), friction, f, K, fixed_);
 }
 
 PointResult AugmentedLagrangeEnforcer::lawForces(const ContactPoint& p, const State& h) const {
   h.penalties.require();
   const double* eps = choice_.at(h.penalties);
   const FrictionRegularization friction{{h.lambdaT[0], h.lambdaT[1]}, eps[1]};
-  return regularizedForces(p, smoothedAugmentedLaw(h.lambdaN, eps[0], regularization_), friction);
+  if (fixedOut(h)) return PointResult{};
+  return regularizedForces(p, normalLaw(h, eps[0]), friction, fixed_);
 }
 
 bool AugmentedLagrangeEnforcer::inOnset(const PointResult& r, const State& h) const {
@@ -174,7 +182,15 @@ bool AugmentedLagrangeEnforcer::inOnset(const PointResult& r, const State& h) co
 
 bool AugmentedLagrangeEnforcer::acceptNormal(const ContactPoint& p, PointState& s) const {
   State& h = stateOf<State>(s);
-  if (!h.lineNode) return true;
+  if (!h.lineNode) {
+    if (!fixed_) return true;
+    // Fixed for the retry: joins where its law presses, leaves where it pulls.
+    h.penalties.require();
+    const double trial = h.lambdaN + choice_.at(h.penalties)[0] * p.kinematics.normal.value;
+    if (h.engaged == (trial < 0.0) || (h.engaged && trial == 0.0)) return true;
+    h.engaged = trial < 0.0;
+    return false;
+  }
   const bool kept = field_.acceptNormal(p, h.field);
   if (!h.field.active) h.lambdaN = 0.0;  // released (or still open): no estimate
   return kept;

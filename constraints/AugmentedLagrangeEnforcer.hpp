@@ -26,6 +26,7 @@
 #include "ConstraintEnforcer.hpp"
 #include "LagrangeMultiplierEnforcer.hpp"
 #include "PenaltyChoice.hpp"
+#include "RegularizedContactLaw.hpp"
 #include "core/Parameters.hpp"
 
 namespace bc::constraints {
@@ -55,6 +56,9 @@ class AugmentedLagrangeEnforcer : public ConstraintEnforcer {
     double committedN = 0.0;
     double committedT[2] = {0.0, 0.0};
     PointPenalties penalties;
+    // While a failed increment is retried with the active set fixed (fixActiveSet): in it for the
+    // Newton solve.
+    bool engaged = false;
     bool lineNode = false;
     LagrangeMultiplierEnforcer::State field;
     void fields(StateFields& v) override {
@@ -75,6 +79,7 @@ class AugmentedLagrangeEnforcer : public ConstraintEnforcer {
       v.real("committed_N", committedN);
       v.real("committed_T1", committedT[0]);
       v.real("committed_T2", committedT[1]);
+      v.flag("engaged", engaged);
       penalties.fields(v);
     }
   };
@@ -98,6 +103,15 @@ class AugmentedLagrangeEnforcer : public ConstraintEnforcer {
   bool acceptNormal(const ContactPoint& p, PointState& s) const override;
   bool acceptPoint(const ContactPoint& p, PointState& s, double& worstViolation) const override;
   int maximumPasses() const override { return maxPasses_; }
+  // A failed increment whose active set changed within Newton's iterations is retried with the points
+  // that act fixed for each Newton solve (AutomaticPenalty::relaxAfterFailure), as Penalty's are: an
+  // engaged point takes the linear law lambda_hat_N + eps_N g_N in tension too, the others nothing;
+  // after the solve, points whose law presses join and points in tension leave. Not with a
+  // Regularization Gap (the retry would solve the linear law's problem). Line nodes keep their field's
+  // active set.
+  bool canFixActiveSet() const override { return !(regularization_ > 0.0); }
+  void fixActiveSet(bool on) const override { fixed_ = on && canFixActiveSet(); }
+  void engage(PointState& s, bool acts) const override { stateOf<State>(s).engaged = acts; }
   // The normal gap of a point in contact beyond the smooth onset (its estimate moves the slipping
   // lines' forces with the normal force) and each sticking line's gap; the update adds the deltas to
   // the estimates.
@@ -128,6 +142,11 @@ class AugmentedLagrangeEnforcer : public ConstraintEnforcer {
   double regularization_;  // "Regularization Gap" g0 (smoothedAugmentedLaw)
   int maxPasses_;
   int maxCoupled_;  // "Maximum Coupled Constraints"
+  mutable bool fixed_ = false;  // fixActiveSet: the retries of an increment, until a step is accepted
+  // The point's normal law: smoothed around its estimate, or, fixed for a retry, linear (and bilateral)
+  // while it is engaged; whether it acts at all.
+  NormalLaw normalLaw(const State& h, double epsN) const;
+  bool fixedOut(const State& h) const { return fixed_ && !h.engaged; }
 };
 
 }  // namespace bc::constraints

@@ -394,7 +394,10 @@ def check_penalty_between_solves(exe, work, mpi):
     balance its supports (1e-6); |F_T| <= mu N (1 + 1e-9); at each crossing the normal force is
     Lagrange's to 5e-3 of the largest (the penalty's compliance; measured 2.1e-3 and 5.1e-4 (default)
     frictionless, 5.9e-4 with friction) and the same crossings carry; the frictionless Between Solves
-    run on 2 ranks writes the 1-rank contact rows (1e-8 of the largest force; measured 1.4e-9)."""
+    run on 2 ranks writes the 1-rank contact rows (1e-8 of the largest force; measured 1.4e-9).
+    Augmented Lagrange with its defaults, frictionless: it stopped at T = 0.2 as Penalty did, and is
+    retried the same way; complete with a cut, in balance (1e-6), on Lagrange's forces at each crossing
+    (1e-4 of the largest; measured 6.3e-6)."""
     failures = 0
     for friction in ("0", "0.2"):
         deck = os.path.join(work, f"between_{friction}.xml")
@@ -451,6 +454,27 @@ def check_penalty_between_solves(exe, work, mpi):
                   f"crossing by crossing: {diff / scale:.1e} of the largest force")
             failures += not (cuts >= 1 and worst_balance(balance)[0] <= 1e-6 and diff <= 5e-3 * scale
                              and set(default) == set(reference))
+        if friction == "0" and "Lagrange Multiplier" in crossings:
+            # Augmented Lagrange (its defaults) stopped there too; its failed increment is now retried
+            # with the points fixed for each solve, and it lands on Lagrange's forces within its Gap
+            # Tolerance (1e-4 of the largest; measured 6.3e-6).
+            name = os.path.join(work, "between_0_augmented")
+            code, status = run_variant(exe, deck, name, [("Contact/Enforcement/Type", "string", "Augmented Lagrange")])
+            print(f"grid 16 x 16, frictionless, Augmented Lagrange (defaults): exit {code}, {status[:80]}")
+            if code != 0:
+                failures += 1
+                continue
+            with open(os.path.join(name, "steps.csv")) as f:
+                cuts = max(int(row["cut_level"]) for row in csv.DictReader(f))
+            _, total, balance, contact = summarize(name)
+            augmented = normal_forces(contact)
+            reference = crossings["Lagrange Multiplier"]
+            scale = max(abs(v) for v in reference.values())
+            diff = max(abs(augmented.get(k, 0.0) - reference.get(k, 0.0)) for k in set(reference) | set(augmented))
+            print(f"  deepest cut level {cuts}, imbalance {worst_balance(balance)[0]:.1e}; against Lagrange, "
+                  f"crossing by crossing: {diff / scale:.1e} of the largest force")
+            failures += not (cuts >= 1 and worst_balance(balance)[0] <= 1e-6 and diff <= 1e-4 * scale
+                             and set(augmented) == set(reference))
     return failures
 
 

@@ -68,6 +68,40 @@ TEST(Strategies, PenaltyWithItsActiveSetBetweenSolvesHasATangentMatchingCentralD
   }
 }
 
+// Augmented Lagrange with its active set fixed for a retried increment (ConstraintEnforcer::fixActiveSet,
+// as AutomaticPenalty::relaxAfterFailure sets it where the active set changed within Newton's
+// iterations): an engaged point takes the linear law lambda_hat_N + eps_N g_N, bilateral, for the
+// solve; its tangent is checked as the registry's default is, in every situation (both laws,
+// frictionless, slipping and sticking). With a Regularization Gap the set is not fixed.
+TEST(Strategies, AugmentedLagrangeWithItsActiveSetFixedForARetryHasATangentMatchingCentralDifferences) {
+  constraints::registerBuiltinEnforcers();
+  for (const auto& entry : constraints::enforcers()) {
+    if (entry.name != "Augmented Lagrange") continue;
+    Teuchos::ParameterList params = entry.spec->example();
+    params.set("Regularization Gap", 0.0);
+    entry.spec->apply(params, entry.name);
+    const auto strategy = entry.create(params);
+    ASSERT_TRUE(strategy->canFixActiveSet());
+    strategy->fixActiveSet(true);
+    int checked = 0;
+    for (const auto& c : constraints::checkTangent(*strategy)) {
+      std::printf(
+          "Augmented Lagrange, fixed set: %-28s slipping lines %d: max |K - central differences| / max |K| = "
+          "%.2e\n",
+          c.situation.c_str(), c.slipping, c.relativeError());
+      EXPECT_TRUE(c.acts) << c.situation;
+      EXPECT_LT(c.relativeError(), 1e-6) << c.situation;
+      ++checked;
+    }
+    EXPECT_GT(checked, 0);
+    strategy->fixActiveSet(false);
+    Teuchos::ParameterList smooth = entry.spec->example();
+    smooth.set("Regularization Gap", 1e-3);
+    entry.spec->apply(smooth, entry.name);
+    EXPECT_FALSE(entry.create(smooth)->canFixActiveSet());
+  }
+}
+
 // The friction secant a point takes once its slip direction cycles (ContactPoint::secantFriction):
 // a sliding point (g_N = -0.01, eps_N 1e4: lambda_N = -100, cone radius mu |lambda_N| = 20; slip
 // g_T = (0.05, -0.03) with eps_T 1e3, lines at cosine 0.3: both lines slip under either law) with unit gap gradients,
