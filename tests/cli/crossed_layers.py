@@ -383,6 +383,26 @@ def check_cycling_friction_completes(exe, work):
             failures += not diff <= tolerance * scale
     return failures
 
+def check_retried(exe, deck, name, settings, label, reference, tolerance):
+    """The frictionless 16 x 16 grid run with `settings`, whose first contact is retried with the points
+    fixed for each solve: complete with a cut, in balance (1e-6), the same crossings carrying as
+    `reference` (Lagrange's normal force per crossing) and within `tolerance` of its largest force."""
+    code, status = run_variant(exe, deck, name, settings)
+    print(f"grid 16 x 16, frictionless, {label}: exit {code}, {status[:80]}")
+    if code != 0:
+        return 1
+    with open(os.path.join(name, "steps.csv")) as f:
+        cuts = max(int(row["cut_level"]) for row in csv.DictReader(f))
+    _, total, balance, contact = summarize(name)
+    forces = normal_forces(contact)
+    scale = max(abs(v) for v in reference.values())
+    diff = max(abs(forces.get(k, 0.0) - reference.get(k, 0.0)) for k in set(reference) | set(forces))
+    print(f"  deepest cut level {cuts}, imbalance {worst_balance(balance)[0]:.1e}; against Lagrange, "
+          f"crossing by crossing: {diff / scale:.1e} of the largest force")
+    return int(not (cuts >= 1 and worst_balance(balance)[0] <= 1e-6 and diff <= tolerance * scale
+                    and set(forces) == set(reference)))
+
+
 def check_penalty_between_solves(exe, work, mpi):
     """Penalty with Active Set = Between Solves (its points fixed for a Newton solve, changed after it,
     as Lagrange multipliers' are) on the 16 x 16 layers pressed together, frictionless and with friction
@@ -437,44 +457,14 @@ def check_penalty_between_solves(exe, work, mpi):
             print(f"  Penalty (Between Solves) on 2 ranks against 1: {diff / scale:.1e} of the largest force")
             failures += not (diff <= 1e-8 * scale and set(two) == set(crossings["Penalty"]))
         if friction == "0" and "Lagrange Multiplier" in crossings:
-            name = os.path.join(work, "between_0_default")
-            code, status = run_variant(exe, deck, name, [])
-            print(f"grid 16 x 16, frictionless, Penalty (default Active Set): exit {code}, {status[:80]}")
-            if code != 0:
-                failures += 1
-                continue
-            with open(os.path.join(name, "steps.csv")) as f:
-                cuts = max(int(row["cut_level"]) for row in csv.DictReader(f))
-            _, total, balance, contact = summarize(name)
-            default = normal_forces(contact)
-            reference = crossings["Lagrange Multiplier"]
-            scale = max(abs(v) for v in reference.values())
-            diff = max(abs(default.get(k, 0.0) - reference.get(k, 0.0)) for k in set(reference) | set(default))
-            print(f"  deepest cut level {cuts}, imbalance {worst_balance(balance)[0]:.1e}; against Lagrange, "
-                  f"crossing by crossing: {diff / scale:.1e} of the largest force")
-            failures += not (cuts >= 1 and worst_balance(balance)[0] <= 1e-6 and diff <= 5e-3 * scale
-                             and set(default) == set(reference))
-        if friction == "0" and "Lagrange Multiplier" in crossings:
-            # Augmented Lagrange (its defaults) stopped there too; its failed increment is now retried
-            # with the points fixed for each solve, and it lands on Lagrange's forces within its Gap
-            # Tolerance (1e-4 of the largest; measured 6.3e-6).
-            name = os.path.join(work, "between_0_augmented")
-            code, status = run_variant(exe, deck, name, [("Contact/Enforcement/Type", "string", "Augmented Lagrange")])
-            print(f"grid 16 x 16, frictionless, Augmented Lagrange (defaults): exit {code}, {status[:80]}")
-            if code != 0:
-                failures += 1
-                continue
-            with open(os.path.join(name, "steps.csv")) as f:
-                cuts = max(int(row["cut_level"]) for row in csv.DictReader(f))
-            _, total, balance, contact = summarize(name)
-            augmented = normal_forces(contact)
-            reference = crossings["Lagrange Multiplier"]
-            scale = max(abs(v) for v in reference.values())
-            diff = max(abs(augmented.get(k, 0.0) - reference.get(k, 0.0)) for k in set(reference) | set(augmented))
-            print(f"  deepest cut level {cuts}, imbalance {worst_balance(balance)[0]:.1e}; against Lagrange, "
-                  f"crossing by crossing: {diff / scale:.1e} of the largest force")
-            failures += not (cuts >= 1 and worst_balance(balance)[0] <= 1e-6 and diff <= 1e-4 * scale
-                             and set(augmented) == set(reference))
+            # The default Active Set (5e-3: the penalty's compliance; measured 5.1e-4); Augmented Lagrange
+            # with its defaults stopped there too, is retried the same way, and lands on Lagrange's forces
+            # within its Gap Tolerance (1e-4 of the largest; measured 6.3e-6).
+            failures += check_retried(exe, deck, os.path.join(work, "between_0_default"), [],
+                                      "Penalty (default Active Set)", crossings["Lagrange Multiplier"], 5e-3)
+            failures += check_retried(exe, deck, os.path.join(work, "between_0_augmented"),
+                                      [("Contact/Enforcement/Type", "string", "Augmented Lagrange")],
+                                      "Augmented Lagrange (defaults)", crossings["Lagrange Multiplier"], 1e-4)
     return failures
 
 
