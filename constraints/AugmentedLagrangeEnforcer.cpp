@@ -186,10 +186,7 @@ bool AugmentedLagrangeEnforcer::acceptNormal(const ContactPoint& p, PointState& 
     if (!fixed_) return true;
     // Fixed for the retry: joins where its law presses, leaves where it pulls.
     h.penalties.require();
-    const double trial = h.lambdaN + choice_.at(h.penalties)[0] * p.kinematics.normal.value;
-    if (h.engaged == (trial < 0.0) || (h.engaged && trial == 0.0)) return true;
-    h.engaged = trial < 0.0;
-    return false;
+    return settleEngaged(h.engaged, h.lambdaN + choice_.at(h.penalties)[0] * p.kinematics.normal.value);
   }
   const bool kept = field_.acceptNormal(p, h.field);
   if (!h.field.active) h.lambdaN = 0.0;  // released (or still open): no estimate

@@ -67,11 +67,8 @@ NormalLaw PenaltyEnforcer::normalLaw(double epsN) const {
 bool PenaltyEnforcer::acceptNormal(const ContactPoint& p, PointState& s) const {
   if (!betweenSolves()) return true;
   State& h = stateOf<State>(s);
-  const double g = p.kinematics.normal.value;
   // Joins where it penetrates, leaves where its spring is in tension (the gap open).
-  if (h.engaged == (g < 0.0) || (h.engaged && g == 0.0)) return true;
-  h.engaged = g < 0.0;
-  return false;
+  return settleEngaged(h.engaged, p.kinematics.normal.value);
 }
 
 std::vector<double> PenaltyEnforcer::outputValues(const ContactPoint& p, const PointState& s) const {

@@ -38,6 +38,16 @@ NormalLaw smoothedPenaltyLaw(double epsN, double g0);
 // the gap (they converge to g_N = 0 wherever the force exceeds eps_N g0 / 2); g0 = 0: linear.
 NormalLaw smoothedAugmentedLaw(double lambdaHatN, double epsN, double g0);
 
+// A point held in or out of the active set for a Newton solve (its law linear and bilateral while in,
+// ConstraintEnforcer::fixActiveSet): after the solve it joins where its linear law's force `trial`
+// presses (below 0) and leaves where it pulls (above 0); at 0 it stays as it is. Returns whether it
+// stayed.
+inline bool settleEngaged(bool& engaged, double trial) {
+  if (engaged == (trial < 0.0) || (engaged && trial == 0.0)) return true;
+  engaged = trial < 0.0;
+  return false;
+}
+
 // The friction part: estimates lambda_hat_T (the forces carried from the last converged step or
 // augmentation) and the stick stiffness eps_T.
 struct FrictionRegularization {
