@@ -114,6 +114,13 @@ double ContactGeometry::blendWeight(const ContactPointRecord& p, double cosine, 
     zeta = 0.5 * (1.0 - std::cos(k * (alpha - lo)));
     dzeta = 0.5 * k * std::sin(k * (alpha - lo));
   }
+  // A rectangular end lying along the other beam's face within line contact's angles: a nodal field
+  // holds it there (its weighted gaps are enforced whatever the blend's weight, and its hat functions
+  // reach the end: LineContact::offerSegment), and an end point beside it made Lagrange's rows
+  // dependent (the end point's gap a combination of the field's rows at the end: the 2 x 1
+  // rectangles lying parallel stopped at T = 0.96 on a singular matrix, the end point's weight 0.005).
+  // The end point takes part only beyond the blend.
+  if (nodalLineField_ && p.end() && rectangles(p.key.pair)) return zeta < 1.0 ? 0.0 : 1.0;
   const double sign = p.line() ? -1.0 : 1.0;
   if (gradient && dzeta != 0.0 && c < 1.0) {
     // d alpha / d cosine = -sign(cosine) / sqrt(1 - cosine^2)

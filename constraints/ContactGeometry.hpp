@@ -155,6 +155,19 @@ class ContactGeometry {
   double blendWeightAt(const ContactPointRecord& p, const core::State& s) const {
     return blendWeight(p, std::cos(axisAngle(p.elementA, p.elementB, s)), nullptr, nullptr);
   }
+  // Where two lines touch (reported positions): midway between the two surfaces along the normal.
+  // A's line is an axis of radius r_A or an edge; B's closest point on a face lies on the face's
+  // centre line, so the midpoint of the two closest points put a rectangle's face contact half a
+  // face width off its edge. A point's: an end point's or end-to-end point's is the midpoint of its
+  // two closest points (the end's centre and the other's).
+  Vec3d touching(int pair, int elementA, const ClosestPoints& cp) const {
+    const double radiusA = rectangles(pair) ? 0.0 : inscribed(beams_->elements()[elementA].beam);
+    return cp.pA + (radiusA + 0.5 * cp.gap) * cp.normal;
+  }
+  Vec3d touching(const ContactPointRecord& p, const ClosestPoints& cp) const {
+    if (p.end() || p.key.endToEnd()) return 0.5 * (cp.pA + cp.pB);
+    return touching(p.key.pair, p.elementA, cp);
+  }
   // A point of a blended pair whose weight is zero in `s`: it carries nothing there.
   bool carriesNothing(const ContactPointRecord& p, const core::State& s) const {
     return blends(p.key.pair) && blendWeightAt(p, s) == 0.0;
@@ -165,6 +178,8 @@ class ContactGeometry {
   // The views' frictionRelaxation (ContactPoint): 10^n after n retries of Newton solves whose slip
   // directions cycled.
   void setFrictionRelaxation(double factor) { frictionRelaxation_ = factor; }
+  // Line contact enforced on a nodal field (Lagrange multipliers, Augmented Lagrange): blendWeight.
+  void setNodalLineField(bool nodal) { nodalLineField_ = nodal; }
 
  private:
   struct Line {
@@ -175,6 +190,7 @@ class ContactGeometry {
   std::vector<ContactPairSpec> pairs_;
   ContactOptions options_;
   double frictionRelaxation_ = 1.0;
+  bool nodalLineField_ = false;
   bool lineContact_ = false;
   core::State reference_;
   std::vector<std::vector<Line>> lines_;  // per beam

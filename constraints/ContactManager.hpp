@@ -159,6 +159,9 @@ class ContactManager : public core::Contribution {
   int numNodes_ = 0;
   int passes_ = 0;
   bool resumeLevels_ = false;  // the line field's refinement is renewed at the next prepareIteration
+  // Per line node: the length of line its Gauss points cover at the iterate (int N_a ds over the
+  // pieces the other beam covers; evaluateNode).
+  std::map<PointKey, double> nodeCover_;
   int lastPasses_ = 0;
   double worstViolation_ = 0.0;
   std::vector<double> violations_;

@@ -33,7 +33,7 @@ void ContactReport::noteDepth(const ContactPointRecord& p, const ClosestPoints& 
   const double depth = -cp.gap, inscribed = geometry_.thinner(p.key.pair);
   if (depth > kDeep * inscribed) {
     auto& worst = deepPoints_[p.key.pair];
-    if (depth > worst.first) worst = {depth, 0.5 * (cp.pA + cp.pB)};
+    if (depth > worst.first) worst = {depth, geometry_.touching(p, cp)};
   }
 }
 

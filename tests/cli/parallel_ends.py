@@ -19,6 +19,14 @@ penetration warning), and Augmented Lagrange ran out of passes at 2 %.
 
 Checks, each shift: both strategies complete without the unresolved-zone warning; the total force is
 within 1 % of P1 + P2; Augmented Lagrange equals Lagrange within 1e-4 of it.
+
+Then 2 x 1 rectangles (width along y, B's bottom face on A's top face, equal widths), B's ends on A's
+nodes and 0.1 past them, each strategy, the same checks; Penalty against the two point forces that
+close the closure less its deepest penetration (its smoothed law's, at B's ends). Before, Lagrange
+stopped at T = 0.96 on a singular matrix (B's end point, a rectangle's end face within line contact's
+angles of A's face, beside the field's rows for the same place) and Augmented Lagrange at first contact
+(a node beyond B's end covering a sliver of 6e-6 of an element, A's axial motion, with a row of that
+weight).
 Usage: parallel_ends.py BEAMCONTACT WORKDIR
 """
 import csv
@@ -30,11 +38,23 @@ import sys
 import angle_sweep
 
 SHIFTS = [0.02, 0.1, 0.25]
+# Rectangles 2 wide and 1 high (B's bottom face on A's top face, equal widths: A's edges carry the
+# contact), B's ends on A's nodes (shift 0) and 0.1 past them; each strategy.
+RECTANGLE_SHIFTS = [0.0, 0.1]
+RECTANGLE_STRATEGIES = ("Penalty", "Lagrange Multiplier", "Augmented Lagrange")
+WIDTH, HEIGHT = 2.0, 1.0
 L, CLOSURE = 100.0, 0.02
+CIRCLE = ('<Parameter name="Shape" type="string" value="Circle"/>'
+          f'<Parameter name="Radius" type="double" value="{angle_sweep.R}"/>')
+RECTANGLE = ('<Parameter name="Shape" type="string" value="Rectangle"/>'
+             f'<Parameter name="Width" type="double" value="{WIDTH}"/><Parameter name="Height" type="double" value="{HEIGHT}"/>')
 
 
-def deck(strategy, shift):
+def deck(strategy, shift, rectangle=False):
     xml = angle_sweep.deck(0, strategy)
+    if rectangle:
+        assert xml.count(CIRCLE) == 2
+        xml = xml.replace(CIRCLE, RECTANGLE)
     start = xml.index('<ParameterList name="B">')
 
     def moved(m):
@@ -53,9 +73,10 @@ def influence(x, a, EI):
     return b * b * x * x * (3 * a * L - 3 * a * x - b * x) / (6 * L ** 3 * EI)
 
 
-def reference(shift):
+def reference(shift, rectangle=False):
     import math
-    EI = angle_sweep.E * math.pi * angle_sweep.R ** 4 / 4
+    # (bending in z: a rectangle's width along y, its height along z)
+    EI = angle_sweep.E * (WIDTH * HEIGHT ** 3 / 12 if rectangle else math.pi * angle_sweep.R ** 4 / 4)
     a1, a2 = 20 + shift, 80 + shift
     g11, g12, g21, g22 = influence(a1, a1, EI), influence(a1, a2, EI), influence(a2, a1, EI), influence(a2, a2, EI)
     det = g11 * g22 - g12 * g21
@@ -64,11 +85,11 @@ def reference(shift):
     return p1 + p2
 
 
-def run(exe, work, strategy, shift):
-    name = f"{strategy.replace(' ', '_')}_{shift}"
+def run(exe, work, strategy, shift, rectangle=False):
+    name = f"{strategy.replace(' ', '_')}_{shift}" + ("_rectangle" if rectangle else "")
     path = os.path.join(work, name + ".xml")
     with open(path, "w") as f:
-        f.write(deck(strategy, shift))
+        f.write(deck(strategy, shift, rectangle))
     out = os.path.join(work, name)
     r = subprocess.run([exe, "run", path, "--output", out, "--quiet"], capture_output=True, text=True)
     if r.returncode != 0:
@@ -78,7 +99,8 @@ def run(exe, work, strategy, shift):
     last = [x for x in rows if x["step"] == rows[-1]["step"] and x["active"] == "1"]
     with open(os.path.join(out, "status.txt")) as f:
         warned = any(line.startswith("warning:") and "not resolved" in line for line in f)
-    return (sum(float(x["normal_force"]) for x in last), warned), ""
+    deepest = max([-float(x["gap"]) for x in last] + [0.0])
+    return (sum(float(x["normal_force"]) for x in last), warned, deepest), ""
 
 
 def main():
@@ -94,13 +116,36 @@ def main():
                 print(f"{strategy}, B's ends {shift} past A's nodes: {error}")
                 failures += 1
                 continue
-            force, warned = result
+            force, warned, _ = result
             forces[strategy] = force
             err = (force - exact) / exact
             print(f"{strategy}, B's ends {shift} past A's nodes: N = {force:.9f}, two point forces {exact:.9f}, "
                   f"relative difference {err:+.2e}{', unresolved-zone warning' if warned else ''}")
             failures += warned or not abs(err) < 0.01
         if len(forces) == 2:
+            d = abs(forces["Augmented Lagrange"] - forces["Lagrange Multiplier"]) / exact
+            print(f"  Augmented Lagrange against Lagrange: {d:.2e}")
+            failures += not d < 1e-4
+    for shift in RECTANGLE_SHIFTS:
+        exact = reference(shift, True)
+        forces = {}
+        for strategy in RECTANGLE_STRATEGIES:
+            result, error = run(exe, work, strategy, shift, True)
+            if result is None:
+                print(f"{strategy}, rectangles, B's ends {shift} past A's nodes: {error}")
+                failures += 1
+                continue
+            force, warned, deepest = result
+            forces[strategy] = force
+            # (Penalty's smoothed law takes part of the closure as its penetration at B's ends: the two
+            # point forces then close what is left, the forces being linear in the closure.)
+            expected = exact * (1 - deepest / CLOSURE) if strategy == "Penalty" else exact
+            err = (force - expected) / expected
+            print(f"{strategy}, rectangles, B's ends {shift} past A's nodes: N = {force:.9f}, two point forces "
+                  f"{expected:.9f}{f' (closure less the deepest penetration {deepest:.3e})' if strategy == 'Penalty' else ''}, "
+                  f"relative difference {err:+.2e}{', unresolved-zone warning' if warned else ''}")
+            failures += warned or not abs(err) < 0.01
+        if "Lagrange Multiplier" in forces and "Augmented Lagrange" in forces:
             d = abs(forces["Augmented Lagrange"] - forces["Lagrange Multiplier"]) / exact
             print(f"  Augmented Lagrange against Lagrange: {d:.2e}")
             failures += not d < 1e-4

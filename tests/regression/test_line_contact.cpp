@@ -274,17 +274,21 @@ TEST(LineContact, AGapThatSupportsHoldAtBothBeamsEndsIsReportedWhenRigidContactC
 // beyond the line's mean traction:
 // - circles, Penalty (eps_N 1e4): the total was 5.5 q L / 2, "complete" without a word;
 // - 2 x 1 rectangles with the rod turned by 0.08 degrees (point contact and end contact at the
-//   rectangles' corners share the held ends with the line), Lagrange multipliers: the end points
-//   carried 1771 times the load q L; Penalty: 4.3 times q L / 2.
+//   rectangles' corners share the held ends with the line), Penalty: 4.3 times q L / 2; Lagrange
+//   multipliers: the end points carried 1771 times the load q L. An end point within line contact's
+//   angles now gives way to the multiplier field (docs/contact.md, "End contact"): the total is
+//   q L / 2 within 2 % (measured +1.1 %), and the warning stays (the held gap's force on the end
+//   element grows as h^-4 with refinement).
 TEST(LineContact, HeldEndsWarnWithEveryStrategyWhereTheirForceGoesIntoTheSupports) {
   const double q = 0.01, L = 100.0;
   struct Case {
     std::string type;
     bool rectangles;
     double degrees;
+    bool excess;  // the held ends' force makes the total more than q L
   };
-  for (const Case& c :
-       {Case{"Penalty", false, 0.0}, Case{"Lagrange Multiplier", true, 0.08}, Case{"Penalty", true, 0.08}}) {
+  for (const Case& c : {Case{"Penalty", false, 0.0, true}, Case{"Lagrange Multiplier", true, 0.08, false},
+                        Case{"Penalty", true, 0.08, true}}) {
     auto deck = parallelBeams(c.type, 10, 10, 0.0, 1e5, 6, c.degrees);
     if (c.rectangles) deck = toRectangles(deck);
     for (const char* beam : {"ground", "rod"}) {
@@ -304,7 +308,8 @@ TEST(LineContact, HeldEndsWarnWithEveryStrategyWhereTheirForceGoesIntoTheSupport
       if (w.find("supports hold both beams") != std::string::npos) warning = w;
     std::printf("%s, %s at %g degrees: total contact force %.6g (q L / 2 = %g)\n  %s\n", c.type.c_str(),
                 c.rectangles ? "rectangles" : "circles", c.degrees, total, 0.5 * q * L, warning.c_str());
-    EXPECT_GT(total, 2.0 * 0.5 * q * L) << c.type;  // the held ends' force, why the warning is needed
+    if (c.excess) EXPECT_GT(total, 2.0 * 0.5 * q * L) << c.type;  // the held ends' force, why the warning is needed
+    else EXPECT_NEAR(total, 0.5 * q * L, 0.02 * 0.5 * q * L) << c.type;
     EXPECT_NE(warning.find("end element there carry"), std::string::npos) << c.type << ": " << warning;
     EXPECT_NE(warning.find("hold only one of the two beams there"), std::string::npos) << warning;
   }
@@ -719,6 +724,7 @@ struct NarrowSums {
   double onRod = 0.0, deepest = 0.0;
   std::map<std::pair<bool, int>, double> lines;
   int asA = 0, swapped = 0;
+  double offEdge = 0.0;  // the largest distance of a reported position across from the narrow beam's edge (shift 0)
 };
 NarrowSums narrowSums(const input::Problem& p, bool narrowIsA) {
   NarrowSums s;
@@ -734,6 +740,7 @@ NarrowSums narrowSums(const input::Problem& p, bool narrowIsA) {
     s.onRod += narrowIsA ? -fz : fz;
     s.lines[{swapped, q.edge()}] += -q.result.lambdaN;
     s.deepest = std::max(s.deepest, -q.gap);
+    s.offEdge = std::max(s.offEdge, std::abs(std::abs(q.position[1]) - 2.5));
   }
   return s;
 }
@@ -792,6 +799,9 @@ TEST(LineContact, NarrowOnWideRectanglesCarryTheLoadEitherWayRound) {
           EXPECT_EQ(s.asA > 0, narrowIsA);
           EXPECT_NEAR(s.lines.begin()->second, s.lines.rbegin()->second, 1e-6 * s.onRod);
           EXPECT_NEAR(s.onRod, p * L, 1e-6 * p * L);
+          // Reported where they touch: on the narrow beam's edges, y = +-2.5 (the beams bend in z only).
+          // Before, midway between the edge and the face's centre line: y = +-1.25.
+          EXPECT_LT(s.offEdge, 1e-9) << type;
         } else {
           EXPECT_GT(s.swapped, 0);  // one line of each
           EXPECT_GT(s.asA, 0);
