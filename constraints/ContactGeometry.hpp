@@ -57,8 +57,8 @@ struct Candidate {
   int elementA, elementB;
   ClosestPoints cp;
   // A Gauss point of a nodal line field on a part of the field that a free end of the other beam cuts
-  // (LineContact::offerSegment): the part's hat functions are stretched over the piece it covers.
-  bool endCut = false;
+  // (LineContact::offerSegment): 1 where the end is the covered piece's low bound, 2 its high bound.
+  int endCut = 0;
 };
 // How the narrow phase offers a candidate: with how far outside its elements' centres it lies and
 // an order (ContactSearch::detect keeps, per key, the lowest (outside, order)).

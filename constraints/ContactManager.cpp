@@ -229,7 +229,7 @@ void ContactManager::evaluate(const core::State& state, const OwnsDof& owns, cor
     Vector24 gradient;
     double w = geometry_.blendWeight(p, k.axesCosine, k.axesCosineR.data(), &gradient);
     if (p.line()) {
-      const double length = lines_.weight(p, k.segment), perSegment = lines_.weight(p, 1.0);
+      const double length = lines_.weight(p, k.segment), perSegment = lines_.weightRate(p);
       for (int i = 0; i < kPairDofs; ++i) gradient[i] = gradient[i] * length + w * perSegment * k.segmentR[i];
       w *= length;
     }

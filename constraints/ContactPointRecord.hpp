@@ -51,8 +51,8 @@ struct ContactPointRecord {
   // on A's element at the last detection, and the length of line A it stood for at the last commit.
   double etaRate = 0.0, xi = 0.0, length = 0.0;
   // A Gauss point of a nodal field on a part of the field that a free end of the other beam cuts
-  // (Candidate::endCut, at the last detection): the part's hat functions stretched over the piece.
-  bool endCut = false;
+  // (Candidate::endCut, at the last detection): 1 the end at the piece's low bound, 2 at its high.
+  int endCut = 0;
   double across2 = 0.0;  // an end-to-end point: the end's second offset on the other end's face
   PointStateHolder state;  // the strategy's
   int extraOffset = -1, extraCount = 0;  // its multipliers in State::extra (as laid out last)

@@ -111,7 +111,7 @@ void exchangeChoices(const Teuchos::Comm<int>& comm, std::map<PointKey, Offer>& 
     double outside;
     long long visit;
     ClosestPoints cp;
-    bool endCut;
+    int endCut;
   };
   static_assert(std::is_trivially_copyable_v<Record>, "records travel as bytes");
   std::vector<Record> mine;

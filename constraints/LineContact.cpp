@@ -80,11 +80,16 @@ constexpr int kRefinableElements = (INT_MAX - LineContact::kInteriorNode) / (kPl
 // A Gauss point's index in its key: its index q among the Gauss points of its part of the segment, and
 // the part (level l, part k of 2^l) as the slot 2^l - 1 + k (0 for an unrefined element, so those
 // keep their index q).
-constexpr int kGaussPerPart = 32;  // the deck's largest Line Gauss Points
+constexpr int kGaussPerPart = 32;  // the deck's largest Line Gauss Points (30) and two end points
 static_assert(kGaussPerPart * ((2 << LineContact::kMaxFieldLevel) - 1) <= PointKey::kGaussSlots,
               "a segment's Gauss points of every part must fit the key's slots");
 int gaussIndex(int level, int part, int q) { return q + kGaussPerPart * ((1 << level) - 1 + part); }
 int gaussOf(int index) { return index % kGaussPerPart; }
+// The point at a free end of B inside a part of a nodal field (offerSegment): the last two indices of
+// its part (the deck's Gauss points are at most kGaussPerPart - 2), at the covered piece's low or high
+// bound.
+constexpr int kEndAtLow = kGaussPerPart - 2, kEndAtHigh = kGaussPerPart - 1;
+bool endSlot(int q) { return q >= kEndAtLow; }
 void gaussPart(int index, int& level, int& part) {
   const int slot = index / kGaussPerPart;
   level = 0;
@@ -384,8 +389,24 @@ double LineContact::slip(const ContactPointRecord& p, const ClosestPoints& cp, c
   return (cp.eta - history(p).etaPrevAt(cp.xi)) * cp.slipMetric;
 }
 
+double LineContact::pointXi(const ContactPointRecord& p) const {
+  const int q = gaussOf(p.gauss());
+  return q == kEndAtLow ? 0.0 : q == kEndAtHigh ? 1.0 : gaussXi_[q];
+}
+
 double LineContact::weight(const ContactPointRecord& p, double segment) const {
-  return gaussWeight_[gaussOf(p.gauss())] * geometry_.beams().elements()[p.elementA].data.L0 * segment;
+  const double L0 = geometry_.beams().elements()[p.elementA].data.L0;
+  if (endSlot(gaussOf(p.gauss()))) {
+    // (a point: the half part's length, int N ds of a hat over one part, whatever the segment)
+    int level = 0, part = 0;
+    gaussPart(p.gauss(), level, part);
+    return 0.5 * L0 / (1 << level);
+  }
+  return gaussWeight_[gaussOf(p.gauss())] * L0 * segment;
+}
+
+double LineContact::weightRate(const ContactPointRecord& p) const {
+  return endSlot(gaussOf(p.gauss())) ? 0.0 : weight(p, 1.0);
 }
 
 void LineContact::findPoints(int pi, int ea, int eb, long long visit, const core::State& s, const PointMap& known,
@@ -452,31 +473,32 @@ void LineContact::offerSegment(int pi, int ea, int eb, int edge, int face, doubl
   for (int part = 0; part < (1 << level); ++part) {
     const LineSegment sub = partSegment(seg, level, part);
     if (!(sub.length() > kSliver)) continue;
-    // Where a free end of B cuts the part, the part's two hat functions are stretched over the piece
-    // B covers (fieldShares): the node beyond B's end then stands at that end, whose force is a point
-    // force (B's end pressed onto A), and its weighted gap is weighted towards that end. With the
-    // hats of the whole part, the node beyond reached the piece with values up to its share of the
-    // part only: where B's end lay 0.1 past a node of A's elements of length 5 its row was scaled by
-    // 2 % (Augmented Lagrange ran out of passes), and a force at an end 1 past the node was smeared
-    // over the element and the next (8 % low). A part B covers to its end is unchanged.
-    bool endCut = false;
+    // Where a free end of B cuts the part, the end's force is a point force (B's end pressed onto A,
+    // a clamped end onto a deflecting beam) that a linear field over the part cannot hold: the node
+    // beyond the end carries a point at the end (its row the gap there: exact for such a force), and
+    // the piece's Gauss points carry the part's other node, constant over the piece (fieldShares).
+    // Before, the part's hats were stretched over the piece: the node beyond stood at the end with
+    // a linear traction, and from B's end 8 % into A's element on Lagrange multipliers were 8.5 %
+    // low (penetrating by 1.6e-3 at the end, the refinement that would resolve it failing on a
+    // singular matrix) and Augmented Lagrange 1.2 % low without a warning; with slivers (A's axial
+    // motion under B's end lying on A's node) the node beyond had a row at nearly the place of its
+    // neighbour's, near singular. B shorter than the part (both ends in it) keeps the part's hats.
+    int endCut = 0;
     if (nodal_) {
       const double m = 1 << level, a = part / m, b = (part + 1) / m;
-      endCut = (seg.hiKind >= 0 && seg.hi < b && freeBound(seg.hiKind, seg.hi)) ||
-               (seg.loKind >= 0 && seg.lo > a && freeBound(seg.loKind, seg.lo));
-      // A sliver that B's end covers past a node of the field (below 1e-3 of the part; a known one
-      // 5e-4) is left out: the node there holds the end, as where the end lies on the node. Its
-      // stretched hats gave the node beyond a row of the sliver's weight at nearly the same place, the
-      // matrix near singular: rectangles lying parallel, B's clamped end 6e-6 of an element past A's
-      // node (A's axial motion), stopped Augmented Lagrange on a condition number of 1.1e14.
-      if (endCut) {
-        const PointKey first = PointKey::gaussPoint(pi, ea, eb, edge, face, gaussIndex(level, part, 0));
-        if (sub.length() * m < (known.count(first) > 0 ? 5e-4 : 1e-3)) continue;
-      }
+      const bool low = seg.loKind >= 0 && seg.lo > a && freeBound(seg.loKind, seg.lo);
+      const bool high = seg.hiKind >= 0 && seg.hi < b && freeBound(seg.hiKind, seg.hi);
+      endCut = low && high ? 0 : low ? 1 : high ? 2 : 0;
+      // (At an end element of A, where the part's outer node merges into its inner neighbour, one
+      // multiplier would carry both the point and the piece: the part keeps its field.)
+      if (endCut && fieldNodeAt(ea, level, part) == fieldNodeAt(ea, level, part + 1)) endCut = 0;
     }
-    for (int q = 0; q < (int)gaussXi_.size(); ++q) {
-      const ClosestPoints cp = lineProjection(in, sub.lo + sub.length() * gaussXi_[q]);
-      const PointKey key = PointKey::gaussPoint(pi, ea, eb, edge, face, gaussIndex(level, part, q));
+    const int points = (int)gaussXi_.size();
+    for (int q = 0; q < points + (endCut ? 1 : 0); ++q) {
+      const int slot = q < points ? q : endCut == 1 ? kEndAtLow : kEndAtHigh;
+      const double at = q < points ? sub.lo + sub.length() * gaussXi_[q] : endCut == 1 ? sub.lo : sub.hi;
+      const ClosestPoints cp = lineProjection(in, at);
+      const PointKey key = PointKey::gaussPoint(pi, ea, eb, edge, face, gaussIndex(level, part, slot));
       const bool isKnown = known.count(key) > 0;
       if (!in.face && !(cp.distance > 1e-3 * in.radiusSum)) continue;  // (as above, at this point)
       if (in.face) {
@@ -508,7 +530,7 @@ ClosestPoints LineContact::geometry(const ContactPointRecord& p, const core::Sta
   const LineSegment seg = lineSegment(in);
   const LineSegment sub = pointSegment(p, seg);
   if (segment) *segment = sub.length();
-  ClosestPoints cp = lineProjection(in, sub.lo + sub.length() * gaussXi_[gaussOf(p.gauss())]);
+  ClosestPoints cp = lineProjection(in, sub.lo + sub.length() * pointXi(p));
   cp.sinAngle = 1.0;  // a line point is defined at any angle
   keepSide(in, cp, p.normal);
   return cp;
@@ -516,8 +538,7 @@ ClosestPoints LineContact::geometry(const ContactPointRecord& p, const core::Sta
 
 ContactKinematics LineContact::kinematics(const ContactPointRecord& p, const core::State& s, Variations order) const {
   const LinePairInput in = input(p, s);
-  return segmentKinematics(in, pointSegment(p, lineSegment(in)), gaussXi_[gaussOf(p.gauss())], history(p), p.normal,
-                           order);
+  return segmentKinematics(in, pointSegment(p, lineSegment(in)), pointXi(p), history(p), p.normal, order);
 }
 
 ContactKinematics LineContact::values(const ContactPointRecord& p, const ClosestPoints& cp, double segment,
@@ -559,12 +580,15 @@ std::vector<LineContact::FieldShare> LineContact::fieldShares(const ContactPoint
   std::vector<FieldShare> shares;
   const int level = fieldLevel(p.key.pair, p.edge(), p.elementA), m = 1 << level;
   const int part = partOf(p.xi, m);
-  // A part that a free end of B cuts (offerSegment): the hats stretched over the piece B covers, whose
-  // Gauss point is at its Gauss parameter on that piece whatever the dofs (N fixed, no slope).
-  const double t = p.endCut ? gaussXi_[gaussOf(p.gauss())] : xi * m - part;
+  // A part that a free end of B cuts (offerSegment): the point at the end on the node beyond it, the
+  // piece's Gauss points on the other node (N = 1, no slope).
+  const int beyond = p.endCut == 1 ? 0 : 1;
+  const int only = !p.endCut ? -1 : endSlot(gaussOf(p.gauss())) ? beyond : 1 - beyond;
+  const double t = xi * m - part;
   for (int side = 0; side < 2; ++side) {
+    if (only >= 0 && side != only) continue;
     const int node = fieldNodeAt(p.elementA, level, part + side);
-    const double N = side == 0 ? 1.0 - t : t, slope = p.endCut ? 0.0 : (side == 0 ? -m : m);
+    const double N = only >= 0 ? 1.0 : side == 0 ? 1.0 - t : t, slope = only >= 0 ? 0.0 : (side == 0 ? -m : m);
     if (!shares.empty() && shares.back().node == node) {
       shares.back().N += N;
       shares.back().slope += slope;

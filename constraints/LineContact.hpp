@@ -34,8 +34,12 @@ class LineContact {
   ContactKinematics kinematics(const ContactPointRecord& p, const core::State& s, Variations order) const;
   ContactKinematics values(const ContactPointRecord& p, const ClosestPoints& cp, double segment,
                            const core::State& s) const;
-  // The length of line A a Gauss point stands for (its weight times its segment's reference length).
+  // The length of line A a Gauss point stands for (its weight times its segment's reference length),
+  // and its rate with the segment's length (a point at a free end of B: a fixed length, rate 0).
   double weight(const ContactPointRecord& p, double segment) const;
+  double weightRate(const ContactPointRecord& p) const;
+  // The Gauss point's parameter on its piece of segment (a point at a free end of B: 0 or 1).
+  double pointXi(const ContactPointRecord& p) const;
   // The Gauss point's parameter on A's element, on [0, 1].
   double gaussXi(int q) const { return gaussXi_[q]; }
 

@@ -233,7 +233,7 @@ const ParameterSpec& contactSpec() {
     p.add("Point Contact Angle", 15.0,
           "above this angle two circular beams' elements are in point contact only [degrees]",
           core::closedRange(0.0, 60.0), "0 to 60, above Line Contact Angle");
-    p.add("Line Gauss Points", 6, "Gauss points of line contact per element of beam A", core::wholeBetween(1, 32),
+    p.add("Line Gauss Points", 6, "Gauss points of line contact per element of beam A", core::wholeBetween(1, 30),
           "1 to 32");
     p.addChoice("Point Contact Axes", "Chord", {"Chord", "Hermite"},
                 "the lines point contact finds its closest points, gap and normal on: \"Chord\": the straight "

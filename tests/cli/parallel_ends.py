@@ -4,7 +4,7 @@
 The deck of angle_sweep.py at 0 degrees (two circular beams, A clamped at x = 0 and 100 with 20
 elements, B of length 60 with 12 elements lying along A, its clamped ends moved down by 0.12 against
 a gap of 0.1, frictionless), with B moved along A by SHIFT, so that B's ends lie SHIFT past A's nodes
-at x = 20 and 80: inside A's elements (length 5) by 2 %, 20 % and 50 %. B touches A at its two ends
+at x = 20 and 80: inside A's elements (length 5) by 0.4 %, 2 %, 5 %, 20 % and 50 %. B touches A at its two ends
 only: two point forces P1, P2 on the clamped-clamped A at a1 = 20 + SHIFT and a2 = 80 + SHIFT, each
 closing 0.02 with A's deflection there (B, clamped at the point, adds none):
     w(a_i) = sum_j P_j G(a_i, a_j) = 0.02,
@@ -12,13 +12,15 @@ G the clamped-clamped beam's influence function (for x <= a: P b^2 x^2 (3 a L - 
 b = L - a; by symmetry beyond). The total P1 + P2 is the reference.
 
 Lagrange multipliers and Augmented Lagrange carry the contact on a field on A's nodes. A free end of B
-inside an element of A cuts that element's field: its hat functions are stretched over the piece B
-covers, so the node beyond the end stands at it (docs/contact.md, "A free end of B inside an element").
-Before, the run was 8 % and 10 % low at 20 % and 50 % (the force smeared over two elements, a
-penetration warning), and Augmented Lagrange ran out of passes at 2 %.
+inside an element of A cuts that element's field: the node beyond the end carries a point at the end
+(its row the gap there), the piece's Gauss points the element's other node (docs/contact.md, "A free
+end of B inside an element"). Before, the part's hats were stretched over the piece (Lagrange 8.4 % and
+10 % low at 20 % and 50 %, with a penetration warning; Augmented Lagrange 2.8 % low at 20 %, and 1.2 %
+low without a warning at 8 %), and before that Augmented Lagrange ran out of passes at 2 %.
 
 Checks, each shift: both strategies complete without the unresolved-zone warning; the total force is
-within 1 % of P1 + P2; Augmented Lagrange equals Lagrange within 1e-4 of it.
+within 0.5 % of P1 + P2 (measured +0.115 % to +0.157 % at every shift: the closed form is linear);
+Augmented Lagrange equals Lagrange within 1e-4 of it.
 
 Then 2 x 1 rectangles (width along y, B's bottom face on A's top face, equal widths), B's ends on A's
 nodes and 0.1 past them, each strategy, the same checks; Penalty against the two point forces that
@@ -37,7 +39,7 @@ import sys
 
 import angle_sweep
 
-SHIFTS = [0.02, 0.1, 0.25]
+SHIFTS = [0.02, 0.1, 0.25, 1.0, 2.5]
 # Rectangles 2 wide and 1 high (B's bottom face on A's top face, equal widths: A's edges carry the
 # contact), B's ends on A's nodes (shift 0) and 0.1 past them; each strategy.
 RECTANGLE_SHIFTS = [0.0, 0.1]
@@ -121,7 +123,7 @@ def main():
             err = (force - exact) / exact
             print(f"{strategy}, B's ends {shift} past A's nodes: N = {force:.9f}, two point forces {exact:.9f}, "
                   f"relative difference {err:+.2e}{', unresolved-zone warning' if warned else ''}")
-            failures += warned or not abs(err) < 0.01
+            failures += warned or not abs(err) < 0.005
         if len(forces) == 2:
             d = abs(forces["Augmented Lagrange"] - forces["Lagrange Multiplier"]) / exact
             print(f"  Augmented Lagrange against Lagrange: {d:.2e}")
@@ -144,7 +146,7 @@ def main():
             print(f"{strategy}, rectangles, B's ends {shift} past A's nodes: N = {force:.9f}, two point forces "
                   f"{expected:.9f}{f' (closure less the deepest penetration {deepest:.3e})' if strategy == 'Penalty' else ''}, "
                   f"relative difference {err:+.2e}{', unresolved-zone warning' if warned else ''}")
-            failures += warned or not abs(err) < 0.01
+            failures += warned or not abs(err) < 0.005
         if "Lagrange Multiplier" in forces and "Augmented Lagrange" in forces:
             d = abs(forces["Augmented Lagrange"] - forces["Lagrange Multiplier"]) / exact
             print(f"  Augmented Lagrange against Lagrange: {d:.2e}")
