@@ -105,52 +105,42 @@ def run(exe, work, strategy, shift, rectangle=False):
     return (sum(float(x["normal_force"]) for x in last), warned, deepest), ""
 
 
+def check_shift(exe, work, shift, strategies, rectangle):
+    """Runs one shift with each strategy; returns the number of failed checks."""
+    exact = reference(shift, rectangle)
+    label = f"{'rectangles, ' if rectangle else ''}B's ends {shift} past A's nodes"
+    failures = 0
+    forces = {}
+    for strategy in strategies:
+        result, error = run(exe, work, strategy, shift, rectangle)
+        if result is None:
+            print(f"{strategy}, {label}: {error}")
+            failures += 1
+            continue
+        force, warned, deepest = result
+        forces[strategy] = force
+        # (Penalty's smoothed law takes part of the closure as its penetration at B's ends: the two
+        # point forces then close what is left, the forces being linear in the closure.)
+        penalty = strategy == "Penalty"
+        expected = exact * (1 - deepest / CLOSURE) if penalty else exact
+        err = (force - expected) / expected
+        print(f"{strategy}, {label}: N = {force:.9f}, two point forces {expected:.9f}"
+              f"{f' (closure less the deepest penetration {deepest:.3e})' if penalty else ''}, "
+              f"relative difference {err:+.2e}{', unresolved-zone warning' if warned else ''}")
+        failures += warned or not abs(err) < 0.005
+    if "Lagrange Multiplier" in forces and "Augmented Lagrange" in forces:
+        d = abs(forces["Augmented Lagrange"] - forces["Lagrange Multiplier"]) / exact
+        print(f"  Augmented Lagrange against Lagrange: {d:.2e}")
+        failures += not d < 1e-4
+    return failures
+
+
 def main():
     exe, work = sys.argv[1], sys.argv[2]
     os.makedirs(work, exist_ok=True)
-    failures = 0
-    for shift in SHIFTS:
-        exact = reference(shift)
-        forces = {}
-        for strategy in ("Lagrange Multiplier", "Augmented Lagrange"):
-            result, error = run(exe, work, strategy, shift)
-            if result is None:
-                print(f"{strategy}, B's ends {shift} past A's nodes: {error}")
-                failures += 1
-                continue
-            force, warned, _ = result
-            forces[strategy] = force
-            err = (force - exact) / exact
-            print(f"{strategy}, B's ends {shift} past A's nodes: N = {force:.9f}, two point forces {exact:.9f}, "
-                  f"relative difference {err:+.2e}{', unresolved-zone warning' if warned else ''}")
-            failures += warned or not abs(err) < 0.005
-        if len(forces) == 2:
-            d = abs(forces["Augmented Lagrange"] - forces["Lagrange Multiplier"]) / exact
-            print(f"  Augmented Lagrange against Lagrange: {d:.2e}")
-            failures += not d < 1e-4
-    for shift in RECTANGLE_SHIFTS:
-        exact = reference(shift, True)
-        forces = {}
-        for strategy in RECTANGLE_STRATEGIES:
-            result, error = run(exe, work, strategy, shift, True)
-            if result is None:
-                print(f"{strategy}, rectangles, B's ends {shift} past A's nodes: {error}")
-                failures += 1
-                continue
-            force, warned, deepest = result
-            forces[strategy] = force
-            # (Penalty's smoothed law takes part of the closure as its penetration at B's ends: the two
-            # point forces then close what is left, the forces being linear in the closure.)
-            expected = exact * (1 - deepest / CLOSURE) if strategy == "Penalty" else exact
-            err = (force - expected) / expected
-            print(f"{strategy}, rectangles, B's ends {shift} past A's nodes: N = {force:.9f}, two point forces "
-                  f"{expected:.9f}{f' (closure less the deepest penetration {deepest:.3e})' if strategy == 'Penalty' else ''}, "
-                  f"relative difference {err:+.2e}{', unresolved-zone warning' if warned else ''}")
-            failures += warned or not abs(err) < 0.005
-        if "Lagrange Multiplier" in forces and "Augmented Lagrange" in forces:
-            d = abs(forces["Augmented Lagrange"] - forces["Lagrange Multiplier"]) / exact
-            print(f"  Augmented Lagrange against Lagrange: {d:.2e}")
-            failures += not d < 1e-4
+    failures = sum(check_shift(exe, work, shift, ("Lagrange Multiplier", "Augmented Lagrange"), False)
+                   for shift in SHIFTS)
+    failures += sum(check_shift(exe, work, shift, RECTANGLE_STRATEGIES, True) for shift in RECTANGLE_SHIFTS)
     if failures:
         sys.exit(f"{failures} check(s) failed")
     print("ok")
