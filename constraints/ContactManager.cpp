@@ -175,10 +175,10 @@ void ContactManager::evaluateNode(const Point& p, const std::vector<GlobalDof>& 
   const ContactKinematics none;
   // A strategy's own rows of a node (Augmented Lagrange's -L (lambda - lambda_hat) / eps_N) take the
   // length of line the node's Gauss points cover, int N_a ds over the pieces the other beam covers,
-  // at the iterate (prepareIteration; held through its Newton step): with the node's whole share of its beam instead,
-  // a node beyond a free end of B whose pieces B covers over a fraction f of them had its law
-  // lambda = lambda_hat + f eps_N g, and Augmented Lagrange ran out of passes (rectangles lying
-  // parallel, B's clamped end 6e-6 of an element past A's node: 2e-4 deep after 50 passes).
+  // at the iterate (prepareIteration; held through its Newton step). With the node's whole share of
+  // its beam instead, a node whose parts B covers over a fraction f had the law lambda = lambda_hat +
+  // f eps_N g, and Augmented Lagrange ran out of passes (rectangles lying parallel, B's clamped end
+  // 6e-6 of an element past A's node: 2e-4 deep after 50 passes).
   double length = lines_.fieldLength(p.key);
   const auto cover = nodeCover_.find(p.key);
   if (cover != nodeCover_.end() && cover->second > 0.0) length = std::min(length, cover->second);
