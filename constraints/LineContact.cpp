@@ -492,6 +492,21 @@ void LineContact::offerSegment(int pi, int ea, int eb, int edge, int face, doubl
       // (At an end element of A, where the part's outer node merges into its inner neighbour, one
       // multiplier would carry both the point and the piece: the part keeps its field.)
       if (endCut && fieldNodeAt(ea, level, part) == fieldNodeAt(ea, level, part + 1)) endCut = 0;
+      // B's end within kOnNode of the part of one of its nodes counts as on that node (a known cut
+      // within half of it): the node's hat holds the end, as where B's end lies exactly on it, and a
+      // piece that short carries nothing. B's ends placed on A's nodes at 25 and 85 of the sweep's
+      // deck moved off them by round-off (1e-9 of an element) with A's axial motion, and the cut
+      // came and went between Newton's iterations: the active set cycled at first contact.
+      if (endCut) {
+        constexpr double kOnNode = 1e-6;
+        const int slot = endCut == 1 ? kEndAtLow : kEndAtHigh;
+        const bool knownCut =
+            known.count(PointKey::gaussPoint(pi, ea, eb, edge, face, gaussIndex(level, part, slot))) > 0;
+        const double onNode = knownCut ? 0.5 * kOnNode : kOnNode;
+        const double fromOuter = (endCut == 1 ? seg.lo - a : b - seg.hi) * m, piece = sub.length() * m;
+        if (piece < onNode) continue;
+        if (fromOuter < onNode) endCut = 0;
+      }
     }
     const int points = (int)gaussXi_.size();
     for (int q = 0; q < points + (endCut ? 1 : 0); ++q) {
