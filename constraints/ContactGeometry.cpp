@@ -117,10 +117,9 @@ double ContactGeometry::blendWeight(const ContactPointRecord& p, double cosine, 
   // A rectangular end lying along the other beam's face within line contact's angles: a nodal field
   // holds it there (its weighted gaps are enforced whatever the blend's weight, and a free end of B
   // inside A's element has a point of its own: LineContact::offerSegment), and an end point beside it
-  // made Lagrange's rows
-  // dependent (the end point's gap a combination of the field's rows at the end: the 2 x 1
-  // rectangles lying parallel stopped at T = 0.96 on a singular matrix, the end point's weight 0.005).
-  // The end point takes part only beyond the blend.
+  // made Lagrange's rows dependent (the end point's gap a combination of the field's rows at the end:
+  // the 2 x 1 rectangles lying parallel stopped at T = 0.96 on a singular matrix, the end point's
+  // weight 0.005). The end point takes part only beyond the blend.
   if (nodalLineField_ && p.end() && rectangles(p.key.pair)) return zeta < 1.0 ? 0.0 : 1.0;
   const double sign = p.line() ? -1.0 : 1.0;
   if (gradient && dzeta != 0.0 && c < 1.0) {

@@ -69,8 +69,9 @@ bool ContactManager::prepareIteration(core::State& state) {
   resumeLevels_ = false;
   const bool changed = set_.update(detect(state));
   giveUpIdle(state);
+  // (Only a strategy with rows of its own at line nodes uses it: evaluateNode.)
   nodeCover_.clear();
-  if (lines_.nodal())
+  if (lines_.nodal() && enforcer_->lineNodeRows())
     for (const auto& [key, g] : lines_.nodeGaps(set_.current(), state)) nodeCover_[key] = g.full;
   penalty_.giveCompliance(set_.current(), geometry_,
                           [&](const Point& p) { return kinematics(p, state, Variations::First); });
