@@ -43,6 +43,7 @@ std::map<PointKey, Candidate> ContactManager::detect(const core::State& s) const
 void ContactManager::initialize(core::State& state) {
   numNodes_ = state.numNodes();
   geometry_.setReference(state);
+  lines_.setInitial(&state);
   const auto cands = detect(state);
   set_.current().clear();
   for (const auto& [key, c] : cands) {

@@ -38,20 +38,28 @@ class LineContact {
   // and its rate with the segment's length (a point at a free end of B: a fixed length, rate 0).
   double weight(const ContactPointRecord& p, double segment) const;
   double weightRate(const ContactPointRecord& p) const;
+  // Whether a line point is the point at a free end (of B inside a part of the field, or A's own end:
+  // offerSegment), a point force rather than a traction sample.
+  static bool endPoint(const ContactPointRecord& p);
   // The Gauss point's parameter on its piece of segment (a point at a free end of B: 0 or 1).
   double pointXi(const ContactPointRecord& p) const;
   // The Gauss point's parameter on A's element, on [0, 1].
   double gaussXi(int q) const { return gaussXi_[q]; }
 
-  // Nodal line fields. The field's nodes are beam A's nodes, except its two end nodes: their shape
-  // functions are merged into their neighbours' (the field is constant on a beam's end elements;
-  // a beam of one element has one multiplier node). An end node's own multiplier would constrain
-  // the gap where the supports of both beams often fix it already (rods held at the same ends), so
-  // the constraints would be redundant and the multipliers undetermined. fieldNode(element, side)
+  // Nodal line fields. The field's nodes are beam A's nodes, except an end node that supports hold
+  // beside a held node of another beam (setInitial): its shape function is merged into its
+  // neighbour's (the field is constant on that end element; a beam of one element with both ends
+  // merged has one multiplier node). Its own multiplier would constrain the gap where the supports of
+  // both beams may fix it already (rods held at the same ends), so the constraints would be redundant
+  // and the multipliers undetermined. Elsewhere an end node keeps its multiplier, so that a force at
+  // a free or singly held end (a short rod's clamped ends pressing a long beam) is resolved.
+  // setInitial(initial) decides it from the supports and the initial positions (ContactManager::
+  // initialize; null: every end merges) and lists each field node's elements. fieldNode(element, side)
   // is the node carrying the multipliers of the element's node `side` (0, 1); fieldShares(p) the
   // distinct field nodes of a Gauss point with their shape values N (summing to 1) and their
   // records among `points` (null where none exists).
   int fieldNode(int element, int side) const;
+  void setInitial(const core::State* initial);
   // Local refinement. Where the contact zone is shorter than an element, the beams penetrate between
   // the field's nodes; the element's field is then refined (refineField): level l cuts it into 2^l
   // equal parts whose inner ends are field nodes of their own (interior nodes, numbered from
@@ -173,6 +181,7 @@ class LineContact {
   std::set<int> frictionless_;
   std::map<int, std::pair<double, Vec3d>> unresolved_, unseenBetween_;
   std::map<int, HeldEnd> heldEnds_;
+  std::set<int> mergedEnds_;  // beam end nodes whose field merges into their neighbour's (setInitial)
   // Field node (a beam node) -> the elements its shape function reaches and its beam; beam -> its
   // largest bending stiffness (fieldLength, fieldCompliance).
   struct FieldElements {

@@ -46,6 +46,9 @@ SHIFTS = [0.02, 0.1, 0.25, 1.0, 2.5, 5.0]
 # contact), B's ends on A's nodes (shift 0) and 0.1 past them; each strategy.
 RECTANGLE_SHIFTS = [0.0, 0.1]
 RECTANGLE_STRATEGIES = ("Penalty", "Lagrange Multiplier", "Augmented Lagrange")
+# The short beam B as the pair's A: the field lies on its edges, whose end elements end at its clamped
+# ends (pressing the long beam's free interior).
+SWAPPED_SHIFTS = [0.1, 1.0]
 WIDTH, HEIGHT = 2.0, 1.0
 L, CLOSURE = 100.0, 0.02
 CIRCLE = ('<Parameter name="Shape" type="string" value="Circle"/>'
@@ -54,8 +57,14 @@ RECTANGLE = ('<Parameter name="Shape" type="string" value="Rectangle"/>'
              f'<Parameter name="Width" type="double" value="{WIDTH}"/><Parameter name="Height" type="double" value="{HEIGHT}"/>')
 
 
-def deck(strategy, shift, rectangle=False):
+PAIR = '<Parameter name="Beam A" type="string" value="A"/><Parameter name="Beam B" type="string" value="B"/>'
+
+
+def deck(strategy, shift, rectangle=False, swapped=False):
     xml = angle_sweep.deck(0, strategy)
+    if swapped:
+        assert xml.count(PAIR) == 1
+        xml = xml.replace(PAIR, PAIR.replace('"A"', '"@"').replace('"B"', '"A"').replace('"@"', '"B"'))
     if rectangle:
         assert xml.count(CIRCLE) == 2
         xml = xml.replace(CIRCLE, RECTANGLE)
@@ -89,11 +98,11 @@ def reference(shift, rectangle=False):
     return p1 + p2
 
 
-def run(exe, work, strategy, shift, rectangle=False):
-    name = f"{strategy.replace(' ', '_')}_{shift}" + ("_rectangle" if rectangle else "")
+def run(exe, work, strategy, shift, rectangle=False, swapped=False):
+    name = f"{strategy.replace(' ', '_')}_{shift}" + ("_rectangle" if rectangle else "") + ("_swapped" if swapped else "")
     path = os.path.join(work, name + ".xml")
     with open(path, "w") as f:
-        f.write(deck(strategy, shift, rectangle))
+        f.write(deck(strategy, shift, rectangle, swapped))
     out = os.path.join(work, name)
     r = subprocess.run([exe, "run", path, "--output", out, "--quiet"], capture_output=True, text=True)
     if r.returncode != 0:
@@ -107,14 +116,15 @@ def run(exe, work, strategy, shift, rectangle=False):
     return (sum(float(x["normal_force"]) for x in last), warned, deepest), ""
 
 
-def check_shift(exe, work, shift, strategies, rectangle):
+def check_shift(exe, work, shift, strategies, rectangle, swapped=False):
     """Runs one shift with each strategy; returns the number of failed checks."""
     exact = reference(shift, rectangle)
-    label = f"{'rectangles, ' if rectangle else ''}B's ends {shift} past A's nodes"
+    label = (f"{'rectangles, ' if rectangle else ''}B's ends {shift} past A's nodes"
+             f"{' (the short beam as the pair' + chr(39) + 's A)' if swapped else ''}")
     failures = 0
     forces = {}
     for strategy in strategies:
-        result, error = run(exe, work, strategy, shift, rectangle)
+        result, error = run(exe, work, strategy, shift, rectangle, swapped)
         if result is None:
             print(f"{strategy}, {label}: {error}")
             failures += 1
@@ -143,6 +153,9 @@ def main():
     failures = sum(check_shift(exe, work, shift, ("Lagrange Multiplier", "Augmented Lagrange"), False)
                    for shift in SHIFTS)
     failures += sum(check_shift(exe, work, shift, RECTANGLE_STRATEGIES, True) for shift in RECTANGLE_SHIFTS)
+    failures += sum(check_shift(exe, work, shift, ("Lagrange Multiplier", "Augmented Lagrange"), False, True)
+                    for shift in SWAPPED_SHIFTS)
+    failures += check_shift(exe, work, 0.1, RECTANGLE_STRATEGIES, True, True)
     if failures:
         sys.exit(f"{failures} check(s) failed")
     print("ok")
