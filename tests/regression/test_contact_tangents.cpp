@@ -79,7 +79,9 @@ TEST(LineContact, TangentMatchesCentralDifferences) {
   // Rectangular sections too (face to face: A's upper edges on B's lower face; with the rod half as
   // wide, its lower edges on the ground's upper face, the points' roles swapped; 2 Gauss points).
   // The rod starting at x = 20 (shift), inside the ground's second element (16.7 .. 33.3): its free end
-  // cuts that element's field, whose hat functions are stretched over the piece the rod covers.
+  // cuts that element's field (a point at the end carries the node beyond it). The narrow rod so
+  // placed carries the field on its own edges, whose end nodes (held, but no held node of the ground
+  // beside them) keep their multipliers: points at the rod's own ends.
   struct Case {
     std::string type;
     double degrees;
@@ -100,7 +102,9 @@ TEST(LineContact, TangentMatchesCentralDifferences) {
                                          {"Lagrange Multiplier", 0.0, true, 1.0, 2},
                                          {"Augmented Lagrange", 0.0, true, 1.0, 2},
                                          {"Lagrange Multiplier", 0.0, false, 2.0, 4, 20.0},
-                                         {"Augmented Lagrange", 0.0, false, 2.0, 4, 20.0}}) {
+                                         {"Augmented Lagrange", 0.0, false, 2.0, 4, 20.0},
+                                         {"Lagrange Multiplier", 0.0, true, 1.0, 2, 20.0},
+                                         {"Augmented Lagrange", 0.0, true, 1.0, 2, 20.0}}) {
     const std::string& type = c.type;
     const double degrees = c.degrees;
     // (Lifted by 1e-6: touching at exactly zero gap, the crossing's point carries a round-off force
