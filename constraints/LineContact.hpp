@@ -47,17 +47,16 @@ class LineContact {
   double gaussXi(int q) const { return gaussXi_[q]; }
 
   // Nodal line fields. The field's nodes are beam A's nodes, except an end node that supports hold
-  // beside a held node of another beam (setInitial): its shape function is merged into its
-  // neighbour's (the field is constant on that end element; a beam of one element with both ends
-  // merged has one multiplier node). Its own multiplier would constrain the gap where the supports of
-  // both beams may fix it already (rods held at the same ends), so the constraints would be redundant
-  // and the multipliers undetermined. Elsewhere an end node keeps its multiplier, so that a force at
-  // a free or singly held end (a short rod's clamped ends pressing a long beam) is resolved.
-  // setInitial(initial) decides it from the supports and the initial positions (ContactManager::
-  // initialize; null: every end merges) and lists each field node's elements. fieldNode(element, side)
-  // is the node carrying the multipliers of the element's node `side` (0, 1); fieldShares(p) the
-  // distinct field nodes of a Gauss point with their shape values N (summing to 1) and their
-  // records among `points` (null where none exists).
+  // beside a held node of another beam, both along the line between them (setInitial): its shape function is merged
+  // into its neighbour's (the field is constant on that end element; a beam of one element with both ends merged has
+  // one multiplier node). Its own multiplier would constrain the gap where the supports of both beams may fix it
+  // already (rods held at the same ends), so the constraints would be redundant and the multipliers undetermined.
+  // Elsewhere an end node keeps its multiplier, so that a force at a free or singly held end (a short rod's clamped
+  // ends pressing a long beam) is resolved. setInitial(initial) decides it from the supports and the initial positions
+  // (ContactManager:: initialize; null: every end merges) and lists each field node's elements. fieldNode(element,
+  // side) is the node carrying the multipliers of the element's node `side` (0, 1); fieldShares(p) the distinct field
+  // nodes of a Gauss point with their shape values N (summing to 1) and their records among `points` (null where none
+  // exists).
   int fieldNode(int element, int side) const;
   void setInitial(const core::State* initial);
   // Local refinement. Where the contact zone is shorter than an element, the beams penetrate between

@@ -60,8 +60,8 @@ RECTANGLE = ('<Parameter name="Shape" type="string" value="Rectangle"/>'
 PAIR = '<Parameter name="Beam A" type="string" value="A"/><Parameter name="Beam B" type="string" value="B"/>'
 
 
-def deck(strategy, shift, rectangle=False, swapped=False):
-    xml = angle_sweep.deck(0, strategy)
+def deck(strategy, shift, rectangle=False, swapped=False, n=20, nb=12):
+    xml = angle_sweep.deck(0, strategy, n, nb)
     if swapped:
         assert xml.count(PAIR) == 1
         xml = xml.replace(PAIR, PAIR.replace('"A"', '"@"').replace('"B"', '"A"').replace('"@"', '"B"'))
@@ -98,11 +98,12 @@ def reference(shift, rectangle=False):
     return p1 + p2
 
 
-def run(exe, work, strategy, shift, rectangle=False, swapped=False):
-    name = f"{strategy.replace(' ', '_')}_{shift}" + ("_rectangle" if rectangle else "") + ("_swapped" if swapped else "")
+def run(exe, work, strategy, shift, rectangle=False, swapped=False, n=20, nb=12):
+    name = (f"{strategy.replace(' ', '_')}_{shift}" + ("_rectangle" if rectangle else "") +
+            ("_swapped" if swapped else "") + ("" if n == 20 else f"_{n}"))
     path = os.path.join(work, name + ".xml")
     with open(path, "w") as f:
-        f.write(deck(strategy, shift, rectangle, swapped))
+        f.write(deck(strategy, shift, rectangle, swapped, n, nb))
     out = os.path.join(work, name)
     r = subprocess.run([exe, "run", path, "--output", out, "--quiet"], capture_output=True, text=True)
     if r.returncode != 0:
@@ -116,15 +117,16 @@ def run(exe, work, strategy, shift, rectangle=False, swapped=False):
     return (sum(float(x["normal_force"]) for x in last), warned, deepest), ""
 
 
-def check_shift(exe, work, shift, strategies, rectangle, swapped=False):
+def check_shift(exe, work, shift, strategies, rectangle, swapped=False, n=20, nb=12):
     """Runs one shift with each strategy; returns the number of failed checks."""
     exact = reference(shift, rectangle)
     label = (f"{'rectangles, ' if rectangle else ''}B's ends {shift} past A's nodes"
-             f"{' (the short beam as the pair' + chr(39) + 's A)' if swapped else ''}")
+             f"{' (the short beam as the pair' + chr(39) + 's A)' if swapped else ''}"
+             f"{'' if n == 20 else f', {n}/{nb} elements'}")
     failures = 0
     forces = {}
     for strategy in strategies:
-        result, error = run(exe, work, strategy, shift, rectangle, swapped)
+        result, error = run(exe, work, strategy, shift, rectangle, swapped, n, nb)
         if result is None:
             print(f"{strategy}, {label}: {error}")
             failures += 1
@@ -156,6 +158,11 @@ def main():
     failures += sum(check_shift(exe, work, shift, ("Lagrange Multiplier", "Augmented Lagrange"), False, True)
                     for shift in SWAPPED_SHIFTS)
     failures += check_shift(exe, work, 0.1, RECTANGLE_STRATEGIES, True, True)
+    # The short beam's ends at 22.5 and 82.5 on nodes of the long beam's 40 elements, which hold uy only
+    # (not along the normal between the axes): its end nodes keep their multipliers. (Merged there, as
+    # by a rule that asked only whether both were held: 22 % low, warned; rectangles stopped.)
+    failures += check_shift(exe, work, 2.5, ("Lagrange Multiplier",), False, True, 40, 24)
+    failures += check_shift(exe, work, 2.5, ("Lagrange Multiplier",), True, True, 40, 24)
     if failures:
         sys.exit(f"{failures} check(s) failed")
     print("ok")
