@@ -60,10 +60,9 @@ void LineContact::setInitial(const core::State* initial) {
   // along its axis (within 1e-3 of its end element) and within reach of contact (twice the two
   // sections' circumscribed radii), and the supports hold both along the line between their axes
   // (the contact's normal there): they may fix the gap the end's multiplier would constrain. (A node
-  // held only across that line, as the angle sweep's inner nodes by uy, does not: 2 x 1 rectangles
-  // at 0.08 degrees with B's clamped ends over such nodes carried their ends' force at one corner,
-  // 0.6 % low.) Without the initial positions (before initialize) every end
-  // merges.
+  // held only across that line, as the angle sweep's inner nodes by uy, does not: a short beam's
+  // clamped ends over such nodes of a long beam, merged, carried 22 % too little force.) Without the
+  // initial positions (before initialize) every end merges.
   const auto& elems = geometry_.beams().elements();
   const auto& beams = geometry_.beams().beams();
   const auto& held = geometry_.options().heldNodes;
@@ -262,9 +261,10 @@ std::map<std::tuple<int, int, int>, std::pair<double, double>> LineContact::zone
     // The zone may end inside the element while its deepest points lie in the neighbour on the other
     // side of their shared node, whose hat spans both: the field then spreads the node's traction
     // over the element's open points, and the beams penetrate less than kResolveLine in the element
-    // itself. The neighbours' deepest gaps count as those of an element that touches. (The sweep's crossing at 0.3
-    // degrees on 20 / 12 elements: tractions on points open by 3.6e-4 of the radius, no element
-    // both penetrating and open by 1e-4, the force 3.1 % below the refined meshes' without a warning.)
+    // itself. The neighbours' deepest gaps count as those of an element that touches. (The sweep's
+    // crossing at 0.3 degrees on 20 / 12 elements: tractions on points open by 3.6e-4 of the radius,
+    // no element both penetrating and open by 1e-4, the force 2.7 % below the converged one without a
+    // warning.)
     auto widened = r;
     for (const int n : {before, after}) {
       if (!(r.first < kResolveLine)) break;  // (an element whose points are all open: not its zone)
