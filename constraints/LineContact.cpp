@@ -5,6 +5,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/PointGrid.hpp"
+
 namespace bc::constraints {
 
 using elements::BeamElement;
@@ -66,44 +68,42 @@ void LineContact::setInitial(const core::State* initial) {
   const auto& elems = geometry_.beams().elements();
   const auto& beams = geometry_.beams().beams();
   const auto& held = geometry_.options().heldNodes;
-  std::map<int, int> beamOf;
-  for (std::size_t b = 0; b < beams.size(); ++b)
-    for (int n : beams[b].nodes) beamOf[n] = static_cast<int>(b);
-  mergedEnds_.clear();
-  for (std::size_t b = 0; b < beams.size(); ++b) {
-    const auto& nodes = beams[b].nodes;
-    if (nodes.size() < 2) continue;
-    for (int side = 0; side < 2; ++side) {
-      const int end = side == 0 ? nodes.front() : nodes.back();
-      const int inner = side == 0 ? nodes[1] : nodes[nodes.size() - 2];
-      if (!initial) {
-        mergedEnds_.insert(end);
-        continue;
-      }
-      if (!held.count(end)) continue;
-      const Vec3d x0 = initial->position[end], t = initial->position[inner] - x0;
-      for (const auto& [m, fixed] : held) {
-        const auto other = beamOf.find(m);
-        if (other == beamOf.end() || other->second == static_cast<int>(b)) continue;
-        const Vec3d d = initial->position[m] - x0;
-        const double along = dot(d, t) / dot(t, t);
-        const Vec3d across = d - along * t;
-        const double reach =
-            2.0 * (geometry_.circumscribed(static_cast<int>(b)) + geometry_.circumscribed(other->second));
-        // (Held along it: every component of the unit offset above 1e-2 fixed. The offset is the normal
-        // only roughly: a beam turned by 0.08 degrees gives it an axial component of 1e-4, which supports
-        // free along the axis do not hold and the contact normal does not have.)
-        const double apart = norm(across);
-        const auto heldAcross = [&](int n) {
-          const auto it = held.find(n);
-          for (int c = 0; c < 3; ++c)
-            if (!it->second[c] && std::abs(across[c]) > 1e-2 * apart) return false;
-          return true;
-        };
-        if (std::abs(along) <= 1e-3 && apart <= reach && apart > 0.0 && heldAcross(end) && heldAcross(m)) {
-          mergedEnds_.insert(end);
-          break;
+  mergedEnds_.assign(beams.size(), {true, true});
+  if (initial) {
+    // The held nodes by place: a grid whose cells hold every reach (twice two circumscribed radii,
+    // and 1e-3 of an element along the axis).
+    double radius = 0.0, length = 0.0;
+    for (std::size_t b = 0; b < beams.size(); ++b)
+      radius = std::max(radius, geometry_.circumscribed(static_cast<int>(b)));
+    for (const auto& e : elems) length = std::max(length, e.data.L0);
+    core::PointGrid grid(std::max(4.0 * radius + 1e-3 * length, 1e-300));
+    std::vector<int> beamOf(initial->numNodes(), -1);
+    for (std::size_t b = 0; b < beams.size(); ++b)
+      for (int n : beams[b].nodes) beamOf[n] = static_cast<int>(b);
+    for (const auto& [m, fixed] : held) grid.insert(initial->position[m], m);
+    for (std::size_t b = 0; b < beams.size(); ++b) {
+      const auto& nodes = beams[b].nodes;
+      for (int side = 0; side < 2 && nodes.size() >= 2; ++side) {
+        const int end = side == 0 ? nodes.front() : nodes.back();
+        const int inner = side == 0 ? nodes[1] : nodes[nodes.size() - 2];
+        bool merged = false;
+        const Vec3d x0 = initial->position[end], t = initial->position[inner] - x0;
+        for (const int m : held.count(end) ? grid.near(x0) : std::vector<int>{}) {
+          const int other = beamOf[m];
+          if (other < 0 || other == static_cast<int>(b)) continue;
+          const Vec3d d = initial->position[m] - x0;
+          const double along = dot(d, t) / dot(t, t);
+          const Vec3d across = d - along * t;
+          const double reach = 2.0 * (geometry_.circumscribed(static_cast<int>(b)) + geometry_.circumscribed(other));
+          // (Held along it: every component of the unit offset above 1e-2 fixed. The offset is the
+          // normal only roughly: a beam turned by 0.08 degrees gives it an axial component of 1e-4,
+          // which supports free along the axis do not hold and the contact normal does not have.)
+          const double apart = norm(across);
+          if (!(std::abs(along) <= 1e-3 && apart <= reach && apart > 0.0)) continue;
+          const Vec3d normal = (1.0 / apart) * across;
+          if ((merged = heldAlong(end, normal, 1e-2) && heldAlong(m, normal, 1e-2))) break;
         }
+        mergedEnds_[b][side] = merged;
       }
     }
   }
@@ -182,9 +182,8 @@ int LineContact::fieldNodeAt(int element, int level, int j) const {
   const BeamElement& e = geometry_.beams().elements()[element];
   const int last = static_cast<int>(geometry_.beams().beams()[e.beam].nodes.size()) - 2;
   // At a beam's merged end the outer part's end merges into its inner neighbour (no multiplier there).
-  const auto& nodes = geometry_.beams().beams()[e.beam].nodes;
-  if (j == 0 && e.index == 0 && mergedEnds_.count(nodes.front())) j = 1;
-  if (j == m && e.index == last && mergedEnds_.count(nodes.back())) j = m - 1;
+  if (j == 0 && e.index == 0 && mergedEnds_[e.beam][0]) j = 1;
+  if (j == m && e.index == last && mergedEnds_[e.beam][1]) j = m - 1;
   if (j == 0) return fieldNode(element, 0);
   if (j == m) return fieldNode(element, 1);
   return interiorNumber(element, level, j);
@@ -266,12 +265,12 @@ std::map<std::tuple<int, int, int>, std::pair<double, double>> LineContact::zone
     // no element both penetrating and open by 1e-4, the force 2.7 % below the converged one without a
     // warning.)
     auto widened = r;
-    for (const int n : {before, after}) {
-      if (!(r.first < kResolveLine)) break;  // (an element whose points are all open: not its zone)
-      if (held.count({pair, edge, n})) continue;
-      const auto it = range.find({pair, edge, n});
-      if (it != range.end()) widened.first = std::min(widened.first, it->second.first);
-    }
+    if (r.first < kResolveLine)  // (an element whose points are all open: not its zone)
+      for (const int n : {before, after}) {
+        if (held.count({pair, edge, n})) continue;
+        const auto it = range.find({pair, edge, n});
+        if (it != range.end()) widened.first = std::min(widened.first, it->second.first);
+      }
     ends.emplace(where, widened);
   }
   return ends;
@@ -688,7 +687,7 @@ int LineContact::fieldNode(int element, int side) const {
   const BeamElement& e = geometry_.beams().elements()[element];
   const auto& nodes = geometry_.beams().beams()[e.beam].nodes;
   const int last = static_cast<int>(nodes.size()) - 1;
-  const bool first = mergedEnds_.count(nodes.front()), end = mergedEnds_.count(nodes.back());
+  const bool first = mergedEnds_[e.beam][0], end = mergedEnds_[e.beam][1];
   int i = e.index + side;
   if (last == 1 && first && end) i = 0;  // one element, both ends merged: one field node
   else if (i == 0 && first) i = 1;
@@ -873,12 +872,12 @@ void LineContact::noteRestored(const PointMap& points) {
     if (p.line() && geometry_.pairs()[p.key.pair].friction > 0.0) frictionless_.insert(p.key.pair);
 }
 
-bool LineContact::heldAlong(int n, const Vec3d& normal) const {
+bool LineContact::heldAlong(int n, const Vec3d& normal, double ignored) const {
   const auto& held = geometry_.options().heldNodes;
   const auto it = held.find(n);
   if (it == held.end()) return false;
   for (int c = 0; c < 3; ++c)
-    if (!it->second[c] && std::abs(normal[c]) > 1e-6) return false;
+    if (!it->second[c] && std::abs(normal[c]) > ignored) return false;
   return true;
 }
 

@@ -7,6 +7,7 @@
 // nodes are points of their own, and each Gauss point acts through its field nodes' multipliers.
 // After each step the Gauss points' resolution of the contact zone is checked (warnings).
 #pragma once
+#include <array>
 #include <map>
 #include <set>
 #include <tuple>
@@ -47,16 +48,17 @@ class LineContact {
   double gaussXi(int q) const { return gaussXi_[q]; }
 
   // Nodal line fields. The field's nodes are beam A's nodes, except an end node that supports hold
-  // beside a held node of another beam, both along the line between them (setInitial): its shape function is merged
-  // into its neighbour's (the field is constant on that end element; a beam of one element with both ends merged has
-  // one multiplier node). Its own multiplier would constrain the gap where the supports of both beams may fix it
-  // already (rods held at the same ends), so the constraints would be redundant and the multipliers undetermined.
-  // Elsewhere an end node keeps its multiplier, so that a force at a free or singly held end (a short rod's clamped
-  // ends pressing a long beam) is resolved. setInitial(initial) decides it from the supports and the initial positions
-  // (ContactManager:: initialize; null: every end merges) and lists each field node's elements. fieldNode(element,
-  // side) is the node carrying the multipliers of the element's node `side` (0, 1); fieldShares(p) the distinct field
-  // nodes of a Gauss point with their shape values N (summing to 1) and their records among `points` (null where none
-  // exists).
+  // beside a held node of another beam, both along the line between them (setInitial): its shape
+  // function is merged into its neighbour's (the field is constant on that end element; a beam of one
+  // element with both ends merged has one multiplier node). Its own multiplier would constrain the gap
+  // where the supports of both beams may fix it already (rods held at the same ends), so the
+  // constraints would be redundant and the multipliers undetermined. Elsewhere an end node keeps its
+  // multiplier, so that a force at a free or singly held end (a short rod's clamped ends pressing a
+  // long beam) is resolved. setInitial(initial) decides it from the supports and the initial
+  // positions (ContactManager::initialize; null: every end merges) and lists each field node's
+  // elements. fieldNode(element, side) is the node carrying the multipliers of the element's node
+  // `side` (0, 1); fieldShares(p) the distinct field nodes of a Gauss point with their shape values N
+  // (summing to 1) and their records among `points` (null where none exists).
   int fieldNode(int element, int side) const;
   void setInitial(const core::State* initial);
   // Local refinement. Where the contact zone is shorter than an element, the beams penetrate between
@@ -167,8 +169,9 @@ class LineContact {
   // beams along the normal (B's node at the same place); there, the closest points and A's end node.
   bool heldEnd(const ContactPointRecord& p, int side, const core::State& s, ClosestPoints* at = nullptr,
                int* end = nullptr) const;
-  // Whether node `n`'s supports hold it along `normal` (every free translation is across it).
-  bool heldAlong(int n, const Vec3d& normal) const;
+  // Whether node `n`'s supports hold it along the unit `normal` (every free translation is across it:
+  // the normal's component along it at most `ignored`).
+  bool heldAlong(int n, const Vec3d& normal, double ignored = 1e-6) const;
 
   const ContactGeometry& geometry_;
   const ConstraintEnforcer& enforcer_;
@@ -180,7 +183,7 @@ class LineContact {
   std::set<int> frictionless_;
   std::map<int, std::pair<double, Vec3d>> unresolved_, unseenBetween_;
   std::map<int, HeldEnd> heldEnds_;
-  std::set<int> mergedEnds_;  // beam end nodes whose field merges into their neighbour's (setInitial)
+  std::vector<std::array<bool, 2>> mergedEnds_;  // per beam, its first and last node: merged (setInitial)
   // Field node (a beam node) -> the elements its shape function reaches and its beam; beam -> its
   // largest bending stiffness (fieldLength, fieldCompliance).
   struct FieldElements {

@@ -31,6 +31,10 @@ stopped at T = 0.96 on a singular matrix (B's end point, a rectangle's end face 
 angles of A's face, beside the field's rows for the same place) and Augmented Lagrange at first contact
 (a node beyond B's end covering a sliver of 6e-6 of an element, A's axial motion, with a row of that
 weight).
+Then the short beam B as the pair's A (the field on its own edges, whose end nodes keep their multipliers:
+no held node of the long beam beside them along the normal), circles at 0.1 and 1 (Lagrange, Augmented
+Lagrange), rectangles at 0.1 (each strategy), and at 2.5 on 40/24 elements, where its ends lie on the long
+beam's nodes that hold uy only (Lagrange): the same checks. Before, with its end nodes merged, 36 % low.
 Usage: parallel_ends.py BEAMCONTACT WORKDIR
 """
 import csv
