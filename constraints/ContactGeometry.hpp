@@ -165,6 +165,7 @@ class ContactGeometry {
     return cp.pA + (radiusA + 0.5 * cp.gap) * cp.normal;
   }
   Vec3d touching(const ContactPointRecord& p, const ClosestPoints& cp) const {
+    if (p.key.corner()) return cp.pA + (0.5 * cp.gap) * cp.normal;  // (the normal u points from the corner to B)
     if (p.end() || p.key.endToEnd()) return 0.5 * (cp.pA + cp.pB);
     return touching(p.key.pair, p.elementA, cp);
   }

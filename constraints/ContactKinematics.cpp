@@ -247,6 +247,11 @@ double endAngle(double R, double c1, double c2, double rE) {
 // farthest along u, relative to the end's centre).
 template <class T> T endReach(const LinePairInput& in, const Vec3<T>& u, const Vec3<T>* X, Vec3<T>& support) {
   using std::sqrt;
+  if (in.endCorner >= 0) {  // one corner of a rectangular end: its offset, unsmoothed
+    support = ((in.endCorner & 1 ? -1.0 : 1.0) * in.endHalf[0]) * X[1] +
+              ((in.endCorner & 2 ? -1.0 : 1.0) * in.endHalf[1]) * X[2];
+    return dot(u, support);
+  }
   if (in.endRectangle) {
     const T a2 = dot(u, X[1]), a3 = dot(u, X[2]);
     const EndReach<T> r2(a2 * a2), r3(a3 * a3);
@@ -317,8 +322,8 @@ Gaps<T> endToEndGaps(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* X
 // across: the across coordinate (phi, or the offset across the face) of the value.
 template <class T>
 Gaps<T> endGaps(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, const Vec3<T>* X, bool cubicB, double side,
-                double etaStart, double etaPrev, double acrossPrev, double* across, Vec3d* direction,
-                bool held = false) {
+                double etaStart, double etaPrev, double acrossPrev, double* across, Vec3d* direction, bool held = false,
+                Vec3d* supportPoint = nullptr) {
   using std::atan2;
   using std::cos;
   using std::sin;
@@ -410,6 +415,8 @@ Gaps<T> endGaps(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, con
   if (across) *across = plain(offset);
   if (direction)
     for (int a = 0; a < 3; ++a) (*direction)[a] = plain(u[a]);
+  if (supportPoint)
+    for (int a = 0; a < 3; ++a) (*supportPoint)[a] = plain(pE[a] + support[a]);
   return g;
 }
 
@@ -1159,10 +1166,13 @@ ClosestPoints endProjection(const LinePairInput& in, double side) {
   const double eta = projectionParameter(p[2], p[6], p[3], p[7], cubicB, pE);
   ClosestPoints cp;
   double across = 0.0;
-  const Gaps<double> g = endGaps(in, p, p + 4, p + 8, cubicB, side, eta, eta, 0.0, &across, &cp.normal);
+  Vec3d support;
+  const Gaps<double> g =
+      endGaps(in, p, p + 4, p + 8, cubicB, side, eta, eta, 0.0, &across, &cp.normal, false, &support);
   cp.xi = in.endNode;
   cp.eta = g.eta;
   cp.pA = cp.cA = pE;
+  if (in.endCorner >= 0) cp.pA = support;  // (a corner: the corner itself)
   axisPoint(p[2], p[6], p[3], p[7], cubicB, g.eta, &cp.pB, nullptr, nullptr);
   cp.cB = cp.pB;
   cp.distance = norm(cp.pB - cp.pA);

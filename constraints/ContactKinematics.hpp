@@ -59,7 +59,9 @@ struct LinePairInput {
   // A's node 2 and -1 at node 1 (the axis leaves the beam along outward e1). B's surface: its
   // circular section of radius radiusB about its axis (oB = 0; acrossB a reference vector across B's
   // axis, the origin of the angle around it), or with `face` the face of nB (as above).
-  int endNode = -1;
+  // endCorner 0..3: not the whole end face but its corner (+-endHalf[0] e2, +-endHalf[1] e3; bit 0:
+  // minus e2, bit 1: minus e3) against B's face (PointKey::cornerPoint); -1: the face.
+  int endNode = -1, endCorner = -1;
   bool endRectangle = false;
   double endRadius = 0.0, endHalf[2] = {0.0, 0.0}, outward = 1.0, radiusB = 0.0;
   Vec3d endAxes[3]{};
@@ -213,8 +215,8 @@ double lineSide(const LinePairInput& in, const ClosestPoints& projection, const 
 //    everything.
 // `side` -1 when the end has passed B's axis since its point was found (circles: the gap is then
 // deeply negative). endProjection returns the geometry in double precision (xi the end's parameter,
-// eta, pA = p_E, pB = x_B, normal u, gap, sinAngle of the chords) with etaRate holding the across
-// coordinate (phi or the offset): the history an end point keeps.
+// eta, pA = p_E (with endCorner the corner), pB = x_B, normal u, gap, sinAngle of the chords) with etaRate holding the
+// across coordinate (phi or the offset): the history an end point keeps.
 constexpr double kEndSmoothing = 0.02;
 ClosestPoints endProjection(const LinePairInput& in, double side);
 ContactKinematics endKinematics(const LinePairInput& in, double side, double etaPrev, double acrossPrev,

@@ -610,7 +610,6 @@ void ContactManager::commitStep(const core::State& state) {
   }
   lines_.checkResolution(set_.current(), state);
   set_.commit();
-  lines_.stepAccepted();
   // The next step's field: at its first iteration (until then the field stays as the matrix graph
   // has it), whose update of the points drops the interior nodes no longer needed.
   resumeLevels_ = true;

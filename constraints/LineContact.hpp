@@ -80,11 +80,9 @@ class LineContact {
   // change at the next iteration).
   bool refineField(const PointMap& points, const core::State& s);
   // Back to the unrefined field: after a restore, and after a failed attempt at a step (`failed`: a
-  // pair whose field was refined in two failed attempts at the same step is not refined again in this
-  // run; a restart from a later checkpoint refines it again).
+  // pair whose field was refined in it is refined at most one level less than that attempt reached for
+  // the rest of the run; a restart from a later checkpoint refines it fully again).
   void clearLevels(bool failed = false);
-  // A step converged: the failed attempts counted towards switching refinement off start again.
-  void stepAccepted() { refinedFailures_.clear(); }
   // At the start of a step (`points` the last converged ones, at `s`): the refinement their interior
   // nodes show, where a contact zone still ends inside the element.
   void resumeLevels(const PointMap& points, const core::State& s);
@@ -195,9 +193,12 @@ class LineContact {
   // (pair, edge, element) -> its deepest penetration (per thinner inscribed radius) when it was last
   // refined in this step.
   std::map<std::tuple<int, int, int>, double> refinedAt_;
-  std::set<int> refinementOff_;  // pairs whose refined field failed a step twice: not refined again
-  std::map<int, int> refinedFailures_;  // pair -> failed attempts at the present step with a refined field
-  static constexpr int kRefinedAttempts = 2;
+  // pair -> the deepest refinement level allowed (absent: kMaxFieldLevel), lowered by failed attempts
+  std::map<int, int> levelCap_;
+  int levelCap(int pair) const {
+    const auto it = levelCap_.find(pair);
+    return it == levelCap_.end() ? kMaxFieldLevel : it->second;
+  }
   // The field's parts of an element: (node at the part's start, node at its end, length).
   struct FieldPart {
     int from = 0, to = 0;

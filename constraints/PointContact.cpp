@@ -62,8 +62,9 @@ void PointContact::findPoints(int pi, int ea, int eb, long long visit, const cor
   findEnds(pi, eb, ea, true, visit, s, known, offer);
 }
 
-LinePairInput PointContact::endInput(int eE, int end, int eS, int face, const core::State& s) const {
+LinePairInput PointContact::endInput(int eE, int end, int eS, int face, const core::State& s, int corner) const {
   LinePairInput in = input(eE, 0, eS, 0, s);
+  in.endCorner = corner;
   const auto& E = geometry_.beams().elements()[eE];
   const auto& S = geometry_.beams().elements()[eS];
   const auto& secE = geometry_.beams().beams()[E.beam].section;
@@ -116,14 +117,20 @@ void PointContact::findEnds(int pi, int eE, int eS, bool ofB, long long visit, c
     // the end's centre.
     int face = 0;
     const ContactPointRecord* have = nullptr;
+    bool haveCorners = false;  // (a known corner point of this end: the end stays on its corners)
     for (int f = 0; f < (rectangles ? 4 : 1); ++f) {
       const auto it = known.find(PointKey::endPoint(pi, ofB, end, f));
       if (it != known.end()) {
         have = &it->second;
         face = f;
       }
+      for (int c = 0; rectangles && c < 4; ++c)
+        if (known.count(PointKey::cornerPoint(pi, ofB, end, f, c))) {
+          haveCorners = true;
+          face = f;
+        }
     }
-    if (rectangles && !have) {
+    if (rectangles && !have && !haveCorners) {
       // (at the last converged state, so an end that went through B within the increment is found
       // on the face it came through, deeply inside)
       const core::State& r = geometry_.reference();
@@ -157,7 +164,7 @@ void PointContact::findEnds(int pi, int eE, int eS, bool ofB, long long visit, c
       const auto& secS = geometry_.beams().beams()[S.beam].section;
       const double endReach = geometry_.circumscribed(E.beam), thickness = face % 2 == 0 ? secS.width : secS.height;
       if (std::abs(cp.etaRate) > in.halfWidthB + endReach) continue;
-      if (!have && cp.gap < -(thickness + endReach)) continue;
+      if (!have && !haveCorners && cp.gap < -(thickness + endReach)) continue;
     }
     // Only an end face turned towards B. Circles: the axis (chord, or Hermite tangent) continued
     // beyond the end passes B on the far side of the end, i.e. the closest points of the axes lie
@@ -166,10 +173,64 @@ void PointContact::findEnds(int pi, int eE, int eS, bool ofB, long long visit, c
     const Vec3d axis = geometry_.options().hermitePointAxes ? s.rotation[node] * column(E.data.T0, 0)
                                                             : s.position[E.node2] - s.position[E.node1];
     const Vec3d towards = rectangles ? cp.normal : side * (cp.pB - cp.pA);
-    if (!(in.outward * dot(towards, axis) > 0.0)) continue;
+    const bool turnedTowards = in.outward * dot(towards, axis) > 0.0;
     // An end past a free end of B's element whose face is turned towards it is end-to-end contact's
     // (its face, not B's side: end on end, the end's axis lies along B's faces).
     if (beyondFreeEnd(eE, node, eS, s)) continue;
+    if (rectangles && !have) {
+      // A rectangular end whose axis does not point into B's face (it lies along the face), or whose
+      // corners towards B do not all lie over the face (it hangs over the face's side), touches B
+      // with those of its corners that lie over a face: a point for each ("End corners"). A known
+      // corner point keeps the end on its corners (a known end point keeps it on its face).
+      // (across the face as the end's offset cp.etaRate is measured: B's axis x the face's normal)
+      const auto acrossOf = [&](const ClosestPoints& q) {
+        const Vec3d a = cross(s.position[S.node2] - s.position[S.node1], -1.0 * q.normal);
+        return (1.0 / norm(a)) * a;
+      };
+      bool hangs = false;
+      for (int c = 0; c < 4; ++c) {
+        const Vec3d offset = endProjection(endInput(eE, end, eS, face, s, c), 1.0).pA - cp.pA;
+        if (dot(offset, cp.normal) > 0.0 && std::abs(cp.etaRate + dot(offset, acrossOf(cp))) > in.halfWidthB)
+          hangs = true;
+      }
+      if (haveCorners || hangs || !turnedTowards) {
+        const core::State& r = geometry_.reference();
+        const auto& secS = geometry_.beams().beams()[S.beam].section;
+        for (int c = 0; c < 4; ++c) {
+          // Its face: a known corner point's, else the face whose plane it lay furthest outside at
+          // the last converged state (a corner beside B's top face lies inside the plane of B's side).
+          int fc = -1;
+          for (int f = 0; f < 4; ++f)
+            if (known.count(PointKey::cornerPoint(pi, ofB, end, f, c))) fc = f;
+          if (fc < 0) {
+            const Vec3d at = endProjection(endInput(eE, end, eS, face, r, c), 1.0).pA -
+                             0.5 * (r.position[S.node1] + r.position[S.node2]);
+            double most = -1e300;
+            for (int f = 0; f < 4; ++f) {
+              const Vec3d n = (f < 2 ? 1.0 : -1.0) * (r.rotation[S.node1] * column(S.data.T0, 1 + f % 2));
+              const double out = dot(n, at) - 0.5 * (f % 2 == 0 ? secS.width : secS.height);
+              if (out > most) most = out, fc = f;
+            }
+          }
+          const LinePairInput ic = endInput(eE, end, eS, fc, s, c);
+          const ClosestPoints q = endProjection(ic, 1.0);
+          const ClosestPoints centre = endProjection(endInput(eE, end, eS, fc, s), 1.0);
+          const Vec3d offset = q.pA - centre.pA;
+          const PointKey key = PointKey::cornerPoint(pi, ofB, end, fc, c);
+          const auto it = known.find(key);
+          // Only a corner towards that face, over it, on B's element, and (new) not beyond B's far side.
+          if (!(dot(offset, q.normal) > 0.0)) continue;
+          if (std::abs(q.etaRate + dot(offset, acrossOf(q))) > ic.halfWidthB) continue;
+          if (!geometry_.withinElement(eS, q.eta)) continue;
+          if (it == known.end() && q.gap < -(fc % 2 == 0 ? secS.width : secS.height)) continue;
+          double out = std::abs(q.eta - 0.5);
+          if (it != known.end() && it->second.elementA == eE && it->second.elementB == eS && out <= 0.55) out = -1.0;
+          offer(key, Candidate{eE, eS, q}, out, visit);
+        }
+        continue;
+      }
+    }
+    if (!turnedTowards) continue;
     const PointKey key = PointKey::endPoint(pi, ofB, end, face);
     double out = std::abs(cp.eta - 0.5);
     if (have && have->elementA == eE && have->elementB == eS && out <= 0.55) out = -1.0;
@@ -254,7 +315,9 @@ void PointContact::findEndToEnd(int pi, int ea, int eb, long long visit, const c
 ClosestPoints PointContact::geometry(const ContactPointRecord& p, const core::State& s) const {
   if (p.key.endToEnd())
     return endToEndProjection(endToEndInput(p.elementA, p.key.endIndex(), p.elementB, p.key.otherEnd(), s));
-  if (p.end()) return endProjection(endInput(p.elementA, p.key.endIndex(), p.elementB, p.key.lineB, s), p.sigma);
+  if (p.end())
+    return endProjection(endInput(p.elementA, p.key.endIndex(), p.elementB, p.key.endFace(), s, p.key.cornerIndex()),
+                         p.sigma);
   const LinePairInput in = input(p.elementA, p.key.lineA, p.elementB, p.key.lineB, s);
   ClosestPoints cp = closestPoints(in);
   orient(cp, p.sigma, in.radiusSum);
@@ -266,8 +329,8 @@ ContactKinematics PointContact::kinematics(const ContactPointRecord& p, const co
     return endToEndKinematics(endToEndInput(p.elementA, p.key.endIndex(), p.elementB, p.key.otherEnd(), s), p.etaRate,
                               p.across2, order);
   if (p.end())
-    return endKinematics(endInput(p.elementA, p.key.endIndex(), p.elementB, p.key.lineB, s), p.sigma,
-                         p.etaPrev - geometry_.beams().elements()[p.elementB].index, p.etaRate, order);
+    return endKinematics(endInput(p.elementA, p.key.endIndex(), p.elementB, p.key.endFace(), s, p.key.cornerIndex()),
+                         p.sigma, p.etaPrev - geometry_.beams().elements()[p.elementB].index, p.etaRate, order);
   const LinePairInput in = input(p.elementA, p.key.lineA, p.elementB, p.key.lineB, s);
   const double xiPrev = p.xiPrev - geometry_.beams().elements()[p.elementA].index;
   const double etaPrev = p.etaPrev - geometry_.beams().elements()[p.elementB].index;

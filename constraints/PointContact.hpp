@@ -32,8 +32,9 @@ class PointContact {
   // The orientation of a newly found point (from the last converged state).
   double referenceSigma(int eA, int lA, int eB, int lB, const ClosestPoints& current) const;
   // End contact: the end `end` (0: the beam's first node, 1: its last) of element eE's beam against
-  // element eS's surface (rectangles: its face `face`), in `s`.
-  LinePairInput endInput(int eE, int end, int eS, int face, const core::State& s) const;
+  // element eS's surface (rectangles: its face `face`), in `s`; `corner` 0..3: that corner of a
+  // rectangular end only (LinePairInput::endCorner).
+  LinePairInput endInput(int eE, int end, int eS, int face, const core::State& s, int corner = -1) const;
   // The end points of element eE's free ends (if any) on element eS, the pair's beam B's ends if ofB.
   // The outward axis of element e at its node `node` (e1, minus at its first node), in `s`.
   Vec3d outwardAxis(int e, int node, const core::State& s) const;

@@ -73,8 +73,18 @@ struct PointKey {
   static PointKey endToEndPoint(int pair, bool ofB, int end, int otherEnd) {
     return contact(pair, kEndLine + 2 * (ofB ? 1 : 0) + end, kEndLine + otherEnd);
   }
+  // A corner of a rectangular end on the other beam's face (where the end hangs over that face's
+  // side or its axis does not point into the face: end contact, "End corners"): line B is the face +
+  // 4 (1 + corner), corner 0..3 at (+e2, +e3), (-e2, +e3), (+e2, -e3), (-e2, -e3) of the end's half
+  // sizes.
+  static PointKey cornerPoint(int pair, bool ofB, int end, int face, int corner) {
+    return contact(pair, kEndLine + 2 * (ofB ? 1 : 0) + end, face + 4 * (1 + corner));
+  }
   bool end() const { return kind == Kind::Contact && lineA >= kEndLine; }
   bool endToEnd() const { return end() && lineB >= kEndLine; }
+  bool corner() const { return end() && !endToEnd() && lineB >= 4; }
+  int cornerIndex() const { return corner() ? lineB / 4 - 1 : -1; }
+  int endFace() const { return lineB % 4; }  // an end or corner point's face of the other beam
   int otherEnd() const { return lineB - kEndLine; }
   bool endOfB() const { return (lineA - kEndLine) / 2 == 1; }
   int endIndex() const { return (lineA - kEndLine) % 2; }

@@ -832,6 +832,93 @@ TEST(EndKinematics, ColumnEndOnABeam) {
   EXPECT_LT(worstK, 1e-6);
 }
 
+namespace {
+// A beam end lying along a face: A's element from x = -10 to its free end at x = 0 (axis along X,
+// a 1 x 0.6 rectangle: e2 = Y half 0.5, e3 = Z half 0.3), over B's top face (normal +Z) at z = -0.5
+// (B along Y at z = -1, half height 0.5, the face 4 wide): A's lower corners 0.2 above the face.
+LinePairInput lyingEnd(int corner) {
+  LinePairInput in = column(true);
+  in.xA1 = {{-10, 0, 0}};
+  in.xA2 = {{0, 0, 0}};
+  in.xB1 = {{0, -5, -1}};
+  in.xB2 = {{0, 5, -1}};
+  in.endAxes[0] = {{1, 0, 0}};
+  in.endAxes[1] = {{0, 1, 0}};
+  in.endAxes[2] = {{0, 0, 1}};
+  in.oB = {{0, 0, 0.5}};
+  in.nB = {{0, 0, 1}};
+  in.halfWidthB = 2.0;
+  in.endCorner = corner;
+  return in;
+}
+}  // namespace
+
+// End corners: one corner of a rectangular end against a face, its gap the corner's distance from
+// the face's plane, unsmoothed: the lower corners (2: +e2 -e3, 3: -e2 -e3) 0.2 above the face, the
+// upper ones 0.8; the end turned by theta about its axis puts the corner (y, z) at y sin(theta) +
+// z cos(theta) + 0.5 above the face; the point carries the corner's position. Then R and K against central differences
+// at general states (each corner, either end of A, chords and Hermite axes, a lying end and a standing column), and a
+// unit multiplier applies orthonormal forces on B that balance.
+TEST(EndKinematics, CornerOfAnEndOnAFace) {
+  for (int c = 0; c < 4; ++c) {
+    const ClosestPoints cp = endProjection(lyingEnd(c), 1.0);
+    EXPECT_NEAR(cp.gap, c >= 2 ? 0.2 : 0.8, 1e-12) << c;
+    EXPECT_NEAR(cp.eta, 0.5, 1e-12);
+    EXPECT_NEAR(norm(cp.pA - Vec3d{{0, c & 1 ? -0.5 : 0.5, c & 2 ? -0.3 : 0.3}}), 0.0, 1e-12) << c;
+    for (double theta : {0.05, 0.3}) {
+      LinePairInput turned = lyingEnd(c);
+      turned.RA2 = expSO3(Vec3d{{theta, 0, 0}});
+      const double y = c & 1 ? -0.5 : 0.5, z = c & 2 ? -0.3 : 0.3;
+      const double exact = y * std::sin(theta) + z * std::cos(theta) + 0.5;
+      EXPECT_NEAR(endProjection(turned, 1.0).gap, exact, 1e-12) << c << " " << theta;
+    }
+  }
+  std::mt19937 g(37);
+  double worstR = 0.0, worstK = 0.0, worstF = 0.0, worstM = 0.0, worstO = 0.0;
+  for (int trial = 0; trial < 16; ++trial) {
+    LinePairInput in = trial % 2 ? lyingEnd(trial / 4) : column(true);
+    in.endCorner = trial / 4;
+    if (trial % 4 >= 2) {  // the end at A's node 1
+      std::swap(in.xA1, in.xA2);
+      in.endNode = 0;
+      in.outward = -1.0;
+      in.endAxes[0] = -1.0 * in.endAxes[0];
+    }
+    if (trial % 3 != 0) {
+      in.dA = in.xA2 - in.xA1;
+      in.dB = in.xB2 - in.xB1;
+    }
+    placeGenerally(in, g, 0.3);
+    const ClosestPoints cp = endProjection(in, 1.0);
+    const double etaP = cp.eta - 0.01, acrossP = cp.etaRate + 0.02;
+    const auto [errR, errK] = centralDifferenceErrors(
+        in, [&](const LinePairInput& s) { return endKinematics(s, 1.0, etaP, acrossP); },
+        {&ContactKinematics::normal, &ContactKinematics::tangent1, &ContactKinematics::tangent2});
+    worstR = std::max(worstR, errR);
+    worstK = std::max(worstK, errK);
+    const ContactKinematics k = endKinematics(in, 1.0, etaP, acrossP);
+    const auto [f, m] = unbalance(in, k);
+    worstF = std::max(worstF, f);
+    worstM = std::max(worstM, m);
+    Vec3d onB[3];
+    const GapDerivatives* gaps[3] = {&k.normal, &k.tangent1, &k.tangent2};
+    for (int q = 0; q < 3; ++q)
+      for (int a = 0; a < 3; ++a) onB[q][a] = gaps[q]->R[12 + a] + gaps[q]->R[18 + a];
+    for (int q = 0; q < 3; ++q) {
+      worstO = std::max(worstO, std::abs(norm(onB[q]) - 1.0));
+      for (int r = q + 1; r < 3; ++r) worstO = std::max(worstO, std::abs(dot(onB[q], onB[r])));
+    }
+  }
+  std::printf(
+      "end corners, max relative error: R %.2e, K %.2e; unbalance force %.1e, moment %.1e; "
+      "orthonormal to %.1e\n",
+      worstR, worstK, worstF, worstM, worstO);
+  EXPECT_LT(worstR, 1e-6);
+  EXPECT_LT(worstK, 1e-6);
+  EXPECT_LT(worstM, 1e-12);
+  EXPECT_LT(worstO, 1e-9);
+}
+
 // What a unit multiplier applies on B (the sum of R over B's translations): for each gap of end
 // contact a unit vector, the three orthogonal (the normal along the face's normal or across B's
 // axis, the friction along and across B), so |F_T| = |lambda_T| and the cone of the multipliers is
