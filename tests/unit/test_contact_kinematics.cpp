@@ -751,6 +751,30 @@ LinePairInput endToEnd(bool rectangles) {
 }
 }  // namespace
 
+namespace {
+// An end contact input varied for a central-difference trial (in place): the end at A's node 1 where
+// trial % 4 >= 2, Hermite axes where trial % 3 != 0, then placed generally; and the largest relative
+// errors of R and K of its three gaps (history: eta - 0.01, across + 0.02 of the placed state's).
+std::pair<double, double> endVariationErrors(LinePairInput& in, int trial, std::mt19937& g) {
+  if (trial % 4 >= 2) {
+    std::swap(in.xA1, in.xA2);
+    in.endNode = 0;
+    in.outward = -1.0;
+    in.endAxes[0] = -1.0 * in.endAxes[0];
+  }
+  if (trial % 3 != 0) {
+    in.dA = in.xA2 - in.xA1;
+    in.dB = in.xB2 - in.xB1;
+  }
+  placeGenerally(in, g, 0.3);
+  const ClosestPoints cp = endProjection(in, 1.0);
+  const double etaP = cp.eta - 0.01, acrossP = cp.etaRate + 0.02;
+  return centralDifferenceErrors(
+      in, [&](const LinePairInput& s) { return endKinematics(s, 1.0, etaP, acrossP); },
+      {&ContactKinematics::normal, &ContactKinematics::tangent1, &ContactKinematics::tangent2});
+}
+}  // namespace
+
 // End contact: the column's end face pressed flat on B: the gap is the clearance (0.2); sliding the
 // end along B by s gives g_T2 = s, across B by s gives g_T1 = s (rectangles: the face offset; circles:
 // the end's distance from B's axis times the angle, s at first order); moved across B within its
@@ -808,22 +832,7 @@ TEST(EndKinematics, ColumnEndOnABeam) {
   for (int trial = 0; trial < 8; ++trial) {
     const bool rect = trial % 2;
     LinePairInput in = column(rect);
-    if (trial % 4 >= 2) {  // the end at A's node 1
-      std::swap(in.xA1, in.xA2);
-      in.endNode = 0;
-      in.outward = -1.0;
-      in.endAxes[0] = {{0, 0, -1}};
-    }
-    if (trial % 3 != 0) {
-      in.dA = in.xA2 - in.xA1;
-      in.dB = in.xB2 - in.xB1;
-    }
-    placeGenerally(in, g, 0.3);
-    const ClosestPoints cp = endProjection(in, 1.0);
-    const double etaP = cp.eta - 0.01, acrossP = cp.etaRate + 0.02;
-    const auto [errR, errK] = centralDifferenceErrors(
-        in, [&](const LinePairInput& s) { return endKinematics(s, 1.0, etaP, acrossP); },
-        {&ContactKinematics::normal, &ContactKinematics::tangent1, &ContactKinematics::tangent2});
+    const auto [errR, errK] = endVariationErrors(in, trial, g);
     worstR = std::max(worstR, errR);
     worstK = std::max(worstK, errK);
   }
@@ -878,25 +887,11 @@ TEST(EndKinematics, CornerOfAnEndOnAFace) {
   for (int trial = 0; trial < 16; ++trial) {
     LinePairInput in = trial % 2 ? lyingEnd(trial / 4) : column(true);
     in.endCorner = trial / 4;
-    if (trial % 4 >= 2) {  // the end at A's node 1
-      std::swap(in.xA1, in.xA2);
-      in.endNode = 0;
-      in.outward = -1.0;
-      in.endAxes[0] = -1.0 * in.endAxes[0];
-    }
-    if (trial % 3 != 0) {
-      in.dA = in.xA2 - in.xA1;
-      in.dB = in.xB2 - in.xB1;
-    }
-    placeGenerally(in, g, 0.3);
-    const ClosestPoints cp = endProjection(in, 1.0);
-    const double etaP = cp.eta - 0.01, acrossP = cp.etaRate + 0.02;
-    const auto [errR, errK] = centralDifferenceErrors(
-        in, [&](const LinePairInput& s) { return endKinematics(s, 1.0, etaP, acrossP); },
-        {&ContactKinematics::normal, &ContactKinematics::tangent1, &ContactKinematics::tangent2});
+    const auto [errR, errK] = endVariationErrors(in, trial, g);
     worstR = std::max(worstR, errR);
     worstK = std::max(worstK, errK);
-    const ContactKinematics k = endKinematics(in, 1.0, etaP, acrossP);
+    const ClosestPoints cp = endProjection(in, 1.0);
+    const ContactKinematics k = endKinematics(in, 1.0, cp.eta - 0.01, cp.etaRate + 0.02);
     const auto [f, m] = unbalance(in, k);
     worstF = std::max(worstF, f);
     worstM = std::max(worstM, m);
