@@ -130,22 +130,10 @@ void PointContact::findEnds(int pi, int eE, int eS, bool ofB, long long visit, c
           face = f;
         }
     }
-    if (rectangles && !have && !haveCorners) {
-      // (at the last converged state, so an end that went through B within the increment is found
-      // on the face it came through, deeply inside)
-      const core::State& r = geometry_.reference();
-      const Vec3d toEnd = r.position[node] - 0.5 * (r.position[S.node1] + r.position[S.node2]);
-      const auto& sec = geometry_.beams().beams()[S.beam].section;
-      double most = -1e300;
-      for (int f = 0; f < 4; ++f) {  // the largest distance from a face's plane
-        const Vec3d n = (f < 2 ? 1.0 : -1.0) * (r.rotation[S.node1] * column(S.data.T0, 1 + f % 2));
-        const double out = dot(n, toEnd) - 0.5 * (f % 2 == 0 ? sec.width : sec.height);
-        if (out > most) {
-          most = out;
-          face = f;
-        }
-      }
-    }
+    // (at the last converged state, so an end that went through B within the increment is found on
+    // the face it came through, deeply inside)
+    const core::State& r = geometry_.reference();
+    if (rectangles && !have && !haveCorners) face = outsideFace(eS, r.position[node], r);
     const LinePairInput in = endInput(eE, end, eS, face, s);
     // The side of a new circular point: where the end's centre lay from B's axis at the last
     // converged state, so an end that passed B's axis within the increment is deeply inside.
@@ -161,8 +149,7 @@ void PointContact::findEnds(int pi, int eE, int eS, bool ofB, long long visit, c
       // than the face's half width and the end's circumscribed radius) does not touch it, and a new
       // point for an end beyond B's far face (a gap below minus B's thickness and that radius) is no
       // contact either (an end that went through is the pass-through check's).
-      const auto& secS = geometry_.beams().beams()[S.beam].section;
-      const double endReach = geometry_.circumscribed(E.beam), thickness = face % 2 == 0 ? secS.width : secS.height;
+      const double endReach = geometry_.circumscribed(E.beam), thickness = 2.0 * faceDepth(eS, face);
       if (std::abs(cp.etaRate) > in.halfWidthB + endReach) continue;
       if (!have && !haveCorners && cp.gap < -(thickness + endReach)) continue;
     }
@@ -187,42 +174,31 @@ void PointContact::findEnds(int pi, int eE, int eS, bool ofB, long long visit, c
         const Vec3d a = cross(s.position[S.node2] - s.position[S.node1], -1.0 * q.normal);
         return (1.0 / norm(a)) * a;
       };
+      // (each corner's offset from the end's centre, cp.pA)
       bool hangs = false;
       for (int c = 0; c < 4; ++c) {
-        const Vec3d offset = endProjection(endInput(eE, end, eS, face, s, c), 1.0).pA - cp.pA;
+        const Vec3d offset = cornerAt(eE, node, c, s) - cp.pA;
         if (dot(offset, cp.normal) > 0.0 && std::abs(cp.etaRate + dot(offset, acrossOf(cp))) > in.halfWidthB)
           hangs = true;
       }
       if (haveCorners || hangs || !turnedTowards) {
-        const core::State& r = geometry_.reference();
-        const auto& secS = geometry_.beams().beams()[S.beam].section;
         for (int c = 0; c < 4; ++c) {
           // Its face: a known corner point's, else the face whose plane it lay furthest outside at
           // the last converged state (a corner beside B's top face lies inside the plane of B's side).
           int fc = -1;
           for (int f = 0; f < 4; ++f)
             if (known.count(PointKey::cornerPoint(pi, ofB, end, f, c))) fc = f;
-          if (fc < 0) {
-            const Vec3d at = endProjection(endInput(eE, end, eS, face, r, c), 1.0).pA -
-                             0.5 * (r.position[S.node1] + r.position[S.node2]);
-            double most = -1e300;
-            for (int f = 0; f < 4; ++f) {
-              const Vec3d n = (f < 2 ? 1.0 : -1.0) * (r.rotation[S.node1] * column(S.data.T0, 1 + f % 2));
-              const double out = dot(n, at) - 0.5 * (f % 2 == 0 ? secS.width : secS.height);
-              if (out > most) most = out, fc = f;
-            }
-          }
+          if (fc < 0) fc = outsideFace(eS, cornerAt(eE, node, c, r), r);
           const LinePairInput ic = endInput(eE, end, eS, fc, s, c);
           const ClosestPoints q = endProjection(ic, 1.0);
-          const ClosestPoints centre = endProjection(endInput(eE, end, eS, fc, s), 1.0);
-          const Vec3d offset = q.pA - centre.pA;
+          const Vec3d offset = q.pA - cp.pA;
           const PointKey key = PointKey::cornerPoint(pi, ofB, end, fc, c);
           const auto it = known.find(key);
           // Only a corner towards that face, over it, on B's element, and (new) not beyond B's far side.
           if (!(dot(offset, q.normal) > 0.0)) continue;
           if (std::abs(q.etaRate + dot(offset, acrossOf(q))) > ic.halfWidthB) continue;
           if (!geometry_.withinElement(eS, q.eta)) continue;
-          if (it == known.end() && q.gap < -(fc % 2 == 0 ? secS.width : secS.height)) continue;
+          if (it == known.end() && q.gap < -2.0 * faceDepth(eS, fc)) continue;
           double out = std::abs(q.eta - 0.5);
           if (it != known.end() && it->second.elementA == eE && it->second.elementB == eS && out <= 0.55) out = -1.0;
           offer(key, Candidate{eE, eS, q}, out, visit);
@@ -236,6 +212,36 @@ void PointContact::findEnds(int pi, int eE, int eS, bool ofB, long long visit, c
     if (have && have->elementA == eE && have->elementB == eS && out <= 0.55) out = -1.0;
     offer(key, Candidate{eE, eS, cp}, out, visit);
   }
+}
+
+double PointContact::faceDepth(int eS, int face) const {
+  const auto& sec = geometry_.beams().beams()[geometry_.beams().elements()[eS].beam].section;
+  return 0.5 * (face % 2 == 0 ? sec.width : sec.height);
+}
+
+int PointContact::outsideFace(int eS, const Vec3d& x, const core::State& s) const {
+  const auto& S = geometry_.beams().elements()[eS];
+  const Vec3d from = x - 0.5 * (s.position[S.node1] + s.position[S.node2]);
+  int face = 0;
+  double most = -1e300;
+  for (int f = 0; f < 4; ++f) {  // the largest distance from a face's plane
+    const Vec3d n = (f < 2 ? 1.0 : -1.0) * (s.rotation[S.node1] * column(S.data.T0, 1 + f % 2));
+    const double out = dot(n, from) - faceDepth(eS, f);
+    if (out > most) {
+      most = out;
+      face = f;
+    }
+  }
+  return face;
+}
+
+Vec3d PointContact::cornerAt(int eE, int node, int corner, const core::State& s) const {
+  // (as LinePairInput::endCorner: bit 0 minus e2, bit 1 minus e3, the end's triad turned with its node)
+  const auto& E = geometry_.beams().elements()[eE];
+  const auto& sec = geometry_.beams().beams()[E.beam].section;
+  const Vec3d local = ((corner & 1 ? -0.5 : 0.5) * sec.width) * column(E.data.T0, 1) +
+                      ((corner & 2 ? -0.5 : 0.5) * sec.height) * column(E.data.T0, 2);
+  return s.position[node] + s.rotation[node] * local;
 }
 
 Vec3d PointContact::outwardAxis(int e, int node, const core::State& s) const {

@@ -36,6 +36,14 @@ class PointContact {
   // rectangular end only (LinePairInput::endCorner).
   LinePairInput endInput(int eE, int end, int eS, int face, const core::State& s, int corner = -1) const;
   // The end points of element eE's free ends (if any) on element eS, the pair's beam B's ends if ofB.
+  // Half the depth of element eS's rectangular section across its face `face` (0..3: +e2, +e3, -e2,
+  // -e3): the distance of the face's plane from the axis.
+  double faceDepth(int eS, int face) const;
+  // The face of element eS (rectangular) whose plane the point x lies furthest outside, in `s`.
+  int outsideFace(int eS, const Vec3d& x, const core::State& s) const;
+  // The corner `corner` (LinePairInput::endCorner) of element eE's rectangular end section at its
+  // node `node`, in `s`.
+  Vec3d cornerAt(int eE, int node, int corner, const core::State& s) const;
   // The outward axis of element e at its node `node` (e1, minus at its first node), in `s`.
   Vec3d outwardAxis(int e, int node, const core::State& s) const;
   bool nearFreeEnd(int e, const Vec3d& x, double reach, const core::State& s) const;

@@ -97,17 +97,23 @@ def run(exe, work, alpha, strategy, n=20, nb=12):
     return (sum(float(x["normal_force"]) for x in last), len(last) - lines, lines, warned, deepest), ""
 
 
+def penalty_force(c, closure):
+    """The force N of Penalty's smoothed law (eps_N EPS, Regularization Gap G0) through a compliance c
+    closing `closure`: N c + sqrt(2 G0 N / EPS) = closure, by bisection."""
+    lo, hi = 0.0, closure / c
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if mid * c + math.sqrt(2 * G0 * mid / EPS) < closure else (lo, mid)
+    return 0.5 * (lo + hi)
+
+
 def main():
     exe, work = sys.argv[1], sys.argv[2]
     os.makedirs(work, exist_ok=True)
     EI = E * math.pi * R ** 4 / 4
     c = (100.0 ** 3 + 60.0 ** 3) / (192 * EI)
     closure = W - GAP
-    lo, hi = 0.0, closure / c  # Penalty with the smoothed law: N c + sqrt(2 g0 N / eps) = closure
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if mid * c + math.sqrt(2 * G0 * mid / EPS) < closure else (lo, mid)
-    exact = {"Penalty": 0.5 * (lo + hi), "Augmented Lagrange": closure / c, "Lagrange Multiplier": closure / c}
+    exact = {"Penalty": penalty_force(c, closure), "Augmented Lagrange": closure / c, "Lagrange Multiplier": closure / c}
     failures = 0
     print("angle   " + "".join(f"{s:>34s}" for s in exact))
     table = {s: {} for s in exact}

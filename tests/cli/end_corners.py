@@ -49,15 +49,12 @@ def closed_form(alpha, strategy):
     b = L - a
     EI = E * parallel_ends.WIDTH * parallel_ends.HEIGHT ** 3 / 12
     GJ = E / (2 * (1 + NU)) * torsion_constant(parallel_ends.WIDTH, parallel_ends.HEIGHT)
-    c = (a ** 3 * b ** 3 / 3 + a ** 4 * (3 * b * L - 3 * b * a - a * a) / 6) / (L ** 3 * EI) + e * e * a * (L - 2 * a) / (L * GJ)
+    # (the corner's deflection under its own load and the other, and the twist of their torques)
+    c = parallel_ends.influence(a, a, EI) + parallel_ends.influence(a, b, EI) + e * e * a * (L - 2 * a) / (L * GJ)
     closure = angle_sweep.W - angle_sweep.GAP
     if strategy != "Penalty":
         return 2 * closure / c, a, e
-    lo, hi = 0.0, closure / c
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if mid * c + math.sqrt(2 * angle_sweep.G0 * mid / angle_sweep.EPS) < closure else (lo, mid)
-    return lo + hi, a, e
+    return 2 * angle_sweep.penalty_force(c, closure), a, e
 
 
 def main():

@@ -775,6 +775,22 @@ std::pair<double, double> endVariationErrors(LinePairInput& in, int trial, std::
 }
 }  // namespace
 
+namespace {
+// What a unit multiplier of each of end contact's three gaps applies on B (the sum of R over B's
+// translations), in f; returns their largest departure from an orthonormal triad.
+double orthonormalDeparture(const ContactKinematics& k, Vec3d (&f)[3]) {
+  const GapDerivatives* gaps[3] = {&k.normal, &k.tangent1, &k.tangent2};
+  for (int q = 0; q < 3; ++q)
+    for (int a = 0; a < 3; ++a) f[q][a] = gaps[q]->R[12 + a] + gaps[q]->R[18 + a];
+  double worst = 0.0;
+  for (int q = 0; q < 3; ++q) {
+    worst = std::max(worst, std::abs(norm(f[q]) - 1.0));
+    for (int r = q + 1; r < 3; ++r) worst = std::max(worst, std::abs(dot(f[q], f[r])));
+  }
+  return worst;
+}
+}  // namespace
+
 // End contact: the column's end face pressed flat on B: the gap is the clearance (0.2); sliding the
 // end along B by s gives g_T2 = s, across B by s gives g_T1 = s (rectangles: the face offset; circles:
 // the end's distance from B's axis times the angle, s at first order); moved across B within its
@@ -896,13 +912,7 @@ TEST(EndKinematics, CornerOfAnEndOnAFace) {
     worstF = std::max(worstF, f);
     worstM = std::max(worstM, m);
     Vec3d onB[3];
-    const GapDerivatives* gaps[3] = {&k.normal, &k.tangent1, &k.tangent2};
-    for (int q = 0; q < 3; ++q)
-      for (int a = 0; a < 3; ++a) onB[q][a] = gaps[q]->R[12 + a] + gaps[q]->R[18 + a];
-    for (int q = 0; q < 3; ++q) {
-      worstO = std::max(worstO, std::abs(norm(onB[q]) - 1.0));
-      for (int r = q + 1; r < 3; ++r) worstO = std::max(worstO, std::abs(dot(onB[q], onB[r])));
-    }
+    worstO = std::max(worstO, orthonormalDeparture(k, onB));
   }
   std::printf(
       "end corners, max relative error: R %.2e, K %.2e; unbalance force %.1e, moment %.1e; "
@@ -930,13 +940,7 @@ TEST(EndKinematics, UnitMultipliersApplyOrthonormalForcesOnB) {
     const ClosestPoints cp = endProjection(in, 1.0);
     const ContactKinematics k = endKinematics(in, 1.0, cp.eta - 0.01, cp.etaRate + 0.01);
     Vec3d f[3];
-    const GapDerivatives* gaps[3] = {&k.normal, &k.tangent1, &k.tangent2};
-    for (int q = 0; q < 3; ++q)
-      for (int a = 0; a < 3; ++a) f[q][a] = gaps[q]->R[12 + a] + gaps[q]->R[18 + a];
-    for (int q = 0; q < 3; ++q) {
-      worst = std::max(worst, std::abs(norm(f[q]) - 1.0));
-      for (int r = q + 1; r < 3; ++r) worst = std::max(worst, std::abs(dot(f[q], f[r])));
-    }
+    worst = std::max(worst, orthonormalDeparture(k, f));
     if (trial < 2)
       std::printf("%s: |f_N| %.12f |f_T1| %.12f |f_T2| %.12f, f_T1 . f_T2 %.2e, f_N . f_T1 %.2e, f_N . f_T2 %.2e\n",
                   rect ? "rectangles" : "circles", norm(f[0]), norm(f[1]), norm(f[2]), dot(f[1], f[2]), dot(f[0], f[1]),
