@@ -106,11 +106,14 @@ std::string AutomaticPenalty::activeSetHint(const Teuchos::Comm<int>& comm, bool
       << " of themselves while " << global[2] << " of " << global[0]
       << " contact points joined or left the active set (the active set changing within Newton's iterations)";
   const bool can = enforcer_.canFixActiveSet();
-  fixActive_ = can && !frictional;
+  if (cycling) ++cyclingFailures_;
+  fixActive_ = can && (!frictional || cyclingFailures_ >= 2);
   if (fixActive_)
     s << "; the retry fixes the points that act for each Newton solve and changes them after it (as Penalty's "
          "Active Set = Between Solves does for a whole run)";
-  else if (can) s << "; Active Set = Between Solves (the points that act fixed for each Newton solve) may help";
+  else if (can)
+    s << "; with friction the retry keeps Newton's own active set the first time and fixes the points that act for "
+         "each Newton solve from the second (Active Set = Between Solves does it for a whole run)";
   return s.str();
 }
 
@@ -155,8 +158,9 @@ void AutomaticPenalty::relaxAfterFailure(PointMap& committed) {
   cycling_ = false;
 }
 
-void AutomaticPenalty::restore(core::CheckpointIn& in, double factor, int relaxations) {
+void AutomaticPenalty::restore(core::CheckpointIn& in, double factor, int relaxations, int cyclingFailures) {
   relaxations_ = relaxations;
+  cyclingFailures_ = cyclingFailures;
   // The tangential penalties are relaxed by a factor 10 each time (relaxAfterFailure), from 1.
   if (factor != tangentialRelaxationFactor(relaxations_))
     in.fail("its tangential relaxation factor " + core::shortest(factor) + " is not 10^" +

@@ -41,6 +41,7 @@ class AutomaticPenalty {
     activeWatch_.clear();
     steps_ = crawling_ = 0;
   }
+
   // The step bound of each Newton iteration (ContactManager::stepBound): how often it crawled.
   void watchBound(double bound) const {
     ++steps_;
@@ -67,8 +68,11 @@ class AutomaticPenalty {
     return false;
   }
   // After a failed Newton solve: what the slip directions say, and whether the retry relaxes.
-  // `frictional`: a pair has friction (the retry then does not fix the active set: measured, the 16 x 16
-  // layers with friction 0.2, whose retries in Newton's own active set complete, stopped with it).
+  // `frictional`: a pair has friction. The retry after the run's first failure whose points cycled
+  // stays in Newton's own active set (measured: the 16 x 16 layers with friction 0.2, whose retries in
+  // it complete, stopped with the points fixed); from the second such failure on, the retries fix them
+  // (a rod pressed at its pinned ends onto a parallel one, its middle at gap 0: every cut in Newton's
+  // own set failed).
   std::string failureHint(const Teuchos::Comm<int>& comm, const PointMap& points, bool frictional) const;
   // Its two parts: the active set, and the slip directions (each "" when they say nothing).
   std::string activeSetHint(const Teuchos::Comm<int>& comm, bool frictional) const;
@@ -80,9 +84,9 @@ class AutomaticPenalty {
   // The relaxation in checkpoints: its factor and count, and both read back (checked against each
   // other).
   void save(core::CheckpointOut& out) const {
-    out.real(tangentialRelaxationFactor(relaxations_)).integer(relaxations_);
+    out.real(tangentialRelaxationFactor(relaxations_)).integer(relaxations_).integer(cyclingFailures_);
   }
-  void restore(core::CheckpointIn& in, double factor, int relaxations);
+  void restore(core::CheckpointIn& in, double factor, int relaxations, int cyclingFailures);
   // The warning of a run whose parameters were lowered (empty: none).
   std::string warning() const;
   // Retries after slip directions cycled so far (each lowers automatic eps_T and the strategy's
@@ -103,6 +107,7 @@ class AutomaticPenalty {
   };
   mutable std::map<PointKey, ActiveWatch> activeWatch_;
   mutable bool fixActive_ = false;  // failureHint: the retry fixes the active set for each Newton solve
+  mutable int cyclingFailures_ = 0;  // failed Newton solves whose points cycled since the last accepted step
   struct FrictionWatch {
     std::array<double, 2> force{};
     int reversals = 0;

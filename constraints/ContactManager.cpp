@@ -635,11 +635,14 @@ void ContactManager::loadCommitted(core::CheckpointIn& in, const core::State& co
   const long long lastPasses = in.integer();
   const double relaxation = in.real();
   const long long relaxations = in.integer();
-  if (n < 0 || lastPasses < 0 || lastPasses > INT_MAX || relaxations < 0 || relaxations > INT_MAX)
+  const long long cycling = in.integer();
+  if (n < 0 || lastPasses < 0 || lastPasses > INT_MAX || relaxations < 0 || relaxations > INT_MAX || cycling < 0 ||
+      cycling > INT_MAX)
     in.fail("its contact counters are negative or too large (points " + std::to_string(n) + ", passes " +
-            std::to_string(lastPasses) + ", relaxations " + std::to_string(relaxations) + ")");
+            std::to_string(lastPasses) + ", relaxations " + std::to_string(relaxations) + ", cycling failures " +
+            std::to_string(cycling) + ")");
   lastPasses_ = static_cast<int>(lastPasses);
-  penalty_.restore(in, relaxation, static_cast<int>(relaxations));
+  penalty_.restore(in, relaxation, static_cast<int>(relaxations), static_cast<int>(cycling));
   geometry_.setFrictionRelaxation(tangentialRelaxationFactor(penalty_.relaxations()));
   set_.load(in, n, committed);
   geometry_.setReference(committed);

@@ -71,7 +71,7 @@ class CheckpointIn {
 
 // The format the checkpoint's first line states ("beamcontact-checkpoint 4"); a file of another format
 // is refused.
-inline constexpr int kCheckpointFormat = 5;
+inline constexpr int kCheckpointFormat = 6;
 
 // A number as the shortest text that reads back to it (for messages).
 std::string shortest(double v);
