@@ -507,35 +507,20 @@ void LineContact::findPoints(int pi, int ea, int eb, long long visit, const core
   // node planes, their elementA of beam B). A's edge takes a bounding line where it lies within B's
   // face (within 1e-3 of B's half width beyond it, a known point within 5 %: equal widths put A's
   // edges exactly on B's face edges); B's edge only where it lies inside A's face by more than
-  // that, so that A's edge there lies beyond B's face and never both carry the same line (that
-  // doubled the stiffness, or made Lagrange rows redundant): a new point of B's edge 1e-3 of B's half
-  // width inside A's face (where A's new points stop), or 5 % where a point of A's edge on these
-  // elements is known (it keeps its line to 5 % beyond), a known one 1e-3. (With 5 % for every new
-  // point of B's edge, an edge of A 1e-3 to 5 % beyond B's face at first contact, a rod 1.99 wide on
-  // a beam 2 wide, had no point on either edge: the overlap check stopped the run.)
+  // that (5 % of B's half width, a known point 1e-3), so that A's edge there lies beyond B's face and
+  // never both carry the same line (that doubled the stiffness, or made Lagrange rows redundant).
   // Where an edge of A leaves B's face, B's edge takes over at the same iterate, and back.
   const auto [edgesA, faceB] = facing(ea, eb, geometry_.reference());
   const auto [edgesB, faceA] = facing(eb, ea, geometry_.reference());
   const auto& elems = geometry_.beams().elements();
   const auto& secB = geometry_.beams().beams()[elems[eb].beam].section;
   const double halfB = 0.5 * (faceB % 2 == 0 ? secB.height : secB.width);  // B's face's half width
-  bool knownA = false;
-  for (const int edge : edgesA) {
-    offerSegment(pi, ea, eb, edge, faceB, 0.0, visit, s, known, offer);
-    // (Gauss keys of one element B, face and edge are adjacent, the largest index first.)
-    for (auto it = known.lower_bound(PointKey::gaussPoint(pi, INT_MIN, eb, edge, faceB, INT_MAX));
-         !knownA && it != known.end() && it->first.pair == pi && it->first.kind == PointKey::Kind::Gauss &&
-         it->first.elementB == eb && it->first.face == faceB && it->first.edge == edge;
-         ++it)
-      knownA = it->first.elementA == ea;
-  }
-  for (const int edge : edgesB)
-    offerSegment(pi, eb, ea, edge, faceA, halfB, visit, s, known, offer, knownA ? 0.05 : 1e-3);
+  for (const int edge : edgesA) offerSegment(pi, ea, eb, edge, faceB, 0.0, visit, s, known, offer);
+  for (const int edge : edgesB) offerSegment(pi, eb, ea, edge, faceA, halfB, visit, s, known, offer);
 }
 
 void LineContact::offerSegment(int pi, int ea, int eb, int edge, int face, double inside, long long visit,
-                               const core::State& s, const PointMap& known, const CandidateOffer& offer,
-                               double newInside) const {
+                               const core::State& s, const PointMap& known, const CandidateOffer& offer) const {
   const LinePairInput in = segmentInput(pi, ea, eb, edge, face, s);
   // (A sliver of a segment, where A's element ends at B's node within round-off, carries nothing.)
   constexpr double kSliver = 1e-9;
@@ -656,9 +641,9 @@ void LineContact::offerSegment(int pi, int ea, int eb, int edge, int face, doubl
       if (in.face) {
         // Across the face (findPoints): an edge of the pair's A (inside 0) within the face's half
         // width and a little beyond; an edge of the pair's B (inside: B's face's half width) inside
-        // the face by a little of that (a new point by newInside of it).
-        const double reach = inside > 0.0 ? in.halfWidthB - inside * (isKnown ? 1e-3 : newInside)
-                                          : in.halfWidthB * (isKnown ? 1.05 : 1.001);
+        // the face by a little of that.
+        const double reach =
+            inside > 0.0 ? in.halfWidthB - inside * (isKnown ? 1e-3 : 0.05) : in.halfWidthB * (isKnown ? 1.05 : 1.001);
         if (std::abs(cp.lateral) > reach) continue;
       }
       offer(key, Candidate{ea, eb, cp, endCut}, 0.0, -visit);  // the last visit wins

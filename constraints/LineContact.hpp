@@ -153,10 +153,10 @@ class LineContact {
   LinePairInput input(const ContactPointRecord& p, const core::State& s) const;
   // Offers the Gauss points of the segment of element ea (its edge `edge`) on element eb (its face
   // `face`; circles: 0, 0) that lie across that face: an edge of the pair's beam A with `inside` 0,
-  // one of its beam B (the roles swapped: ea of beam B) with `inside` the half width of B's face,
-  // a new point of it `newInside` of that inside the face (findPoints).
+  // one of its beam B (the roles swapped: ea of beam B) with `inside` the half width of B's face
+  // (findPoints).
   void offerSegment(int pi, int ea, int eb, int edge, int face, double inside, long long visit, const core::State& s,
-                    const PointMap& known, const CandidateOffer& offer, double newInside = 0.05) const;
+                    const PointMap& known, const CandidateOffer& offer) const;
   // A Gauss point's history (element parameters) and its slip along B at `cp` in `s` since then, as
   // segmentKinematics measures it.
   LineHistory history(const ContactPointRecord& p) const;
