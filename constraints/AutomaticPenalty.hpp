@@ -41,7 +41,6 @@ class AutomaticPenalty {
     activeWatch_.clear();
     steps_ = crawling_ = 0;
   }
-
   // The step bound of each Newton iteration (ContactManager::stepBound): how often it crawled.
   void watchBound(double bound) const {
     ++steps_;
@@ -82,7 +81,7 @@ class AutomaticPenalty {
   void relaxAfterFailure(PointMap& committed);
 
   // The relaxation in checkpoints: its factor and count, and both read back (checked against each
-  // other).
+  // other); then the count of failures whose points cycled.
   void save(core::CheckpointOut& out) const {
     out.real(tangentialRelaxationFactor(relaxations_)).integer(relaxations_).integer(cyclingFailures_);
   }
@@ -107,7 +106,7 @@ class AutomaticPenalty {
   };
   mutable std::map<PointKey, ActiveWatch> activeWatch_;
   mutable bool fixActive_ = false;  // failureHint: the retry fixes the active set for each Newton solve
-  mutable int cyclingFailures_ = 0;  // failed Newton solves whose points cycled since the last accepted step
+  mutable int cyclingFailures_ = 0;  // failed Newton solves of the run whose points cycled (in checkpoints)
   struct FrictionWatch {
     std::array<double, 2> force{};
     int reversals = 0;

@@ -35,7 +35,6 @@ class PointContact {
   // element eS's surface (rectangles: its face `face`), in `s`; `corner` 0..3: that corner of a
   // rectangular end only (LinePairInput::endCorner).
   LinePairInput endInput(int eE, int end, int eS, int face, const core::State& s, int corner = -1) const;
-  // The end points of element eE's free ends (if any) on element eS, the pair's beam B's ends if ofB.
   // Half the depth of element eS's rectangular section across its face `face` (0..3: +e2, +e3, -e2,
   // -e3): the distance of the face's plane from the axis.
   double faceDepth(int eS, int face) const;
@@ -47,6 +46,7 @@ class PointContact {
   // The outward axis of element e at its node `node` (e1, minus at its first node), in `s`.
   Vec3d outwardAxis(int e, int node, const core::State& s) const;
   bool nearFreeEnd(int e, const Vec3d& x, double reach, const core::State& s) const;
+  // The end points of element eE's free ends (if any) on element eS, the pair's beam B's ends if ofB.
   void findEnds(int pi, int eE, int eS, bool ofB, long long visit, const core::State& s, const PointMap& known,
                 const CandidateOffer& offer) const;
   // Whether the end at `node` of element eE lies past a free end of element eS whose face is turned

@@ -69,7 +69,7 @@ class CheckpointIn {
   std::string source_;
 };
 
-// The format the checkpoint's first line states ("beamcontact-checkpoint 4"); a file of another format
+// The format the checkpoint's first line states ("beamcontact-checkpoint 6"); a file of another format
 // is refused.
 inline constexpr int kCheckpointFormat = 6;
 

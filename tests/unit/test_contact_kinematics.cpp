@@ -773,9 +773,7 @@ std::pair<double, double> endVariationErrors(LinePairInput& in, int trial, std::
       in, [&](const LinePairInput& s) { return endKinematics(s, 1.0, etaP, acrossP); },
       {&ContactKinematics::normal, &ContactKinematics::tangent1, &ContactKinematics::tangent2});
 }
-}  // namespace
 
-namespace {
 // What a unit multiplier of each of end contact's three gaps applies on B (the sum of R over B's
 // translations), in f; returns their largest departure from an orthonormal triad.
 double orthonormalDeparture(const ContactKinematics& k, Vec3d (&f)[3]) {
