@@ -11,16 +11,24 @@ LinePairInput PointContact::input(int eA, int lA, int eB, int lB, const core::St
   return in;
 }
 
-double PointContact::referenceSigma(int eA, int lA, int eB, int lB, const ClosestPoints& cp) const {
+double PointContact::referenceSigma(int pi, int eA, int lA, int eB, int lB, const ClosestPoints& cp) const {
   // The orientation of a newly found point: in the last converged state (no interpenetration there)
-  // the normal points from beam A to beam B; carried to the current lines by continuity of their
-  // cross product. Without it a beam carried through the other within one increment would be
-  // found on the far side and pushed on through. Where the lines did not overlap in the last
-  // converged state (closest points beyond the elements), the current side is taken.
+  // the normal points from beam A to beam B; carried to the current lines. Without it a beam carried
+  // through the other within one increment would be found on the far side and pushed on through.
+  // Where the lines did not overlap in the last converged state (closest points beyond the
+  // elements), the current side is taken.
   const ClosestPoints ref = closestPoints(input(eA, lA, eB, lB, geometry_.reference()));
   if (ref.sinAngle < geometry_.options().minimumSinAngle || !geometry_.nearElement(eA, ref.xi) ||
       !geometry_.nearElement(eB, ref.eta))
     return cp.sigma;
+  // Lines apart in that state: the current normal keeps the side of the separation p_B - p_A they
+  // had (it reverses only where one passed through the other). Their cross product would not do:
+  // for nearly parallel lines it turns over when their small relative angle changes sign, with no
+  // passing through (two stacked cantilevers bent alike, 0.08 degrees apart at a node: an edge of
+  // A against the far edge of B, 2 apart across the width, was found 2 deep and cycled the active
+  // set). Lines touching there (edges, whose separation then has no direction): their cross product.
+  const Vec3d apart = ref.pB - ref.pA;
+  if (norm(apart) > 1e-2 * geometry_.thinner(pi)) return dot(cp.normal, apart) >= 0.0 ? cp.sigma : -cp.sigma;
   return dot(lineCross(ref), lineCross(cp)) >= 0.0 ? ref.sigma : -ref.sigma;
 }
 
@@ -36,10 +44,11 @@ void PointContact::findPoints(int pi, int ea, int eb, long long visit, const cor
       const PointKey key = PointKey::contact(pi, la, lb);
       // The normal's orientation: carried by a known point, else from the last converged state.
       const auto it = known.find(key);
-      orient(cp, it != known.end() ? it->second.sigma : referenceSigma(ea, la, eb, lb, cp), in.radiusSum);
+      orient(cp, it != known.end() ? it->second.sigma : referenceSigma(pi, ea, la, eb, lb, cp), in.radiusSum);
       // Only lines on the sides facing each other.
       if (dot(cp.pA - cp.cA, cp.normal) < -1e-12 || dot(cp.pB - cp.cB, cp.normal) > 1e-12) continue;
       if (in.radiusSum == 0.0 && (dot(cp.pA - cp.cA, cp.normal) <= 0 || dot(cp.pB - cp.cB, cp.normal) >= 0)) continue;
+      if (in.radiusSum == 0.0 && acrossFaces(ea, eb, cp, in, geometry_.thinner(pi))) continue;
       // A new edge pair of rectangles within both sections' circumscribed radii of a free beam end is
       // not taken deeper than half the thinner section's inscribed radius: an end standing on a face
       // has its edges inside that face, where the closest points of its edges and the face's bounding
@@ -60,6 +69,33 @@ void PointContact::findPoints(int pi, int ea, int eb, long long visit, const cor
     }
   findEnds(pi, ea, eb, false, visit, s, known, offer);
   findEnds(pi, eb, ea, true, visit, s, known, offer);
+}
+
+bool PointContact::acrossFaces(int ea, int eb, const ClosestPoints& cp, const LinePairInput& in, double thinner) const {
+  // Two edges' closest points measure the sections' overlap along the edges' common normal. Where
+  // that normal lies along one of A's section axes, the sections' overlap along A's other axis tells
+  // whether they touch along the normal at all: lying apart (or just touching) along that other axis
+  // while overlapping deeper along the normal, the sections are not in contact there. So it is for
+  // nearly parallel rectangles bent against each other (two stacked cantilevers, their faces
+  // together): the common normal of an edge of A and an edge of B is then horizontal, across the
+  // faces' normal, and an edge of A against the far edge of B, 2 apart across a 2-wide section, was
+  // found 2 deep (with the blend's weight 0.27) and cycled the active set. A crossing's edges overlap
+  // along the other axis (their point lies on both sections' edges), so they keep their points.
+  const auto& elements = geometry_.beams().elements();
+  const auto& a = elements[ea];
+  const auto& b = elements[eb];
+  const auto& secA = geometry_.beams().beams()[a.beam].section;
+  const auto& secB = geometry_.beams().beams()[b.beam].section;
+  const Mat3d& RA = cp.xi < 0.5 ? in.RA1 : in.RA2;
+  const Mat3d& RB = cp.eta < 0.5 ? in.RB1 : in.RB2;
+  const Vec3d a2 = RA * column(a.data.T0, 1), a3 = RA * column(a.data.T0, 2);
+  const Vec3d b2 = RB * column(b.data.T0, 1), b3 = RB * column(b.data.T0, 2);
+  const bool alongWidth = std::abs(dot(cp.normal, a2)) > std::abs(dot(cp.normal, a3));
+  const Vec3d other = alongWidth ? a3 : a2;
+  const double halfA = 0.5 * (alongWidth ? secA.height : secA.width);
+  const double halfB = 0.5 * (std::abs(dot(b2, other)) * secB.width + std::abs(dot(b3, other)) * secB.height);
+  const double apart = std::abs(dot(cp.cB - cp.cA, other)) - halfA - halfB;
+  return apart > -0.1 * thinner && apart > cp.gap + 0.1 * thinner;
 }
 
 LinePairInput PointContact::endInput(int eE, int end, int eS, int face, const core::State& s, int corner) const {
