@@ -79,8 +79,9 @@ bool PointContact::acrossFaces(int ea, int eb, const ClosestPoints& cp, const Li
   // nearly parallel rectangles bent against each other (two stacked cantilevers, their faces
   // together): the common normal of an edge of A and an edge of B is then horizontal, across the
   // faces' normal, and an edge of A against the far edge of B, 2 apart across a 2-wide section, was
-  // found 2 deep (with the blend's weight 0.27) and cycled the active set. A crossing's edges overlap
-  // along the other axis (their point lies on both sections' edges), so they keep their points.
+  // found 2 deep (with the blend's weight 0.27) and cycled the active set. The edges of beams crossing
+  // at a small angle overlap along the other axis (their point lies on both sections' edges), so
+  // they keep their points.
   const auto& elements = geometry_.beams().elements();
   const auto& a = elements[ea];
   const auto& b = elements[eb];
@@ -92,6 +93,9 @@ bool PointContact::acrossFaces(int ea, int eb, const ClosestPoints& cp, const Li
   const Vec3d b2 = RB * column(b.data.T0, 1), b3 = RB * column(b.data.T0, 2);
   const bool alongWidth = std::abs(dot(cp.normal, a2)) > std::abs(dot(cp.normal, a3));
   const Vec3d other = alongWidth ? a3 : a2;
+  // (Only while B's axis lies across that other axis: where B runs along it, as at a crossing at
+  // right angles, B's length spans it, not its section.)
+  if (std::abs(dot(RB * column(b.data.T0, 0), other)) > 0.1) return false;
   const double halfA = 0.5 * (alongWidth ? secA.height : secA.width);
   const double halfB = 0.5 * (std::abs(dot(b2, other)) * secB.width + std::abs(dot(b3, other)) * secB.height);
   const double apart = std::abs(dot(cp.cB - cp.cA, other)) - halfA - halfB;
