@@ -11,24 +11,16 @@ LinePairInput PointContact::input(int eA, int lA, int eB, int lB, const core::St
   return in;
 }
 
-double PointContact::referenceSigma(int pi, int eA, int lA, int eB, int lB, const ClosestPoints& cp) const {
+double PointContact::referenceSigma(int eA, int lA, int eB, int lB, const ClosestPoints& cp) const {
   // The orientation of a newly found point: in the last converged state (no interpenetration there)
-  // the normal points from beam A to beam B; carried to the current lines. Without it a beam carried
-  // through the other within one increment would be found on the far side and pushed on through.
-  // Where the lines did not overlap in the last converged state (closest points beyond the
-  // elements), the current side is taken.
+  // the normal points from beam A to beam B; carried to the current lines by continuity of their
+  // cross product. Without it a beam carried through the other within one increment would be
+  // found on the far side and pushed on through. Where the lines did not overlap in the last
+  // converged state (closest points beyond the elements), the current side is taken.
   const ClosestPoints ref = closestPoints(input(eA, lA, eB, lB, geometry_.reference()));
   if (ref.sinAngle < geometry_.options().minimumSinAngle || !geometry_.nearElement(eA, ref.xi) ||
       !geometry_.nearElement(eB, ref.eta))
     return cp.sigma;
-  // Lines apart in that state: the current normal keeps the side of the separation p_B - p_A they
-  // had (it reverses only where one passed through the other). Their cross product would not do:
-  // for nearly parallel lines it turns over when their small relative angle changes sign, with no
-  // passing through (two stacked cantilevers bent alike, 0.08 degrees apart at a node: an edge of
-  // A against the far edge of B, 2 apart across the width, was found 2 deep and cycled the active
-  // set). Lines touching there (edges, whose separation then has no direction): their cross product.
-  const Vec3d apart = ref.pB - ref.pA;
-  if (norm(apart) > 1e-2 * geometry_.thinner(pi)) return dot(cp.normal, apart) >= 0.0 ? cp.sigma : -cp.sigma;
   return dot(lineCross(ref), lineCross(cp)) >= 0.0 ? ref.sigma : -ref.sigma;
 }
 
@@ -44,7 +36,7 @@ void PointContact::findPoints(int pi, int ea, int eb, long long visit, const cor
       const PointKey key = PointKey::contact(pi, la, lb);
       // The normal's orientation: carried by a known point, else from the last converged state.
       const auto it = known.find(key);
-      orient(cp, it != known.end() ? it->second.sigma : referenceSigma(pi, ea, la, eb, lb, cp), in.radiusSum);
+      orient(cp, it != known.end() ? it->second.sigma : referenceSigma(ea, la, eb, lb, cp), in.radiusSum);
       // Only lines on the sides facing each other.
       if (dot(cp.pA - cp.cA, cp.normal) < -1e-12 || dot(cp.pB - cp.cB, cp.normal) > 1e-12) continue;
       if (in.radiusSum == 0.0 && (dot(cp.pA - cp.cA, cp.normal) <= 0 || dot(cp.pB - cp.cB, cp.normal) >= 0)) continue;

@@ -34,7 +34,7 @@ class PointContact {
   // along the normal; no contact along that normal.
   bool acrossFaces(int ea, int eb, const ClosestPoints& cp, const LinePairInput& in, double thinner) const;
   // The orientation of a newly found point (from the last converged state).
-  double referenceSigma(int pi, int eA, int lA, int eB, int lB, const ClosestPoints& current) const;
+  double referenceSigma(int eA, int lA, int eB, int lB, const ClosestPoints& current) const;
   // End contact: the end `end` (0: the beam's first node, 1: its last) of element eE's beam against
   // element eS's surface (rectangles: its face `face`), in `s`; `corner` 0..3: that corner of a
   // rectangular end only (LinePairInput::endCorner).
