@@ -1169,8 +1169,9 @@ TEST(LineContact, APassAfterAnActiveSetChangeSolvesItsNewRows) {
 // beam, 2 apart across the width, was a point contact 2 deep (blend weight up to 0.27): Lagrange
 // multipliers stopped at T = 0.75 (the active set cycling), Augmented Lagrange at 0.73. Now no point
 // lies across the faces. Either way round, Lagrange multipliers and Augmented Lagrange: complete,
-// the total normal force within 5e-4 of the closed form (measured +1.9e-4 to +2.1e-4; the rest is
-// the large-deflection part: +1.75e-5 with a tenth of the load), no line point deeper than 1e-6.
+// the total normal force within 5e-4 of the closed form (measured +1.89e-4 to +1.91e-4, +2.1e-4 with
+// 20 elements: the large-deflection part, +1.75e-5 with a tenth of the load), the contact forces on
+// the ground equal to minus its clamp's reaction (1e-8), no line point deeper than 1e-6.
 TEST(LineContact, StackedCantileversBentAlikeCarryTheTipForceOfTheClosedForm) {
   struct Case {
     std::string type;
@@ -1198,15 +1199,22 @@ TEST(LineContact, StackedCantileversBentAlikeCarryTheTipForceOfTheClosedForm) {
         c.type + ", rod " + test::num(c.rodWidth) + " wide, " + (c.rodIsA ? "rod" : "ground") + " as A";
     ASSERT_TRUE(r.report.completed) << what << ": " << r.report.failure;
     double total = 0.0, deepest = 0.0;
+    core::Vec3d onB{};  // the force the points apply on beam B
     for (const auto& [key, q] : p.contact->points()) {
       if (q.node() || !q.result.active) continue;
       total += math::norm(q.normalForce);
+      onB = onB + q.normalForce + q.tangentialForce;
       deepest = std::max(deepest, -q.gap);
     }
+    // The ground's equilibrium: its clamp's reaction and the contact's force on it cancel (the ground
+    // is B with the rod as A, else A, which carries minus B's force).
+    const auto reactions = lastReactions(test::scratchDirectory("stacked_np1"));
+    const double onGround = c.rodIsA ? onB[2] : -onB[2];
+    EXPECT_NEAR(reactions.at("ground 0_Fz"), -onGround, 1e-8 * P) << what;
     // Second moments about the width axis are proportional to the widths (equal heights).
     const double exact = P * 2.0 / (2.0 + c.rodWidth);
-    std::printf("%s: total normal force %.9f, closed form %.9f (%+.2e), deepest %.2e\n", what.c_str(), total, exact,
-                total / exact - 1.0, deepest);
+    std::printf("%s: total normal force %.9f, closed form %.9f (%+.2e), ground's reaction %.9f, deepest %.2e\n",
+                what.c_str(), total, exact, total / exact - 1.0, reactions.at("ground 0_Fz"), deepest);
     EXPECT_NEAR(total, exact, 5e-4 * exact) << what;
     EXPECT_LT(deepest, 1e-6) << what;
   }
