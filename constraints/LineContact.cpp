@@ -798,10 +798,15 @@ const PointState* LineContact::fieldState(const ContactPointRecord& p, const Poi
 bool LineContact::evaluateNodal(const ContactPointRecord& p, const ContactKinematics& k, const core::State& s,
                                 const PointMap& points, std::vector<double>& f, std::vector<double>* K,
                                 PointResult* result) const {
-  // lambda = N_a Lambda_a + N_b Lambda_b; the point's multiplier rows and columns are mapped on the
-  // nodes' with the same N (block = E^T point E with E the interpolation). The Gauss point xi moves
-  // with its segment, so N does too: the tangent also holds the rows E'^T f xi' and the columns
-  // (d f / d lambda) (N' Lambda) xi'.
+  // lambda = N_a Lambda_a + N_b Lambda_b; the point's displacement rows see that lambda, and its
+  // normal row is mapped on the nodes' with the same N (block = E^T point E with E the interpolation).
+  // A node's friction rows (q >= 1) are the point's rows evaluated with that node's own state and
+  // multipliers, tested with N_a: a sticking node's weighted slip int N_a g_T ds = 0, a slipping node's
+  // int N_a ds (s Lambda_T,a + mu Lambda_N,a) = 0 (the slip rows lumped on the node). Every node's
+  // multipliers then lie in the Coulomb cone (a slipping one on it, a sticking one inside by its stick
+  // test), and so does every interpolated lambda, a convex combination of them (docs/contact.md, "The
+  // Coulomb cone on lines"). The Gauss point xi moves with its segment, so N does too: the tangent also
+  // holds the rows E'^T f xi' and the columns (d f / d lambda) (N' Lambda) xi'.
   const ContactPointRecord* hostRecord = fieldHost(p, points);
   const PointState* host = hostRecord ? &*hostRecord->state : nullptr;
   if (!host || !enforcer_.contributes(k.normal.value, *host)) return false;
@@ -832,9 +837,12 @@ bool LineContact::evaluateNodal(const ContactPointRecord& p, const ContactKinema
   view.fieldCompliance = fieldCompliance(hostRecord->key);
   const PointResult r = enforcer_.evaluate(view, *host, fp.data(), K ? Kp.data() : nullptr);
   if (result) *result = r;
+  // (Rows of the interpolated evaluation taken: the displacement rows and the normal row.)
+  const auto interpolated = [&](int i) { return i <= kPairDofs; };
   f.assign(nb, 0.0);
   for (int i = 0; i < np; ++i)
-    for (const auto& [bi, ci] : to[i]) f[bi] += ci * fp[i];
+    if (interpolated(i))
+      for (const auto& [bi, ci] : to[i]) f[bi] += ci * fp[i];
   if (K) {
     // d lambda / d u = lambdaSlope xi': into the point's displacement columns.
     for (int i = 0; i < np; ++i) {
@@ -844,18 +852,40 @@ bool LineContact::evaluateNodal(const ContactPointRecord& p, const ContactKinema
         for (int j = 0; j < kPairDofs; ++j) Kp[std::size_t(np) * i + j] += dfdxi * k.xiR[j];
     }
     K->assign(std::size_t(nb) * nb, 0.0);
-    for (int i = 0; i < np; ++i)
+    for (int i = 0; i < np; ++i) {
+      if (!interpolated(i)) continue;
       for (int j = 0; j < np; ++j) {
         const double v = Kp[std::size_t(np) * i + j];
         if (v == 0.0) continue;
         for (const auto& [bi, ci] : to[i])
           for (const auto& [bj, cj] : to[j]) (*K)[std::size_t(nb) * bi + bj] += ci * cj * v;
       }
-    // The nodes' rows N_a f_lambda: d N_a / d u = slope xi'.
+    }
+    // The nodes' normal rows N_a f_lambda: d N_a / d u = slope xi'.
     for (const auto& [row, slope] : slopes)
-      for (int q = 0; q < m; ++q)
-        for (int j = 0; j < kPairDofs; ++j)
-          (*K)[std::size_t(nb) * (row + q) + j] += slope * fp[kPairDofs + q] * k.xiR[j];
+      for (int j = 0; j < kPairDofs; ++j) (*K)[std::size_t(nb) * row + j] += slope * fp[kPairDofs] * k.xiR[j];
+  }
+  // Each node's friction rows from its own state and multipliers (lambda = Lambda_a, no slope).
+  std::vector<double> fn(np), Kn(K ? std::size_t(np) * np : 0);
+  int at = kPairDofs;
+  for (const FieldShare& n : fieldShares(p, k.xi, points)) {
+    if (!n.record || n.record->extraCount == 0) continue;
+    std::fill(fn.begin(), fn.end(), 0.0);
+    std::fill(Kn.begin(), Kn.end(), 0.0);
+    ContactPoint own = view;
+    own.lambda = &s.extra[n.record->extraOffset];
+    own.fieldCompliance = fieldCompliance(n.record->key);
+    enforcer_.evaluate(own, *n.record->state, fn.data(), K ? Kn.data() : nullptr);
+    for (int q = 1; q < m; ++q) {
+      const int row = kPairDofs + q;
+      f[at + q] += n.N * fn[row];
+      if (!K) continue;
+      for (int j = 0; j < kPairDofs; ++j)
+        (*K)[std::size_t(nb) * (at + q) + j] += n.N * Kn[std::size_t(np) * row + j] + n.slope * fn[row] * k.xiR[j];
+      for (int c = 0; c < m; ++c)
+        (*K)[std::size_t(nb) * (at + q) + at + c] += n.N * Kn[std::size_t(np) * row + kPairDofs + c];
+    }
+    at += m;
   }
   return true;
 }

@@ -11,7 +11,9 @@
 #include <regex>
 #include <sstream>
 
+#include "constraints/AugmentedLagrangeEnforcer.hpp"
 #include "constraints/ContactManager.hpp"
+#include "constraints/LagrangeMultiplierEnforcer.hpp"
 #include "constraints/EnforcerRegistry.hpp"
 #include "constraints/RegularizedContactLaw.hpp"
 #include "core/Assembler.hpp"
@@ -136,6 +138,7 @@ TEST(LineContact, TangentMatchesCentralDifferences) {
       // At 10 degrees the rod's inner nodes go further down, so the crossing and its neighbourhood
       // penetrate (point contact and line points at once).
     }
+    int slippingNodes = 0;
     if (field) {
       // The active set of the pushed state (penetrating points and line nodes), with multipliers
       // of either sign so that every term of the tangent counts (Augmented Lagrange's estimates
@@ -157,6 +160,19 @@ TEST(LineContact, TangentMatchesCentralDifferences) {
       p.contact->prepareIteration(s);
       ASSERT_GT(s.extra.size(), 0u);
       for (std::size_t i = 0; i < s.extra.size(); ++i) s.extra[i] = -0.1 * (1.0 + 0.37 * i) * (i % 4 == 3 ? -1 : 1);
+      // Every other field node slipping (Per Line), either way: its friction row is its own
+      // multipliers' s Lambda_T + mu Lambda_N, tested with its hat function (lumped), beside sticking
+      // nodes whose rows are their weighted slips.
+      int n = 0;
+      for (const auto& [key, q] : p.contact->points()) {
+        if (!q.node() || q.extraCount == 0 || n++ % 2 == 0) continue;
+        auto* lm = dynamic_cast<constraints::LagrangeMultiplierEnforcer::State*>(&*q.state);
+        auto* al = dynamic_cast<constraints::AugmentedLagrangeEnforcer::State*>(&*q.state);
+        auto& h = lm ? *lm : al->field;
+        h.slip[1] = true;
+        h.slipSign[1] = n % 4 == 0 ? 1.0 : -1.0;
+        ++slippingNodes;
+      }
     }
     int active = 0, points = 0, slipping = 0, swapped = 0, interior = 0, cut = 0, ends = 0;
     for (const auto& [key, q] : p.contact->points()) {
@@ -181,9 +197,12 @@ TEST(LineContact, TangentMatchesCentralDifferences) {
     std::printf(
         "%s, %s, %.0f degrees: line contact tangent vs central differences: max error / max |K| = %.2e (%d "
         "points active, %d of them point contacts, %d with swapped roles, %d line points slipping, %d interior field "
-        "nodes, %d on a part cut by the rod's end, %d of them at the end)\n",
+        "nodes, %d on a part cut by the rod's end, %d of them at the end, %d field nodes slipping)\n",
         type.c_str(), c.rectangles ? (c.rodWidth < 2.0 ? "narrow rod on rectangle" : "rectangles") : "circles", degrees,
-        err / kmax, active, points, swapped, slipping, interior, cut, ends);
+        err / kmax, active, points, swapped, slipping, interior, cut, ends, slippingNodes);
+    if (field) {
+      EXPECT_GT(slippingNodes, 1) << type;
+    }
     if (field && degrees > 0) {
       EXPECT_GT(interior, 0) << type;
     }

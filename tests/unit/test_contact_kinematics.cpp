@@ -268,7 +268,7 @@ TEST(LineKinematics, FaceContactOfRectangles) {
   EXPECT_NEAR(k.normal.R[2], -0.784, 1e-14);
   EXPECT_NEAR(k.normal.R[6 + 2], -0.216, 1e-14);
   std::mt19937 g(31);
-  double worstR = 0.0, worstK = 0.0;
+  double worstR = 0.0, worstK = 0.0, worstNormal = 0.0, worstTangent = 0.0;
   for (int trial = 0; trial < 10; ++trial) {
     LinePairInput t = in;
     placeGenerally(t, g, 0.3);
@@ -278,10 +278,29 @@ TEST(LineKinematics, FaceContactOfRectangles) {
                                 {&ContactKinematics::normal, &ContactKinematics::tangent2});
     worstR = std::max(worstR, errR);
     worstK = std::max(worstK, errK);
+    // What unit multipliers apply on B (R summed over its translations): the face's normal at the
+    // projection (cp.normal, from A towards B) and a unit vector along B, so that the friction force
+    // is mu times the normal one (docs/contact.md, "The Coulomb cone on lines"). The bent, turned
+    // elements' interpolated normal is not normal to B's cubic axis: with the projection's motion in
+    // the normal gap's variation, R_N was off the normal by up to 0.31 here.
+    const auto k = lineKinematics(t, xi, 0.4);
+    const auto cp = lineProjection(t, xi);
+    Vec3d onN{}, onT{};
+    for (int d = 0; d < 3; ++d) {
+      onN[d] = k.normal.R[12 + d] + k.normal.R[18 + d];
+      onT[d] = k.tangent2.R[12 + d] + k.tangent2.R[18 + d];
+    }
+    worstNormal = std::max(worstNormal, norm(onN + (-1.0) * cp.normal));
+    worstTangent = std::max(worstTangent, std::abs(norm(onT) - 1.0));
   }
-  std::printf("face contact, max relative error: R %.2e, K %.2e\n", worstR, worstK);
+  std::printf(
+      "face contact, max relative error: R %.2e, K %.2e; unit multipliers on B: normal off by %.2e, "
+      "tangent's length off by %.2e\n",
+      worstR, worstK, worstNormal, worstTangent);
   EXPECT_LT(worstR, 1e-6);
   EXPECT_LT(worstK, 1e-6);
+  EXPECT_LT(worstNormal, 1e-13);
+  EXPECT_LT(worstTangent, 1e-13);
 }
 
 // Segments of line contact. A's axis runs along X from 0 to 10; B, parallel at height 2.5, from x0 to
