@@ -9,12 +9,10 @@ namespace bc::constraints {
 namespace {
 // A line point whose applied force has |F_T| > mu |F_N| + this |F_N| is reported. Every strategy's
 // multipliers satisfy the cone and a Gauss point applies them along unit vectors (docs/contact.md, "The
-// Coulomb cone on lines"); a Lagrange field's Gauss point sees interpolated multipliers, whose friction
-// rows hold the cone only tested with the field's shape functions. (Not 1e-9: the force a rectangle's
-// line point applies along its gap's gradient has a tangential part of up to 1.02e-5 of its normal
-// force off the reported normal (measured), which made frictionless pairs report "inf times mu". The
-// 3-wire strand's Lagrange field, 1.0011 mu N at mu = 0.05, stays reported: 5.5e-5 N.)
-constexpr double kOutsideCone = 3e-5;
+// Coulomb cone on lines"): Penalty's per Gauss point, a multiplier field's on its nodes, whose friction
+// rows are their own (LineContact::evaluateNodal), and so at every point between them. A point outside
+// is a strategy's fault (a plug-in's nodal field whose rows do not keep its nodes in the cone).
+constexpr double kOutsideCone = 1e-9;
 }  // namespace
 
 void ContactReport::noteCone(const ContactPointRecord& p, double friction) {
@@ -195,11 +193,11 @@ void ContactReport::lineWarnings(std::vector<std::string>& w) const {
     std::ostringstream s;
     s << "contact pair \"" << pairs[pair].name << "\": a Gauss point of line contact applied a tangential force of "
       << worst.first << " times mu times its normal force near (" << worst.second[0] << ", " << worst.second[1] << ", "
-      << worst.second[2] << "): outside the Coulomb cone. A Lagrange multiplier field holds the cone at its nodes "
-      << "only as its friction rows are tested with the field's shape functions: where some of a node's Gauss points "
-      << "stick and others slip, or its normal force falls to zero along an element, the interpolated force can "
-      << "leave it; refine beam \"" << beams[pairs[pair].beamA].name
-      << "\" (Penalty holds the cone at every Gauss point; Augmented Lagrange's line field is Lagrange's)";
+      << worst.second[2]
+      << "): outside the Coulomb cone. The built-in strategies keep every line point's force in the cone "
+      << "(Penalty at each Gauss point, the multiplier fields of Lagrange and Augmented Lagrange on their nodes, "
+      << "between which the force is interpolated); a strategy of your own with a nodal field must keep its "
+      << "nodes' multipliers in the cone (docs/contact.md, \"The Coulomb cone on lines\")";
     w.push_back(s.str());
   }
 }
