@@ -568,14 +568,17 @@ void ContactManager::commitPoint(Point& p, const core::State& state) {
   p.normal = roles * cp.normal;
   // The force on beam B is what the multipliers apply through the residual lambda_q R_q on B's
   // nodal translations (dofs 12-14 and 18-20), with the opposite sign (the residual holds the
-  // internal side); split along the normal and in the tangent plane.
+  // internal side): the normal force lambda_N R_N, the tangential one lambda_T1 R_T1 + lambda_T2 R_T2.
+  // (Each kernel's unit multipliers apply the normal and two tangent vectors on B. Split along the
+  // normal of the converged projection instead, a rectangle's face point leaked up to 5.3e-6 of its
+  // normal force into the tangential part where the beams bend: 1.0000053 mu N reported on the cone.)
   const GapDerivatives* g[3] = {&k.normal, &k.tangent1, &k.tangent2};
   const double lam[3] = {p.result.lambdaN, p.result.lambdaT[0], p.result.lambdaT[1]};
-  Vec3d force{};
+  Vec3d parts[2] = {};
   for (int q = 0; q < 3; ++q)
-    for (int a = 0; a < 3; ++a) force[a] -= roles * lam[q] * (g[q]->R[12 + a] + g[q]->R[18 + a]);
-  p.normalForce = dot(force, cp.normal) * cp.normal;
-  p.tangentialForce = force - p.normalForce;
+    for (int a = 0; a < 3; ++a) parts[q > 0][a] -= roles * lam[q] * (g[q]->R[12 + a] + g[q]->R[18 + a]);
+  p.normalForce = parts[0];
+  p.tangentialForce = parts[1];
   if (p.line() && p.result.active) report_.noteCone(p, geometry_.pairs()[p.key.pair].friction);
   p.xiPrev = geometry_.beamCoordinate(p.elementA, k.xi);
   p.etaPrev = geometry_.beamCoordinate(p.elementB, k.eta);
