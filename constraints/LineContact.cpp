@@ -816,7 +816,8 @@ bool LineContact::evaluateNodal(const ContactPointRecord& p, const ContactKinema
   std::vector<std::pair<int, double>> slopes;  // (block row of a node's q = 0, dN / dxi)
   for (int i = 0; i < kPairDofs; ++i) to[i].push_back({i, 1.0});
   int slot = kPairDofs;
-  for (const FieldShare& n : fieldShares(p, k.xi, points)) {
+  const std::vector<FieldShare> shares = fieldShares(p, k.xi, points);
+  for (const FieldShare& n : shares) {
     if (!n.record || n.record->extraCount == 0) continue;
     if (n.record->extraCount != m)
       throw std::logic_error(enforcer_.type() +
@@ -868,7 +869,7 @@ bool LineContact::evaluateNodal(const ContactPointRecord& p, const ContactKinema
   // Each node's friction rows from its own state and multipliers (lambda = Lambda_a, no slope).
   std::vector<double> fn(np), Kn(K ? std::size_t(np) * np : 0);
   int at = kPairDofs;
-  for (const FieldShare& n : fieldShares(p, k.xi, points)) {
+  for (const FieldShare& n : shares) {
     if (!n.record || n.record->extraCount == 0) continue;
     std::fill(fn.begin(), fn.end(), 0.0);
     std::fill(Kn.begin(), Kn.end(), 0.0);

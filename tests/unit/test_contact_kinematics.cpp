@@ -106,6 +106,13 @@ std::pair<double, double> centralDifferenceErrors(const LinePairInput& in, Kerne
   return {errR / rmax, errK / kmax};
 }
 
+// What a unit multiplier of gap g applies on B: its R summed over B's translations.
+Vec3d onB(const GapDerivatives& g) {
+  Vec3d f{};
+  for (int a = 0; a < 3; ++a) f[a] = g.R[12 + a] + g.R[18 + a];
+  return f;
+}
+
 }  // namespace
 
 TEST(ContactKinematics, CrossedBeamsGapAndPoints) {
@@ -285,13 +292,8 @@ TEST(LineKinematics, FaceContactOfRectangles) {
     // the normal gap's variation, R_N was off the normal by up to 0.31 here.
     const auto k = lineKinematics(t, xi, 0.4);
     const auto cp = lineProjection(t, xi);
-    Vec3d onN{}, onT{};
-    for (int d = 0; d < 3; ++d) {
-      onN[d] = k.normal.R[12 + d] + k.normal.R[18 + d];
-      onT[d] = k.tangent2.R[12 + d] + k.tangent2.R[18 + d];
-    }
-    worstNormal = std::max(worstNormal, norm(onN + (-1.0) * cp.normal));
-    worstTangent = std::max(worstTangent, std::abs(norm(onT) - 1.0));
+    worstNormal = std::max(worstNormal, norm(onB(k.normal) + (-1.0) * cp.normal));
+    worstTangent = std::max(worstTangent, std::abs(norm(onB(k.tangent2)) - 1.0));
   }
   std::printf(
       "face contact, max relative error: R %.2e, K %.2e; unit multipliers on B: normal off by %.2e, "
@@ -797,8 +799,7 @@ std::pair<double, double> endVariationErrors(LinePairInput& in, int trial, std::
 // translations), in f; returns their largest departure from an orthonormal triad.
 double orthonormalDeparture(const ContactKinematics& k, Vec3d (&f)[3]) {
   const GapDerivatives* gaps[3] = {&k.normal, &k.tangent1, &k.tangent2};
-  for (int q = 0; q < 3; ++q)
-    for (int a = 0; a < 3; ++a) f[q][a] = gaps[q]->R[12 + a] + gaps[q]->R[18 + a];
+  for (int q = 0; q < 3; ++q) f[q] = onB(*gaps[q]);
   double worst = 0.0;
   for (int q = 0; q < 3; ++q) {
     worst = std::max(worst, std::abs(norm(f[q]) - 1.0));
@@ -1091,13 +1092,7 @@ TEST(EndToEndKinematics, CoaxialEnds) {
     worstK = std::max(worstK, errK);
     const ContactKinematics k = endToEndKinematics(in, p1, p2);
     Vec3d f[3];
-    const GapDerivatives* gaps[3] = {&k.normal, &k.tangent1, &k.tangent2};
-    for (int q = 0; q < 3; ++q)
-      for (int a = 0; a < 3; ++a) f[q][a] = gaps[q]->R[12 + a] + gaps[q]->R[18 + a];
-    for (int q = 0; q < 3; ++q) {
-      worstUnit = std::max(worstUnit, std::abs(norm(f[q]) - 1.0));
-      for (int r = q + 1; r < 3; ++r) worstUnit = std::max(worstUnit, std::abs(dot(f[q], f[r])));
-    }
+    worstUnit = std::max(worstUnit, orthonormalDeparture(k, f));
   }
   std::printf("end-to-end contact, max relative error: R %.2e, K %.2e; forces' departure from orthonormal %.2e\n",
               worstR, worstK, worstUnit);
