@@ -17,6 +17,12 @@ namespace bc::constraints {
 
 using core::GlobalDof;
 
+namespace {
+// Gauss points of line contact that change sides within this fraction of the thinner section's inscribed
+// radius of zero gap lie on the other beam: the cycling hint of acceptSolution.
+constexpr double kLineCycleGap = 1e-3;
+}  // namespace
+
 ContactManager::ContactManager(std::shared_ptr<const elements::BeamSet> beams, std::vector<ContactPairSpec> pairs,
                                std::unique_ptr<ConstraintEnforcer> enforcer, ContactOptions options)
     : enforcer_(std::move(enforcer)),
@@ -317,12 +323,21 @@ bool ContactManager::acceptSolution(core::State& state) {
     return p.node() ? lines_.nodeView(p, k, state) : strategyView(p, k, state);
   };
   carries.reserve(set_.current().size());
+  // Gauss points of line contact with a law of their own whose normal state changed in this pass: how
+  // many, per pair, and the largest of their gaps against the pair's thinner inscribed radius.
+  std::map<int, std::pair<int, double>> switchedLine;
   for (auto& [key, p] : set_.current()) {
     bool carriesHere = false;
     const ContactKinematics k = judged(key, p, carriesHere);
     carries.push_back(carriesHere);
     if (carriesHere) {
-      all = enforcer_->acceptNormal(view(p, k), *p.state) && all;
+      const bool settled = enforcer_->acceptNormal(view(p, k), *p.state);
+      if (!settled && p.line() && !lines_.nodal()) {
+        auto& [count, largest] = switchedLine[key.pair];
+        ++count;
+        largest = std::max(largest, std::abs(k.normal.value) / geometry_.thinner(key.pair));
+      }
+      all = settled && all;
     } else if (!p.line() && enforcer_->multipliers(*p.state) > 0) {
       // Multipliers of a point or line node that carries (almost) nothing: given up.
       p.state = PointStateHolder(p.node() ? enforcer_->newLineNodeState() : enforcer_->newPointState());
@@ -359,6 +374,17 @@ bool ContactManager::acceptSolution(core::State& state) {
       << " passes (the strategy's limit): the last pass still changed the active set, stick and slip, an "
          "augmentation or the line field's refinement (largest gap violation "
       << worstViolation_ << (worstViolation_ > 0.0 ? ")" : ": the states cycle)");
+    // Springs at Gauss points on beams lying on each other: their gaps sit near 0 along the line, and
+    // more springs per element than the elements' bending can follow (a penalty's bending wavelength
+    // shorter than the elements) over-constrain it, so which of them act cycles from pass to pass.
+    for (const auto& [pair, changed] : switchedLine)
+      if (changed.second <= kLineCycleGap)
+        s << "; " << changed.first << " Gauss points of line contact of pair \"" << geometry_.pairs()[pair].name
+          << "\" changed sides in the last pass at gaps within " << changed.second
+          << " of the thinner section's inscribed radius of zero (the beams lie on each other along the line, and a "
+             "spring at every Gauss point over-constrains elements that bend less finely): use Lagrange Multiplier "
+             "or Augmented Lagrange (a constraint per node of the line), fewer Contact/Line Gauss Points, or a "
+             "smaller Normal Penalty Parameter";
     throw std::runtime_error(s.str());
   }
   return all;

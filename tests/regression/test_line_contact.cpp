@@ -1117,6 +1117,55 @@ TEST(LineContact, ZoneNearlyAsLongAsAFieldElementIsHeld) {
   }
 }
 
+// Two circular cantilevers stacked (radius 0.5, E = 1e5, 10 elements, clamped at x = 0), the upper
+// one's tip pressed down by P = 0.05, Penalty with eps_N = 1e4: the springs (1e4 per length) are
+// 200 times stiffer than the beams' bending, so a penalty's bending wavelength, (4 EI / eps_N)^(1/4)
+// = 1.2, is far below the elements' length (10). With 6 Gauss points per element the springs
+// over-constrain the elements' relative bending, every point lies within 1e-6 of zero gap, and which
+// of them act cycles: the run stops, and its message must say why and what helps (before, it named
+// only the cycling). With 2 Gauss points per element it completes: the force sits at the outermost
+// Gauss point, at x = a, and the compatibility of the two cantilevers there gives
+// F = P (3 L - a) / (4 a) (P / 2 at the tip; measured -3.4e-4 from it: the large deflection's part).
+TEST(LineContact, PenaltySpringsOverConstrainingStackedCantileversSayWhatHelps) {
+  const double P = 0.05, L = 100.0;
+  for (const int gauss : {6, 2}) {
+    auto deck = parallelBeams("Penalty", 10, 10, 0.0, 1e5, gauss);
+    support(deck, "ground", 0, "all");
+    support(deck, "rod", 0, "all");
+    Teuchos::ParameterList& load = deck.sublist("Loads").sublist("tip");
+    load.set("Beam", std::string("rod"));
+    load.set("Node", std::string("end"));
+    load.set("Force", Teuchos::Array<double>(std::vector<double>{0.0, 0.0, -P}));
+    input::replaceAtPath(deck, "Load Stepping/Number of Increments", 4);
+    input::setAtPath(deck, "Load Stepping/Maximum Step Cuts", 1);
+    auto p = input::buildProblem(deck, "stacked_penalty");
+    const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "stacked_penalty");
+    if (gauss == 6) {
+      std::printf("6 Gauss points: %s\n", r.report.failure.c_str());
+      ASSERT_FALSE(r.report.completed);
+      EXPECT_NE(r.report.failure.find("over-constrains"), std::string::npos) << r.report.failure;
+      EXPECT_NE(r.report.failure.find("Line Gauss Points"), std::string::npos) << r.report.failure;
+      EXPECT_NE(r.report.failure.find("Lagrange Multiplier"), std::string::npos) << r.report.failure;
+      continue;
+    }
+    ASSERT_TRUE(r.report.completed) << r.report.failure;
+    double total = 0.0, moment = 0.0, onRod = 0.0;  // onRod: the force's vertical part on the rod (beam B)
+    for (const auto& [key, q] : p.contact->points()) {
+      if (q.node() || !q.result.active) continue;
+      total += math::norm(q.normalForce);
+      moment += q.position[0] * math::norm(q.normalForce);
+      onRod += q.normalForce[2];
+    }
+    const double a = moment / total, exact = P * (3.0 * L - a) / (4.0 * a);
+    const auto reactions = lastReactions(test::scratchDirectory("stacked_penalty_np1"));
+    std::printf(
+        "2 Gauss points: total normal force %.9f at x = %.6f, closed form %.9f (%+.2e), ground's reaction %.9f\n",
+        total, a, exact, total / exact - 1.0, reactions.at("ground 0_Fz"));
+    EXPECT_NEAR(total, exact, 1e-3 * exact);
+    EXPECT_NEAR(reactions.at("ground 0_Fz"), onRod, 1e-8 * P);  // the ground's clamp takes what it carries
+  }
+}
+
 // A pass after the first solves at least once. A rod (E = 1e9, r = 0.5) from x = -10 to 110, pinned at
 // its ends off the ground (0 to 100, held at every node and loaded there by 1e6, which its supports
 // take), starts 1e-5 into the ground (Allow Initial Penetration). The first pass, without contact,
