@@ -193,6 +193,15 @@ class ConstraintEnforcer {
   // row-major, over the node's multipliers; null for a residual only) arrive zeroed. The node's view
   // carries its multipliers and fieldCompliance.
   virtual bool lineNodeRows() const { return false; }
+  // Nodal fields: the normal gap a Gauss point of a line keeps under the field's traction lambdaN at
+  // it (a penalty on the nodes: lambdaN / eps_N; exact constraints: 0). Penetration beyond it is the
+  // field's, not the strategy's: the field is refined there and warns of an unresolved zone.
+  virtual double lineFieldGap(double lambdaN) const { return 0.0; }
+  // Nodal fields: true when every line node's row is a penalty's (regularized by 1 / eps_N with no
+  // estimate that converges to the exact constraint). Such a node may act where supports hold the
+  // gap (its row stays independent of theirs), so beam ends keep their nodes (LineContact::setInitial
+  // merges them for exact constraints).
+  virtual bool lineFieldPenalized() const { return false; }
   virtual void evaluateLineNode(const ContactPoint& node, const PointState& s, double length, double* f,
                                 double* K) const {}
   // --- estimates moved with Newton's step (optional) -------------------------------------------------

@@ -383,8 +383,10 @@ bool ContactManager::acceptSolution(core::State& state) {
           << "\" changed sides in the last pass at gaps within " << changed.second
           << " of the thinner section's inscribed radius of zero (the beams lie on each other along the line, and a "
              "spring at every Gauss point over-constrains elements that bend less finely): use Lagrange Multiplier "
-             "or Augmented Lagrange (a constraint per node of the line), fewer Contact/Line Gauss Points, or a "
-             "smaller Normal Penalty Parameter";
+             "or Augmented Lagrange (a constraint per node of the line), fewer Contact/Line Gauss Points or a "
+             "smaller Normal Penalty Parameter, or springs on the line's nodes "
+             "(Contact/Enforcement/Penalty/Line Springs = Nodes: a force concentrated at a beam's end is then "
+             "resolved only as finely as the elements there)";
     throw std::runtime_error(s.str());
   }
   return all;

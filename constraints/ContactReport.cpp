@@ -163,7 +163,8 @@ void ContactReport::lineWarnings(std::vector<std::string>& w) const {
       << " of the thinner section's inscribed radius: the contact zone there is short against the elements (beams "
          "crossing at a "
          "small angle, or a beam end on the other beam), so the contact force is not resolved; refine beam \""
-      << beams[pairs[pair].beamA].name << "\" or use Penalty (whose Gauss points each hold their own gap)";
+      << beams[pairs[pair].beamA].name
+      << "\" or use Penalty with Line Springs = Gauss Points (whose Gauss points each hold their own gap)";
     w.push_back(s.str());
   }
   for (const auto& [pair, held] : lines_.heldEnds()) {
@@ -185,8 +186,10 @@ void ContactReport::lineWarnings(std::vector<std::string>& w) const {
         << "), which grow as h^-4 when the beams are refined, and so do the errors of the contact force and the "
            "reactions";
     s << "; hold only one of the two beams there"
-      << (lines_.nodal() ? ", or use Penalty (which takes the gap with a force eps_N |g|)"
-                         : ", or lower the penalty (which takes the gap with a force eps_N |g|)");
+      << (lines_.nodal() && enforcer_.type() != "Penalty" ? ", or use Penalty (which takes the gap with a force eps_N "
+                                                            "|g|)"
+                                                          : ", or lower the penalty (which takes the gap with a force "
+                                                            "eps_N |g|)");
     w.push_back(s.str());
   }
   for (const auto& [pair, worst] : outsideCone_) {

@@ -64,12 +64,14 @@ void LineContact::setInitial(const core::State* initial) {
   // (the contact's normal there): they may fix the gap the end's multiplier would constrain. (A node
   // held only across that line, as the angle sweep's inner nodes by uy, does not: a short beam's
   // clamped ends over such nodes of a long beam, merged, carried 22 % too little force.) Without the
-  // initial positions (before initialize) every end merges.
+  // initial positions (before initialize) every end merges. A penalized field's ends never merge (its
+  // rows stay independent of the supports').
   const auto& elems = geometry_.beams().elements();
   const auto& beams = geometry_.beams().beams();
   const auto& held = geometry_.options().heldNodes;
-  mergedEnds_.assign(beams.size(), {true, true});
-  if (initial) {
+  const bool penalized = enforcer_.lineFieldPenalized();
+  mergedEnds_.assign(beams.size(), {!penalized, !penalized});
+  if (initial && !penalized) {
     // The held nodes by place: a grid whose cells hold every reach (twice two circumscribed radii,
     // and 1e-3 of an element along the axis).
     double radius = 0.0, length = 0.0;
@@ -234,7 +236,9 @@ std::map<std::tuple<int, int, int>, std::pair<double, double>> LineContact::zone
       held.insert(where);
       continue;
     }
-    const double gap = geometry(p, s).gap / geometry_.thinner(p.key.pair);
+    // (Beyond the gap the strategy keeps under the point's traction: a penalty's penetration.)
+    const double gap = (geometry(p, s).gap - enforcer_.lineFieldGap(p.result.active ? p.result.lambdaN : 0.0)) /
+                       geometry_.thinner(p.key.pair);
     const auto [it, first] = range.try_emplace(where, gap, gap);
     if (!first) it->second = {std::min(it->second.first, gap), std::max(it->second.second, gap)};
   }
@@ -594,9 +598,12 @@ void LineContact::offerSegment(int pi, int ea, int eb, int edge, int face, doubl
     // force there is a point force at the end (a short beam's clamped ends pressing a long one: 36 %
     // low with the end node merged, 18 % with the end element's hats). Its point is at A's end where
     // B covers it, else at B's end inside the part.
+    // (A penalized field's nodes carry springs on the gap, not constraints: hats to the end, restricted to
+    // what B covers, hold a penalty's traction eps_N g there as anywhere; a point at the end would add
+    // a spring of half an element.)
     int endCut = 0;
     bool endHere = false;  // this segment holds the end: it offers the end's point
-    if (nodal_) {
+    if (nodal_ && !enforcer_.lineFieldPenalized()) {
       const double m = 1 << level, a = part / m, b = (part + 1) / m;
       const Cut* low = nullptr;
       const Cut* high = nullptr;
@@ -898,12 +905,14 @@ void LineContact::noteCommitted(const ContactPointRecord& p, const ContactKinema
   // The field enforces gaps weighted over beam A's elements: between its nodes the beams may
   // penetrate. Beyond kUnresolvedLine of the thinner section's inscribed radius the contact zone is
   // not resolved.
+  // (Beyond the gap the strategy keeps under the point's traction: a penalty's penetration.)
   const double radius = geometry_.thinner(p.key.pair);
-  if (-k.normal.value > kUnresolvedLine * radius) {
+  const double depth = enforcer_.lineFieldGap(p.result.lambdaN) - k.normal.value;
+  if (depth > kUnresolvedLine * radius) {
     auto& worst = unresolved_[p.key.pair];
-    if (-k.normal.value > worst.first) {
+    if (depth > worst.first) {
       const ClosestPoints at = geometry(p, s);
-      worst = {-k.normal.value, geometry_.touching(p, at)};
+      worst = {depth, geometry_.touching(p, at)};
     }
   }
 }
