@@ -731,8 +731,9 @@ struct StaticSolver::Newton {
       if (!s.trial_.extra.empty()) {
         failure = s.linear_.name() + " preconditions matrices of nodal dofs only; this one has " +
                   std::to_string(s.trial_.extra.size()) +
-                  " multiplier rows (Lagrange Multiplier at points, Lagrange Multiplier and Augmented Lagrange on "
-                  "the lines of line contact): use Penalty with it, or Linear Solver/Type = Direct";
+                  " multiplier rows (Lagrange Multiplier at points; Lagrange Multiplier, Augmented Lagrange and "
+                  "Penalty with Line Springs = Nodes on the lines of line contact): use Penalty with Line Springs = "
+                  "Gauss Points with it, or Linear Solver/Type = Direct";
         return false;
       }
       s.linear_.setNearNullSpace(rigidBodyModes(s.trial_, s.assembler_.ownedMap()));

@@ -924,8 +924,9 @@ void readContact(Problem& p, ParameterList& deck, const std::string& top) {
                      "nodal dofs only, and \"" +
                      top + "/Contact/Enforcement/Type\" = \"" +
                      deck.sublist("Contact").sublist("Enforcement").get<std::string>("Type") +
-                     "\" adds multiplier rows (Lagrange Multiplier at every point, Augmented Lagrange on the "
-                     "lines of line contact): use Penalty with it, or Augmented Lagrange with " +
+                     "\" adds multiplier rows (Lagrange Multiplier at every point; Augmented Lagrange, and Penalty "
+                     "with Line Springs = Nodes, on the lines of line contact): use Penalty (Line Springs = Gauss "
+                     "Points) with it, or Augmented Lagrange with " +
                      top + "/Contact/Line Contact Angle = 0, or Linear Solver/Type = Direct");
 }
 
