@@ -32,7 +32,8 @@ LagrangeMultiplierEnforcer::LagrangeMultiplierEnforcer(const Teuchos::ParameterL
       maxPasses_(v.get<int>("Maximum Active Set Iterations")),
       complementarity_(v.get<double>("Friction Complementarity Parameter")) {}
 
-bool LagrangeMultiplierEnforcer::isotropicFrictionRows(const ContactPoint& p, double* f, double* K) const {
+bool LagrangeMultiplierEnforcer::isotropicFrictionRows(const ContactPoint& p, double* f, double* K,
+                                                       const Compliance& compliance) const {
   const ContactKinematics& k = p.kinematics;
   const double mu = p.friction;
   const double* lambda = p.lambda;
@@ -51,7 +52,11 @@ bool LagrangeMultiplierEnforcer::isotropicFrictionRows(const ContactPoint& p, do
   // (A direction without a measured slip is frictionless: v = 0 there gives the row lambda_T = 0.)
   // (c_T lowered tenfold per retry after slip directions cycled: the same solution, steadier guesses.)
   const double cT = complementarity_ / p.frictionRelaxation;
-  const F v[2] = {p.measured[0] ? F(lT[0] + cT * Mg[0]) : F(0.0), p.measured[1] ? F(lT[1] + cT * Mg[1]) : F(0.0)};
+  // (Springs: the trial's slip less the spring's stretch, (lambda_T - committedT) times the compliance.)
+  const double ct = compliance.tangential;
+  const F stretch[2] = {ct * (lT[0] - compliance.committedT[0]), ct * (lT[1] - compliance.committedT[1])};
+  const F v[2] = {p.measured[0] ? F(lT[0] + cT * (Mg[0] - stretch[0])) : F(0.0),
+                  p.measured[1] ? F(lT[1] + cT * (Mg[1] - stretch[1])) : F(0.0)};
   const F radius = lN.val() < 0.0 ? F(-mu * lN) : F(0.0);
   const bool slip = cone::project(c, radius, v, P);
   const Vector24* Rs[3] = {&k.tangent1.gradient, &k.tangent2.gradient, &k.cosineR};
@@ -72,8 +77,8 @@ bool LagrangeMultiplierEnforcer::isotropicFrictionRows(const ContactPoint& p, do
   return slip;
 }
 
-PointResult LagrangeMultiplierEnforcer::evaluate(const ContactPoint& p, const PointState& s, double* f,
-                                                 double* K) const {
+PointResult LagrangeMultiplierEnforcer::evaluate(const ContactPoint& p, const PointState& s, double* f, double* K,
+                                                 const Compliance& compliance) const {
   const State& h = stateOf<State>(s);
   const ContactKinematics& k = p.kinematics;
   const double mu = p.friction;
@@ -98,13 +103,15 @@ PointResult LagrangeMultiplierEnforcer::evaluate(const ContactPoint& p, const Po
       K[n * i + iN + q] += g[q]->R[i];
     }
   }
-  // Normal row: g_N = 0.
-  f[iN] += k.normal.value;
-  if (K)
+  // Normal row: g_N = 0 (springs: g_N - compliance lambda_N = 0).
+  f[iN] += k.normal.value - compliance.normal * lambda[0];
+  if (K) {
     for (int j = 0; j < kPairDofs; ++j) K[n * iN + j] += k.normal.gradient[j];
+    K[n * iN + iN] -= compliance.normal;
+  }
   // Tangential rows.
   if (mu > 0.0 && p.law == FrictionLaw::IsotropicCoulomb) {
-    r.slip[0] = r.slip[1] = isotropicFrictionRows(p, f, K);
+    r.slip[0] = r.slip[1] = isotropicFrictionRows(p, f, K, compliance);
     return r;
   }
   for (int t = 0; t < 2; ++t) {
@@ -113,9 +120,11 @@ PointResult LagrangeMultiplierEnforcer::evaluate(const ContactPoint& p, const Po
       f[row] += lambda[1 + t];
       if (K) K[n * row + row] += 1.0;
     } else if (!h.slip[t]) {
-      f[row] += g[1 + t]->value;
-      if (K)
+      f[row] += g[1 + t]->value - compliance.tangential * (lambda[1 + t] - compliance.committedT[t]);
+      if (K) {
         for (int j = 0; j < kPairDofs; ++j) K[n * row + j] += g[1 + t]->gradient[j];
+        K[n * row + row] -= compliance.tangential;
+      }
     } else {
       const double s = h.slipSign[t];
       f[row] += s * lambda[1 + t] + mu * lambda[0];

@@ -59,7 +59,18 @@ class LagrangeMultiplierEnforcer : public ConstraintEnforcer {
   int multipliers(const PointState& s) const override { return stateOf<State>(s).active ? 3 : 0; }
   bool addsMultiplierRows() const override { return true; }
   bool contributes(double, const PointState& s) const override { return stateOf<State>(s).active; }
-  PointResult evaluate(const ContactPoint& p, const PointState& s, double* f, double* K) const override;
+  PointResult evaluate(const ContactPoint& p, const PointState& s, double* f, double* K) const override {
+    return evaluate(p, s, f, K, Compliance{});
+  }
+  // The rows of springs instead of constraints (a perturbed Lagrangian, Penalty's Line Springs = Nodes):
+  // the normal row g_N - normal lambda_N, a sticking line's row g_Ti - tangential (lambda_Ti -
+  // committedT_i) (Isotropic Coulomb: M g_T - tangential (lambda_T - committedT) in the trial), so
+  // that lambda_N = g_N / normal and a sticking lambda_T = committedT + M g_T / tangential.
+  struct Compliance {
+    double normal = 0.0, tangential = 0.0;
+    double committedT[2] = {0.0, 0.0};
+  };
+  PointResult evaluate(const ContactPoint& p, const PointState& s, double* f, double* K, const Compliance& c) const;
   bool acceptNormal(const ContactPoint& p, PointState& s) const override;
   bool acceptPoint(const ContactPoint& p, PointState& s, double& worstViolation) const override;
   int maximumPasses() const override { return maxPasses_; }
@@ -67,7 +78,7 @@ class LagrangeMultiplierEnforcer : public ConstraintEnforcer {
 
  private:
   // Isotropic Coulomb: adds the two friction rows; returns true when the point slips.
-  bool isotropicFrictionRows(const ContactPoint& p, double* f, double* K) const;
+  bool isotropicFrictionRows(const ContactPoint& p, double* f, double* K, const Compliance& c) const;
   double tolerance_;
   int maxPasses_;
   double complementarity_;

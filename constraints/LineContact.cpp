@@ -845,8 +845,13 @@ bool LineContact::evaluateNodal(const ContactPointRecord& p, const ContactKinema
   view.fieldCompliance = fieldCompliance(hostRecord->key);
   const PointResult r = enforcer_.evaluate(view, *host, fp.data(), K ? Kp.data() : nullptr);
   if (result) *result = r;
-  // (Rows of the interpolated evaluation taken: the displacement rows and the normal row.)
-  const auto interpolated = [&](int i) { return i <= kPairDofs; };
+  // (Rows of the interpolated evaluation taken: the displacement rows and the normal row. A penalized
+  // field's normal rows are each node's own, as its friction rows are: int N_a (g_N - Lambda_a /
+  // eps_N) ds, the springs' compliance lumped on the node, so that Lambda_a = eps_N g_a, g_a the gap
+  // weighted over what B covers of the node's elements: a node acts exactly where its weighted gap
+  // is closed, and its traction has that gap's sign.)
+  const bool lumped = enforcer_.lineFieldPenalized();
+  const auto interpolated = [&](int i) { return i < kPairDofs || (i == kPairDofs && !lumped); };
   f.assign(nb, 0.0);
   for (int i = 0; i < np; ++i)
     if (interpolated(i))
@@ -871,9 +876,11 @@ bool LineContact::evaluateNodal(const ContactPointRecord& p, const ContactKinema
     }
     // The nodes' normal rows N_a f_lambda: d N_a / d u = slope xi'.
     for (const auto& [row, slope] : slopes)
-      for (int j = 0; j < kPairDofs; ++j) (*K)[std::size_t(nb) * row + j] += slope * fp[kPairDofs] * k.xiR[j];
+      if (!lumped)
+        for (int j = 0; j < kPairDofs; ++j) (*K)[std::size_t(nb) * row + j] += slope * fp[kPairDofs] * k.xiR[j];
   }
-  // Each node's friction rows from its own state and multipliers (lambda = Lambda_a, no slope).
+  // Each node's friction rows (and a penalized field's normal row) from its own state and multipliers
+  // (lambda = Lambda_a, no slope).
   std::vector<double> fn(np), Kn(K ? std::size_t(np) * np : 0);
   int at = kPairDofs;
   for (const FieldShare& n : shares) {
@@ -884,7 +891,7 @@ bool LineContact::evaluateNodal(const ContactPointRecord& p, const ContactKinema
     own.lambda = &s.extra[n.record->extraOffset];
     own.fieldCompliance = fieldCompliance(n.record->key);
     enforcer_.evaluate(own, *n.record->state, fn.data(), K ? Kn.data() : nullptr);
-    for (int q = 1; q < m; ++q) {
+    for (int q = lumped ? 0 : 1; q < m; ++q) {
       const int row = kPairDofs + q;
       f[at + q] += n.N * fn[row];
       if (!K) continue;

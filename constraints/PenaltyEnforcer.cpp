@@ -72,6 +72,17 @@ int PenaltyEnforcer::multipliers(const PointState& s) const {
   return h.lineNode ? field_.multipliers(h.field) : 0;
 }
 
+LagrangeMultiplierEnforcer::Compliance PenaltyEnforcer::lineCompliance(const ContactPoint& p, const State& h) const {
+  LagrangeMultiplierEnforcer::Compliance c;
+  const double epsN = lineEpsN(p);
+  // (Automatic: eps_T as the line's eps_N, the Normal Target Error on the same field mode.)
+  const double epsT = choice_.automatic() ? epsN : choice_.given()[1];
+  c.normal = epsN > 0.0 ? 1.0 / epsN : 0.0;
+  c.tangential = epsT > 0.0 ? 1.0 / epsT : 0.0;
+  for (int i = 0; i < 2; ++i) c.committedT[i] = h.committedT[i];
+  return c;
+}
+
 double PenaltyEnforcer::lineEpsN(const ContactPoint& p) const {
   if (!choice_.automatic()) return choice_.given()[0];
   const double e = choice_.target(0);
@@ -106,18 +117,9 @@ void PenaltyEnforcer::relaxTangential(PointState& s, const double compliance[3],
 
 PointResult PenaltyEnforcer::evaluate(const ContactPoint& p, const PointState& s, double* f, double* K) const {
   const State& h = stateOf<State>(s);
-  // A Gauss point of a line, acting through its field nodes' multipliers: Lagrange's rows, the normal
-  // row less the traction's compliance lambda_N / eps_N.
-  if (h.lineNode) {
-    const PointResult r = field_.evaluate(p, h.field, f, K);
-    const double eps = lineEpsN(p);
-    if (r.active && eps > 0.0) {
-      constexpr int n = kPairDofs + 3, iN = kPairDofs;
-      f[iN] -= p.lambda[0] / eps;
-      if (K) K[n * iN + iN] -= 1.0 / eps;
-    }
-    return r;
-  }
+  // A Gauss point of a line, acting through its field nodes' multipliers: Lagrange's rows with the
+  // springs' compliances in them.
+  if (h.lineNode) return field_.evaluate(p, h.field, f, K, lineCompliance(p, h));
   h.penalties.require();
   const double* eps = choice_.at(h.penalties);
   const FrictionRegularization friction{{h.lambdaT[0], h.lambdaT[1]}, eps[1]};
@@ -158,7 +160,11 @@ bool PenaltyEnforcer::acceptPoint(const ContactPoint& p, PointState& s, double& 
 
 void PenaltyEnforcer::commitPoint(const ContactPoint& p, PointState& s) const {
   State& state = stateOf<State>(s);
-  if (state.lineNode) return;
+  if (state.lineNode) {
+    // (A released node's friction springs start again from 0.)
+    for (int i = 0; i < 2; ++i) state.committedT[i] = state.field.active && p.lambda ? p.lambda[1 + i] : 0.0;
+    return;
+  }
   state.penalties.require();
   const double* eps = choice_.at(state.penalties);
   const FrictionRegularization friction{{state.lambdaT[0], state.lambdaT[1]}, eps[1]};

@@ -12,7 +12,9 @@
 // the same everywhere gives the traction eps_N d exactly, whatever B covers. The field bends as finely
 // as the elements do; springs at every Gauss point over-constrain elements that bend less finely than
 // the penalty's wavelength (4 EI / eps_N)^(1/4) (docs/contact.md, "Penalty springs that over-constrain
-// a line"). The line nodes' active set and friction rows are Lagrange's.
+// a line"). The line nodes' active set is Lagrange's, and so are their friction rows with springs
+// eps_T in them: a sticking node's row int N_a (g_T - (Lambda_T,a - Lambda_T,a,n) / eps_T) ds = 0, so
+// that Lambda_T,a = Lambda_T,a,n + eps_T g_T,a (its weighted slip) as at a Gauss point.
 #pragma once
 #include "ConstraintEnforcer.hpp"
 #include "LagrangeMultiplierEnforcer.hpp"
@@ -40,8 +42,14 @@ class PenaltyEnforcer : public ConstraintEnforcer {
     bool engaged = false;  // Active Set = Between Solves: in the active set for the Newton solve
     bool lineNode = false;
     LagrangeMultiplierEnforcer::State field;
+    double committedT[2] = {0.0, 0.0};  // a line node's friction multipliers of the last converged step
     void fields(StateFields& v) override {
-      if (lineNode) return field.fields(v);
+      if (lineNode) {
+        field.fields(v);
+        v.real("committed_T1", committedT[0]);
+        v.real("committed_T2", committedT[1]);
+        return;
+      }
       v.real("lambda_T1", lambdaT[0]);
       v.real("lambda_T2", lambdaT[1]);
       penalties.fields(v);
@@ -101,6 +109,8 @@ class PenaltyEnforcer : public ConstraintEnforcer {
   // A line's eps_N: the given one, or (Automatic) from the shortest field mode's compliance at the
   // point's node with the Normal Target Error, as Augmented Lagrange's line nodes choose theirs.
   double lineEpsN(const ContactPoint& p) const;
+  // The springs' compliances 1 / eps_N, 1 / eps_T and the node's committed friction multipliers.
+  LagrangeMultiplierEnforcer::Compliance lineCompliance(const ContactPoint& p, const State& h) const;
   static constexpr int kPassesBetweenSolves = 50;
 };
 

@@ -152,8 +152,12 @@ Deck helix(const std::string& type) {
 template <class DeckOf, class More>
 void expectEveryStrategyOnTheCone(const DeckOf& deckOf, const std::string& name, const std::string& what, int slipping,
                                   const More& more) {
-  for (const std::string type : {"Penalty", "Augmented Lagrange", "Lagrange Multiplier"}) {
-    auto p = input::buildProblem(deckOf(type), name);
+  for (const std::string type : {"Penalty", "Penalty Nodes", "Augmented Lagrange", "Lagrange Multiplier"}) {
+    // ("Penalty Nodes": Penalty with Line Springs = Nodes, its springs eps_N, eps_T on Lagrange's field.)
+    auto deck = deckOf(type == "Penalty Nodes" ? "Penalty" : type);
+    if (type == "Penalty Nodes")
+      input::setAtPath(deck, "Contact/Enforcement/Penalty/Line Springs", std::string("Nodes"));
+    auto p = input::buildProblem(deck, name);
     const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), name);
     EXPECT_TRUE(r.report.completed) << type << ": " << r.report.failure;
     if (!r.report.completed) continue;
@@ -232,10 +236,17 @@ Deck pull(const std::string& type, int n) {
 TEST(LineCone, PartialSlipUnderAPullStaysInTheCone) {
   const double mu = 0.3, F = 0.15;
   std::map<int, std::pair<double, double>> lagrange;  // elements -> (held end's share of F, first slipping x)
-  for (const auto& [type, n] : std::vector<std::pair<std::string, int>>{
-           {"Penalty", 20}, {"Augmented Lagrange", 20}, {"Lagrange Multiplier", 20}, {"Lagrange Multiplier", 40}}) {
+  for (const auto& [type, n] : std::vector<std::pair<std::string, int>>{{"Penalty", 20},
+                                                                        {"Penalty Nodes", 20},
+                                                                        {"Augmented Lagrange", 20},
+                                                                        {"Lagrange Multiplier", 20},
+                                                                        {"Lagrange Multiplier", 40}}) {
     const std::string name = "cone_pull";
-    auto p = input::buildProblem(pull(type, n), name);
+    // ("Penalty Nodes": Penalty with Line Springs = Nodes, its springs eps_N, eps_T on Lagrange's field.)
+    auto deck = pull(type == "Penalty Nodes" ? "Penalty" : type, n);
+    if (type == "Penalty Nodes")
+      input::setAtPath(deck, "Contact/Enforcement/Penalty/Line Springs", std::string("Nodes"));
+    auto p = input::buildProblem(deck, name);
     const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), name);
     ASSERT_TRUE(r.report.completed) << type << ": " << r.report.failure;
     for (const std::string& w : r.report.warnings) EXPECT_EQ(w.find("Coulomb cone"), std::string::npos) << w;

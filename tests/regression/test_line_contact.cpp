@@ -215,13 +215,15 @@ TEST(LineContact, ParallelPinnedBeamsMatchTheElasticFoundationClosedForm) {
 }
 
 // Penalty with its springs on the line's nodes (Line Springs = Nodes): node a's traction is
-// Lambda_a = eps_N g_a, g_a the gap weighted by its hat over its elements. A rigid punch (every node
-// held, the rod's moved down by d = 1e-4) penetrates by d everywhere: every node's traction is
+// Lambda_a = eps_N g_a, g_a the gap weighted by its hat over what B covers of its elements (the row
+// int N_a (g_N - Lambda_a / eps_N) ds = 0, the compliance lumped on the node). A rigid punch (every
+// node held, the rod's moved down by d = 1e-4) penetrates by d everywhere: every node's traction is
 // eps_N d = 1 per unit length, the forces sum to eps_N d L = 100, and each Gauss point's gap is -d.
 // On the pinned beams of the elastic foundation above, the springs on the nodes are a foundation of
-// modulus eps_N on the field's linear interpolation: the contact force converges to the closed form
-// as the elements are refined. The contact tangent (the nodes' regularized rows -L_a Lambda_a /
-// eps_N among them) against central differences of the residual at the converged foundation.
+// modulus eps_N lumped on the nodes: the contact force converges to the closed form at second order
+// as the elements are refined (measured 1.63e-2, 5.45e-3, 1.55e-3; springs at every Gauss point
+// converge faster here, at fourth order). The contact tangent (the nodes' rows among them) against
+// central differences of the residual on a rod shifted along the ground, frictionless and sticking.
 TEST(LineContact, PenaltySpringsOnTheLineNodesGiveThePenaltyTractionAndTheFoundation) {
   {
     auto deck = parallelBeams("Penalty", 10, 10, 0.0, 1e5, 6);
@@ -276,32 +278,65 @@ TEST(LineContact, PenaltySpringsOnTheLineNodesGiveThePenaltyTractionAndTheFounda
         "springs on the nodes, %2d elements: contact force %.9f, closed form %.9f, relative error %.2e, %d "
         "Newton iterations\n",
         n, total, exact, error, r.report.newtonIterations);
-    EXPECT_LT(error, previous);
+    EXPECT_LT(error, previous / 2.5);
     previous = error;
   }
-  EXPECT_LT(previous, 1e-4);
+  EXPECT_LT(previous, 2e-3);
   // The tangent: the rod (7 elements) shifted by 3 along the ground (10), so that its ends lie inside
   // the ground's elements (where both beams' ends meet, the segment's bounds switch between them
   // under a perturbation: no derivative there, for any strategy), each pinned at its ends, the rod
   // under q.
-  auto deck = parallelBeams("Penalty", 10, 7, 3.0, E, 6);
-  input::setAtPath(deck, "Contact/Enforcement/Penalty/Line Springs", std::string("Nodes"));
-  support(deck, "ground", 0, "ux uy uz rx");
-  support(deck, "ground", 10, "uy uz rx");
-  support(deck, "rod", 0, "ux uy uz rx");
-  support(deck, "rod", 7, "uy uz rx");
-  uniformLoad(deck, "rod", 7, q);
-  auto p = input::buildProblem(deck, "foundation_nodes_shifted");
-  const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "foundation_nodes_shifted");
-  ASSERT_TRUE(r.report.completed) << r.report.failure;
-  double kmax = 0.0;
-  const double err = assembledContactTangentError(p, r.finalState, kmax);
-  std::printf(
-      "rod shifted by 3: contact force %.9f; contact tangent vs central differences: max error / max |K| = "
-      "%.2e\n",
-      lineSums(p).total, err / kmax);
-  EXPECT_GT(kmax, 0.0);
-  EXPECT_LT(err / kmax, 1e-6);
+  // Frictionless, and with a friction coefficient of 10: every node sticks (the tangential springs' rows
+  // int N_a (g_T - (Lambda_T - Lambda_T,n) / eps_T) ds), its trial force well inside the cone. (With
+  // 0.3 a stick-slip front crosses the field, where the cone's projection has no derivative; slipping
+  // nodes are checked in LineCone's drag.) The Per Line law is refused with springs on the nodes (its
+  // nodes' rigid stick and slip kept them at the cone: 50 times the friction of the springs).
+  for (const std::string law : {"", "Isotropic Coulomb", "Per Line"}) {
+    auto deck = parallelBeams("Penalty", 10, 7, 3.0, E, 6);
+    input::setAtPath(deck, "Contact/Enforcement/Penalty/Line Springs", std::string("Nodes"));
+    if (!law.empty()) {
+      input::replaceAtPath(deck, "Contact/Pairs/line/Friction Coefficient", 10.0);
+      input::setAtPath(deck, "Contact/Friction Law", law);
+    }
+    support(deck, "ground", 0, "ux uy uz rx");
+    support(deck, "ground", 10, "uy uz rx");
+    support(deck, "rod", 0, "ux uy uz rx");
+    support(deck, "rod", 7, "uy uz rx");
+    uniformLoad(deck, "rod", 7, q);
+    if (law == "Per Line") {
+      try {
+        input::buildProblem(deck, "foundation_nodes_shifted");
+        ADD_FAILURE() << "Per Line friction with springs on the nodes was not refused";
+      } catch (const core::InputError& e) {
+        std::printf("Per Line: %s\n", e.what());
+        EXPECT_NE(std::string(e.what()).find("Isotropic Coulomb"), std::string::npos) << e.what();
+      }
+      continue;
+    }
+    auto p = input::buildProblem(deck, "foundation_nodes_shifted");
+    const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "foundation_nodes_shifted");
+    ASSERT_TRUE(r.report.completed) << r.report.failure;
+    int sticking = 0, active = 0;
+    double friction = 0.0;
+    for (const auto& [key, pt] : p.contact->points())
+      if (pt.node() && pt.result.active) {
+        ++active;
+        sticking += !pt.result.slip[0];
+        friction = std::max(friction, std::abs(pt.result.lambdaT[0]) + std::abs(pt.result.lambdaT[1]));
+      }
+    double kmax = 0.0;
+    const double err = assembledContactTangentError(p, r.finalState, kmax);
+    std::printf(
+        "rod shifted by 3%s%s: contact force %.9f, %d of %d nodes sticking, largest friction multiplier "
+        "%.3e; contact tangent vs central differences: max error / max |K| = %.2e\n",
+        law.empty() ? "" : ", friction 10, ", law.c_str(), lineSums(p).total, sticking, active, friction, err / kmax);
+    EXPECT_GT(kmax, 0.0);
+    EXPECT_LT(err / kmax, 1e-6);
+    if (!law.empty()) {
+      EXPECT_EQ(sticking, active);
+      EXPECT_GT(friction, 0.0);
+    }
+  }
 }
 
 // The stacked cantilevers of PenaltySpringsOverConstrainingStackedCantileversSayWhatHelps (clamped at
