@@ -423,26 +423,7 @@ TEST(Newton, ConvergesQuadraticallyNearAContactSolutionForEachStrategy) {
     auto comm = Tpetra::getDefaultComm();
     const auto r = test::runQuiet(p, comm, "newton_contact");
     ASSERT_TRUE(r.report.completed) << r.report.failure;
-    auto linear = core::makeLinearSolver(p.linearSolver, {p.model.initial.numDofs(), 0, comm->getSize()});
-    core::StaticSolver solver(comm, p.model, p.solver, *linear);
-    core::State end;
-    const auto trace = solver.iterateFrom(r.finalState, 1.0, 1.02, end);
-    std::printf("%s: increments", type.c_str());
-    for (const auto& it : trace.history) std::printf(" %.2e", it.incrementNorm);
-    std::printf("\n  orders");
-    const double du0 = trace.history[0].incrementNorm;
-    int measured = 0;
-    for (std::size_t k = 1; k + 1 < trace.history.size(); ++k) {
-      const double ek = trace.history[k].incrementNorm / du0, next = trace.history[k + 1].incrementNorm;
-      if (next < 1e-12 || next > trace.history[k].incrementNorm) break;
-      if (ek >= 1e-2) continue;
-      const double order = std::log(next / du0) / std::log(ek);
-      std::printf(" %.3f", order);
-      EXPECT_GT(order, 1.8) << type;
-      ++measured;
-    }
-    std::printf("\n");
-    EXPECT_GE(measured, 1) << type;
+    expectQuadraticNewton(p, r.finalState, type);
   }
 }
 

@@ -141,6 +141,34 @@ inline void checkContactTangent(const std::string& type, const Deck& deck, doubl
   EXPECT_LT(err / kmax, 1e-6);
 }
 
+// Newton near a contact solution: from the converged state `s` at T = 1, a solve for T = 1.02 with the
+// contact set unchanged. Orders p = log(eps_k+1) / log(eps_k), eps_k = ||du_k|| / ||du_0||, counted
+// while eps_k < 1e-2 and ||du_k+1|| > 1e-12; each must exceed 1.8 (quadratic), and at least one is
+// measured. Prints the increments and the orders after `what`.
+inline void expectQuadraticNewton(input::Problem& p, const core::State& s, const std::string& what) {
+  auto comm = Tpetra::getDefaultComm();
+  auto linear = core::makeLinearSolver(p.linearSolver, {p.model.initial.numDofs(), 0, comm->getSize()});
+  core::StaticSolver solver(comm, p.model, p.solver, *linear);
+  core::State end;
+  const auto trace = solver.iterateFrom(s, 1.0, 1.02, end);
+  std::printf("%s: increments", what.c_str());
+  for (const auto& it : trace.history) std::printf(" %.2e", it.incrementNorm);
+  std::printf("\n  orders");
+  const double du0 = trace.history[0].incrementNorm;
+  int measured = 0;
+  for (std::size_t k = 1; k + 1 < trace.history.size(); ++k) {
+    const double ek = trace.history[k].incrementNorm / du0, next = trace.history[k + 1].incrementNorm;
+    if (next < 1e-12 || next > trace.history[k].incrementNorm) break;
+    if (ek >= 1e-2) continue;
+    const double order = std::log(next / du0) / std::log(ek);
+    std::printf(" %.3f", order);
+    EXPECT_GT(order, 1.8) << what;
+    ++measured;
+  }
+  std::printf("\n");
+  EXPECT_GE(measured, 1) << what;
+}
+
 // Example 1's layout with circular sections (r = 5 and 2.5, gap 0.5), frictionless: the axes cross at x = 50 on
 // beam 1 and at beam 2's centre node, both nodes, so the point load is nodal and Euler-Bernoulli
 // gives the exact discrete answer: N = (W - 0.5) / (c1 + c2 + 1/eps_N), c1 = a^3 / (3 E I1) with
