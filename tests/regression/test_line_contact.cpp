@@ -40,6 +40,20 @@ void uniformLoad(Teuchos::ParameterList& deck, const std::string& beam, int n, d
   }
 }
 
+// Two cantilevers stacked (parallelBeams: circles r 0.5, E 1e5, n elements each, `gauss` Gauss points),
+// both clamped at x = 0, the rod's tip pressed down by P, 4 increments.
+Teuchos::ParameterList stackedCantilevers(const std::string& type, int n, int gauss, double P) {
+  auto deck = parallelBeams(type, n, n, 0.0, 1e5, gauss);
+  support(deck, "ground", 0, "all");
+  support(deck, "rod", 0, "all");
+  Teuchos::ParameterList& load = deck.sublist("Loads").sublist("tip");
+  load.set("Beam", std::string("rod"));
+  load.set("Node", std::string("end"));
+  load.set("Force", Teuchos::Array<double>(std::vector<double>{0.0, 0.0, -P}));
+  input::replaceAtPath(deck, "Load Stepping/Number of Increments", 4);
+  return deck;
+}
+
 struct LineSums {
   int points = 0, active = 0;
   double total = 0.0, gapMin = 1e300, gapMax = -1e300;
@@ -350,15 +364,8 @@ TEST(LineContact, PenaltySpringsOnTheLineNodesGiveThePenaltyTractionAndTheFounda
 TEST(LineContact, PenaltySpringsOnTheLineNodesCarryStackedCantileversAsTheyAreRefined) {
   const double P = 0.05;
   const auto run = [&](const std::string& type, int n, std::vector<std::string>& warnings) {
-    auto deck = parallelBeams(type, n, n, 0.0, 1e5, 6);
+    auto deck = stackedCantilevers(type, n, 6, P);
     if (type == "Penalty") input::setAtPath(deck, "Contact/Enforcement/Penalty/Line Springs", std::string("Nodes"));
-    support(deck, "ground", 0, "all");
-    support(deck, "rod", 0, "all");
-    Teuchos::ParameterList& load = deck.sublist("Loads").sublist("tip");
-    load.set("Beam", std::string("rod"));
-    load.set("Node", std::string("end"));
-    load.set("Force", Teuchos::Array<double>(std::vector<double>{0.0, 0.0, -P}));
-    input::replaceAtPath(deck, "Load Stepping/Number of Increments", 4);
     auto p = input::buildProblem(deck, "stacked_nodes");
     const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "stacked_nodes");
     EXPECT_TRUE(r.report.completed) << type << " " << n << ": " << r.report.failure;
@@ -1304,14 +1311,7 @@ TEST(LineContact, ZoneNearlyAsLongAsAFieldElementIsHeld) {
 TEST(LineContact, PenaltySpringsOverConstrainingStackedCantileversSayWhatHelps) {
   const double P = 0.05, L = 100.0;
   for (const int gauss : {6, 3}) {
-    auto deck = parallelBeams("Penalty", 10, 10, 0.0, 1e5, gauss);
-    support(deck, "ground", 0, "all");
-    support(deck, "rod", 0, "all");
-    Teuchos::ParameterList& load = deck.sublist("Loads").sublist("tip");
-    load.set("Beam", std::string("rod"));
-    load.set("Node", std::string("end"));
-    load.set("Force", Teuchos::Array<double>(std::vector<double>{0.0, 0.0, -P}));
-    input::replaceAtPath(deck, "Load Stepping/Number of Increments", 4);
+    auto deck = stackedCantilevers("Penalty", 10, gauss, P);
     input::setAtPath(deck, "Load Stepping/Maximum Step Cuts", 1);
     auto p = input::buildProblem(deck, "stacked_penalty");
     const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "stacked_penalty");
