@@ -206,14 +206,20 @@ void ContactReport::lineWarnings(std::vector<std::string>& w) const {
 }
 
 std::string ContactReport::progressSummary(const PointMap& committed, int lastPasses) const {
+  // (Stick and slip are counted on pairs with friction only: a frictionless point's lines neither stick
+  // nor slip.)
   int active = 0, stick = 0, slip = 0;
+  bool friction = false;
   for (const auto& [key, p] : committed) {
     if (!p.result.active || p.node()) continue;
     ++active;
+    if (!(geometry_.pairs()[p.key.pair].friction > 0.0)) continue;
+    friction = true;
     for (int i = 0; i < 2; ++i) (p.result.slip[i] ? slip : stick)++;
   }
   std::ostringstream s;
-  s << "contact " << active << " (stick " << stick << ", slip " << slip << " lines)";
+  s << "contact " << active;
+  if (friction) s << " (stick " << stick << ", slip " << slip << " lines)";
   if (enforcer_.maximumPasses() > 1) s << ", passes " << lastPasses;
   return s.str();
 }
