@@ -909,24 +909,18 @@ void checkPenaltyScale(const Problem& p, const ParameterList& enforcement, const
 // weighted slips with the Isotropic Coulomb law; the Per Line law's stick and slip on the nodes are
 // Lagrange's rigid ones (a slipping node sticks again only when its slip turns round), which a spring's
 // elastic slip never does: its nodes stayed at the cone (50 times the friction of springs at the Gauss
-// points, measured). Refused rather than answered wrongly.
-void checkLineSpringsFriction(const ParameterList& contact, const std::string& path) {
-  const auto text = [](const ParameterList& l, const char* name) {
-    return l.isType<std::string>(name) ? l.get<std::string>(name) : std::string();
-  };
-  const ParameterList& e = contact.sublist("Enforcement");
-  if (text(e, "Type") != "Penalty" || !e.isSublist("Penalty") ||
-      text(e.sublist("Penalty"), "Line Springs") != "Nodes" || text(contact, "Friction Law") != "Per Line" ||
-      (contact.isType<double>("Line Contact Angle") && !(contact.get<double>("Line Contact Angle") > 0.0)))
+// points, measured). Refused rather than answered wrongly, on the pairs as built (All Pairs too).
+void checkLineSpringsFriction(const Problem& p, ParameterList& contact, const std::string& path) {
+  const auto& enforcer = p.contact->enforcer();
+  if (enforcer.type() != "Penalty" || !enforcer.lineFieldPenalized() ||
+      contact.get<std::string>("Friction Law") != "Per Line" || !(contact.get<double>("Line Contact Angle") > 0.0))
     return;
-  for (auto it = contact.sublist("Pairs").begin(); it != contact.sublist("Pairs").end(); ++it) {
-    const ParameterList& pair = contact.sublist("Pairs").sublist(it->first);
-    if (pair.isType<double>("Friction Coefficient") && pair.get<double>("Friction Coefficient") > 0.0)
+  for (const auto& pair : p.contact->pairs())
+    if (pair.friction > 0.0)
       throw InputError("parameter \"" + path + "/Friction Law\" = \"Per Line\" and \"" + path +
-                       "/Enforcement/Penalty/Line Springs\" = \"Nodes\" with friction on pair \"" + it->first +
+                       "/Enforcement/Penalty/Line Springs\" = \"Nodes\" with friction on pair \"" + pair.name +
                        "\": the springs on the line's nodes take the lines' friction with the Isotropic Coulomb law "
                        "only; use Friction Law = Isotropic Coulomb, or Line Springs = Gauss Points");
-  }
 }
 
 // Contact (when the deck has it), its memory estimate, and the linear solver it needs.
@@ -934,7 +928,7 @@ void readContact(Problem& p, ParameterList& deck, const std::string& top) {
   if (deck.isSublist("Contact")) {
     buildContact(p, deck.sublist("Contact"), top + "/Contact");
     checkPenaltyScale(p, deck.sublist("Contact").sublist("Enforcement"), top + "/Contact/Enforcement");
-    checkLineSpringsFriction(deck.sublist("Contact"), top + "/Contact");
+    checkLineSpringsFriction(p, deck.sublist("Contact"), top + "/Contact");
     // (Multipliers, and a plug-in's strategy, at the larger cost per point.)
     const std::string type = deck.sublist("Contact").sublist("Enforcement").get<std::string>("Type");
     const bool builtIn = constraints::findEnforcer(type, top + "/Contact/Enforcement/Type").origin == "built-in";

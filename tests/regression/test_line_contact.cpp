@@ -318,12 +318,19 @@ TEST(LineContact, PenaltySpringsOnTheLineNodesGiveThePenaltyTractionAndTheFounda
     support(deck, "rod", 7, "uy uz rx");
     uniformLoad(deck, "rod", 7, q);
     if (law == "Per Line") {
-      try {
-        input::buildProblem(deck, "foundation_nodes_shifted");
-        ADD_FAILURE() << "Per Line friction with springs on the nodes was not refused";
-      } catch (const core::InputError& e) {
-        std::printf("Per Line: %s\n", e.what());
-        EXPECT_NE(std::string(e.what()).find("Isotropic Coulomb"), std::string::npos) << e.what();
+      // Refused with the pair declared, and with All Pairs (the friction given for every pair).
+      auto allPairs = deck;
+      allPairs.sublist("Contact").remove("Pairs");
+      allPairs.sublist("Contact").set("All Pairs", true);
+      allPairs.sublist("Contact").set("Friction Coefficient", 10.0);
+      for (const auto& d : {deck, allPairs}) {
+        try {
+          input::buildProblem(d, "foundation_nodes_shifted");
+          ADD_FAILURE() << "Per Line friction with springs on the nodes was not refused";
+        } catch (const core::InputError& e) {
+          std::printf("Per Line: %s\n", e.what());
+          EXPECT_NE(std::string(e.what()).find("Isotropic Coulomb"), std::string::npos) << e.what();
+        }
       }
       continue;
     }
