@@ -27,7 +27,8 @@ const core::ParameterSpec& PenaltyEnforcer::spec() {
                 "over the node's elements (Lagrange Multiplier's field, with a multiplier row per node regularized "
                 "by 1 / eps_N): for beams lying on each other along elements longer than the penalty's bending "
                 "wavelength (4 E I / eps_N)^(1/4), where springs at every Gauss point over-constrain them and the "
-                "active set cycles; the lines' friction is then the field's (exact stick)");
+                "active set cycles; the lines' friction is then springs eps_T on the nodes' weighted slips "
+                "(Isotropic Coulomb only)");
     return p;
   }();
   return s;

@@ -6,15 +6,17 @@
 // On lines (line contact) a spring acts at every Gauss point by default ("Line Springs" = "Gauss
 // Points"). With "Nodes" the springs act on the nodes of line A instead, on Lagrange's field: the
 // traction lambda = sum_b N_b Lambda_b is linear between the nodes, and a line node's normal row is
-// Lagrange's weighted gap less the traction's compliance (a perturbed Lagrangian),
-//     int N_a (g_N - lambda / eps_N) ds = 0   over what B covers of the node's elements,
-// so lambda is eps_N g_N projected on the linear field there (least squares): a penetration d that is
-// the same everywhere gives the traction eps_N d exactly, whatever B covers. The field bends as finely
-// as the elements do; springs at every Gauss point over-constrain elements that bend less finely than
-// the penalty's wavelength (4 EI / eps_N)^(1/4) (docs/contact.md, "Penalty springs that over-constrain
-// a line"). The line nodes' active set is Lagrange's, and so are their friction rows with springs
-// eps_T in them: a sticking node's row int N_a (g_T - (Lambda_T,a - Lambda_T,a,n) / eps_T) ds = 0, so
-// that Lambda_T,a = Lambda_T,a,n + eps_T g_T,a (its weighted slip) as at a Gauss point.
+// Lagrange's weighted gap less its spring's stretch, the compliance lumped on the node (a perturbed
+// Lagrangian; LineContact::evaluateNodal takes the row with the node's own multiplier),
+//     int N_a (g_N - Lambda_a / eps_N) ds = 0   over what B covers of the node's elements,
+// so Lambda_a = eps_N g_a, g_a the node's weighted gap: a node acts where that gap is closed, its
+// traction has its sign, and a penetration d that is the same everywhere gives the traction eps_N d,
+// whatever B covers. The field bends as finely as the elements do; springs at every Gauss point over-constrain elements
+// that bend less finely than the penalty's wavelength (4 EI / eps_N)^(1/4) (docs/contact.md, "Penalty springs that
+// over-constrain a line"). The line nodes' active set is Lagrange's, and so are their friction rows with springs eps_T
+// in them: a sticking node's row int N_a (g_T - (Lambda_T,a - Lambda_T,a,n) / eps_T) ds = 0, so that Lambda_T,a =
+// Lambda_T,a,n + eps_T g_T,a (its weighted slip) as at a Gauss point (Isotropic Coulomb only: input/Deck.cpp refuses
+// Per Line friction with it).
 #pragma once
 #include "ConstraintEnforcer.hpp"
 #include "LagrangeMultiplierEnforcer.hpp"
