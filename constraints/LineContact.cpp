@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "core/PointGrid.hpp"
@@ -502,29 +503,72 @@ void LineContact::findPoints(int pi, int ea, int eb, long long visit, const core
   // The Gauss points of the segment of A's element that lies between the planes of B's element's
   // nodes (segments of neighbouring elements of B share their plane, so they tile A's line and
   // no Gauss point straddles a node of B or lies beyond B's end).
-  if (!geometry_.rectangles(pi)) return offerSegment(pi, ea, eb, 0, 0, 0.0, visit, s, known, offer);
+  if (!geometry_.rectangles(pi)) return offerSegment(pi, ea, eb, 0, 0, 0.0, 0.0, 0.0, visit, s, known, offer);
   // Rectangular sections: two parallel faces touch on the strip where they overlap across, and the
   // two lines that bound it carry the contact. Each bounding line is an edge of A lying on B's face
   // or an edge of B lying on A's face, whichever lies inside the other's face; so both beams' two
   // edges facing the other beam are tried: A's on B's face (Gauss points on A's segments between
   // B's node planes), B's on A's face (points with the roles swapped: on B's segments between A's
-  // node planes, their elementA of beam B). A's edge takes a bounding line where it lies within B's
-  // face (within 1e-3 of B's half width beyond it, a known point within 5 %: equal widths put A's
-  // edges exactly on B's face edges); B's edge only where it lies inside A's face by more than
-  // that (5 % of B's half width, a known point 1e-3), so that A's edge there lies beyond B's face and
-  // never both carry the same line (that doubled the stiffness, or made Lagrange rows redundant).
-  // Where an edge of A leaves B's face, B's edge takes over at the same iterate, and back.
+  // node planes, their elementA of beam B). On each side of the strip, the edges of A and B there
+  // lie apart across by m (B's edge inside A's face by m, A's beyond B's face by as much: m < 0 where
+  // A's edge is the inner one), and one of them carries the side at every m, with a band of B's
+  // half width between 1e-3 and 5 % where the edge that carries keeps it (so that Newton's iterates
+  // near the switch do not swap the carrier back and forth):
+  //   A's point where m <= 1e-3, or m <= 5 % and the point is known, or m <= 5 % and A's edge
+  //   alone has points on this side of the element pair;
+  //   B's point where m > 5 %, or m > 1e-3 and the point is known, or m > 1e-3 and A's edge has
+  //   no points on this side of the element pair.
+  // Applied to the points it chose, the rule chooses them again, and at no m do both edges carry.
+  // Before, the band was decided per point alone (A's new points to 1e-3, B's new points beyond
+  // 5 %): where neither had points yet and m lay in the band (equal widths offset across by 1 % of
+  // the half width, or a rod turned by 1 degree about its axis), no edge carried that side: the
+  // upper beam lay on one line and twisted, "complete".
   const auto [edgesA, faceB] = facing(ea, eb, geometry_.reference());
   const auto [edgesB, faceA] = facing(eb, ea, geometry_.reference());
   const auto& elems = geometry_.beams().elements();
   const auto& secB = geometry_.beams().beams()[elems[eb].beam].section;
   const double halfB = 0.5 * (faceB % 2 == 0 ? secB.height : secB.width);  // B's face's half width
-  for (const int edge : edgesA) offerSegment(pi, ea, eb, edge, faceB, 0.0, visit, s, known, offer);
-  for (const int edge : edgesB) offerSegment(pi, eb, ea, edge, faceA, halfB, visit, s, known, offer);
+  // The side of the strip an edge bounds: its place across B's face (in the reference) from the
+  // other element's axis.
+  const core::State& ref = geometry_.reference();
+  const auto mid = [&](int e) { return 0.5 * (ref.position[elems[e].node1] + ref.position[elems[e].node2]); };
+  const Vec3d axisB = ref.position[elems[eb].node2] - ref.position[elems[eb].node1];
+  const Vec3d across = cross(axisB, ref.rotation[elems[eb].node1] * column(elems[eb].data.T0, 1 + faceB % 2));
+  const auto side = [&](int e, int edge, int other) {
+    const LinePairInput in = geometry_.lineInput(e, edge, other, 0, ref);
+    const Vec3d p = mid(e) + 0.5 * (in.RA1 * in.oA + in.RA2 * in.oA);
+    const Vec3d o1 = ref.position[elems[other].node1], d = ref.position[elems[other].node2] - o1;
+    const Vec3d c = o1 + (dot(p - o1, d) / dot(d, d)) * d;
+    return dot(p - c, across) >= 0.0 ? 1 : 0;
+  };
+  // Whether any point of element ea's edge on element eb's face is known.
+  const auto carries = [&](int a, int b, int edge, int face) {
+    const PointKey first = PointKey::gaussPoint(pi, std::numeric_limits<int>::min(), b, edge, face,
+                                                static_cast<int>(PointKey::kGaussSlots));
+    const PointKey last = PointKey::gaussPoint(pi, std::numeric_limits<int>::max(), b, edge, face, 0);
+    for (auto it = known.lower_bound(first); it != known.end() && !(last < it->first); ++it)
+      if (it->first.kind == PointKey::Kind::Gauss && it->first.elementA == a) return true;
+    return false;
+  };
+  std::array<bool, 2> heldByA{false, false}, heldByB{false, false};
+  for (const int edge : edgesA)
+    if (carries(ea, eb, edge, faceB)) heldByA[side(ea, edge, eb)] = true;
+  for (const int edge : edgesB)
+    if (carries(eb, ea, edge, faceA)) heldByB[side(eb, edge, ea)] = true;
+  constexpr double kBand = 1e-3, kKeptBand = 0.05;
+  for (const int edge : edgesA) {
+    const int k = side(ea, edge, eb);
+    offerSegment(pi, ea, eb, edge, faceB, 0.0, heldByA[k] && !heldByB[k] ? kKeptBand : kBand, kKeptBand, visit, s,
+                 known, offer);
+  }
+  for (const int edge : edgesB)
+    offerSegment(pi, eb, ea, edge, faceA, halfB, heldByA[side(eb, edge, ea)] ? kKeptBand : kBand, kBand, visit, s,
+                 known, offer);
 }
 
-void LineContact::offerSegment(int pi, int ea, int eb, int edge, int face, double inside, long long visit,
-                               const core::State& s, const PointMap& known, const CandidateOffer& offer) const {
+void LineContact::offerSegment(int pi, int ea, int eb, int edge, int face, double inside, double band, double keptBand,
+                               long long visit, const core::State& s, const PointMap& known,
+                               const CandidateOffer& offer) const {
   const LinePairInput in = segmentInput(pi, ea, eb, edge, face, s);
   // (A sliver of a segment, where A's element ends at B's node within round-off, carries nothing.)
   constexpr double kSliver = 1e-9;
@@ -643,14 +687,13 @@ void LineContact::offerSegment(int pi, int ea, int eb, int edge, int face, doubl
       const double at = q < points ? sub.lo + sub.length() * gaussXi_[q] : endCut == 1 ? sub.lo : sub.hi;
       const ClosestPoints cp = lineProjection(in, at);
       const PointKey key = PointKey::gaussPoint(pi, ea, eb, edge, face, gaussIndex(level, part, slot));
-      const bool isKnown = known.count(key) > 0;
       if (!in.face && !(cp.distance > 1e-3 * in.radiusSum)) continue;  // (as above, at this point)
       if (in.face) {
         // Across the face (findPoints): an edge of the pair's A (inside 0) within the face's half
-        // width and a little beyond; an edge of the pair's B (inside: B's face's half width) inside
-        // the face by a little of that.
-        const double reach =
-            inside > 0.0 ? in.halfWidthB - inside * (isKnown ? 1e-3 : 0.05) : in.halfWidthB * (isKnown ? 1.05 : 1.001);
+        // width and `band` of it beyond (`keptBand` for a known point); an edge of the pair's B
+        // (inside: B's face's half width) inside the face by more than `band` (`keptBand`) of that.
+        const double d = known.count(key) > 0 ? keptBand : band;
+        const double reach = inside > 0.0 ? in.halfWidthB - inside * d : in.halfWidthB * (1.0 + d);
         if (std::abs(cp.lateral) > reach) continue;
       }
       offer(key, Candidate{ea, eb, cp, endCut}, 0.0, -visit);  // the last visit wins

@@ -152,11 +152,12 @@ class LineContact {
   LinePairInput segmentInput(int pair, int eA, int eB, int edge, int face, const core::State& s) const;
   LinePairInput input(const ContactPointRecord& p, const core::State& s) const;
   // Offers the Gauss points of the segment of element ea (its edge `edge`) on element eb (its face
-  // `face`; circles: 0, 0) that lie across that face: an edge of the pair's beam A with `inside` 0,
-  // one of its beam B (the roles swapped: ea of beam B) with `inside` the half width of B's face
-  // (findPoints).
-  void offerSegment(int pi, int ea, int eb, int edge, int face, double inside, long long visit, const core::State& s,
-                    const PointMap& known, const CandidateOffer& offer) const;
+  // `face`; circles: 0, 0) that lie across that face: an edge of the pair's beam A with `inside` 0
+  // (within the face and `band` of its half width beyond, `keptBand` for a known point), one of its
+  // beam B (the roles swapped: ea of beam B) with `inside` the half width of B's face (inside the face
+  // by more than `band`, or `keptBand`, of that) (findPoints).
+  void offerSegment(int pi, int ea, int eb, int edge, int face, double inside, double band, double keptBand,
+                    long long visit, const core::State& s, const PointMap& known, const CandidateOffer& offer) const;
   // A Gauss point's history (element parameters) and its slip along B at `cp` in `s` since then, as
   // segmentKinematics measures it.
   LineHistory history(const ContactPointRecord& p) const;

@@ -461,8 +461,13 @@ TEST(LineContact, AGapThatSupportsHoldAtBothBeamsEndsIsReportedWhenRigidContactC
 //   rectangles' corners share the held ends with the line), Penalty: 4.3 times q L / 2; Lagrange
 //   multipliers: the end points carried 1771 times the load q L. An end point within line contact's
 //   angles now gives way to the multiplier field (docs/contact.md, "End contact"): the total is
-//   q L / 2 within 2 % (measured +1.1 %), and the warning stays (the held gap's force on the end
-//   element grows as h^-4 with refinement).
+//   q L / 2 within 5 % (measured +2.1 %: the held gaps' force), and the warning stays (the held gap's
+//   force on the end element grows as h^-4 with refinement). The rod's twist is free at its far end
+//   there: along these crossing edges the bounding line passes from one beam's edge to the other's
+//   near mid-span on each side, each a multiplier field of its own, and with both beams' twists held
+//   at both ends the two fields' rows over-constrain the relative twist: the run stops on a singular
+//   matrix naming dependent constraints (tested; before, no line carried about a third of each side
+//   and the run completed resting on one line there).
 TEST(LineContact, HeldEndsWarnWithEveryStrategyWhereTheirForceGoesIntoTheSupports) {
   const double q = 0.01, L = 100.0;
   struct Case {
@@ -475,12 +480,22 @@ TEST(LineContact, HeldEndsWarnWithEveryStrategyWhereTheirForceGoesIntoTheSupport
                         Case{"Penalty", true, 0.08, true}}) {
     auto deck = parallelBeams(c.type, 10, 10, 0.0, 1e5, 6, c.degrees);
     if (c.rectangles) deck = toRectangles(deck);
+    const bool twistFree = c.type == "Lagrange Multiplier";
     for (const char* beam : {"ground", "rod"}) {
       support(deck, beam, 0, "ux uy uz rx");
-      support(deck, beam, 10, "uy uz rx");
+      support(deck, beam, 10, twistFree && std::string(beam) == "rod" ? "uy uz" : "uy uz rx");
     }
     uniformLoad(deck, "rod", 10, q);
     input::replaceAtPath(deck, "Load Stepping/Number of Increments", 10);
+    if (twistFree) {
+      auto held = deck;
+      support(held, "rod", 10, "uy uz rx");
+      input::setAtPath(held, "Load Stepping/Maximum Step Cuts", 0);  // (singular at every step size)
+      auto p = input::buildProblem(held, "held_twists");
+      const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "held_twists");
+      EXPECT_FALSE(r.report.completed);
+      EXPECT_NE(r.report.failure.find("dependent constraints"), std::string::npos) << r.report.failure;
+    }
     auto p = input::buildProblem(deck, "held_soft_ends");
     const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "held_soft_ends");
     ASSERT_TRUE(r.report.completed) << c.type << ": " << r.report.failure;
@@ -493,7 +508,7 @@ TEST(LineContact, HeldEndsWarnWithEveryStrategyWhereTheirForceGoesIntoTheSupport
     std::printf("%s, %s at %g degrees: total contact force %.6g (q L / 2 = %g)\n  %s\n", c.type.c_str(),
                 c.rectangles ? "rectangles" : "circles", c.degrees, total, 0.5 * q * L, warning.c_str());
     if (c.excess) EXPECT_GT(total, 2.0 * 0.5 * q * L) << c.type;  // the held ends' force, why the warning is needed
-    else EXPECT_NEAR(total, 0.5 * q * L, 0.02 * 0.5 * q * L) << c.type;
+    else EXPECT_NEAR(total, 0.5 * q * L, 0.05 * 0.5 * q * L) << c.type;
     EXPECT_NE(warning.find("end element there carry"), std::string::npos) << c.type << ": " << warning;
     EXPECT_NE(warning.find("hold only one of the two beams there"), std::string::npos) << warning;
   }
@@ -1000,6 +1015,126 @@ TEST(LineContact, NarrowOnWideRectanglesCarryTheLoadEitherWayRound) {
       }
       EXPECT_NEAR(results[true].first, results[false].first, 1e-8 * std::abs(results[true].first));
       EXPECT_NEAR(results[true].second, results[false].second, 1e-8 * std::abs(results[true].second));
+    }
+  }
+}
+
+// Equal rectangles offset across (issue 32): two 5 x 5 cantilevers clamped at x = 0, one on the other,
+// the upper one shifted across by `shift` and loaded by q = 0.01. On each side of the strip where the
+// faces overlap, one beam's edge bounds it, inside the other's face by the shift: an edge of A on B's
+// face or of B on A's (roles swapped). Both lines touch, so with the two beams alike the twist and the
+// line forces are alike: the lines carry equal forces (the torques on the two beams, about their own
+// axes, are equal only so). Aligned, the traction is q / 2 (total q L / 2, the narrow-on-wide closed
+// form with I_w = I_n; measured -5e-5, the geometric nonlinearity, 10 times less at q / 10). Offset by
+// s, the upper beam's face lies s phi lower than the lower's at the same twist phi, which couples
+// bending to torsion over a length of about s (EI / 4 GJ)^(1/2) = 0.31 s at the clamp: measured
+// +1.1e-4 and +3.3e-4 of q L / 2 at s = 0.025 and 0.075 with Lagrange multipliers (+5e-4, +1.5e-3 with
+// Penalty). Before, an offset between 1e-3 and 5 % of the half width (0.0025 .. 0.125 here) left the
+// side where A's edge lies beyond B's face and B's edge inside A's with no line at all: the upper beam
+// lay on one line and twisted, "complete".
+TEST(LineContact, EqualRectanglesOffsetAcrossCarryTheLoadOnBothBoundingLines) {
+  const int n = 10;
+  const double q = 0.01, L = 100.0, eps = 1e4, lift = 0.01;
+  for (const double shift : {0.0, 0.025, 0.075})
+    for (const std::string type : {"Lagrange Multiplier", "Augmented Lagrange", "Penalty"}) {
+      std::map<bool, double> force;  // upper beam is A -> the force on it
+      for (const bool upperIsA : {true, false}) {
+        auto deck = narrowOnWide(type, upperIsA, n, shift);
+        input::replaceAtPath(deck, "Beams/ground/Section/Width", 5.0);
+        input::replaceAtPath(deck, "Beams/ground/Section/Height", 5.0);
+        for (const char* end : {"Start", "End"}) {
+          auto x = deck.sublist("Beams").sublist("rod").get<Teuchos::Array<double>>(end);
+          x[2] = 5.0 + lift;
+          deck.sublist("Beams").sublist("rod").set(end, x);
+        }
+        input::setAtPath(deck, "Contact/Enforcement/Penalty/Normal Penalty Parameter", eps);
+        if (type == "Augmented Lagrange")
+          input::setAtPath(deck, "Contact/Enforcement/Augmented Lagrange/Gap Tolerance", 1e-10);
+        support(deck, "ground", 0, "all");
+        // (The upper beam starts 0.01 above the lower one and its clamp is lowered onto it as the load
+        // comes on; Penalty: by the penetration q / 4 / eps_N of each line more, as above.)
+        support(deck, "rod", 0, "all", -lift - (type == "Penalty" ? q / (4 * eps) : 0.0));
+        uniformLoad(deck, "rod", n, q);
+        auto problem = input::buildProblem(deck, "offset_rectangles");
+        const auto r = test::runQuiet(problem, Tpetra::getDefaultComm(), "offset_rectangles");
+        ASSERT_TRUE(r.report.completed) << type << ", shift " << shift << ": " << r.report.failure;
+        const NarrowSums s = narrowSums(problem, upperIsA);
+        const double reaction = lastReactions(test::scratchDirectory("offset_rectangles_np1")).at("rod 0_Fz");
+        std::printf("%s, shift %g, A the %s beam: %d points as A, %d swapped, lines", type.c_str(), shift,
+                    upperIsA ? "upper" : "lower", s.asA, s.swapped);
+        for (const auto& [line, f] : s.lines) std::printf(" %.9f", f);
+        std::printf(", force on the upper beam %.10f (q L / 2 = %.10f), deepest %.2e\n", s.onRod, 0.5 * q * L,
+                    s.deepest);
+        force[upperIsA] = s.onRod;
+        EXPECT_NEAR(s.onRod + reaction, q * L, 1e-8 * q * L);  // the upper beam's equilibrium
+        ASSERT_EQ(s.lines.size(), 2u) << type << ", shift " << shift << ": both bounding lines carry";
+        EXPECT_NEAR(s.lines.begin()->second, s.lines.rbegin()->second, 1e-6 * s.onRod) << type << ", shift " << shift;
+        EXPECT_NEAR(s.onRod, 0.5 * q * L, (type == "Penalty" ? 2e-3 : 5e-4) * 0.5 * q * L)
+            << type << ", shift " << shift;
+        EXPECT_LT(s.deepest, 1e-6) << type << ", shift " << shift;
+      }
+      // (Offset, each way round has the same two lines: equal to round-off. Aligned, both lines are A's
+      // edges, on the upper or the lower beam's segments: 8e-8 apart, measured.)
+      EXPECT_NEAR(force[true], force[false], (shift > 0.0 ? 1e-9 : 1e-6) * q * L)
+          << type << ", shift " << shift << ": either way round";
+    }
+}
+
+// A 2 x 1 rod turned by 1 degree about its axis falling onto a held 2 x 1 ground (issue 32): the rod's
+// ends held 0.1 above contact (uz, uy, rx; ux at its start), 10 elements each, loaded by q = 0.01, its
+// lowest edge coming down on the ground's face. Where it lies on the ground its curvature is zero;
+// each end part of length a is a beam with the end held g above the ground and clamped-like at the
+// touchdown, so a = (24 E I g / q)^(1/4) and the contact carries q (L - a) (the ends q a / 2 each), I
+// the rod's second moment about the horizontal, 1 / (sin^2 theta / I_z + cos^2 theta / I_y). The
+// rod's lowest edge lies 0.9 % of the half width inside the ground's face, the ground's edge as far
+// beyond the rod's face: with the ground as A no line carried before, and every strategy stopped at
+// first contact naming the overlap. Now each completes within 1 % of q (L - a) (measured +0.007 to
+// +0.12 %, 2 Gauss points), the same either way round (1e-4: Lagrange multipliers, each way; the others with the
+// ground as A, whose lines the band missed: line contact of rectangles costs seconds a run).
+TEST(LineContact, RectangularRodTurnedAboutItsAxisFallsOnTheGroundEitherWayRound) {
+  const int n = 10;
+  const double q = 0.01, L = 100.0, g = 0.1, E = 1e5, th = std::acos(-1.0) / 180.0;
+  const double cs = std::cos(th), sn = std::sin(th);
+  const double Iy = 2.0 / 12.0, Iz = 8.0 / 12.0, I = 1.0 / (sn * sn / Iz + cs * cs / Iy);
+  const double a = std::pow(24.0 * E * I * g / q, 0.25), exact = q * (L - a);
+  for (const std::string type : {"Lagrange Multiplier", "Augmented Lagrange", "Penalty"}) {
+    std::map<bool, double> totals;
+    for (const bool groundIsA : {true, false}) {
+      if (!groundIsA && type != "Lagrange Multiplier") continue;
+      auto deck = toRectangles(parallelBeams(type, n, n, 0.0, E, 2));
+      for (const char* end : {"Start", "End"}) {
+        auto x = deck.sublist("Beams").sublist("rod").get<Teuchos::Array<double>>(end);
+        x[2] = 0.5 + sn + 0.5 * cs + g;  // the lowest edge g above the ground's face
+        deck.sublist("Beams").sublist("rod").set(end, x);
+      }
+      deck.sublist("Beams").sublist("rod").set("Section Orientation",
+                                               Teuchos::Array<double>(std::vector<double>{0.0, cs, sn}));
+      if (!groundIsA) {
+        input::replaceAtPath(deck, "Contact/Pairs/line/Beam A", std::string("rod"));
+        input::replaceAtPath(deck, "Contact/Pairs/line/Beam B", std::string("ground"));
+      }
+      input::replaceAtPath(deck, "Load Stepping/Number of Increments", 4);
+      for (int i = 0; i <= n; ++i) support(deck, "ground", i, "all");
+      support(deck, "rod", 0, "ux uy uz rx");
+      support(deck, "rod", n, "uy uz rx");
+      uniformLoad(deck, "rod", n, q);
+      auto problem = input::buildProblem(deck, "turned_rod");
+      const auto r = test::runQuiet(problem, Tpetra::getDefaultComm(), "turned_rod");
+      ASSERT_TRUE(r.report.completed) << type << (groundIsA ? ", ground as A: " : ", rod as A: ") << r.report.failure;
+      double total = 0.0, deepest = 0.0;
+      for (const auto& [key, pt] : problem.contact->points()) {
+        if (pt.node() || !pt.result.active) continue;
+        total += -pt.result.lambdaN;
+        deepest = std::max(deepest, -pt.gap);
+      }
+      std::printf("%s, %s as A: %d steps, total %.6f (q (L - a) = %.6f, %+.3f %%), deepest %.2e\n", type.c_str(),
+                  groundIsA ? "ground" : "rod", r.report.steps, total, exact, 100.0 * (total / exact - 1.0), deepest);
+      EXPECT_NEAR(total, exact, 0.01 * exact) << type;
+      EXPECT_LT(deepest, 1e-4) << type;
+      totals[groundIsA] = total;
+    }
+    if (totals.size() == 2) {
+      EXPECT_NEAR(totals[true], totals[false], 1e-4 * totals[true]) << type << ": either way round";
     }
   }
 }
