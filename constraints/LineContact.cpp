@@ -528,20 +528,21 @@ void LineContact::findPoints(int pi, int ea, int eb, long long visit, const core
   const auto& elems = geometry_.beams().elements();
   const auto& secB = geometry_.beams().beams()[elems[eb].beam].section;
   const double halfB = 0.5 * (faceB % 2 == 0 ? secB.height : secB.width);  // B's face's half width
-  // The side of the strip an edge bounds: its place across B's face (in the reference) from the
-  // other element's axis.
+  // The side of the strip an edge bounds (0, 1): its place across B's face (in the reference) from
+  // the other element's axis. Each of the four edges' sides once per call.
   const core::State& ref = geometry_.reference();
-  const auto mid = [&](int e) { return 0.5 * (ref.position[elems[e].node1] + ref.position[elems[e].node2]); };
   const Vec3d axisB = ref.position[elems[eb].node2] - ref.position[elems[eb].node1];
   const Vec3d across = cross(axisB, ref.rotation[elems[eb].node1] * column(elems[eb].data.T0, 1 + faceB % 2));
   const auto side = [&](int e, int edge, int other) {
     const LinePairInput in = geometry_.lineInput(e, edge, other, 0, ref);
-    const Vec3d p = mid(e) + 0.5 * (in.RA1 * in.oA + in.RA2 * in.oA);
+    const Vec3d p = 0.5 * (in.xA1 + in.xA2) + 0.5 * (in.RA1 * in.oA + in.RA2 * in.oA);
     const Vec3d o1 = ref.position[elems[other].node1], d = ref.position[elems[other].node2] - o1;
     const Vec3d c = o1 + (dot(p - o1, d) / dot(d, d)) * d;
     return dot(p - c, across) >= 0.0 ? 1 : 0;
   };
-  // Whether any point of element ea's edge on element eb's face is known.
+  const std::array<int, 2> sideA{side(ea, edgesA[0], eb), side(ea, edgesA[1], eb)};
+  const std::array<int, 2> sideB{side(eb, edgesB[0], ea), side(eb, edgesB[1], ea)};
+  // Whether any point of element a's edge on element b's face is known.
   const auto carries = [&](int a, int b, int edge, int face) {
     const PointKey first = PointKey::gaussPoint(pi, std::numeric_limits<int>::min(), b, edge, face,
                                                 static_cast<int>(PointKey::kGaussSlots));
@@ -551,19 +552,19 @@ void LineContact::findPoints(int pi, int ea, int eb, long long visit, const core
     return false;
   };
   std::array<bool, 2> heldByA{false, false}, heldByB{false, false};
-  for (const int edge : edgesA)
-    if (carries(ea, eb, edge, faceB)) heldByA[side(ea, edge, eb)] = true;
-  for (const int edge : edgesB)
-    if (carries(eb, ea, edge, faceA)) heldByB[side(eb, edge, ea)] = true;
+  for (int i = 0; i < 2; ++i) {
+    if (carries(ea, eb, edgesA[i], faceB)) heldByA[sideA[i]] = true;
+    if (carries(eb, ea, edgesB[i], faceA)) heldByB[sideB[i]] = true;
+  }
   constexpr double kBand = 1e-3, kKeptBand = 0.05;
-  for (const int edge : edgesA) {
-    const int k = side(ea, edge, eb);
-    offerSegment(pi, ea, eb, edge, faceB, 0.0, heldByA[k] && !heldByB[k] ? kKeptBand : kBand, kKeptBand, visit, s,
+  for (int i = 0; i < 2; ++i) {
+    const int k = sideA[i];
+    offerSegment(pi, ea, eb, edgesA[i], faceB, 0.0, heldByA[k] && !heldByB[k] ? kKeptBand : kBand, kKeptBand, visit, s,
                  known, offer);
   }
-  for (const int edge : edgesB)
-    offerSegment(pi, eb, ea, edge, faceA, halfB, heldByA[side(eb, edge, ea)] ? kKeptBand : kBand, kBand, visit, s,
-                 known, offer);
+  for (int i = 0; i < 2; ++i)
+    offerSegment(pi, eb, ea, edgesB[i], faceA, halfB, heldByA[sideB[i]] ? kKeptBand : kBand, kBand, visit, s, known,
+                 offer);
 }
 
 void LineContact::offerSegment(int pi, int ea, int eb, int edge, int face, double inside, double band, double keptBand,
