@@ -479,6 +479,18 @@ Gaps<T> curveGaps(const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB, 
 template <int Vectors, class Fn>
 ContactKinematics kinematicsOf(const LinePairInput& in, const Vec3d* extraRef, const int* extraNode, Fn gapsOf,
                                Variations order, bool heldVariation = false);
+// Line contact's gaps (values, nothing held) with the held variations of g_N, g_T1, g_T2 written out
+// per vector (heldLineGaps), and R and K from them by one level of forward AD (heldKinematicsOf).
+template <class T, int Vectors> struct HeldLineGaps {
+  Gaps<T> g;
+  Vec3<T> G[3][Vectors];
+};
+template <int Vectors, class T>
+HeldLineGaps<T, Vectors> heldLineGaps(const Vec3<T>* P, bool face, bool cubicA, bool cubicB, double radiusSum,
+                                      double side, const T& xi, double etaStart, const T& etaPrev);
+template <int Vectors, class Fn>
+ContactKinematics heldKinematicsOf(const LinePairInput& in, const Vec3d* extraRef, const int* extraNode, Fn gapsOf,
+                                   Variations order);
 template <bool Second>
 ContactKinematics pointKinematicsOfOrder(const LinePairInput& in, double sigma, double xiPrev, double etaPrev);
 template <bool Second>
@@ -651,7 +663,7 @@ namespace {
 // bounds move with the dofs) and etaPrev(xi) from the history, through gapsOf(P, V, N, xi, etaPrev).
 template <class PointOf>
 ContactKinematics lineKinematicsOf(const LinePairInput& in, bool segmented, double side, double etaStart,
-                                   Variations order, PointOf pointOf) {
+                                   Variations order, bool nested, PointOf pointOf) {
   const bool cubicA = norm(in.dA) > 0.0, cubicB = norm(in.dB) > 0.0;
   const Vec3d faceRefs[4] = {in.nB, in.nB, in.sB1, in.sB2}, circleRefs[2] = {in.sB1, in.sB2};
   const int faceNodes[4] = {2, 3, 2, 3};
@@ -671,7 +683,30 @@ ContactKinematics lineKinematicsOf(const LinePairInput& in, bool segmented, doub
     g.length = length;
     return g;
   };
-  if (in.face && segmented)
+  // The held variations written out (heldLineGaps), one AD level: the default.
+  const auto written = [&](const auto* P, const auto* S, auto vectors) {
+    auto [x, etaPrev, length] = pointOf(P, P + 4, S);
+    auto h = heldLineGaps<decltype(vectors)::value>(P, in.face, cubicA, cubicB, in.radiusSum, side, x, etaStart,
+                                                     etaPrev);
+    h.g.length = length;
+    return h;
+  };
+  using V8 = std::integral_constant<int, 8>;
+  using V10 = std::integral_constant<int, 10>;
+  using V12 = std::integral_constant<int, 12>;
+  if (!nested) {
+    if (in.face && segmented)
+      k = heldKinematicsOf<12>(
+          in, faceRefs, faceNodes, [&](const auto* P) { return written(P, P + 10, V12{}); }, order);
+    else if (in.face)
+      k = heldKinematicsOf<10>(
+          in, faceRefs, faceNodes, [&](const auto* P) { return written(P, P, V10{}); }, order);
+    else if (segmented)
+      k = heldKinematicsOf<10>(
+          in, circleRefs, faceNodes, [&](const auto* P) { return written(P, P + 8, V10{}); }, order);
+    else
+      k = heldKinematicsOf<8>(in, nullptr, nullptr, [&](const auto* P) { return written(P, P, V8{}); }, order);
+  } else if (in.face && segmented)
     k = kinematicsOf<12>(
         in, faceRefs, faceNodes, [&](const auto* P, bool held) { return face(P, P + 10, held); }, order, true);
   else if (in.face)
@@ -689,14 +724,26 @@ ContactKinematics lineKinematicsOf(const LinePairInput& in, bool segmented, doub
 }
 }  // namespace
 
-ContactKinematics lineKinematics(const LinePairInput& in, double xi, double etaPrev, const Vec3d& keptNormal,
-                                 Variations order) {
+namespace {
+ContactKinematics lineKinematicsBy(const LinePairInput& in, double xi, double etaPrev, const Vec3d& keptNormal,
+                                   Variations order, bool nested) {
   const ClosestPoints projection = lineProjection(in, xi);
-  return lineKinematicsOf(in, false, lineSide(in, projection, keptNormal), projection.eta, order,
+  return lineKinematicsOf(in, false, lineSide(in, projection, keptNormal), projection.eta, order, nested,
                           [&](const auto* P, const auto*, const auto*) {
                             using T = std::decay_t<decltype(P[0][0])>;
                             return std::make_tuple(T(xi), T(etaPrev), T(1.0));
                           });
+}
+}  // namespace
+
+ContactKinematics lineKinematics(const LinePairInput& in, double xi, double etaPrev, const Vec3d& keptNormal,
+                                 Variations order) {
+  return lineKinematicsBy(in, xi, etaPrev, keptNormal, order, false);
+}
+
+ContactKinematics lineKinematicsFromGaps(const LinePairInput& in, double xi, double etaPrev, const Vec3d& keptNormal,
+                                         Variations order) {
+  return lineKinematicsBy(in, xi, etaPrev, keptNormal, order, true);
 }
 
 LineSegment lineSegment(const LinePairInput& in) {
@@ -751,18 +798,30 @@ LineSegment lineSegment(const LinePairInput& in) {
   return seg;
 }
 
-ContactKinematics segmentKinematics(const LinePairInput& in, const LineSegment& seg, double s, const LineHistory& h,
-                                    const Vec3d& keptNormal, Variations order) {
+namespace {
+ContactKinematics segmentKinematicsBy(const LinePairInput& in, const LineSegment& seg, double s, const LineHistory& h,
+                                      const Vec3d& keptNormal, Variations order, bool nested) {
   const bool cubicA = norm(in.dA) > 0.0;
   const double xi = seg.lo + s * (seg.hi - seg.lo);
   const ClosestPoints projection = lineProjection(in, xi);
-  return lineKinematicsOf(in, true, lineSide(in, projection, keptNormal), projection.eta, order,
+  return lineKinematicsOf(in, true, lineSide(in, projection, keptNormal), projection.eta, order, nested,
                           [&](const auto* P, const auto* V, const auto* S) {
                             using T = std::decay_t<decltype(P[0][0])>;
                             T x, length;
                             segmentPoint(P, V, S, cubicA, seg, s, x, length);
                             return std::make_tuple(x, h.etaPrevAt(x), length);
                           });
+}
+}  // namespace
+
+ContactKinematics segmentKinematics(const LinePairInput& in, const LineSegment& seg, double s, const LineHistory& h,
+                                    const Vec3d& keptNormal, Variations order) {
+  return segmentKinematicsBy(in, seg, s, h, keptNormal, order, false);
+}
+
+ContactKinematics segmentKinematicsFromGaps(const LinePairInput& in, const LineSegment& seg, double s,
+                                            const LineHistory& h, const Vec3d& keptNormal, Variations order) {
+  return segmentKinematicsBy(in, seg, s, h, keptNormal, order, true);
 }
 
 namespace {
@@ -1133,6 +1192,108 @@ ContactKinematics curveKinematicsOfOrder(const LinePairInput& in, double sigma, 
   Vec3<T> G[kQuantities][8];
   curveGapGradients(Q, cubic(in.dA), cubic(in.dB), in.radiusSum, sigma, xiPrev, etaPrev, cp.xi, cp.eta, value, G);
   return chainRule<8, Second>(coordinateGaps<8, Second>(value, G), frame);
+}
+
+// lineGaps and faceGaps (held = false: the values) and their held variations written out. P: the
+// vectors (P_A1, P_A2, P_B1, P_B2, V_A1, V_A2, V_B1, V_B2, then B's nodal face normals N_1, N_2 of a
+// face); vector k's shape values s_k, d_k on A at xi and on B at eta (curveShape, zero on the other
+// curve). The variations hold A's material point xi, etaPrev and the slip metric m (the nested form's
+// `frozen`); with T = SFad seeded on the coordinates their derivatives are the variations'
+// linearization (H), every quantity there varying (xi through the segment's bounds, eta through the
+// projection):
+//  - eta with xi held, from f = x_B' . (x_B - p_A) = 0: D deta = -df, D = x_B'' . d + |x_B'|^2 (d = x_B
+//    - p_A), df_k = -s_k x_B' (A's vectors), d_k d + s_k x_B' (B's);
+//  - g_T2 = (eta - etaPrev) m, m = D / |x_B'| (slipMetric): G_k = m deta_k = -df_k / |x_B'|;
+//  - circles, g_N = side |d| - r: G_k = side (c_k d^ + (d^ . x_B') deta_k), c_k = -s_k on A, s_k on B
+//    (d^ . x_B' is zero at the projection; it is kept so that H is the nested form's to round-off);
+//  - a face, g_N = (p_A - x_B(eta_N)) . n(eta_N), n = m / |m|, m = (1 - eta_N) N_1 + eta_N N_2, eta_N
+//    held (the normal gap varied at B's material point): G_k = s_k n on A, -s_k n on B, and on N_1, N_2
+//    (1 - eta) and eta times (r - (r . n) n) / |m|, r = p_A - x_B.
+// g_T1 = 0. The segment planes' normals (vectors 10, 11 of a face, 8, 9 of a circle) vary xi only.
+template <int Vectors, class T>
+HeldLineGaps<T, Vectors> heldLineGaps(const Vec3<T>* P, bool face, bool cubicA, bool cubicB, double radiusSum,
+                                      double side, const T& xi, double etaStart, const T& etaPrev) {
+  using std::sqrt;
+  HeldLineGaps<T, Vectors> out;
+  out.g = face ? faceGaps(P, P + 4, P + 8, cubicA, cubicB, xi, etaStart, etaPrev, false)
+               : lineGaps(P, P + 4, cubicA, cubicB, radiusSum, xi, etaStart, etaPrev, side, false);
+  const T eta = out.g.eta;
+  const CurveShape<T> a = curveShape(cubicA, xi), b = curveShape(cubicB, eta);
+  const int slot[8] = {0, 1, 0, 1, 2, 3, 2, 3};
+  const auto onA = [](int k) { return k == 0 || k == 1 || k == 4 || k == 5; };
+  const T zero(0.0);
+  const Vec3<T> none{{zero, zero, zero}};
+  Vec3<T> pA = none, xB = none, tB = none, ddB = none;
+  for (int k = 0; k < 8; ++k) {
+    const int j = slot[k];
+    if (onA(k)) pA = pA + a.s[j] * P[k];
+    else xB = xB + b.s[j] * P[k], tB = tB + b.d[j] * P[k], ddB = ddB + b.dd[j] * P[k];
+  }
+  const Vec3<T> d = xB - pA;
+  const T speed = sqrt(dot(tB, tB));
+  const T D = dot(ddB, d) + speed * speed;
+  for (auto& row : out.G)
+    for (auto& v : row) v = none;
+  Vec3<T> dEta[8];
+  for (int k = 0; k < 8; ++k) {
+    const int j = slot[k];
+    const Vec3<T> df = onA(k) ? (-1.0 * a.s[j]) * tB : b.d[j] * d + b.s[j] * tB;
+    dEta[k] = (-1.0 / D) * df;
+    out.G[kGapT2][k] = (-1.0 / speed) * df;
+  }
+  if (face) {
+    const Vec3<T> m = (1.0 - eta) * P[8] + eta * P[9];
+    const T nm = sqrt(dot(m, m));
+    const Vec3<T> n = (1.0 / nm) * m;
+    const Vec3<T> r = pA - xB;
+    for (int k = 0; k < 8; ++k) out.G[kGapN][k] = (onA(k) ? a.s[slot[k]] : -1.0 * b.s[slot[k]]) * n;
+    const Vec3<T> across = (1.0 / nm) * (r - dot(r, n) * n);
+    out.G[kGapN][8] = (1.0 - eta) * across;
+    out.G[kGapN][9] = eta * across;
+  } else {
+    const Vec3<T> unit = (1.0 / sqrt(dot(d, d))) * d;
+    const T along = dot(unit, tB);
+    for (int k = 0; k < 8; ++k)
+      out.G[kGapN][k] = side * ((onA(k) ? -1.0 * a.s[slot[k]] : b.s[slot[k]]) * unit + along * dEta[k]);
+  }
+  return out;
+}
+
+// R and K of line contact from heldLineGaps (gapsOf(Q) with Q seeded on the coordinates): the values
+// and their gradients, the held variations G and (Second) their derivatives H, one AD level.
+template <int Vectors, bool Second, class Fn>
+ContactKinematics heldKinematicsOfOrder(const LinePairInput& in, const Vec3d* extraRef, const int* extraNode,
+                                        Fn gapsOf) {
+  constexpr int kCoords = 3 * Vectors;
+  using In = Sacado::Fad::SFad<double, kCoords>;
+  Vec3d p[Vectors];
+  const VectorFrame<Vectors> frame = vectorFrame<Vectors>(in, extraRef, extraNode, p);
+  Vec3<In> Q[Vectors];
+  for (int k = 0; k < Vectors; ++k)
+    for (int a = 0; a < 3; ++a) Q[k][a] = In(kCoords, 3 * k + a, p[k][a]);
+  const HeldLineGaps<In, Vectors> h = gapsOf(static_cast<const Vec3<In>*>(Q));
+  CoordinateGaps<kCoords> c;
+  const In* src[kQuantities] = {&h.g.gN, &h.g.gT1, &h.g.gT2, &h.g.xi, &h.g.eta, &h.g.cosine, &h.g.length};
+  for (int q = 0; q < kQuantities; ++q) {
+    c.value[q] = src[q]->val();
+    for (int k = 0; k < kCoords; ++k) c.G[q][k] = src[q]->dx(k);
+  }
+  for (int q = 0; q < 3; ++q)
+    for (int k = 0; k < kCoords; ++k) {
+      c.gradient[q][k] = c.G[q][k];
+      const In& v = h.G[q][k / 3][k % 3];
+      c.G[q][k] = v.val();
+      if constexpr (Second)
+        for (int l = 0; l < kCoords; ++l) c.H[q][k][l] = v.dx(l);
+    }
+  return chainRule<Vectors, Second>(c, frame);
+}
+
+template <int Vectors, class Fn>
+ContactKinematics heldKinematicsOf(const LinePairInput& in, const Vec3d* extraRef, const int* extraNode, Fn gapsOf,
+                                   Variations order) {
+  return order == Variations::Second ? heldKinematicsOfOrder<Vectors, true>(in, extraRef, extraNode, gapsOf)
+                                     : heldKinematicsOfOrder<Vectors, false>(in, extraRef, extraNode, gapsOf);
 }
 
 template <int Vectors, class Fn>

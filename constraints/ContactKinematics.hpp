@@ -181,6 +181,13 @@ ContactKinematics lineKinematics(const LinePairInput& in, double xi, double etaP
 ContactKinematics segmentKinematics(const LinePairInput& in, const LineSegment& segment, double s,
                                     const LineHistory& history, const Vec3d& keptNormal = {},
                                     Variations order = Variations::Second);
+// The same two by nested forward AD of the gaps with the held quantities frozen (the held variations
+// are written out in lineKinematics and segmentKinematics): the reference of the tests.
+ContactKinematics lineKinematicsFromGaps(const LinePairInput& in, double xi, double etaPrev,
+                                         const Vec3d& keptNormal = {}, Variations order = Variations::Second);
+ContactKinematics segmentKinematicsFromGaps(const LinePairInput& in, const LineSegment& segment, double s,
+                                            const LineHistory& history, const Vec3d& keptNormal = {},
+                                            Variations order = Variations::Second);
 // -1 where the projection's p_B - p_A points against keptNormal (a nonzero normal of circular
 // sections' line contact), else +1 (face contact's gap carries its own sign).
 double lineSide(const LinePairInput& in, const ClosestPoints& projection, const Vec3d& keptNormal);

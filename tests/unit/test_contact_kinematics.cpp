@@ -580,6 +580,78 @@ TEST(ContactKinematics, WrittenOutPointGradientsMatchNestedAdOfTheGaps) {
   EXPECT_LT(worstK, 1e-11);
 }
 
+// Line contact's held variations written out (lineKinematics, segmentKinematics) against nested AD of
+// the gaps with the held quantities frozen (the ...FromGaps references): circles and faces, at a fixed
+// xi and on a segment, Hermite axes and chords, a kept normal pointing either way, general states.
+TEST(LineKinematics, WrittenOutHeldVariationsMatchNestedAdOfTheGaps) {
+  std::mt19937 g(43);
+  double worstValue = 0.0, worstR = 0.0, worstK = 0.0;
+  const auto relative = [](auto a, auto b, std::size_t n) {
+    double diff = 0.0, scale = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      diff = std::max(diff, std::abs(a[i] - b[i]));
+      scale = std::max(scale, std::abs(b[i]));
+    }
+    return scale > 0.0 ? diff / scale : diff;
+  };
+  int compared = 0;
+  for (int trial = 0; trial < 16; ++trial) {
+    LinePairInput t;
+    t.xA1 = {{0, 0, 0}};
+    t.xA2 = {{10, 0, 0}};
+    const double x0 = trial % 3 == 0 ? 2.0 : -3.0;
+    t.xB1 = {{x0, 0.3, 2.5}};
+    t.xB2 = {{x0 + 10, -0.2, 2.6}};
+    if (trial % 4 != 3) {
+      t.dA = Vec3d{{10, 0, 0}};
+      t.dB = Vec3d{{10, -0.5, 0.1}};
+    }
+    t.sB1 = Vec3d{{1, 0.05, 0}};
+    t.sB2 = Vec3d{{1, -0.05, 0.02}};
+    if (trial % 2) {
+      t.oA = Vec3d{{0, 0.3, 0.5}};
+      t.oB = Vec3d{{0, 0, -0.5}};
+      t.face = true;
+      t.nB = Vec3d{{0, 0, -1}};
+      t.halfWidthB = 0.5;
+    } else {
+      t.radiusSum = 2.0;
+    }
+    placeGenerally(t, g, 0.3);
+    const Vec3d kept = trial % 4 == 2 ? Vec3d{{0, 0, -1}} : Vec3d{};
+    const LineHistory history{0.4, 0.3, 0.9};
+    const LineSegment seg = lineSegment(t);
+    ASSERT_GT(seg.length(), 0.1);
+    for (const Variations order : {Variations::Second, Variations::First}) {
+      const double xi = 0.2 + 0.04 * trial, s = 0.15 + 0.05 * trial;
+      const std::pair<ContactKinematics, ContactKinematics> pairs[] = {
+          {lineKinematics(t, xi, 0.45, kept, order), lineKinematicsFromGaps(t, xi, 0.45, kept, order)},
+          {segmentKinematics(t, seg, s, history, kept, order),
+           segmentKinematicsFromGaps(t, seg, s, history, kept, order)}};
+      for (const auto& [a, b] : pairs) {
+        ++compared;
+        const double va[] = {a.xi, a.eta, a.cosine, a.segment, a.normal.value, a.tangent1.value, a.tangent2.value};
+        const double vb[] = {b.xi, b.eta, b.cosine, b.segment, b.normal.value, b.tangent1.value, b.tangent2.value};
+        for (int i = 0; i < 7; ++i)
+          worstValue = std::max(worstValue, std::abs(va[i] - vb[i]) / (1.0 + std::abs(vb[i])));
+        for (auto gap : {&ContactKinematics::normal, &ContactKinematics::tangent1, &ContactKinematics::tangent2}) {
+          worstR = std::max(worstR, relative((a.*gap).R, (b.*gap).R, kPairDofs));
+          worstR = std::max(worstR, relative((a.*gap).gradient, (b.*gap).gradient, kPairDofs));
+          worstK = std::max(worstK, relative((a.*gap).K, (b.*gap).K, kPairDofs * kPairDofs));
+        }
+        for (auto field : {&ContactKinematics::cosineR, &ContactKinematics::xiR, &ContactKinematics::axesCosineR,
+                           &ContactKinematics::segmentR})
+          worstR = std::max(worstR, relative(a.*field, b.*field, kPairDofs));
+      }
+    }
+  }
+  std::printf("written-out held line variations against nested AD (%d kinematics): values %.2e, R %.2e, K %.2e\n",
+              compared, worstValue, worstR, worstK);
+  EXPECT_LT(worstValue, 1e-13);
+  EXPECT_LT(worstR, 1e-12);
+  EXPECT_LT(worstK, 1e-11);
+}
+
 // Point contact on the elements' Hermite axes (LinePairInput::dA, dB set). Straight, unturned elements:
 // the curves are the chords, so the values of CrossedBeamsGapAndPoints. B's nodes turned about X by
 // +phi and -phi (tangents R_m (0, 10, 0)): B's axis is y = 10 [3u^2 - 2u^3 + cos(phi) (u - 3u^2 + 2u^3)]
