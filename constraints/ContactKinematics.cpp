@@ -686,8 +686,8 @@ ContactKinematics lineKinematicsOf(const LinePairInput& in, bool segmented, doub
   // The held variations written out (heldLineGaps), one AD level: the default.
   const auto written = [&](const auto* P, const auto* S, auto vectors) {
     auto [x, etaPrev, length] = pointOf(P, P + 4, S);
-    auto h = heldLineGaps<decltype(vectors)::value>(P, in.face, cubicA, cubicB, in.radiusSum, side, x, etaStart,
-                                                     etaPrev);
+    auto h =
+        heldLineGaps<decltype(vectors)::value>(P, in.face, cubicA, cubicB, in.radiusSum, side, x, etaStart, etaPrev);
     h.g.length = length;
     return h;
   };
@@ -705,7 +705,8 @@ ContactKinematics lineKinematicsOf(const LinePairInput& in, bool segmented, doub
       k = heldKinematicsOf<10>(
           in, circleRefs, faceNodes, [&](const auto* P) { return written(P, P + 8, V10{}); }, order);
     else
-      k = heldKinematicsOf<8>(in, nullptr, nullptr, [&](const auto* P) { return written(P, P, V8{}); }, order);
+      k = heldKinematicsOf<8>(
+          in, nullptr, nullptr, [&](const auto* P) { return written(P, P, V8{}); }, order);
   } else if (in.face && segmented)
     k = kinematicsOf<12>(
         in, faceRefs, faceNodes, [&](const auto* P, bool held) { return face(P, P + 10, held); }, order, true);
