@@ -113,6 +113,51 @@ Vec3d onB(const GapDerivatives& g) {
   return f;
 }
 
+// The segment planes' normals at B's nodes (tilted a little) and the sections: an edge of A (offset
+// 0.3, 0.5) on the lower face of B (offset -0.5, half width 0.5), or circles of radii summing to
+// radiusSum.
+void segmentPlanesAndSections(LinePairInput& in, bool face, double radiusSum) {
+  in.sB1 = Vec3d{{1, 0.05, 0}};
+  in.sB2 = Vec3d{{1, -0.05, 0.02}};
+  if (face) {
+    in.oA = Vec3d{{0, 0.3, 0.5}};
+    in.oB = Vec3d{{0, 0, -0.5}};
+    in.face = true;
+    in.nB = Vec3d{{0, 0, -1}};
+    in.halfWidthB = 0.5;
+  } else {
+    in.radiusSum = radiusSum;
+  }
+}
+
+// The largest differences of kinematics a from b: the values relative to 1 + |b|, the R, gradients and
+// K of the gaps and the first variations of xi, the cosines and the segment relative to b's largest
+// entry.
+struct KinematicsDifference {
+  double value = 0.0, R = 0.0, K = 0.0;
+  static double relative(const double* a, const double* b, std::size_t n) {
+    double diff = 0.0, scale = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      diff = std::max(diff, std::abs(a[i] - b[i]));
+      scale = std::max(scale, std::abs(b[i]));
+    }
+    return scale > 0.0 ? diff / scale : diff;
+  }
+  void add(const ContactKinematics& a, const ContactKinematics& b) {
+    const double va[] = {a.xi, a.eta, a.cosine, a.segment, a.normal.value, a.tangent1.value, a.tangent2.value};
+    const double vb[] = {b.xi, b.eta, b.cosine, b.segment, b.normal.value, b.tangent1.value, b.tangent2.value};
+    for (int i = 0; i < 7; ++i) value = std::max(value, std::abs(va[i] - vb[i]) / (1.0 + std::abs(vb[i])));
+    for (auto gap : {&ContactKinematics::normal, &ContactKinematics::tangent1, &ContactKinematics::tangent2}) {
+      R = std::max(R, relative((a.*gap).R.data(), (b.*gap).R.data(), kPairDofs));
+      R = std::max(R, relative((a.*gap).gradient.data(), (b.*gap).gradient.data(), kPairDofs));
+      K = std::max(K, relative((a.*gap).K.data(), (b.*gap).K.data(), kPairDofs * kPairDofs));
+    }
+    for (auto field : {&ContactKinematics::cosineR, &ContactKinematics::xiR, &ContactKinematics::axesCosineR,
+                       &ContactKinematics::segmentR})
+      R = std::max(R, relative((a.*field).data(), (b.*field).data(), kPairDofs));
+  }
+};
+
 }  // namespace
 
 TEST(ContactKinematics, CrossedBeamsGapAndPoints) {
@@ -425,17 +470,7 @@ TEST(LineKinematics, SegmentBoundsAndTheirVariations) {
       t.dA = Vec3d{{10, 0, 0}};
       t.dB = Vec3d{{lB, -0.5, 0.1}};
     }
-    t.sB1 = Vec3d{{1, 0.05, 0}};
-    t.sB2 = Vec3d{{1, -0.05, 0.02}};
-    if (trial % 2) {  // an edge of A against a face of B
-      t.oA = Vec3d{{0, 0.3, 0.5}};
-      t.oB = Vec3d{{0, 0, -0.5}};
-      t.face = true;
-      t.nB = Vec3d{{0, 0, -1}};
-      t.halfWidthB = 0.5;
-    } else {
-      t.radiusSum = 2.0;
-    }
+    segmentPlanesAndSections(t, trial % 2, 2.0);
     placeGenerally(t, g, 0.3);
     const LineHistory history{0.4, 0.3, 0.9};
     const double s = 0.15 + 0.06 * trial;
@@ -539,15 +574,7 @@ TEST(ContactKinematics, FirstVariationsOnlyAgreeWithTheFullKinematics) {
 // with both variation orders, on the chords and on the Hermite axes.
 TEST(ContactKinematics, WrittenOutPointGradientsMatchNestedAdOfTheGaps) {
   std::mt19937 g(31);
-  double worstValue = 0.0, worstR = 0.0, worstK = 0.0;
-  const auto relative = [](auto a, auto b, std::size_t n) {
-    double diff = 0.0, scale = 0.0;
-    for (std::size_t i = 0; i < n; ++i) {
-      diff = std::max(diff, std::abs(a[i] - b[i]));
-      scale = std::max(scale, std::abs(b[i]));
-    }
-    return scale > 0.0 ? diff / scale : diff;
-  };
+  KinematicsDifference worst;
   for (int trial = 0; trial < 24; ++trial) {
     LinePairInput in = crossing();
     if (trial >= 12) {  // on the Hermite axes, the nodes turned by up to 0.3 rad (curved)
@@ -559,25 +586,15 @@ TEST(ContactKinematics, WrittenOutPointGradientsMatchNestedAdOfTheGaps) {
     const auto cp = closestPoints(in);
     for (const Variations order : {Variations::Second, Variations::First}) {
       const double xiPrev = cp.xi - 0.05 * (trial % 3), etaPrev = cp.eta + 0.03 * (trial % 4);
-      const ContactKinematics a = contactKinematics(in, cp.sigma, xiPrev, etaPrev, order);
-      const ContactKinematics b = contactKinematicsFromGaps(in, cp.sigma, xiPrev, etaPrev, order);
-      const double va[] = {a.xi, a.eta, a.cosine, a.segment, a.normal.value, a.tangent1.value, a.tangent2.value};
-      const double vb[] = {b.xi, b.eta, b.cosine, b.segment, b.normal.value, b.tangent1.value, b.tangent2.value};
-      for (int i = 0; i < 7; ++i) worstValue = std::max(worstValue, std::abs(va[i] - vb[i]) / (1.0 + std::abs(vb[i])));
-      for (auto gap : {&ContactKinematics::normal, &ContactKinematics::tangent1, &ContactKinematics::tangent2}) {
-        worstR = std::max(worstR, relative((a.*gap).R, (b.*gap).R, kPairDofs));
-        worstK = std::max(worstK, relative((a.*gap).K, (b.*gap).K, kPairDofs * kPairDofs));
-      }
-      for (auto field : {&ContactKinematics::cosineR, &ContactKinematics::xiR, &ContactKinematics::axesCosineR})
-        worstR = std::max(worstR, relative(a.*field, b.*field, kPairDofs));
-      worstR = std::max(worstR, relative(a.segmentR, b.segmentR, kPairDofs));
+      worst.add(contactKinematics(in, cp.sigma, xiPrev, etaPrev, order),
+                contactKinematicsFromGaps(in, cp.sigma, xiPrev, etaPrev, order));
     }
   }
   std::printf("written-out point gradients against nested AD: values %.2e, R %.2e, K %.2e (largest relative)\n",
-              worstValue, worstR, worstK);
-  EXPECT_LT(worstValue, 1e-13);
-  EXPECT_LT(worstR, 1e-12);
-  EXPECT_LT(worstK, 1e-11);
+              worst.value, worst.R, worst.K);
+  EXPECT_LT(worst.value, 1e-13);
+  EXPECT_LT(worst.R, 1e-12);
+  EXPECT_LT(worst.K, 1e-11);
 }
 
 // Line contact's held variations written out (lineKinematics, segmentKinematics) against nested AD of
@@ -585,15 +602,7 @@ TEST(ContactKinematics, WrittenOutPointGradientsMatchNestedAdOfTheGaps) {
 // xi and on a segment, Hermite axes and chords, a kept normal pointing either way, general states.
 TEST(LineKinematics, WrittenOutHeldVariationsMatchNestedAdOfTheGaps) {
   std::mt19937 g(43);
-  double worstValue = 0.0, worstR = 0.0, worstK = 0.0;
-  const auto relative = [](auto a, auto b, std::size_t n) {
-    double diff = 0.0, scale = 0.0;
-    for (std::size_t i = 0; i < n; ++i) {
-      diff = std::max(diff, std::abs(a[i] - b[i]));
-      scale = std::max(scale, std::abs(b[i]));
-    }
-    return scale > 0.0 ? diff / scale : diff;
-  };
+  KinematicsDifference worst;
   int compared = 0;
   for (int trial = 0; trial < 16; ++trial) {
     LinePairInput t;
@@ -606,17 +615,7 @@ TEST(LineKinematics, WrittenOutHeldVariationsMatchNestedAdOfTheGaps) {
       t.dA = Vec3d{{10, 0, 0}};
       t.dB = Vec3d{{10, -0.5, 0.1}};
     }
-    t.sB1 = Vec3d{{1, 0.05, 0}};
-    t.sB2 = Vec3d{{1, -0.05, 0.02}};
-    if (trial % 2) {
-      t.oA = Vec3d{{0, 0.3, 0.5}};
-      t.oB = Vec3d{{0, 0, -0.5}};
-      t.face = true;
-      t.nB = Vec3d{{0, 0, -1}};
-      t.halfWidthB = 0.5;
-    } else {
-      t.radiusSum = 2.0;
-    }
+    segmentPlanesAndSections(t, trial % 2, 2.0);
     placeGenerally(t, g, 0.3);
     const Vec3d kept = trial % 4 == 2 ? Vec3d{{0, 0, -1}} : Vec3d{};
     const LineHistory history{0.4, 0.3, 0.9};
@@ -630,26 +629,15 @@ TEST(LineKinematics, WrittenOutHeldVariationsMatchNestedAdOfTheGaps) {
            segmentKinematicsFromGaps(t, seg, s, history, kept, order)}};
       for (const auto& [a, b] : pairs) {
         ++compared;
-        const double va[] = {a.xi, a.eta, a.cosine, a.segment, a.normal.value, a.tangent1.value, a.tangent2.value};
-        const double vb[] = {b.xi, b.eta, b.cosine, b.segment, b.normal.value, b.tangent1.value, b.tangent2.value};
-        for (int i = 0; i < 7; ++i)
-          worstValue = std::max(worstValue, std::abs(va[i] - vb[i]) / (1.0 + std::abs(vb[i])));
-        for (auto gap : {&ContactKinematics::normal, &ContactKinematics::tangent1, &ContactKinematics::tangent2}) {
-          worstR = std::max(worstR, relative((a.*gap).R, (b.*gap).R, kPairDofs));
-          worstR = std::max(worstR, relative((a.*gap).gradient, (b.*gap).gradient, kPairDofs));
-          worstK = std::max(worstK, relative((a.*gap).K, (b.*gap).K, kPairDofs * kPairDofs));
-        }
-        for (auto field : {&ContactKinematics::cosineR, &ContactKinematics::xiR, &ContactKinematics::axesCosineR,
-                           &ContactKinematics::segmentR})
-          worstR = std::max(worstR, relative(a.*field, b.*field, kPairDofs));
+        worst.add(a, b);
       }
     }
   }
   std::printf("written-out held line variations against nested AD (%d kinematics): values %.2e, R %.2e, K %.2e\n",
-              compared, worstValue, worstR, worstK);
-  EXPECT_LT(worstValue, 1e-13);
-  EXPECT_LT(worstR, 1e-12);
-  EXPECT_LT(worstK, 1e-11);
+              compared, worst.value, worst.R, worst.K);
+  EXPECT_LT(worst.value, 1e-13);
+  EXPECT_LT(worst.R, 1e-12);
+  EXPECT_LT(worst.K, 1e-11);
 }
 
 // Point contact on the elements' Hermite axes (LinePairInput::dA, dB set). Straight, unturned elements:
@@ -1070,17 +1058,7 @@ TEST(ContactKinematics, UnitMultipliersForcesBalance) {
     in.xB2 = {{8, 0, 1.6}};
     in.RA1 = in.RA2 = in.RB1 = in.RB2 = identity3<double>();
     in.dA = in.dB = Vec3d{{10, 0, 0}};
-    in.sB1 = Vec3d{{1, 0.05, 0}};
-    in.sB2 = Vec3d{{1, -0.05, 0.02}};
-    if (trial % 2) {
-      in.oA = Vec3d{{0, 0.3, 0.5}};
-      in.oB = Vec3d{{0, 0, -0.5}};
-      in.face = true;
-      in.nB = Vec3d{{0, 0, -1}};
-      in.halfWidthB = 0.5;
-    } else {
-      in.radiusSum = 1.1;
-    }
+    segmentPlanesAndSections(in, trial % 2, 1.1);
     placeGenerally(in, g, 0.3);
     record("line", in, lineKinematics(in, 0.3, 0.4));
     const LineSegment seg = lineSegment(in);
