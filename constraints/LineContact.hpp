@@ -194,8 +194,9 @@ class LineContact {
   // (pair, edge, element) -> its deepest penetration (per thinner inscribed radius) when it was last
   // refined in this step.
   std::map<std::tuple<int, int, int>, double> refinedAt_;
-  // pair -> the deepest refinement level allowed (absent: kMaxFieldLevel), lowered by failed attempts
-  std::map<int, int> levelCap_;
+  // pair -> the deepest refinement level allowed (absent: kMaxFieldLevel), lowered by failed attempts;
+  // resumedLevel_: pair -> the deepest level of the field the step started from
+  std::map<int, int> levelCap_, resumedLevel_;
   int levelCap(int pair) const {
     const auto it = levelCap_.find(pair);
     return it == levelCap_.end() ? kMaxFieldLevel : it->second;
