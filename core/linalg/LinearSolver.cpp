@@ -75,9 +75,9 @@ void LinearSolver::check(const SolveReport& report) const {
     s << name()
       << " linear solve: the tangent matrix is singular or nearly so (||A||_F ||x|| / ||b|| = " << report.conditionBound
       << " > Condition Limit " << checks_.conditionLimit
-      << "): a free motion (a beam without enough supports) or dependent constraints (Lagrange multipliers "
-         "at more contact points along a beam than its elements' nodes can move independently; refine the "
-         "beams or use Penalty or Augmented Lagrange)";
+      << "): a free motion (a beam without enough supports) or dependent constraints (contact held at more "
+         "points along a beam than its elements' nodes can move independently: refine the beams; with Lagrange "
+         "Multiplier, Penalty or Augmented Lagrange may pass there)";
     throw LinearSolveError(s.str());
   }
   if (!std::isfinite(report.backwardError) || !std::isfinite(report.solutionNorm) ||
