@@ -640,6 +640,7 @@ void ContactManager::commitStep(const core::State& state) {
     p.position = lines_.fieldPosition(p.key.node, state);
   }
   lines_.checkResolution(set_.current(), state);
+  lines_.stepCommitted();
   set_.commit();
   // The next step's field: at its first iteration (until then the field stays as the matrix graph
   // has it), whose update of the points drops the interior nodes no longer needed.

@@ -348,7 +348,7 @@ void LineContact::clearLevels(bool failed) {
   // failures: crossing circles at 4.5 degrees on 11 elements, whose zone no unrefined node sees,
   // then passed into each other with no force. The unresolved-zone warning tells what is left.)
   // The cap goes below the level of the field the step started from (`start`, its converged field)
-  // only once a retry capped at that level has failed too: below it the retry drops the converged
+  // only once a retry of this step capped at that level has failed too: below it the retry drops the converged
   // field's refined elements, their points and their force, and starts far from equilibrium (a
   // rectangular rod on a ground, 10 increments: a first residual of 0.55 where the increment's load
   // gives 0.07, Newton steps 1.2 long, the rod through the ground near its held end). The frictional
@@ -364,7 +364,7 @@ void LineContact::clearLevels(bool failed) {
       const int start = resumed == resumedLevel_.end() ? 0 : resumed->second;
       int cap = level - 1;
       if (level > start) cap = std::max(cap, start);
-      else if (levelCap(pair) > start) cap = start;
+      else if (retriedAtStart_.insert(pair).second) cap = start;
       if (level > 0) levelCap_[pair] = std::min(levelCap(pair), cap);
     }
   }

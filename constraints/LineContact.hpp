@@ -83,6 +83,8 @@ class LineContact {
   // pair whose field was refined in it is refined at most one level less than that attempt reached for
   // the rest of the run; a restart from a later checkpoint refines it fully again).
   void clearLevels(bool failed = false);
+  // A step converged: the next failure of a pair retries at its converged field's level first.
+  void stepCommitted() { retriedAtStart_.clear(); }
   // At the start of a step (`points` the last converged ones, at `s`): the refinement their interior
   // nodes show, where a contact zone still ends inside the element.
   void resumeLevels(const PointMap& points, const core::State& s);
@@ -197,6 +199,8 @@ class LineContact {
   // pair -> the deepest refinement level allowed (absent: kMaxFieldLevel), lowered by failed attempts;
   // resumedLevel_: pair -> the deepest level of the field the step started from
   std::map<int, int> levelCap_, resumedLevel_;
+  // pairs whose retry in this step already started capped at resumedLevel_ (cleared at a commit)
+  std::set<int> retriedAtStart_;
   int levelCap(int pair) const {
     const auto it = levelCap_.find(pair);
     return it == levelCap_.end() ? kMaxFieldLevel : it->second;
