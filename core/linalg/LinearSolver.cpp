@@ -77,7 +77,7 @@ void LinearSolver::check(const SolveReport& report) const {
       << " > Condition Limit " << checks_.conditionLimit
       << "): a free motion (a beam without enough supports) or dependent constraints (contact held at more "
          "points along a beam than its elements' nodes can move independently: refine the beams; with Lagrange "
-         "Multiplier, Penalty or Augmented Lagrange may pass there)";
+         "multipliers, Penalty or Augmented Lagrange may pass there)";
     throw LinearSolveError(s.str());
   }
   if (!std::isfinite(report.backwardError) || !std::isfinite(report.solutionNorm) ||
