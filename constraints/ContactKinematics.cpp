@@ -942,6 +942,18 @@ VectorFrame<Vectors> vectorFrame(const LinePairInput& in, const Vec3d* extraRef,
   return v;
 }
 
+// The gaps' values, their gradients as the variations G, and the gradients of g_N, g_T1, g_T2, from
+// one AD level over the kCoords coordinates.
+template <int kCoords, class In> void valuesAndGradients(const Gaps<In>& g, CoordinateGaps<kCoords>& c) {
+  const In* src[kQuantities] = {&g.gN, &g.gT1, &g.gT2, &g.xi, &g.eta, &g.cosine, &g.length};
+  for (int q = 0; q < kQuantities; ++q) {
+    c.value[q] = src[q]->val();
+    for (int k = 0; k < kCoords; ++k) c.G[q][k] = src[q]->dx(k);
+    if (q < 3)
+      for (int k = 0; k < kCoords; ++k) c.gradient[q][k] = c.G[q][k];
+  }
+}
+
 // G and H of the gaps by nested forward AD of gapsOf (inner level: the variation, outer: the
 // increment; one level with first variations only).
 template <int Vectors, bool Second, class Fn>
@@ -958,14 +970,7 @@ ContactKinematics kinematicsOfOrder(const LinePairInput& in, const Vec3d* extraR
     Vec3<In> Q[Vectors];
     for (int k = 0; k < Vectors; ++k)
       for (int a = 0; a < 3; ++a) Q[k][a] = In(kCoords, 3 * k + a, p[k][a]);
-    const Gaps<In> g = gapsOf(static_cast<const Vec3<In>*>(Q), false);
-    const In* src[kQuantities] = {&g.gN, &g.gT1, &g.gT2, &g.xi, &g.eta, &g.cosine, &g.length};
-    for (int q = 0; q < kQuantities; ++q) {
-      c.value[q] = src[q]->val();
-      for (int k = 0; k < kCoords; ++k) c.G[q][k] = src[q]->dx(k);
-      if (q < 3)
-        for (int k = 0; k < kCoords; ++k) c.gradient[q][k] = c.G[q][k];
-    }
+    valuesAndGradients(gapsOf(static_cast<const Vec3<In>*>(Q), false), c);
   };
   if (heldVariation || !Second) full();
   // The gaps' variations (with the held quantities frozen where heldVariation) and their derivatives.
@@ -1270,18 +1275,13 @@ ContactKinematics heldKinematicsOfOrder(const LinePairInput& in, const Vec3d* ex
   Vec3d p[Vectors];
   const VectorFrame<Vectors> frame = vectorFrame<Vectors>(in, extraRef, extraNode, p);
   Vec3<In> Q[Vectors];
-  for (int k = 0; k < Vectors; ++k)
-    for (int a = 0; a < 3; ++a) Q[k][a] = In(kCoords, 3 * k + a, p[k][a]);
+  seedVectors<Vectors, true>(p, Q);
   const HeldLineGaps<In, Vectors> h = gapsOf(static_cast<const Vec3<In>*>(Q));
   CoordinateGaps<kCoords> c;
-  const In* src[kQuantities] = {&h.g.gN, &h.g.gT1, &h.g.gT2, &h.g.xi, &h.g.eta, &h.g.cosine, &h.g.length};
-  for (int q = 0; q < kQuantities; ++q) {
-    c.value[q] = src[q]->val();
-    for (int k = 0; k < kCoords; ++k) c.G[q][k] = src[q]->dx(k);
-  }
+  valuesAndGradients(h.g, c);
+  // The held variations replace the values' gradients as G of g_N, g_T1, g_T2.
   for (int q = 0; q < 3; ++q)
     for (int k = 0; k < kCoords; ++k) {
-      c.gradient[q][k] = c.G[q][k];
       const In& v = h.G[q][k / 3][k % 3];
       c.G[q][k] = v.val();
       if constexpr (Second)

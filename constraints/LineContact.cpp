@@ -348,11 +348,11 @@ void LineContact::clearLevels(bool failed) {
   // failures: crossing circles at 4.5 degrees on 11 elements, whose zone no unrefined node sees,
   // then passed into each other with no force. The unresolved-zone warning tells what is left.)
   // The cap goes below the level of the field the step started from (`start`, its converged field)
-  // only once a retry of this step capped at that level has failed too: below it the retry drops the converged
-  // field's refined elements, their points and their force, and starts far from equilibrium (a
-  // rectangular rod on a ground, 10 increments: a first residual of 0.55 where the increment's load
-  // gives 0.07, Newton steps 1.2 long, the rod through the ground near its held end). The frictional
-  // circles of the angle sweep at 4 and 5 degrees need that second step down.
+  // only once a retry of this step capped at that level has failed too: below it the retry drops the
+  // converged field's refined elements, their points and their force, and starts far from
+  // equilibrium (a rectangular rod on a ground, 10 increments: a first residual of 0.55 where the
+  // increment's load gives 0.07, Newton steps 1.2 long, the rod through the ground near its held
+  // end). The frictional circles of the angle sweep at 4 and 5 degrees need that second step down.
   if (failed) {
     std::map<int, int> reached;
     for (const auto& [where, level] : levels_) {
@@ -360,12 +360,13 @@ void LineContact::clearLevels(bool failed) {
       r = std::max(r, level);
     }
     for (const auto& [pair, level] : reached) {
+      if (level == 0) continue;
       const auto resumed = resumedLevel_.find(pair);
       const int start = resumed == resumedLevel_.end() ? 0 : resumed->second;
       int cap = level - 1;
       if (level > start) cap = std::max(cap, start);
       else if (retriedAtStart_.insert(pair).second) cap = start;
-      if (level > 0) levelCap_[pair] = std::min(levelCap(pair), cap);
+      levelCap_[pair] = std::min(levelCap(pair), cap);
     }
   }
   levels_.clear();

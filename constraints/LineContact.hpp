@@ -81,7 +81,8 @@ class LineContact {
   bool refineField(const PointMap& points, const core::State& s);
   // Back to the unrefined field: after a restore, and after a failed attempt at a step (`failed`: a
   // pair whose field was refined in it is refined at most one level less than that attempt reached for
-  // the rest of the run; a restart from a later checkpoint refines it fully again).
+  // the rest of the run, but not below the step's converged field until a retry at that level has
+  // failed in the same step; a restart from a later checkpoint refines it fully again).
   void clearLevels(bool failed = false);
   // A step converged: the next failure of a pair retries at its converged field's level first.
   void stepCommitted() { retriedAtStart_.clear(); }
