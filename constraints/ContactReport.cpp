@@ -1,5 +1,6 @@
 #include "ContactReport.hpp"
 
+#include <cmath>
 #include <iomanip>
 #include <limits>
 #include <sstream>
@@ -33,6 +34,12 @@ void ContactReport::noteDepth(const ContactPointRecord& p, const ClosestPoints& 
     auto& worst = deepPoints_[p.key.pair];
     if (depth > worst.first) worst = {depth, geometry_.touching(p, cp)};
   }
+}
+
+void ContactReport::noteRival(const ContactPointRecord& p, double angle) {
+  if (!(angle > kRivalAngle)) return;
+  auto& worst = rivals_[p.key.pair];
+  if (angle > worst.first) worst = {angle, p.position};
 }
 
 std::string ContactReport::tableHeader() const {
@@ -126,6 +133,18 @@ std::vector<std::string> ContactReport::warnings() const {
       << " %: the sections overlap visibly there, so the forces are those of a soft contact law, not of contact; "
          "raise the Normal Penalty Parameter (or lower a Regularization Gap comparable to this depth, or use Augmented "
          "Lagrange or Lagrange Multiplier)";
+    w.push_back(s.str());
+  }
+  for (const auto& [pair, worst] : rivals_) {
+    const double degrees = worst.first * 180.0 / M_PI;
+    std::ostringstream s;
+    s << "contact pair \"" << pairs[pair].name << "\": a point contact lay at a node where a beam's straight "
+      << "elements meet at an angle, near (" << worst.second[0] << ", " << worst.second[1] << ", " << worst.second[2]
+      << "): the elements on both sides of the node each hold a closest point about as close, with normals up to "
+      << degrees << " degrees apart; the point takes one element's, so its force leans across the beams by up to "
+      << 0.5 * degrees
+      << " degrees to that element's side (a symmetric model can answer unsymmetrically); set Contact/Point "
+         "Contact Axes = Hermite (smooth across nodes), or refine the beams";
     w.push_back(s.str());
   }
   lineWarnings(w);

@@ -19,6 +19,12 @@ namespace bc::constraints {
 // overlap visibly there. An active point that deep is reported (a penalty law is far from contact);
 // a line point that deep which nothing takes up sees no contact (ContactManager::held).
 constexpr double kDeep = 0.05;
+// Two closest points of a point contact's lines on the chords across a node whose normals lie further
+// apart than this (radians) make the force lean across the beams by up to half of it, a side of the
+// chords' kink the mesh picks (ContactReport::noteRival).
+constexpr double kRivalAngle = 0.02;
+// How close a rival's gap must be to the point's, of the thinner section's inscribed radius.
+constexpr double kRivalGap = 0.01;
 
 class ContactReport {
  public:
@@ -38,6 +44,9 @@ class ContactReport {
   // Notes a committed active line point whose applied force (normalForce, tangentialForce) lies
   // outside the Coulomb cone by more than kOutsideCone |F_N|.
   void noteCone(const ContactPointRecord& p, double friction);
+  // Notes a committed active point contact on the chords with a rival as close across a node
+  // (PointContact::rivalAngle: the angle between their normals) beyond kRivalAngle.
+  void noteRival(const ContactPointRecord& p, double angle);
 
  private:
   // The line-contact warnings: overlaps between Gauss points, unresolved Lagrange fields, gaps that
@@ -48,6 +57,7 @@ class ContactReport {
   const LineContact& lines_;
   const AutomaticPenalty& penalty_;
   std::map<int, std::pair<double, Vec3d>> deepPoints_;  // pair -> deepest active point beyond kDeep, where
+  std::map<int, std::pair<double, Vec3d>> rivals_;  // pair -> largest rival angle beyond kRivalAngle, where
   std::map<int, std::pair<double, Vec3d>> outsideCone_;  // pair -> largest |F_T| / (mu |F_N|) beyond 1, where
 };
 

@@ -362,6 +362,31 @@ ClosestPoints PointContact::geometry(const ContactPointRecord& p, const core::St
   return cp;
 }
 
+double PointContact::rivalAngle(const ContactPointRecord& p, const core::State& s, double tolerance) const {
+  if (geometry_.options().hermitePointAxes || p.end() || p.line() || p.node()) return 0.0;
+  const ClosestPoints cp = geometry(p, s);
+  const auto& elements = geometry_.beams().elements();
+  // The element beside e across its node nearer to the parameter t (-1: none, a beam's end).
+  const auto beside = [&](int e, double t) {
+    const int n = t < 0.5 ? e - 1 : e + 1;
+    return n >= 0 && n < static_cast<int>(elements.size()) && elements[n].beam == elements[e].beam ? n : -1;
+  };
+  const int na = beside(p.elementA, cp.xi), nb = beside(p.elementB, cp.eta);
+  double angle = 0.0;
+  for (const auto& [ea, eb] : {std::pair{na, p.elementB}, std::pair{p.elementA, nb}, std::pair{na, nb}}) {
+    if (ea < 0 || eb < 0) continue;
+    const LinePairInput in = input(ea, p.key.lineA, eb, p.key.lineB, s);
+    ClosestPoints q = closestPoints(in);
+    if (q.sinAngle < geometry_.options().minimumSinAngle || !geometry_.withinElement(ea, q.xi) ||
+        !geometry_.withinElement(eb, q.eta))
+      continue;
+    orient(q, p.sigma, in.radiusSum);
+    if (q.gap > cp.gap + tolerance) continue;
+    angle = std::max(angle, std::acos(std::clamp(dot(q.normal, cp.normal), -1.0, 1.0)));
+  }
+  return angle;
+}
+
 ContactKinematics PointContact::kinematics(const ContactPointRecord& p, const core::State& s, Variations order) const {
   if (p.key.endToEnd())
     return endToEndKinematics(endToEndInput(p.elementA, p.key.endIndex(), p.elementB, p.key.otherEnd(), s), p.etaRate,

@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <utility>
 #include <vector>
+
+#include <Teuchos_CommHelpers.hpp>
 
 namespace bc::core {
 
@@ -20,9 +23,12 @@ bool haveMethod(const std::string& name) {
 
 std::string automaticRule() {
   return "UMFPACK with Reuse Factorization from " + std::to_string(kAutomaticLuUnknowns) +
-         " unknowns at the start (6 per node and the extra unknowns) with a contact point at the start for every " +
+         " unknowns (6 per node and the extra unknowns) with a contact point for every " +
          std::to_string(kAutomaticUnknownsPerPoint) + " unknowns or fewer, on several ranks MUMPS with it from " +
-         std::to_string(kAutomaticMumpsUnknowns) + " unknowns; KLU2 otherwise (small or nearly banded matrices)";
+         std::to_string(kAutomaticMumpsUnknowns) +
+         " unknowns; KLU2 otherwise (small or nearly banded matrices); taken when the run starts and, while it "
+         "gives KLU2, again before every solve with the unknowns and contact points of that moment (contact that "
+         "appears during the run), changing once to the other LU";
 }
 
 DirectChoice chooseDirectSolver(const SystemSize& size) {
@@ -195,6 +201,64 @@ std::unique_ptr<LinearSolver> makeLinearSolver(const Teuchos::ParameterList& par
   Teuchos::ParameterList resolved = params;
   resolveLinearSolver(resolved, size);
   return makeLinearSolver(resolved);
+}
+
+namespace {
+
+// Direct Solver = Automatic that started on KLU2: the rule before every solve until it picks another LU.
+class AutomaticDirect : public LinearSolver {
+ public:
+  AutomaticDirect(const Teuchos::ParameterList& params, const SystemSize& start, std::unique_ptr<LinearSolver> first,
+                  std::function<long long()> contactPoints, std::function<void(const AutomaticChange&)> onChange)
+      : LinearSolver(readChecks(params)),
+        params_(params),
+        ranks_(start.ranks),
+        inner_(std::move(first)),
+        contactPoints_(std::move(contactPoints)),
+        onChange_(std::move(onChange)) {}
+  std::string name() const override { return inner_->name(); }
+
+ protected:
+  int doSolve(const Teuchos::RCP<const Matrix>& A, const Vector& b, Vector& x) override {
+    if (!changed_) reconsider(*A);
+    inner_->setTimer(timer_);
+    return forwardSolve(*inner_, A, b, x);
+  }
+  bool redoWithoutShortcut() override { return forwardRedo(*inner_); }
+
+ private:
+  void reconsider(const Matrix& A) {
+    long long here = contactPoints_(), points = 0;
+    Teuchos::reduceAll(*A.getComm(), Teuchos::REDUCE_MAX, here, Teuchos::outArg(points));
+    const SystemSize size{static_cast<long long>(A.getGlobalNumRows()), points, ranks_};
+    if (chooseDirectSolver(size).method == "KLU2") return;
+    AutomaticChange change;
+    change.resolved = params_;
+    change.line = resolveLinearSolver(change.resolved, size);
+    inner_ = makeLinearSolver(change.resolved);
+    changed_ = true;
+    if (onChange_) onChange_(change);
+  }
+
+  Teuchos::ParameterList params_;
+  int ranks_;
+  std::unique_ptr<LinearSolver> inner_;
+  std::function<long long()> contactPoints_;
+  std::function<void(const AutomaticChange&)> onChange_;
+  bool changed_ = false;
+};
+
+}  // namespace
+
+std::unique_ptr<LinearSolver> makeLinearSolver(const Teuchos::ParameterList& params, const SystemSize& start,
+                                               std::function<long long()> contactPoints,
+                                               std::function<void(const AutomaticChange&)> onChange) {
+  const bool automatic =
+      params.get<std::string>("Type") == "Direct" && params.get<std::string>("Direct Solver") == kAutomatic;
+  if (!automatic || !contactPoints || chooseDirectSolver(start).method != "KLU2")
+    return makeLinearSolver(params, start);
+  return std::make_unique<AutomaticDirect>(params, start, makeLinearSolver(params, start), std::move(contactPoints),
+                                           std::move(onChange));
 }
 
 }  // namespace bc::core

@@ -7,6 +7,7 @@
 // Every solve is checked by its backward error ("Residual Check Tolerance") and a lower bound of the
 // matrix's condition number ("Condition Limit"): LinearSolveError.
 #pragma once
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -36,8 +37,8 @@ constexpr long long kAutomaticLuUnknowns = 3000;
 constexpr long long kAutomaticUnknownsPerPoint = 40;
 constexpr long long kAutomaticMumpsUnknowns = 60000;
 struct SystemSize {
-  long long unknowns = 0;  // at the start: 6 per node and the extra unknowns
-  long long contactPoints = 0;  // at the start
+  long long unknowns = 0;  // 6 per node and the extra unknowns
+  long long contactPoints = 0;
   int ranks = 1;
 };
 struct DirectChoice {
@@ -58,5 +59,21 @@ std::string resolveLinearSolver(Teuchos::ParameterList& params, const SystemSize
 std::unique_ptr<LinearSolver> makeLinearSolver(const Teuchos::ParameterList& params);
 // The same with Direct Solver = Automatic resolved first (on a copy of `params`).
 std::unique_ptr<LinearSolver> makeLinearSolver(const Teuchos::ParameterList& params, const SystemSize& size);
+
+// Direct Solver = Automatic through a run: contact points that appear after the start (beams that
+// start apart) make the matrix's LU fill as those at the start do, so a run that starts on KLU2 takes
+// the rule again before every solve, with the matrix's rows as its unknowns and `contactPoints()` (the
+// largest over the ranks) as its points, and changes to the rule's LU once (never back: a point
+// that opens still holds its place in the graph's pattern for a while). `onChange` is called on
+// every rank with the new choice.
+struct AutomaticChange {
+  std::string line;  // as resolveLinearSolver's, for the run's output
+  Teuchos::ParameterList resolved;  // `params` resolved for the new size
+};
+// `params`: validated (linearSolverSpec), not resolved. Without Automatic, or when the choice at
+// `start` is not KLU2 already, the solver of makeLinearSolver(params, start).
+std::unique_ptr<LinearSolver> makeLinearSolver(const Teuchos::ParameterList& params, const SystemSize& start,
+                                               std::function<long long()> contactPoints,
+                                               std::function<void(const AutomaticChange&)> onChange);
 
 }  // namespace bc::core

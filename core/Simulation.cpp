@@ -187,7 +187,12 @@ RunResult simulate(Model& model, const SolverSettings& settings, const Teuchos::
     effective = *options.effective;
     if (effective.isSublist("Linear Solver")) resolveLinearSolver(effective.sublist("Linear Solver"), size);
   }
-  auto linear = makeLinearSolver(linearList);
+  // A run on KLU2 by Automatic changes its LU when contact points appear during it (beams that start
+  // apart): said before the step's line and in effective_parameters.xml, with the step.
+  std::unique_ptr<AutomaticChange> change;
+  bool changeWritten = false;
+  auto linear = makeLinearSolver(linearSolver, size, options.contactPointsNow,
+                                 [&](const AutomaticChange& c) { change = std::make_unique<AutomaticChange>(c); });
   StaticSolver solver(comm, model, settings, *linear, timer);
   RunResult result;
   RunSummary summary;
@@ -217,7 +222,27 @@ RunResult simulate(Model& model, const SolverSettings& settings, const Teuchos::
     const auto t0 = std::chrono::steady_clock::now();
     Progress progress;
     progress.T0 = options.restart ? solver.runReport().lastT : 0.0;
+    // The change of LU (at most one) from the step that made it (`step`; 0: the run stopped in it).
+    const auto recordChange = [&](int step, double T) {
+      if (!change || changeWritten) return;
+      changeWritten = true;
+      const std::string when = step > 0 ? "from step " + std::to_string(step) + " (T = " + std::to_string(T) + ")"
+                                        : "from the step after the last converged one";
+      if (root && options.progress) std::printf("Direct Solver: %s %s\n", change->line.c_str(), when.c_str());
+      if (!options.effective || !effective.isSublist("Linear Solver")) return;
+      Teuchos::ParameterList& lin = effective.sublist("Linear Solver");
+      const std::string before = "; " + when + ", before it " + lin.get<std::string>("Direct Solver") +
+                                 (lin.get<bool>("Reuse Factorization") ? " with" : " without") +
+                                 " Reuse Factorization (" + chooseDirectSolver(size).reason + ")";
+      for (const char* name : {"Direct Solver", "Reuse Factorization"}) {
+        const Teuchos::ParameterEntry& now = change->resolved.getEntry(name);
+        lin.setEntry(name, now);
+        lin.getEntryRCP(name)->setDocString(now.docString() + before);
+      }
+      writer.writeEffective(effective);
+    };
     RunReport run = solver.run([&](const StepReport& step, const State& state, const Assembler& assembler) {
+      recordChange(step.step, step.T);
       writer.writeStep(step, state, assembler.fullResidual());
       result.steps.push_back(step);
       summary.maxIterationsPerStep = std::max(summary.maxIterationsPerStep, step.iterations);
@@ -231,6 +256,7 @@ RunResult simulate(Model& model, const SolverSettings& settings, const Teuchos::
       earlierSeconds += seconds;
       checkpoint();
     }
+    recordChange(0, 0.0);
     summary.run = run;
     summary.solveSeconds = earlierSeconds + (run.interrupted ? 0.0 : seconds);
     finish(writer, summary, model, *timer, comm, root && options.printTimers);

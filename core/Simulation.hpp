@@ -3,6 +3,7 @@
 // timer summary. A restart reads the checkpoint first and continues the load stepping from it.
 // Every error after the results directory exists leaves status.txt saying "failed: <cause>".
 #pragma once
+#include <functional>
 #include <iosfwd>
 #include <string>
 #include <vector>
@@ -29,6 +30,7 @@ struct RunOptions {
   bool printTimers = false;  // the timer table on stdout (rank 0) as well as in timers.txt
   const Teuchos::ParameterList* effective = nullptr;  // written as effective_parameters.xml
   long long contactPoints = 0;  // at the start (with the model's unknowns, what Direct Solver = Automatic takes)
+  std::function<long long()> contactPointsNow;  // during the run (Automatic takes it again while on KLU2)
   int checkpointEvery = 0;  // write checkpoint.txt after every this many converged steps (0: never)
   bool restart = false;  // continue from outputDirectory/checkpoint.txt
   std::string fingerprint;  // of the deck (without Output), kept in the checkpoint

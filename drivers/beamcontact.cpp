@@ -417,6 +417,8 @@ int runDeck(const RunRequest& request) {
   options.vtkCompression = problem.vtkCompression;
   options.effective = &problem.effective;
   options.contactPoints = problem.contact ? static_cast<long long>(problem.contact->points().size()) : 0;
+  if (problem.contact)
+    options.contactPointsNow = [contact = problem.contact] { return static_cast<long long>(contact->points().size()); };
   options.checkpointEvery = problem.checkpointEvery;
   options.restart = !request.restart.empty();
   options.fingerprint = bc::input::deckFingerprint(problem);

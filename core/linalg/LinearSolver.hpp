@@ -62,6 +62,12 @@ class LinearSolver {
   // The last doSolve took a shortcut (Direct: a refactorization with old pivots): the next one is to
   // do without it; return false when there was none. The same answer on every rank.
   virtual bool redoWithoutShortcut() { return false; }
+  // A solver that hands its solves to another (Direct Solver = Automatic's, which may change its
+  // method during a run) calls that one's doSolve and redoWithoutShortcut through these.
+  static int forwardSolve(LinearSolver& to, const Teuchos::RCP<const Matrix>& A, const Vector& b, Vector& x) {
+    return to.doSolve(A, b, x);
+  }
+  static bool forwardRedo(LinearSolver& to) { return to.redoWithoutShortcut(); }
   Teuchos::RCP<MultiVector> nearNull_;
   Teuchos::RCP<Teuchos::StackedTimer> timer_;
 

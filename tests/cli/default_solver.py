@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Linear Solver/Direct Solver = Automatic (the default) end to end: the run's header line and
 effective_parameters.xml say what was chosen, by the rule the deck reference states ("UMFPACK with
-Reuse Factorization from N unknowns ... with a contact point at the start for every K unknowns or fewer,
+Reuse Factorization from N unknowns ... with a contact point for every K unknowns or fewer,
 on several ranks MUMPS with it from M unknowns; KLU2 otherwise", N, K, M read from
 --print-valid-parameters; unknowns
 = 6 per node from the header's node count, contact points from `beamcontact check`), and an explicit
@@ -12,6 +12,8 @@ choice wins.
     Factorization on 1 and on 2 ranks (below M); the same deck naming KLU2: KLU2 without reuse and no
     choice line. The three runs' contact forces agree to 1e-8 of the largest (the solvers differ by
     round-off and GMRES's target, far below the Newton tolerance's effect).
+  - 16 x 16 layers 3 apart, pressed 3.4: KLU2 at the start (no point), UMFPACK with Reuse
+    Factorization from the step where the points appear (the rule with the points of that moment).
 Usage: default_solver.py BEAMCONTACT SOURCE_DIR WORK MPIEXEC...
 """
 import csv
@@ -55,8 +57,8 @@ def main():
     os.makedirs(work, exist_ok=True)
     reference = subprocess.run([exe, "--print-valid-parameters"], capture_output=True, text=True, check=True).stdout
     words = " ".join(reference.split())
-    threshold = int(re.search(r"from (\d+) unknowns at the start", words).group(1))
-    per_point = int(re.search(r"a contact point at the start for every (\d+) unknowns", words).group(1))
+    threshold = int(re.search(r"from (\d+) unknowns \(6 per node", words).group(1))
+    per_point = int(re.search(r"a contact point for every (\d+) unknowns", words).group(1))
     mumps = int(re.search(r"on several ranks MUMPS with it from (\d+) unknowns", words).group(1))
     print(f"the reference's rule: from {threshold} unknowns with a point per {per_point} unknowns, MUMPS from {mumps}")
     failures = 0
@@ -121,6 +123,44 @@ def main():
     print(f"contact forces: {len(f[2])} points, largest {scale:.6g}; the automatic runs against KLU2 differ by "
           f"{diff / scale:.1e} of it")
     failures += not (len(f[0]) == len(f[1]) == len(f[2]) > 0 and diff <= 1e-8 * scale)
+
+    # Contact that appears during the run: 16 x 16 layers 3 apart, pressed 3.4. At the start no point
+    # (KLU2); once the layers come within the search's reach the rule holds with the points of that
+    # moment, and the run changes to UMFPACK with Reuse Factorization, said in a second header line
+    # and in effective_parameters.xml with the step; its forces agree with the same deck on KLU2.
+    apart = os.path.join(work, "apart.xml")
+    subprocess.run([exe, "generate", "grid", "--n", "16", "--m", "16", "--gap", "3", "--press", "3.4", "--friction",
+                    "0", "--overwrite", "--output", apart], check=True, capture_output=True)
+    text = open(apart).read().replace('<ParameterList name="BeamContact">', '<ParameterList name="BeamContact">'
+                                      '<ParameterList name="Output"><Parameter name="Write VTK" type="bool" '
+                                      'value="false"/></ParameterList>', 1)
+    open(apart, "w").write(text)
+    apart_klu2 = os.path.join(work, "apart_klu2.xml")
+    open(apart_klu2, "w").write(text.replace('<ParameterList name="BeamContact">',
+                                             '<ParameterList name="BeamContact"><ParameterList name="Linear Solver">'
+                                             '<Parameter name="Direct Solver" type="string" value="KLU2"/>'
+                                             '</ParameterList>', 1))
+    out, out_klu2 = os.path.join(work, "apart"), os.path.join(work, "apart_klu2")
+    r = subprocess.run([exe, "run", apart, "--output", out, "--overwrite"], capture_output=True, text=True)
+    subprocess.run([exe, "run", apart_klu2, "--output", out_klu2, "--overwrite", "-q"], check=True, capture_output=True)
+    lines = re.findall(r"^Direct Solver: (.*)$", r.stdout, re.M)
+    print(f"layers 3 apart: exit {r.returncode}, header lines {lines}")
+    got = linear_solver(out)
+    later = re.match(r"UMFPACK with Reuse Factorization \(Automatic: (\d+) unknowns, (\d+) contact points on 1 rank\) "
+                     r"from step (\d+) ", lines[1]) if r.returncode == 0 and len(lines) == 2 else None
+    ok = later is not None and lines[0].startswith("KLU2") and " 0 contact points" in lines[0]
+    if ok:
+        unknowns, points, step = map(int, later.groups())
+        print(f"  changed at step {step}: {unknowns} unknowns, {points} points; effective {got[0]}, reuse {got[1]}")
+        ok = points * per_point >= unknowns >= threshold and got[:2] == ("UMFPACK", "true")
+        ok = ok and f"from step {step} " in got[2] and "before it KLU2" in got[2]
+        f = forces(out), forces(out_klu2)
+        scale = max(abs(v) for v in f[1])
+        diff = max(abs(a - b) for a, b in zip(*f))
+        print(f"  contact forces against KLU2 throughout: {len(f[0])} points, differ by {diff / scale:.1e} of {scale:.6g}")
+        ok = ok and len(f[0]) == len(f[1]) > 0 and diff <= 1e-8 * scale
+    failures += not ok
+
     if failures:
         sys.exit(f"{failures} check(s) failed")
     print("ok")
