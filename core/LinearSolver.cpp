@@ -1,6 +1,7 @@
 #include "LinearSolver.hpp"
 
 #include <algorithm>
+#include <sstream>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -113,7 +114,18 @@ const ParameterSpec& linearSolverSpec() {
                   "last full factorization's (the Direct Solver's count), at least 10",
                   atLeast(1), ">= 1");
     s.allowWord("Reuse Iteration Limit", "Automatic");
-    s.add("Tolerance", 1e-12, "GMRES only: relative residual at which GMRES stops", positive(), "> 0");
+    s.add(
+        "Tolerance", 1e-12, "GMRES only: relative residual at which GMRES stops",
+        [](const Teuchos::ParameterEntry& e) {
+          const double v = e.getAny().type() == typeid(int) ? Teuchos::any_cast<int>(e.getAny())
+                                                            : Teuchos::any_cast<double>(e.getAny());
+          std::ostringstream got;
+          got << v;
+          return v > 0.0 && v < 1.0
+                     ? std::string()
+                     : "must be in (0, 1) (a relative residual of 1 is the start: no solve), got " + got.str();
+        },
+        "in (0, 1)");
     s.add("Maximum Iterations", 1000, "GMRES only: iteration limit", atLeast(1), ">= 1");
     s.add("Restart", 200, "GMRES only: Krylov vectors kept before a restart", atLeast(1), ">= 1");
     return s;

@@ -136,6 +136,11 @@ ResultsWriter::ResultsWriter(const Where& where, const Model& model, Teuchos::RC
       options.pathFromDeck = where.fromDeck;
       options.parameter = "Output/Directory";
       out_ = OutputDirectory(dir_, options);
+      // A study's folder (its cases.csv and cases/ beside this run's files would read as one result).
+      if (out_.lists("study.json") || out_.lists("cases.csv") || out_.lists("cases/"))
+        throw InputError("results directory \"" + dir_ +
+                         "\" holds a study (its study.json, cases.csv and cases/): give the run a directory of its "
+                         "own (--output)");
       if (resumeStep >= 0) prepareResume(resumeStep, resumeT);
       else prepareFresh();
       writeStatus("running (pid " + std::to_string(getpid()) + ")");

@@ -26,6 +26,9 @@ std::string readCheckpointText(const std::string& dir, const Comm& comm) {
   collectively(comm, [&] {
     if (comm.getRank() != 0) return;
     const auto path = std::filesystem::path(dir) / "checkpoint.txt";
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec))
+      throw InputError("cannot restart: " + path.string() + " is a directory, not a checkpoint file");
     std::ifstream f(path);
     if (!f) throw InputError("cannot restart: " + path.string() + " does not exist or cannot be read");
     std::ostringstream s;

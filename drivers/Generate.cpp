@@ -605,6 +605,11 @@ int generateDeck(const std::vector<std::string>& args) {
   bool overwrite = false;
   const auto output = readOptions(args, kind, o, overwrite);
   if (!output) return 0;
+  // The options every kind has, checked here as the deck would check them (else the deck is written
+  // and refused by the run).
+  if (!(o["youngs-modulus"] > 0)) throw InputError("generate " + kind + ": need youngs-modulus > 0");
+  if (!(o["friction"] >= 0)) throw InputError("generate " + kind + ": need friction >= 0");
+  if (!(o["penalty"] > 0)) throw InputError("generate " + kind + ": need penalty > 0");
   const ParameterList deck = kind == "grid"     ? grid(o)
                              : kind == "weave"  ? weave(o)
                              : kind == "strand" ? strand(o)

@@ -122,6 +122,12 @@ core::OutputDirectory openStudyDirectory(const fs::path& dir, const StudyDeck& d
   where.parameter = deck.root + "/Output Directory";
   where.what = "study directory";
   core::OutputDirectory out(dir, where);
+  // A run's results (its status.txt would stay beside the study's, saying "complete").
+  if (out.lists("status.txt") || out.lists("steps.csv"))
+    throw InputError(
+        "study directory \"" + dir.string() +
+        "\" holds a run's results (status.txt, steps.csv): give the study a directory of its own " +
+        (options.output.empty() ? "(\"" + deck.root + "/Output Directory\" or --output)" : std::string("(--output)")));
   {
     const int lock = ::open((dir / core::kManifestName).c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
     if (lock < 0 || flock(lock, LOCK_EX | LOCK_NB) != 0)

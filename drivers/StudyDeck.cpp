@@ -89,6 +89,12 @@ Variable readVariable(const ParameterList& v, const std::string& name, const std
     throw InputError("parameter \"" + path + "/Values\" must be Array(double), Array(int) or Array(string)");
   }
   if (var.values.empty()) throw InputError("parameter \"" + path + "/Values\" is empty");
+  // (A value twice would run the same case twice, and its rows would look like a repeatability check.)
+  for (std::size_t i = 0; i < var.values.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (var.values[i] == var.values[j])
+        throw InputError("parameter \"" + path + "/Values\" gives " + var.values[i] +
+                         " twice: each value makes a case, and the two would be the same case");
   return var;
 }
 
@@ -152,11 +158,24 @@ void applyStudySpec(ParameterList& study, const std::string& stem, const std::st
 void readGroups(StudyDeck& deck) {
   forEachSublist(deck.study->sublist("Cases"), deck.root + "/Cases", "a group of cases",
                  [&](const std::string& gname, const std::string& gpath, const ParameterList& gl) {
+                   if (gname.find_first_not_of(" \t") == std::string::npos)
+                     throw InputError("a group of cases in \"" + deck.root +
+                                      "/Cases\" has an empty name; a group needs one (it names the group in cases.csv, "
+                                      "the report and Reference Group)");
                    Group g{gname, {}};
                    forEachSublist(
                        gl, gpath, "a varied parameter with \"Path\" and \"Values\"",
                        [&](const std::string& vname, const std::string& vpath, const ParameterList& v) {
-                         g.variables.push_back(readVariable(v, vname, vpath));
+                         Variable var = readVariable(v, vname, vpath);
+                         // (Both would set the one parameter, the later winning, while the table showed
+                         // each column's value as the case's.)
+                         for (const Variable& other : g.variables)
+                           if (other.path == var.path)
+                             throw InputError("parameters \"" + gpath + "/" + other.name + "/Path\" and \"" + vpath +
+                                              "/Path\" both vary \"" + var.path +
+                                              "\": a case would run with one of the values while its row showed "
+                                              "both; vary a parameter once per group");
+                         g.variables.push_back(std::move(var));
                          if (std::find(deck.columns.begin(), deck.columns.end(), vname) == deck.columns.end())
                            deck.columns.push_back(vname);
                        });
@@ -173,6 +192,10 @@ Output readOutput(const std::string& name, const std::string& path, const Parame
   out.unit = stringParameter(o, path, "Unit", false);
   out.contact = stringParameter(o, path, "Contact", false);
   out.trackedPoint = stringParameter(o, path, "Tracked Point", false);
+  if (!out.contact.empty() && (o.isParameter("Tracked Point") || o.isParameter("Component")))
+    throw InputError("parameter \"" + path + "\" gives \"Contact\" and \"" +
+                     (o.isParameter("Tracked Point") ? "Tracked Point" : "Component") +
+                     "\": an output is a contact total or a tracked point's component, not both; make two outputs");
   if (!out.contact.empty()) {
     if (!o.isParameter("Unit") && out.contact.find("Force") != std::string::npos) out.unit = "force";
     if (std::find(kContactQuantities.begin(), kContactQuantities.end(), out.contact) == kContactQuantities.end())
@@ -292,6 +315,11 @@ StudyDeck readStudyDeck(const std::string& studyFile, const std::vector<std::str
   StudyDeck deck;
   deck.study = Teuchos::rcp(new ParameterList(input::readParameterXmlFile(studyFile)));
   deck.stem = fs::path(studyFile).stem().string();
+  if (deck.study->name() == "BeamContact" || deck.study->isSublist("Beams"))
+    throw InputError("\"" + studyFile + "\" is a run's deck (its top-level ParameterList is \"" + deck.study->name() +
+                     "\"), not a study deck: run it with \"beamcontact run " + studyFile +
+                     "\", or give a study deck (top-level ParameterList \"Study\" naming it as its Base Deck: "
+                     "docs/studies.md)");
   applyStudySpec(*deck.study, deck.stem, deck.root);
 
   deck.base = (fs::path(studyFile).parent_path() / deck.study->get<std::string>("Base Deck")).lexically_normal();

@@ -96,6 +96,7 @@ class Study:
             self.rows = list(csv.DictReader(f))
         self.units = self.meta.get("units", {})
         self.columns = self.meta["columns"]
+        self.stems = set()  # the figures' file stems written (lower case), see save
 
     def label(self, name):
         unit = self.units.get(name)
@@ -126,6 +127,13 @@ class Study:
     def save(self, fig, title):
         """Writes the figure as PNG (200 dpi) and PDF (TrueType fonts) under the study's title."""
         stem = "".join(c if c.isalnum() or c in "-_" else "_" for c in title)
+        # Titles that differ only in characters a file name does not keep ("a/b", "a_b"; a plot named
+        # like an automatic curve) get numbered files: no figure replaces another.
+        base, n = stem, 1
+        while stem.lower() in self.stems:
+            n += 1
+            stem = f"{base}_{n}"
+        self.stems.add(stem.lower())
         fig.suptitle(self.meta["title"], fontsize=10)
         fig.tight_layout()
         fig.savefig(os.path.join(self.dir, stem + ".png"), dpi=figure_style.DPI)

@@ -808,9 +808,40 @@ void readSupports(Problem& p, ParameterList& deck, const std::string& top, const
                 sup.curve = loadCurve(s, path);
                 p.model.supports.push_back(sup);
               });
+  // A component two supports prescribe differently: only the later would hold (a copied support
+  // whose sign was not changed). The same motion twice (both hold a clamped end) is fine.
+  static const char* comp[6] = {"ux", "uy", "uz", "rx", "ry", "rz"};
+  std::map<long long, int> first;  // node * 6 + component -> the first support prescribing it
+  const auto& supports = p.model.supports;
+  for (int i = 0; i < static_cast<int>(supports.size()); ++i)
+    for (const int node : supports[i].nodes)
+      for (int k = 0; k < 6; ++k) {
+        if (!supports[i].fixed[k]) continue;
+        const auto [it, fresh] = first.emplace(6LL * node + k, i);
+        if (fresh) continue;
+        const core::Support& a = supports[it->second];
+        const core::Support& b = supports[i];
+        const bool same = a.value[k] == b.value[k] && (a.value[k] == 0.0 || a.curve.points == b.curve.points);
+        if (same) continue;
+        const auto& x = p.model.initial.reference[node];
+        std::ostringstream m;
+        m << "supports \"" << a.name << "\" and \"" << b.name << "\" both prescribe " << comp[k] << " of the node at ("
+          << x[0] << ", " << x[1] << ", " << x[2] << "), differently (" << a.value[k] << " and " << b.value[k]
+          << " at T = 1" << (a.value[k] == b.value[k] ? ", with different Load Curves" : "")
+          << "): only one motion can hold there; remove " << comp[k] << " from one support's Fixed";
+        throw InputError(m.str());
+      }
 }
 
 void readLoads(Problem& p, ParameterList& deck, const std::string& top, const Locator& locate) {
+  // (Both default to zero: a load that gives neither, e.g. with "Forces" misspelt as a sublist's
+  // name, would apply nothing.)
+  const ParameterList& loads = deck.sublist("Loads");
+  for (auto it = loads.begin(); it != loads.end(); ++it)
+    if (const std::string& name = loads.name(it); loads.isSublist(name) && !loads.sublist(name).isParameter("Force") &&
+                                                  !loads.sublist(name).isParameter("Moment"))
+      throw InputError("load \"" + top + "/Loads/" + name +
+                       "\" gives neither \"Force\" nor \"Moment\": it would apply nothing; give one of them");
   forEachItem(deck.sublist("Loads"), top + "/Loads", loadSpec(),
               [&](ParameterList& l, const std::string& name, const std::string& path) {
                 core::NodalLoad load;

@@ -43,6 +43,37 @@ struct Attribute {
   std::string name, value;
 };
 
+// The position of the first byte of `s` that does not begin or continue a valid UTF-8 sequence
+// (overlong forms, surrogates and code points beyond U+10FFFF included), or npos.
+std::size_t firstNonUtf8(const std::string& s) {
+  std::size_t i = 0;
+  while (i < s.size()) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    if (c < 0x80) {
+      ++i;
+      continue;
+    }
+    int n = 0;
+    unsigned lo = 0x80, hi = 0xBF;  // the allowed range of the second byte
+    if (c >= 0xC2 && c <= 0xDF) n = 1;
+    else if (c == 0xE0) n = 2, lo = 0xA0;
+    else if (c >= 0xE1 && c <= 0xEC) n = 2;
+    else if (c == 0xED) n = 2, hi = 0x9F;
+    else if (c >= 0xEE && c <= 0xEF) n = 2;
+    else if (c == 0xF0) n = 3, lo = 0x90;
+    else if (c >= 0xF1 && c <= 0xF3) n = 3;
+    else if (c == 0xF4) n = 3, hi = 0x8F;
+    else return i;
+    for (int k = 1; k <= n; ++k) {
+      if (i + k >= s.size()) return i;
+      const auto b = static_cast<unsigned char>(s[i + k]);
+      if (k == 1 ? (b < lo || b > hi) : (b < 0x80 || b > 0xBF)) return i;
+    }
+    i += n + 1;
+  }
+  return std::string::npos;
+}
+
 class Parser {
  public:
   Parser(const std::string& text, const std::string& source) : s_(text), source_(source) {}
@@ -304,6 +335,15 @@ void Parser::checkEncoding() {
   if (const std::size_t nul = s_.find('\0'); nul != std::string::npos) {
     line_ = 1 + static_cast<int>(std::count(s_.begin(), s_.begin() + static_cast<std::ptrdiff_t>(nul), '\n'));
     fail("a NUL byte (byte " + std::to_string(nul + 1) + " of the file); a deck is UTF-8 text");
+  }
+  // Other encodings (a Latin-1 "é" in a beam's name) would pass through into the results' CSV and XML
+  // files, which are UTF-8, and make them unreadable: the first byte that is not UTF-8 is an error.
+  if (const std::size_t bad = firstNonUtf8(s_); bad != std::string::npos) {
+    line_ = 1 + static_cast<int>(std::count(s_.begin(), s_.begin() + static_cast<std::ptrdiff_t>(bad), '\n'));
+    char byte[8];
+    std::snprintf(byte, sizeof byte, "0x%02X", static_cast<unsigned>(static_cast<unsigned char>(s_[bad])));
+    fail(std::string("byte ") + byte + " (byte " + std::to_string(bad + 1) +
+         " of the file) is not UTF-8 (a Latin-1 or Windows-1252 character?); a deck is UTF-8 text: save it as UTF-8");
   }
   // A UTF-8 byte order mark is valid UTF-8 and is skipped.
   if (startsWith("\xEF\xBB\xBF")) advance(3);
