@@ -4,7 +4,8 @@
 //    program wrote there (a name is added before its file is created) and the version that wrote it;
 //  - a directory that holds anything the manifest does not name is refused with one line naming the
 //    foreign file, unless the user allows it (--overwrite); even then only the program's own names
-//    are written and only files the manifest names are removed;
+//    are written, never over a foreign file that has one of them, and only files the manifest names
+//    are removed;
 //  - a path that comes from a deck stays where the deck's user ran it: relative, without "..", and
 //    through no symbolic link (a path given on the command line is the user's own choice);
 //  - files are created without following a symbolic link in their last component (Faults.cpp).
@@ -40,7 +41,8 @@ class OutputDirectory {
   OutputDirectory(const std::filesystem::path& dir, const Options& options);
   const std::filesystem::path& path() const { return dir_; }
   // Records `relative` (a file, with the "<name>.tmp" it is written through, or a folder when it ends in
-  // '/') before it is created. Throws OutputError.
+  // '/') before it is created. Throws OutputError; InputError when a file of that name is there that
+  // the manifest does not name (the user's, left in place by --overwrite: it would be replaced).
   void add(const std::string& relative);
   // A sub-folder of the program's own: recorded and created; one that is a symbolic link or a file is
   // refused (InputError), even with --overwrite, so nothing is written through it.

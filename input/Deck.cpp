@@ -809,7 +809,9 @@ void readSupports(Problem& p, ParameterList& deck, const std::string& top, const
                 p.model.supports.push_back(sup);
               });
   // A component two supports prescribe differently: only the later would hold (a copied support
-  // whose sign was not changed). The same motion twice (both hold a clamped end) is fine.
+  // whose sign was not changed). The same motion twice (both hold a clamped end) is fine, and so is a
+  // later support moving a component an earlier one holds at zero (press, then slide: the pressing
+  // support fixes ux, the drag moves it); the later holding a component an earlier one moves is not.
   static const char* comp[6] = {"ux", "uy", "uz", "rx", "ry", "rz"};
   std::map<long long, int> first;  // node * 6 + component -> the first support prescribing it
   const auto& supports = p.model.supports;
@@ -822,13 +824,18 @@ void readSupports(Problem& p, ParameterList& deck, const std::string& top, const
         const core::Support& a = supports[it->second];
         const core::Support& b = supports[i];
         const bool same = a.value[k] == b.value[k] && (a.value[k] == 0.0 || a.curve.points == b.curve.points);
-        if (same) continue;
+        if (same || a.value[k] == 0.0) {
+          it->second = i;  // (the later's motion is applied; a third is compared with it)
+          continue;
+        }
         const auto& x = p.model.initial.reference[node];
         std::ostringstream m;
         m << "supports \"" << a.name << "\" and \"" << b.name << "\" both prescribe " << comp[k] << " of the node at ("
           << x[0] << ", " << x[1] << ", " << x[2] << "), differently (" << a.value[k] << " and " << b.value[k]
           << " at T = 1" << (a.value[k] == b.value[k] ? ", with different Load Curves" : "")
-          << "): only one motion can hold there; remove " << comp[k] << " from one support's Fixed";
+          << "): only one motion can hold there (a later support may move what an earlier one holds at zero, "
+             "not the reverse); remove "
+          << comp[k] << " from one support's Fixed";
         throw InputError(m.str());
       }
 }

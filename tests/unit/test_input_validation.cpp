@@ -113,7 +113,7 @@ TEST(InputValidation, InvalidChoiceListsValidOnes) {
 TEST(InputValidation, NodeIndexOutOfRange) {
   const std::string loads = R"XML(<ParameterList name="Loads"><ParameterList name="push">
       <Parameter name="Beam" type="string" value="rod"/><Parameter name="Node" type="string" value="7"/>
-      </ParameterList></ParameterList>)XML";
+      <Parameter name="Force" type="Array(double)" value="{0, 0, -1}"/></ParameterList></ParameterList>)XML";
   expectError(
       deck("", kSquare, kMaterial, R"XML(<Parameter name="Elements" type="int" value="4"/>)XML", "{10,0,0}", loads),
       R"XML("BeamContact/Loads/push/Node": "7" is not "start", "end", "middle" or an index 0..4)XML");
