@@ -231,6 +231,11 @@ class ConstraintEnforcer {
   virtual void coupledUpdate(PointState& s, const CoupledConstraint* c, int n, const double* delta) const {}
   // Upper bound on the Newton solves of one increment (active-set or augmentation passes).
   virtual int maximumPasses() const { return 1; }
+  // Whether acceptNormal and acceptPoint change only a point's discrete state (active or not, stick
+  // or slip) and keep no estimate that moves from pass to pass (Lagrange multipliers'): then, when
+  // the passes of an increment cycle, the contact applies one point's change per pass
+  // (ContactManager::acceptSolution). An augmentation must move every point each pass: false.
+  virtual bool discreteStates() const { return false; }
   // For the retries of an increment in which many points joined and left the active set within
   // Newton's iterations (AutomaticPenalty::failureHint): whether the strategy can fix the points that
   // act for each Newton solve, as Lagrange multipliers' are (the default: no); on = true does so, each

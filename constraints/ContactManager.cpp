@@ -326,12 +326,26 @@ bool ContactManager::acceptSolution(core::State& state) {
   // Gauss points of line contact with a law of their own whose normal state changed in this pass: how
   // many, per pair, and the largest of their gaps against the pair's thinner inscribed radius.
   std::map<int, std::pair<int, double>> switchedLine;
+  // Passes that cycle (a strategy of discrete states: the same points changing as in an earlier pass
+  // of the increment, e.g. the edge points of Example 1's rectangles with friction 1.0 sliding one way,
+  // sticking, sliding the other way across B's edges, each change of all of them at once driving
+  // the next) change one point per pass from then on, the first in key order (the least-index rule
+  // that ends cycling in pivoting methods).
+  if (passes_ == 1) {
+    changeSets_.clear();
+    cycleFrom_ = 0;
+  }
+  const bool oneAtATime = cycleFrom_ > 0 && enforcer_->discreteStates();
+  std::vector<PointKey> changed;
+  int stage = 0;
   for (auto& [key, p] : set_.current()) {
     bool carriesHere = false;
     const ContactKinematics k = judged(key, p, carriesHere);
     carries.push_back(carriesHere);
+    if (carriesHere && oneAtATime && !changed.empty()) continue;
     if (carriesHere) {
       const bool settled = enforcer_->acceptNormal(view(p, k), *p.state);
+      if (!settled) changed.push_back(key);
       if (!settled && p.line() && !lines_.nodal()) {
         auto& [count, largest] = switchedLine[key.pair];
         ++count;
@@ -345,16 +359,21 @@ bool ContactManager::acceptSolution(core::State& state) {
     }
   }
   if (all) {
+    stage = 1;
     std::size_t i = 0;
     for (auto& [key, p] : set_.current()) {
-      if (carries[i]) {
+      if (carries[i] && !(oneAtATime && !changed.empty())) {
         bool carriesHere = false;
         const ContactKinematics k = judged(key, p, carriesHere);
-        all = enforcer_->acceptPoint(view(p, k), *p.state, worstViolation_) && all;
+        const bool settled = enforcer_->acceptPoint(view(p, k), *p.state, worstViolation_);
+        if (!settled) changed.push_back(key);
+        all = settled && all;
       }
       ++i;
     }
   }
+  if (!changed.empty() && cycleFrom_ == 0 && enforcer_->discreteStates() && !changeSets_.emplace(stage, changed).second)
+    cycleFrom_ = passes_ + 1;
   if (all) {
     search_.checkNoPassThrough(state, [&](int pi, int ea, int eb) { return held(pi, ea, eb, state); });
     search_.checkNoUnseenContact(state, false, enforcer_->type(),
@@ -374,6 +393,9 @@ bool ContactManager::acceptSolution(core::State& state) {
       << " passes (the strategy's limit): the last pass still changed the active set, stick and slip, an "
          "augmentation or the line field's refinement (largest gap violation "
       << worstViolation_ << (worstViolation_ > 0.0 ? ")" : ": the states cycle)");
+    if (cycleFrom_ > 0)
+      s << "; the passes repeated an earlier pass's changes, and from pass " << cycleFrom_
+        << " one point's state changed per pass";
     // Springs at Gauss points on beams lying on each other: their gaps sit near 0 along the line, and
     // more springs per element than the elements' bending can follow (a penalty's bending wavelength
     // shorter than the elements) over-constrain it, so which of them act cycles from pass to pass.

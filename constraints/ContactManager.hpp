@@ -16,6 +16,7 @@
 #include <array>
 #include <functional>
 #include <map>
+#include <set>
 #include <memory>
 #include <string>
 #include <tuple>
@@ -158,6 +159,11 @@ class ContactManager : public core::Contribution {
   ContactReport report_;
   int numNodes_ = 0;
   int passes_ = 0;
+  // The points whose state each pass of the increment changed (with its stage: 0 normal, 1 stick and
+  // slip); a set seen before means the passes cycle, and from the pass `cycleFrom_` (0: none) one
+  // point's change is applied per pass (discreteStates strategies).
+  std::set<std::pair<int, std::vector<PointKey>>> changeSets_;
+  int cycleFrom_ = 0;
   bool resumeLevels_ = false;  // the line field's refinement is renewed at the next prepareIteration
   // Per line node: the length of line its Gauss points cover at the iterate (int N_a ds over the
   // pieces the other beam covers; evaluateNode).

@@ -74,6 +74,7 @@ class LagrangeMultiplierEnforcer : public ConstraintEnforcer {
   bool acceptNormal(const ContactPoint& p, PointState& s) const override;
   bool acceptPoint(const ContactPoint& p, PointState& s, double& worstViolation) const override;
   int maximumPasses() const override { return maxPasses_; }
+  bool discreteStates() const override { return true; }
   bool relaxesFrictionSteering() const override { return true; }
 
  private:
