@@ -255,8 +255,8 @@ CyclingRun example1WithFriction(const std::string& type, double mu, const std::s
 // per pass (the first in key order), and the passes end. The result is the state that Augmented
 // Lagrange (which enforces the same conditions to its tolerance) reaches: the normal force within
 // 1e-3 of its, the per-line cone held to 1e-9, the symmetric model answering symmetrically (A's u_y
-// below 1e-5 of its u_z). Measured: 1114.59 against 1114.56 at friction 1.0 on the chords, 976.596 against 976.609 on the
-// Hermite axes at 0.5.
+// below 1e-5 of its u_z). Measured: 1114.59 against 1114.56 at friction 1.0 on the chords, 976.596 against 976.609 on
+// the Hermite axes at 0.5.
 TEST(FrictionCone, CyclingPassesOfLagrangeMultipliersEndOnePointAtATime) {
   for (const auto& [mu, axes] : {std::pair{1.0, std::string("Chord")}, std::pair{0.5, std::string("Hermite")}}) {
     const CyclingRun lagrange = example1WithFriction("Lagrange Multiplier", mu, axes);
