@@ -153,15 +153,21 @@ OutputDirectory::OutputDirectory(const fs::path& dir, const Options& options) : 
 
 void OutputDirectory::add(const std::string& relative) {
   if (names_.count(relative)) return;
-  // A file is written through "<name>.tmp" and a rename (Faults.hpp): both names are the program's.
-  const bool folder = !relative.empty() && relative.back() == '/';
   // Something of the user's under one of the program's names (allowed to stay by --overwrite) would
   // be replaced: refused, naming it.
   std::error_code ec;
+  const bool folder = !relative.empty() && relative.back() == '/';
   if (!folder && fs::exists(fs::symlink_status(dir_ / relative, ec)))
     throw InputError("\"" + (dir_ / relative).string() +
                      "\" was not written by beamcontact (its manifest does not name it), and this run would "
                      "replace it: move or rename it, or choose another directory");
+  adopt(relative);
+}
+
+void OutputDirectory::adopt(const std::string& relative) {
+  if (names_.count(relative)) return;
+  // A file is written through "<name>.tmp" and a rename (Faults.hpp): both names are the program's.
+  const bool folder = !relative.empty() && relative.back() == '/';
   appendLine(dir_ / kManifestName, folder ? relative : relative + "\n" + relative + ".tmp");
   names_.insert(relative);
   if (!folder) names_.insert(relative + ".tmp");

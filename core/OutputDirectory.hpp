@@ -44,6 +44,9 @@ class OutputDirectory {
   // '/') before it is created. Throws OutputError; InputError when a file of that name is there that
   // the manifest does not name (the user's, left in place by --overwrite: it would be replaced).
   void add(const std::string& relative);
+  // Records `relative`, a file the program has just written there through another process (the
+  // study report's figures, named by the script), without add's check.
+  void adopt(const std::string& relative);
   // A sub-folder of the program's own: recorded and created; one that is a symbolic link or a file is
   // refused (InputError), even with --overwrite, so nothing is written through it.
   std::filesystem::path folder(const std::string& relative);

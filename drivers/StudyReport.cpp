@@ -344,7 +344,7 @@ int writeReport(const StudyResults& r, bool quiet) {
   const int code = runProgram(command);
   for (const auto& e : fs::directory_iterator(r.dir))
     if (!before.count(e.path().filename().string()) && fs::is_regular_file(fs::symlink_status(e.path())))
-      r.out.add(e.path().filename().string());
+      r.out.adopt(e.path().filename().string());
   return code;
 }
 
