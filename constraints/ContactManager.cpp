@@ -329,8 +329,10 @@ bool ContactManager::acceptSolution(core::State& state) {
   // Passes that cycle (a strategy of discrete states: the same points changing as in an earlier pass
   // of the increment, e.g. the edge points of Example 1's rectangles with friction 1.0 sliding one way,
   // sticking, sliding the other way across B's edges, each change of all of them at once driving
-  // the next) change one point per pass from then on, the first in key order (the least-index rule
-  // that ends cycling in pivoting methods).
+  // the next) change one point's stick or slip per pass from then on, the first in key order (the
+  // least-index rule that ends cycling in pivoting methods). The normal stage still changes every
+  // point at once: one activation per pass let a column's end pushed through a beam in one increment
+  // end "complete" with its end point gone.
   if (passes_ == 1) {
     changeSets_.clear();
     cycleFrom_ = 0;
@@ -342,7 +344,6 @@ bool ContactManager::acceptSolution(core::State& state) {
     bool carriesHere = false;
     const ContactKinematics k = judged(key, p, carriesHere);
     carries.push_back(carriesHere);
-    if (carriesHere && oneAtATime && !changed.empty()) continue;
     if (carriesHere) {
       const bool settled = enforcer_->acceptNormal(view(p, k), *p.state);
       if (!settled) changed.push_back(key);
