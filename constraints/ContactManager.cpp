@@ -632,7 +632,9 @@ void ContactManager::commitPoint(Point& p, const core::State& state) {
     for (int a = 0; a < 3; ++a) parts[q > 0][a] -= roles * lam[q] * (g[q]->R[12 + a] + g[q]->R[18 + a]);
   p.normalForce = parts[0];
   p.tangentialForce = parts[1];
-  if (p.line() && p.result.active) report_.noteCone(p, geometry_.pairs()[p.key.pair].friction);
+  // (Under the per-line law each line's force is bounded, and their vector sum may reach sqrt(2) mu N.)
+  if (p.result.active && (p.line() || geometry_.options().frictionLaw == FrictionLaw::IsotropicCoulomb))
+    report_.noteCone(p, geometry_.pairs()[p.key.pair].friction);
   p.xiPrev = geometry_.beamCoordinate(p.elementA, k.xi);
   p.etaPrev = geometry_.beamCoordinate(p.elementB, k.eta);
   if (p.line() || p.end()) p.etaRate = cp.etaRate;

@@ -24,7 +24,7 @@ void ContactReport::noteCone(const ContactPointRecord& p, double friction) {
   const double N = norm(p.normalForce), T = norm(p.tangentialForce);
   if (!(T > (friction + kOutsideCone) * N)) return;
   const double ratio = friction > 0.0 && N > 0.0 ? T / (friction * N) : std::numeric_limits<double>::infinity();
-  auto& worst = outsideCone_[p.key.pair];
+  auto& worst = (p.line() ? outsideCone_ : pointsOutsideCone_)[p.key.pair];
   if (ratio > worst.first) worst = {ratio, p.position};
 }
 
@@ -220,6 +220,16 @@ void ContactReport::lineWarnings(std::vector<std::string>& w) const {
       << "(Penalty at each Gauss point, the multiplier fields of Lagrange and Augmented Lagrange on their nodes, "
       << "between which the force is interpolated); a strategy of your own with a nodal field must keep its "
       << "nodes' multipliers in the cone (docs/contact.md, \"The Coulomb cone on lines\")";
+    w.push_back(s.str());
+  }
+  for (const auto& [pair, worst] : pointsOutsideCone_) {
+    std::ostringstream s;
+    s << "contact pair \"" << pairs[pair].name << "\": a contact point applied a tangential force of " << worst.first
+      << " times mu times its normal force near (" << worst.second[0] << ", " << worst.second[1] << ", "
+      << worst.second[2]
+      << "): outside the Isotropic Coulomb cone (its multipliers are on the cone, and the force they apply "
+         "is larger on Point Contact Axes = Hermite, where the tangential directions vary along the curves; on "
+         "the chords it is on the cone to round-off)";
     w.push_back(s.str());
   }
 }

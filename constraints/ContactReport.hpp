@@ -41,8 +41,8 @@ class ContactReport {
   std::vector<std::string> warnings() const;
   // Notes a committed active point at its closest points `cp` (penetrations beyond kDeep).
   void noteDepth(const ContactPointRecord& p, const ClosestPoints& cp);
-  // Notes a committed active line point whose applied force (normalForce, tangentialForce) lies
-  // outside the Coulomb cone by more than kOutsideCone |F_N|.
+  // Notes a committed active line point (or point contact under Isotropic Coulomb) whose applied
+  // force (normalForce, tangentialForce) lies outside the Coulomb cone by more than kOutsideCone |F_N|.
   void noteCone(const ContactPointRecord& p, double friction);
   // Notes a committed active point contact on the chords with a rival as close across a node
   // (PointContact::rivalAngle: the angle between their normals) beyond kRivalAngle.
@@ -58,7 +58,9 @@ class ContactReport {
   const AutomaticPenalty& penalty_;
   std::map<int, std::pair<double, Vec3d>> deepPoints_;  // pair -> deepest active point beyond kDeep, where
   std::map<int, std::pair<double, Vec3d>> rivals_;  // pair -> largest rival angle beyond kRivalAngle, where
-  std::map<int, std::pair<double, Vec3d>> outsideCone_;  // pair -> largest |F_T| / (mu |F_N|) beyond 1, where
+  std::map<int, std::pair<double, Vec3d>> outsideCone_;
+  std::map<int, std::pair<double, Vec3d>> pointsOutsideCone_;  // the same of point contacts (Isotropic Coulomb)  //
+                                                               // pair -> largest |F_T| / (mu |F_N|) beyond 1, where
 };
 
 }  // namespace bc::constraints
