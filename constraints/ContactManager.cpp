@@ -394,9 +394,14 @@ bool ContactManager::acceptSolution(core::State& state) {
       << " passes (the strategy's limit): the last pass still changed the active set, stick and slip, an "
          "augmentation or the line field's refinement (largest gap violation "
       << worstViolation_ << (worstViolation_ > 0.0 ? ")" : ": the states cycle)");
+    if (!changed.empty())
+      s << "; the last pass changed " << changed.size() << (changed.size() == 1 ? " point's " : " points' ")
+        << (stage == 0                    ? "contact state (active or not)"
+            : enforcer_->discreteStates() ? "stick or slip"
+                                          : "stick, slip or augmentation");
     if (cycleFrom_ > 0)
       s << "; the passes repeated an earlier pass's changes, and from pass " << cycleFrom_
-        << " one point's state changed per pass";
+        << " one point's stick or slip changed per pass";
     // Springs at Gauss points on beams lying on each other: their gaps sit near 0 along the line, and
     // more springs per element than the elements' bending can follow (a penalty's bending wavelength
     // shorter than the elements) over-constrain it, so which of them act cycles from pass to pass.
