@@ -617,7 +617,7 @@ void ContactManager::commitPoint(Point& p, const core::State& state) {
   if (p.result.active) report_.noteDepth(p, cp);
   p.position = geometry_.touching(p, cp);
   if (p.result.active && !p.line() && !p.end())
-    report_.noteRival(p, pointContact_.rivalAngle(p, state, kRivalGap * geometry_.thinner(p.key.pair)));
+    report_.noteRival(p, pointContact_.rivalAngle(p, cp, state, kRivalGap * geometry_.thinner(p.key.pair)));
   // A point with swapped roles (an edge of the pair's B on A's face) reports as the pair's: its normal
   // from the pair's A to B, its force on the pair's B (the gaps do not change under a rigid
   // translation, so the translations' rows of its residual sum to zero: the force on its own beam A,

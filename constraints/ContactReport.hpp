@@ -58,9 +58,8 @@ class ContactReport {
   const AutomaticPenalty& penalty_;
   std::map<int, std::pair<double, Vec3d>> deepPoints_;  // pair -> deepest active point beyond kDeep, where
   std::map<int, std::pair<double, Vec3d>> rivals_;  // pair -> largest rival angle beyond kRivalAngle, where
-  std::map<int, std::pair<double, Vec3d>> outsideCone_;
-  std::map<int, std::pair<double, Vec3d>> pointsOutsideCone_;  // the same of point contacts (Isotropic Coulomb)  //
-                                                               // pair -> largest |F_T| / (mu |F_N|) beyond 1, where
+  std::map<int, std::pair<double, Vec3d>> outsideCone_;  // pair -> largest |F_T| / (mu |F_N|) beyond 1, where
+  std::map<int, std::pair<double, Vec3d>> pointsOutsideCone_;  // the same of point contacts (Isotropic Coulomb)
 };
 
 }  // namespace bc::constraints

@@ -362,9 +362,9 @@ ClosestPoints PointContact::geometry(const ContactPointRecord& p, const core::St
   return cp;
 }
 
-double PointContact::rivalAngle(const ContactPointRecord& p, const core::State& s, double tolerance) const {
+double PointContact::rivalAngle(const ContactPointRecord& p, const ClosestPoints& cp, const core::State& s,
+                                double tolerance) const {
   if (geometry_.options().hermitePointAxes || p.end() || p.line() || p.node()) return 0.0;
-  const ClosestPoints cp = geometry(p, s);
   const auto& elements = geometry_.beams().elements();
   // The element beside e across its node nearer to the parameter t (-1: none, a beam's end).
   const auto beside = [&](int e, double t) {

@@ -385,19 +385,21 @@ class Locator {
   const core::State& s_;
 };
 
+// The six components of a node's motion, in the order of Support::fixed and Support::value.
+constexpr const char* kComponents[6] = {"ux", "uy", "uz", "rx", "ry", "rz"};
+
 std::array<bool, 6> parseFixed(const std::string& text, const std::string& path) {
   std::array<bool, 6> fixed{};
   if (text == "all") {
     fixed.fill(true);
     return fixed;
   }
-  static const char* names[6] = {"ux", "uy", "uz", "rx", "ry", "rz"};
   std::istringstream in(text);
   std::string word;
   bool any = false;
   while (in >> word) {
     int k = 0;
-    while (k < 6 && word != names[k]) ++k;
+    while (k < 6 && word != kComponents[k]) ++k;
     if (k == 6)
       throw InputError("parameter \"" + path + "/Fixed\": \"" + word + "\" is not a component; use \"all\" alone, or " +
                        "components among ux uy uz rx ry rz");
@@ -798,12 +800,11 @@ void readSupports(Problem& p, ParameterList& deck, const std::string& top, const
                 sup.nodes = locate.nodes(s, path, true);
                 sup.fixed = parseFixed(s.get<std::string>("Fixed"), path);
                 const auto d = s.get<Array<double>>("Displacement"), r = s.get<Array<double>>("Rotation");
-                static const char* comp[6] = {"ux", "uy", "uz", "rx", "ry", "rz"};
                 for (int k = 0; k < 6; ++k) {
                   sup.value[k] = k < 3 ? d[k] : r[k - 3];
                   if (sup.value[k] != 0.0 && !sup.fixed[k])
                     throw InputError("parameter \"" + path + (k < 3 ? "/Displacement" : "/Rotation") +
-                                     "\": a nonzero value is given for " + comp[k] + ", which is not in Fixed");
+                                     "\": a nonzero value is given for " + kComponents[k] + ", which is not in Fixed");
                 }
                 sup.curve = loadCurve(s, path);
                 p.model.supports.push_back(sup);
@@ -812,7 +813,6 @@ void readSupports(Problem& p, ParameterList& deck, const std::string& top, const
   // whose sign was not changed). The same motion twice (both hold a clamped end) is fine, and so is a
   // later support moving a component an earlier one holds at zero (press, then slide: the pressing
   // support fixes ux, the drag moves it); the later holding a component an earlier one moves is not.
-  static const char* comp[6] = {"ux", "uy", "uz", "rx", "ry", "rz"};
   std::map<long long, int> first;  // node * 6 + component -> the first support prescribing it
   const auto& supports = p.model.supports;
   for (int i = 0; i < static_cast<int>(supports.size()); ++i)
@@ -830,12 +830,12 @@ void readSupports(Problem& p, ParameterList& deck, const std::string& top, const
         }
         const auto& x = p.model.initial.reference[node];
         std::ostringstream m;
-        m << "supports \"" << a.name << "\" and \"" << b.name << "\" both prescribe " << comp[k] << " of the node at ("
-          << x[0] << ", " << x[1] << ", " << x[2] << "), differently (" << a.value[k] << " and " << b.value[k]
-          << " at T = 1" << (a.value[k] == b.value[k] ? ", with different Load Curves" : "")
+        m << "supports \"" << a.name << "\" and \"" << b.name << "\" both prescribe " << kComponents[k]
+          << " of the node at (" << x[0] << ", " << x[1] << ", " << x[2] << "), differently (" << a.value[k] << " and "
+          << b.value[k] << " at T = 1" << (a.value[k] == b.value[k] ? ", with different Load Curves" : "")
           << "): only one motion can hold there (a later support may move what an earlier one holds at zero, "
              "not the reverse); remove "
-          << comp[k] << " from one support's Fixed";
+          << kComponents[k] << " from one support's Fixed";
         throw InputError(m.str());
       }
 }
