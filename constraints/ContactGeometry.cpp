@@ -88,12 +88,26 @@ bool ContactGeometry::inLineContact(int pair, int elementA, int elementB) const 
   // pair whose angle closes within an increment finds them.
   if (!blends(pair)) return false;
   const auto [lo, hi] = blendAngles(pair);
-  return axisAngle(elementA, elementB, reference_) < hi + 0.5 * (hi - lo);
+  return axisAngle(elementA, elementB, reference_) < hi + 0.5 * (hi - lo) ||
+         (!lineGates_.empty() && lineGates_.count({pair, elementA, elementB}) > 0);
 }
 
 bool ContactGeometry::inPointContact(int pair, int elementA, int elementB) const {
   if (!blends(pair)) return true;
-  return axisAngle(elementA, elementB, reference_) > 0.5 * blendAngles(pair).first;
+  return axisAngle(elementA, elementB, reference_) > 0.5 * blendAngles(pair).first ||
+         (!pointGates_.empty() && pointGates_.count({pair, elementA, elementB}) > 0);
+}
+
+int ContactGeometry::openGates(const std::vector<std::tuple<int, int, int>>& elementPairs, const core::State& s) {
+  int opened = 0;
+  for (const auto& [pair, a, b] : elementPairs) {
+    if (!blends(pair)) continue;
+    const auto [lo, hi] = blendAngles(pair);
+    const double angle = axisAngle(a, b, s);
+    if (angle < hi + 0.5 * (hi - lo) && !inLineContact(pair, a, b) && lineGates_.insert({pair, a, b}).second) ++opened;
+    if (angle > 0.5 * lo && !inPointContact(pair, a, b) && pointGates_.insert({pair, a, b}).second) ++opened;
+  }
+  return opened;
 }
 
 double ContactGeometry::blendWeight(const ContactPointRecord& p, double cosine, const double* cosineR,

@@ -74,6 +74,10 @@ bool ContactManager::prepareIteration(core::State& state) {
   // A step starts from the refinement of the line field that its last converged points still need.
   if (resumeLevels_) lines_.resumeLevels(set_.current(), geometry_.reference());
   resumeLevels_ = false;
+  // Element pairs whose angle at this iterate calls for line points or point contacts that their
+  // angle at the last converged state did not (turned past the margins within the increment) have
+  // both from here to the end of the increment (ContactGeometry::openGates).
+  if (geometry_.lineContact()) geometry_.openGates(search_.candidates(state), state);
   const bool changed = set_.update(detect(state));
   giveUpIdle(state);
   // (Only a strategy with rows of its own at line nodes uses it: evaluateNode.)
@@ -816,6 +820,7 @@ double ContactManager::lineStepBound(const Point& p, const core::State& state,
 
 void ContactManager::restoreStep() {
   responseFailed_ = false;
+  geometry_.closeGates();
   penalty_.relaxAfterFailure(set_.committed());
   geometry_.setFrictionRelaxation(tangentialRelaxationFactor(penalty_.relaxations()));
   set_.restore();
