@@ -155,13 +155,13 @@ class ContactGeometry {
   double axisAngle(int elementA, int elementB, const core::State& s) const;
   bool inLineContact(int pair, int elementA, int elementB) const;
   bool inPointContact(int pair, int elementA, int elementB) const;
-  // Element pairs whose angle at an iterate `s` gives them line points or point contacts that their
-  // angle at the last converged state did not (a pair that turned past the margins within the
-  // increment): they have both for the rest of the increment, so that no converged state lacks the
-  // points its own angles call for. Returns how many were opened. (An end lying on a face within the
-  // rectangles' blend, 0.057 to 0.115 degrees, whose pair turned from below 0.03 degrees to above
-  // 0.057 in the increment of first contact had no end point, and Penalty's answer depended on the
-  // increments by 2.7 %.)
+  // Element pairs whose angle in the converged state `s` gives them line points or point contacts
+  // that their angle at the last converged state did not (a pair that turned past the margins within
+  // the increment): they have both for the rest of the increment, and the contact manager runs
+  // another pass, so that no converged state lacks the points its own angles call for. Returns how
+  // many were opened. (An end lying on a face within the rectangles' blend, 0.057 to 0.115 degrees,
+  // whose pair turned from below 0.03 degrees to above 0.057 in the increment of first contact had
+  // no end point, and Penalty's answer depended on the increments by 2.7 %.)
   int openGates(const std::vector<std::tuple<int, int, int>>& elementPairs, const core::State& s);
   void closeGates() {
     lineGates_.clear();

@@ -74,10 +74,6 @@ bool ContactManager::prepareIteration(core::State& state) {
   // A step starts from the refinement of the line field that its last converged points still need.
   if (resumeLevels_) lines_.resumeLevels(set_.current(), geometry_.reference());
   resumeLevels_ = false;
-  // Element pairs whose angle at this iterate calls for line points or point contacts that their
-  // angle at the last converged state did not (turned past the margins within the increment) have
-  // both from here to the end of the increment (ContactGeometry::openGates).
-  if (geometry_.lineContact()) geometry_.openGates(search_.candidates(state), state);
   const bool changed = set_.update(detect(state));
   giveUpIdle(state);
   // (Only a strategy with rows of its own at line nodes uses it: evaluateNode.)
@@ -379,6 +375,17 @@ bool ContactManager::acceptSolution(core::State& state) {
   }
   if (!changed.empty() && cycleFrom_ == 0 && enforcer_->discreteStates() && !changeSets_.emplace(stage, changed).second)
     cycleFrom_ = passes_ + 1;
+  // Element pairs whose angle at this converged state calls for line points or point contacts that
+  // their angle at the last converged state did not (turned past the margins within the increment)
+  // get them for the rest of the increment (ContactGeometry::openGates), and Newton goes on from here
+  // with them; such a pass does not count against the strategy's limit (Penalty's is 1). (Opened at
+  // every iterate instead, the rod pressed at its pinned ends onto a parallel ground, rectangles with
+  // Penalty's springs on the nodes, gathered point contacts from the iterates' passing angles and its
+  // passes cycled.)
+  if (all && geometry_.lineContact() && geometry_.openGates(search_.candidates(state), state) > 0) {
+    all = false;
+    ++gatePasses_;
+  }
   if (all) {
     search_.checkNoPassThrough(state, [&](int pi, int ea, int eb) { return held(pi, ea, eb, state); });
     search_.checkNoUnseenContact(state, false, enforcer_->type(),
@@ -389,7 +396,7 @@ bool ContactManager::acceptSolution(core::State& state) {
   if (all && lines_.nodal() && lines_.refineField(set_.current(), state)) all = false;
   if (passes_ == 1) violations_.clear();
   violations_.push_back(worstViolation_);
-  if (!all && passes_ >= enforcer_->maximumPasses()) {
+  if (!all && passes_ - gatePasses_ >= enforcer_->maximumPasses()) {
     std::ostringstream s;
     // (The violation can be 0 here: a pass ends on any change, of the active set, of stick and slip,
     // of an augmentation or of the field's refinement, so the last pass may have met every gap and
@@ -684,6 +691,7 @@ void ContactManager::commitStep(const core::State& state) {
   geometry_.setReference(state);
   lastPasses_ = passes_;
   passes_ = 0;
+  gatePasses_ = 0;
 }
 
 void ContactManager::saveCommitted(core::CheckpointOut& out) const {
@@ -720,6 +728,7 @@ void ContactManager::loadCommitted(core::CheckpointIn& in, const core::State& co
   lines_.clearLevels();
   resumeLevels_ = true;
   passes_ = 0;
+  gatePasses_ = 0;
 }
 
 double ContactManager::stepBound(const core::State& state, const std::vector<double>& du) const {
@@ -827,6 +836,7 @@ void ContactManager::restoreStep() {
   lines_.clearLevels(true);
   resumeLevels_ = true;
   passes_ = 0;
+  gatePasses_ = 0;
   penalty_.forgetFriction();
 }
 

@@ -159,6 +159,7 @@ class ContactManager : public core::Contribution {
   ContactReport report_;
   int numNodes_ = 0;
   int passes_ = 0;
+  int gatePasses_ = 0;  // passes of the increment that only opened gates (acceptSolution)
   // The points whose state each pass of the increment changed (with its stage: 0 normal, 1 stick and
   // slip); a set seen before means the passes cycle, and from the pass `cycleFrom_` (0: none) one
   // point's change is applied per pass (discreteStates strategies).

@@ -1,6 +1,7 @@
 #include "ContactReport.hpp"
 
 #include <cmath>
+#include <functional>
 #include <iomanip>
 #include <limits>
 #include <sstream>
@@ -15,6 +16,8 @@ namespace {
 // is a strategy's fault (a plug-in's nodal field whose rows do not keep its nodes in the cone).
 constexpr double kOutsideCone = 1e-9;
 constexpr double kOutsidePointCone = 1e-6;
+// Pairs named one by one in a warning that many pairs share (ContactReport::warnings).
+constexpr std::size_t kListedPairs = 3;
 }  // namespace
 
 void ContactReport::noteCone(const ContactPointRecord& p, double friction) {
@@ -128,30 +131,51 @@ std::vector<std::string> ContactReport::warnings() const {
   std::vector<std::string> w;
   const auto& pairs = geometry_.pairs();
   if (const std::string relaxed = penalty_.warning(); !relaxed.empty()) w.push_back(relaxed);
-  for (const auto& [pair, worst] : deepPoints_) {
-    const auto& pr = pairs[pair];
-    const double inscribed = geometry_.thinner(pair);
+  // A kind of warning that many pairs share (a weave's every crossing at a bent node) is one line: its
+  // worst pair's, with how many pairs and the first few named (kListedPairs).
+  const auto perPair = [&](const std::map<int, std::pair<double, Vec3d>>& worst,
+                           const std::function<std::string(int pair, double value, const Vec3d& at)>& text) {
+    if (worst.size() <= kListedPairs) {
+      for (const auto& [pair, v] : worst)
+        w.push_back("contact pair \"" + pairs[pair].name + "\": " + text(pair, v.first, v.second));
+      return;
+    }
+    auto top = worst.begin();
+    for (auto it = worst.begin(); it != worst.end(); ++it)
+      if (it->second.first > top->second.first) top = it;
     std::ostringstream s;
-    s << "contact pair \"" << pr.name << "\": the beams penetrated each other by up to " << worst.first << " ("
-      << 100.0 * worst.first / inscribed << " % of the thinner section's inscribed radius) near (" << worst.second[0]
-      << ", " << worst.second[1] << ", " << worst.second[2] << "), more than " << 100.0 * kDeep
+    s << worst.size() << " contact pairs (";
+    int listed = 0;
+    for (const auto& [pair, v] : worst) {
+      if (listed == static_cast<int>(kListedPairs)) break;
+      s << (listed++ ? ", " : "") << "\"" << pairs[pair].name << "\"";
+    }
+    s << ", ...), the worst pair \"" << pairs[top->first].name
+      << "\": " << text(top->first, top->second.first, top->second.second);
+    w.push_back(s.str());
+  };
+  perPair(deepPoints_, [&](int pair, double depth, const Vec3d& at) {
+    std::ostringstream s;
+    s << "the beams penetrated each other by up to " << depth << " (" << 100.0 * depth / geometry_.thinner(pair)
+      << " % of the thinner section's inscribed radius) near (" << at[0] << ", " << at[1] << ", " << at[2]
+      << "), more than " << 100.0 * kDeep
       << " %: the sections overlap visibly there, so the forces are those of a soft contact law, not of contact; "
          "raise the Normal Penalty Parameter (or lower a Regularization Gap comparable to this depth, or use Augmented "
          "Lagrange or Lagrange Multiplier)";
-    w.push_back(s.str());
-  }
-  for (const auto& [pair, worst] : rivals_) {
-    const double degrees = worst.first * 180.0 / M_PI;
+    return s.str();
+  });
+  perPair(rivals_, [&](int, double angle, const Vec3d& at) {
+    const double degrees = angle * 180.0 / M_PI;
     std::ostringstream s;
-    s << "contact pair \"" << pairs[pair].name << "\": a point contact lay at a node where a beam's straight "
-      << "elements meet at an angle, near (" << worst.second[0] << ", " << worst.second[1] << ", " << worst.second[2]
+    s << "a point contact lay at a node where a beam's straight elements meet at an angle, near (" << at[0] << ", "
+      << at[1] << ", " << at[2]
       << "): the elements on both sides of the node each hold a closest point about as close, with normals up to "
       << degrees << " degrees apart; the point takes one element's, so its force leans across the beams by up to "
       << 0.5 * degrees
       << " degrees to that element's side (a symmetric model can answer unsymmetrically); set Contact/Point "
          "Contact Axes = Hermite (smooth across nodes), or refine the beams";
-    w.push_back(s.str());
-  }
+    return s.str();
+  });
   lineWarnings(w);
   for (int pair : lines_.frictionless()) {
     std::ostringstream s;
