@@ -44,10 +44,13 @@ void ContactReport::noteDepth(const ContactPointRecord& p, const ClosestPoints& 
   }
 }
 
-void ContactReport::noteRival(const ContactPointRecord& p, double angle) {
+void ContactReport::noteRival(const ContactPointRecord& p, double angle, double initialKink) {
   if (!(angle > kRivalAngle)) return;
   auto& worst = rivals_[p.key.pair];
-  if (angle > worst.first) worst = {angle, p.position};
+  if (angle > worst.first) {
+    worst = {angle, p.position};
+    rivalKinks_[p.key.pair] = initialKink;
+  }
 }
 
 std::string ContactReport::tableHeader() const {
@@ -164,16 +167,22 @@ std::vector<std::string> ContactReport::warnings() const {
          "Lagrange or Lagrange Multiplier)";
     return s.str();
   });
-  perPair(rivals_, [&](int, double angle, const Vec3d& at) {
+  perPair(rivals_, [&](int pair, double angle, const Vec3d& at) {
     const double degrees = angle * 180.0 / M_PI;
+    const auto kink = rivalKinks_.find(pair);
+    const double initial = kink == rivalKinks_.end() ? 0.0 : kink->second;
     std::ostringstream s;
     s << "a point contact lay at a node where a beam's straight elements meet at an angle, near (" << at[0] << ", "
       << at[1] << ", " << at[2]
       << "): the elements on both sides of the node each hold a closest point about as close, with normals up to "
       << degrees << " degrees apart; the point takes one element's, so its force leans across the beams by up to "
-      << 0.5 * degrees
-      << " degrees to that element's side (a symmetric model can answer unsymmetrically); set Contact/Point "
-         "Contact Axes = Hermite (smooth across nodes), or refine the beams";
+      << 0.5 * degrees << " degrees to that element's side (a symmetric model can answer unsymmetrically); ";
+    // (Hermite axes keep a kink of the initial shape: refining is what helps there.)
+    if (initial > kRivalAngle)
+      s << "the beam's elements met at " << initial * 180.0 / M_PI
+        << " degrees there in its initial shape (a polyline), which Hermite axes keep too: refine the beam (more "
+           "elements per arc or undulation)";
+    else s << "set Contact/Point Contact Axes = Hermite (smooth across nodes), or refine the beams";
     return s.str();
   });
   lineWarnings(w);

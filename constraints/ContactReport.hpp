@@ -46,7 +46,9 @@ class ContactReport {
   void noteCone(const ContactPointRecord& p, double friction);
   // Notes a committed active point contact on the chords with a rival as close across a node
   // (PointContact::rivalAngle: the angle between their normals) beyond kRivalAngle.
-  void noteRival(const ContactPointRecord& p, double angle);
+  // `initialKink`: the angle at which the beam's elements met there in its initial shape, which
+  // Hermite axes keep (PointContact::rivalAngle).
+  void noteRival(const ContactPointRecord& p, double angle, double initialKink);
 
  private:
   // The line-contact warnings: overlaps between Gauss points, unresolved Lagrange fields, gaps that
@@ -58,6 +60,7 @@ class ContactReport {
   const AutomaticPenalty& penalty_;
   std::map<int, std::pair<double, Vec3d>> deepPoints_;  // pair -> deepest active point beyond kDeep, where
   std::map<int, std::pair<double, Vec3d>> rivals_;  // pair -> largest rival angle beyond kRivalAngle, where
+  std::map<int, double> rivalKinks_;  // pair -> the initial kink at that point
   std::map<int, std::pair<double, Vec3d>> outsideCone_;  // pair -> largest |F_T| / (mu |F_N|) beyond 1, where
   std::map<int, std::pair<double, Vec3d>> pointsOutsideCone_;  // the same of point contacts (Isotropic Coulomb)
 };

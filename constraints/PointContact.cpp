@@ -363,9 +363,16 @@ ClosestPoints PointContact::geometry(const ContactPointRecord& p, const core::St
 }
 
 double PointContact::rivalAngle(const ContactPointRecord& p, const ClosestPoints& cp, const core::State& s,
-                                double tolerance) const {
-  if (geometry_.options().hermitePointAxes || p.end() || p.line() || p.node()) return 0.0;
+                                double tolerance, double* initialKink) const {
+  if (initialKink) *initialKink = 0.0;
+  if (p.end() || p.line() || p.node()) return 0.0;
   const auto& elements = geometry_.beams().elements();
+  // The angle at which two elements of a beam meet in its initial shape (a polyline: an arc, a helix, a
+  // weave's undulation): Hermite axes take each element's tangents from its own initial direction, so
+  // they keep that kink; the chords have it and what the bending adds.
+  const auto kink = [&](int e, int n) {
+    return std::acos(std::clamp(dot(column(elements[e].data.T0, 0), column(elements[n].data.T0, 0)), -1.0, 1.0));
+  };
   // The element beside e across its node nearer to the parameter t (-1: none, a beam's end).
   const auto beside = [&](int e, double t) {
     const int n = t < 0.5 ? e - 1 : e + 1;
@@ -383,6 +390,9 @@ double PointContact::rivalAngle(const ContactPointRecord& p, const ClosestPoints
     orient(q, p.sigma, in.radiusSum);
     if (q.gap > cp.gap + tolerance) continue;
     angle = std::max(angle, std::acos(std::clamp(dot(q.normal, cp.normal), -1.0, 1.0)));
+    if (initialKink)
+      *initialKink = std::max(
+          {*initialKink, ea != p.elementA ? kink(p.elementA, ea) : 0.0, eb != p.elementB ? kink(p.elementB, eb) : 0.0});
   }
   return angle;
 }

@@ -20,13 +20,15 @@ class PointContact {
   // Closest points of a point's two lines in `s`, with the point's normal orientation and gap.
   ClosestPoints geometry(const ContactPointRecord& p, const core::State& s) const;
   ContactKinematics kinematics(const ContactPointRecord& p, const core::State& s, Variations order) const;
-  // On the chords (Point Contact Axes = Chord): the angle between the normal of point contact p (its
-  // closest points `cp` in `s`, as geometry() gives them) and that of a second closest point of the
-  // same two lines on a neighbouring element pair (across a node of either beam) whose gap is within
-  // `tolerance` of p's; 0 when there is none. Where a beam bends towards the other at a node, its two
-  // chords there each hold a closest point as close as the other; the point takes one, and its
-  // normal is that chord's.
-  double rivalAngle(const ContactPointRecord& p, const ClosestPoints& cp, const core::State& s, double tolerance) const;
+  // The angle between the normal of point contact p (its closest points `cp` in `s`, as geometry()
+  // gives them) and that of a second closest point of the same two lines on a neighbouring element
+  // pair (across a node of either beam) whose gap is within `tolerance` of p's; 0 when there is none.
+  // Where a beam bends towards the other at a node, its two chords there each hold a closest point as
+  // close as the other; the point takes one, and its normal is that chord's. Hermite axes are smooth
+  // across a node of a beam that was straight there, and keep the kink of one whose elements met at
+  // an angle in its initial shape: `initialKink`, the largest such angle at the rivals' nodes.
+  double rivalAngle(const ContactPointRecord& p, const ClosestPoints& cp, const core::State& s, double tolerance,
+                    double* initialKink = nullptr) const;
   // The end-to-end point of a free end of element ea and one of element eb facing each other (the
   // larger end face is the plane, the other end presses on it), whatever the angle of the axes
   // (two ends meet with their axes in line, where circles are in line contact).
