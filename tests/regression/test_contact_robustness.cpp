@@ -116,6 +116,56 @@ TEST(PassThrough, UnheldCrossingFailsTheIncrementAndIsNeverAResult) {
   EXPECT_THROW(p.contact->acceptSolution(s), std::runtime_error);
 }
 
+// Example 1, frictionless, in one increment with 60 Newton iterations allowed: beam 2's ends carried
+// 40 along beam 1 and 20 down. Newton found the state with beam 2 below beam 1 (the motion's end, no
+// contact), and the pass-through check compared only the element pairs where the axes' closest
+// points lay at both ends of the increment: the crossing had moved from x = 50 to x = 90 along beam
+// 1, and no element pair saw it; the run ended "complete" with no contact force. The check now
+// follows the nodes' straight paths in steps of a quarter element, the increment is cut, and the
+// run gives the contact force of 50 increments (Lagrange: 920.87 against 920.21, the frictionless
+// problem's equilibria along the way; docs/contact.md).
+TEST(PassThrough, Example1InOneIncrementIsCutWhereBeamTwoCrossedBeamOneAlongItsLength) {
+  double N[2] = {0.0, 0.0};
+  int i = 0;
+  for (int increments : {1, 50}) {
+    Deck d = example1("Lagrange Multiplier", "40.0, 0.0, -20.0", increments, 1e4, 400.0, 0.0);
+    input::setAtPath(d, "Nonlinear Solver/Maximum Iterations", 60);
+    auto p = input::buildProblem(d, "through");
+    const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "through");
+    ASSERT_TRUE(r.report.completed) << increments << " increments: " << r.report.failure;
+    const auto c = sums(p);
+    EXPECT_EQ(c.active, 2) << increments << " increments";
+    N[i++] = c.normal;
+  }
+  std::printf("Example 1 frictionless, Lagrange: N = %.6f in 1 increment, %.6f in 50\n", N[0], N[1]);
+  EXPECT_NEAR(N[0], N[1], 2e-3 * N[1]);
+}
+
+// Example 1, frictionless, 20 elements per beam, Penalty on 5 increments: the first increment's
+// Newton path carried beam 2 7.5 into beam 1 (three times its section's inscribed radius), where the
+// points kept their normals and held it with a force of 6e5 (907 with 10 increments); "complete",
+// warned. A point that acts and went deeper within an increment than the thinner section's
+// inscribed radius now fails the increment, which is cut.
+TEST(PassThrough, PenaltyCarriedDeepWithinAnIncrementIsCut) {
+  double N[2] = {0.0, 0.0}, deepest[2] = {0.0, 0.0};
+  int i = 0;
+  for (int increments : {5, 10}) {
+    Deck d = example1("Penalty", "40.0, 0.0, -20.0", increments, 1e4, 400.0, 0.0);
+    for (const char* beam : {"Beams/beam 1/Elements", "Beams/beam 2/Elements"}) input::replaceAtPath(d, beam, 20);
+    auto p = input::buildProblem(d, "deep");
+    const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "deep");
+    ASSERT_TRUE(r.report.completed) << increments << " increments: " << r.report.failure;
+    const auto c = sums(p);
+    N[i] = c.normal;
+    deepest[i++] = c.maxPenetration;
+  }
+  std::printf(
+      "Example 1 frictionless, 20 elements, Penalty: N = %.6f (deepest %.3e) in 5 increments, %.6f (%.3e) in 10\n",
+      N[0], deepest[0], N[1], deepest[1]);
+  EXPECT_LT(deepest[0], 0.05 * 2.5);  // within the penetration warning's 5 % of beam 2's half width
+  EXPECT_NEAR(N[0], N[1], 1e-2 * N[1]);
+}
+
 // Overlaps no contact point can see must never end "complete". The pushed-through deck with "upper"
 // moved (a) parallel above "lower", with line contact switched off (Line Contact Angle 0; before:
 // the run completed with the beams 13 inside each other and no force; with line contact every
