@@ -241,7 +241,7 @@ void PointContact::findEnds(int pi, int eE, int eS, bool ofB, long long visit, c
     if (!turnedTowards) continue;
     const PointKey key = PointKey::endPoint(pi, ofB, end, face);
     double out = std::abs(cp.eta - 0.5);
-    if (have && have->elementA == eE && have->elementB == eS && out <= 0.55) out = -1.0;
+    if (have && have->elementA == eE && have->elementB == eS && out <= 0.55 && !handedOver_.count(key)) out = -1.0;
     offer(key, Candidate{eE, eS, cp}, out, visit);
   }
 }

@@ -6,6 +6,8 @@
 // projects onto the other beam's element (endKinematics). And end-to-end contact: a point per two free
 // ends whose end faces are turned towards each other (endToEndKinematics).
 #pragma once
+
+#include <set>
 #include "ContactGeometry.hpp"
 
 namespace bc::constraints {
@@ -13,6 +15,10 @@ namespace bc::constraints {
 class PointContact {
  public:
   explicit PointContact(const ContactGeometry& geometry) : geometry_(geometry) {}
+  // End points that leave the element they were found on at a converged state for the neighbour that
+  // holds their closest point (ContactManager::acceptSolution): the search does not keep them on their
+  // element (the hysteresis of 5 % of an element beyond a node) until the increment ends.
+  void setHandedOver(std::set<PointKey> keys) { handedOver_ = std::move(keys); }
   // The narrow phase of one element pair of pair `pi`, the broad phase's `visit`-th: offers each
   // point contact it finds (`known`: the present points, which keep their orientation and element pair).
   void findPoints(int pi, int ea, int eb, long long visit, const core::State& s, const PointMap& known,
@@ -69,6 +75,7 @@ class PointContact {
   // eO's beam (endToEndKinematics), in `s`.
   LinePairInput endToEndInput(int eE, int end, int eO, int otherEnd, const core::State& s) const;
 
+  std::set<PointKey> handedOver_;
   const ContactGeometry& geometry_;
 };
 
