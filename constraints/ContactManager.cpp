@@ -405,6 +405,7 @@ bool ContactManager::acceptSolution(core::State& state) {
   // decided the answer. (B's clamped ends 0.02 past A's node pressing on the parallel 2 x 1 rectangles:
   // Penalty 0.35019 with 10 increments, 0.34558 with 1 and 5.)
   if (all && geometry_.lineContact()) {
+    bool handed = false;
     for (const auto& [key, p] : set_.current()) {
       if (!key.end() || key.endToEnd() || !geometry_.blends(key.pair) || handedOver_.count(key)) continue;
       const double eta = pointGeometry(p, state).eta;
@@ -412,9 +413,10 @@ bool ContactManager::acceptSolution(core::State& state) {
       const int last = static_cast<int>(geometry_.beams().beams()[e.beam].nodes.size()) - 2;
       if (!((eta < 0.0 && e.index > 0) || (eta > 1.0 && e.index < last))) continue;
       handedOver_.insert(key);
-      all = false;
+      handed = true;
     }
-    if (!all) {
+    if (handed) {
+      all = false;
       ++gatePasses_;
       pointContact_.setHandedOver(handedOver_);
     }
