@@ -44,6 +44,24 @@ ContactGeometry::ContactGeometry(std::shared_ptr<const elements::BeamSet> beams,
     }
     lines_.push_back(lines);
   }
+  // Smoothed axes: consecutive elements of a beam (element k's node 2 is element k + 1's node 1).
+  const auto& elems = beams_->elements();
+  nodeTangents_.resize(elems.size());
+  kinkLeft_.assign(elems.size(), {0.0, 0.0});
+  for (std::size_t e = 0; e < elems.size(); ++e)
+    nodeTangents_[e] = {column(elems[e].data.T0, 0), column(elems[e].data.T0, 0)};
+  for (std::size_t e = 0; e + 1 < elems.size(); ++e) {
+    const BeamElement &a = elems[e], &b = elems[e + 1];
+    if (a.beam != b.beam || a.node2 != b.node1) continue;
+    const Vec3d ta = column(a.data.T0, 0), tb = column(b.data.T0, 0);
+    const double angle = std::acos(std::clamp(dot(ta, tb), -1.0, 1.0));
+    if (angle > kCornerAngle) {
+      kinkLeft_[e][1] = kinkLeft_[e + 1][0] = angle;
+      continue;
+    }
+    const Vec3d t = (1.0 / norm(ta + tb)) * (ta + tb);
+    nodeTangents_[e][1] = nodeTangents_[e + 1][0] = t;
+  }
   for (const auto& p : pairs_) {
     const bool rA = beams_->beams()[p.beamA].section.shape == CrossSection::Shape::Rectangle;
     const bool rB = beams_->beams()[p.beamB].section.shape == CrossSection::Shape::Rectangle;
@@ -186,6 +204,15 @@ LinePairInput ContactGeometry::lineInput(int eA, int lA, int eB, int lB, const c
   in.dA = a.data.L0 * column(a.data.T0, 0);
   in.dB = b.data.L0 * column(b.data.T0, 0);
   return in;
+}
+
+void ContactGeometry::smoothAxes(LinePairInput& in, int eA, int eB) const {
+  const BeamElement& a = beams_->elements()[eA];
+  const BeamElement& b = beams_->elements()[eB];
+  in.dA = a.data.L0 * nodeTangents_[eA][0];
+  in.dA2 = a.data.L0 * nodeTangents_[eA][1];
+  in.dB = b.data.L0 * nodeTangents_[eB][0];
+  in.dB2 = b.data.L0 * nodeTangents_[eB][1];
 }
 
 LinePairInput ContactGeometry::axisInput(int eA, int eB, const core::State& s) const {

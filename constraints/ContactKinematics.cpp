@@ -12,6 +12,9 @@ namespace {
 // Whether an element's lines are its Hermite curves (a nonzero reference axis vector) or chords.
 bool cubic(const Vec3d& d) { return dot(d, d) > 0.0; }
 bool smoothPoint(const LinePairInput& in) { return cubic(in.dA) || cubic(in.dB); }
+// Node 2's reference tangent of A and of B (LinePairInput::dA2, dB2).
+const Vec3d& tangentA2(const LinePairInput& in) { return cubic(in.dA2) ? in.dA2 : in.dA; }
+const Vec3d& tangentB2(const LinePairInput& in) { return cubic(in.dB2) ? in.dB2 : in.dB; }
 
 // Closest points of the lines pA1 + xi (pA2 - pA1) and pB1 + eta (pB2 - pB1): the orthogonality
 // conditions are linear in (xi, eta) for straight lines; Cramer's rule.
@@ -459,15 +462,23 @@ Gaps<T> curveGaps(const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB, 
   g.xi = T(xiStart);
   g.eta = T(etaStart);
   for (int it = 0; it < 2; ++it) curveNewtonStep(P, V, cubicA, cubicB, g.xi, g.eta);
-  Vec3<T> xA, tA, xB, tB;
-  axisPoint(P[0], V[0], P[1], V[1], cubicA, g.xi, &xA, &tA, nullptr);
-  axisPoint(P[2], V[2], P[3], V[3], cubicB, g.eta, &xB, &tB, nullptr);
+  Vec3<T> xA, tA, ddA, xB, tB, ddB;
+  axisPoint(P[0], V[0], P[1], V[1], cubicA, g.xi, &xA, &tA, &ddA);
+  axisPoint(P[2], V[2], P[3], V[3], cubicB, g.eta, &xB, &tB, &ddB);
   const Vec3<T> c = cross(tB, tA);
   const Vec3<T> n = (sigma / sqrt(dot(c, c))) * c;
   const T la = sqrt(dot(tA, tA)), lb = sqrt(dot(tB, tB));
+  // The slip metrics: m_A = -j11 / |x_A'| = (|x_A'|^2 - x_A'' . w) / |x_A'|, m_B = j22 / |x_B'| (w = x_B -
+  // x_A, j as in curveNewtonStep). For curves crossing at right angles (x_A' . x_B' = 0) a relative
+  // motion v of B's point moves xi by x_A' . v / -j11, so m_A dxi = t_A . v: the slip's variation has
+  // unit length along the tangent and a friction multiplier applies a force of its own size (on the
+  // cone). |x_A'| alone (the chord's length on a straight element, where x'' = 0 and both agree) left
+  // out the curvature's share: an applied force 1 / (1 - kappa (r_A + r_B)) times mu N where a curve
+  // of curvature kappa turns its convex side to the other (a weave's crossings: 1.28).
+  const T mA = (dot(tA, tA) - dot(ddA, xB - xA)) / la, mB = (dot(tB, tB) + dot(ddB, xB - xA)) / lb;
   g.gN = dot(xB - xA, n) - radiusSum;
-  g.gT1 = (g.xi - xiPrev) * la;
-  g.gT2 = (g.eta - etaPrev) * lb;
+  g.gT1 = (g.xi - xiPrev) * mA;
+  g.gT2 = (g.eta - etaPrev) * mB;
   g.cosine = dot(tA, tB) / (la * lb);
   g.length = T(1.0);
   return g;
@@ -567,7 +578,7 @@ ClosestPoints closestPoints(const LinePairInput& in) {
     // beyond the elements (where the cubic's extrapolation means nothing), has no closest points.
     const bool cubicA = cubic(in.dA), cubicB = cubic(in.dB);
     const Vec3d P[4] = {pA1, pA2, pB1, pB2};
-    const Vec3d V[4] = {in.RA1 * in.dA, in.RA2 * in.dA, in.RB1 * in.dB, in.RB2 * in.dB};
+    const Vec3d V[4] = {in.RA1 * in.dA, in.RA2 * tangentA2(in), in.RB1 * in.dB, in.RB2 * tangentB2(in)};
     bool converged = false;
     for (int it = 0; it < 50 && !converged; ++it) {
       const double xi0 = cp.xi, eta0 = cp.eta;
@@ -623,7 +634,7 @@ ClosestPoints lineProjection(const LinePairInput& in, double xi) {
   const Vec3d tA = pA2 - pA1, tB = pB2 - pB1;
   cp.sinAngle = norm(cross(tB, tA)) / (norm(tA) * norm(tB));
   cp.xi = xi;
-  const Vec3d vA1 = in.RA1 * in.dA, vA2 = in.RA2 * in.dA, vB1 = in.RB1 * in.dB, vB2 = in.RB2 * in.dB;
+  const Vec3d vA1 = in.RA1 * in.dA, vA2 = in.RA2 * tangentA2(in), vB1 = in.RB1 * in.dB, vB2 = in.RB2 * tangentB2(in);
   const bool cubicA = norm(in.dA) > 0.0, cubicB = norm(in.dB) > 0.0;
   axisPoint(pA1, vA1, pA2, vA2, cubicA, xi, &cp.pA, nullptr, nullptr);
   cp.eta = projectionParameter(pB1, vB1, pB2, vB2, cubicB, cp.pA);
@@ -750,7 +761,7 @@ ContactKinematics lineKinematicsFromGaps(const LinePairInput& in, double xi, dou
 LineSegment lineSegment(const LinePairInput& in) {
   LineSegment seg;
   const Vec3d pA1 = in.xA1 + in.RA1 * in.oA, pA2 = in.xA2 + in.RA2 * in.oA;
-  const Vec3d P[2] = {pA1, pA2}, V[2] = {in.RA1 * in.dA, in.RA2 * in.dA};
+  const Vec3d P[2] = {pA1, pA2}, V[2] = {in.RA1 * in.dA, in.RA2 * tangentA2(in)};
   const bool cubicA = norm(in.dA) > 0.0;
   const Vec3d node[2] = {in.xB1 + in.RB1 * in.oB, in.xB2 + in.RB2 * in.oB};
   const Vec3d tau[2] = {in.RB1 * in.sB1, in.RB2 * in.sB2};
@@ -931,7 +942,7 @@ VectorFrame<Vectors> vectorFrame(const LinePairInput& in, const Vec3d* extraRef,
   const Vec3d* x[4] = {&in.xA1, &in.xA2, &in.xB1, &in.xB2};
   const Mat3d* Rm[4] = {&in.RA1, &in.RA2, &in.RB1, &in.RB2};
   const Vec3d* o[4] = {&in.oA, &in.oA, &in.oB, &in.oB};
-  const Vec3d* dv[4] = {&in.dA, &in.dA, &in.dB, &in.dB};
+  const Vec3d* dv[4] = {&in.dA, &tangentA2(in), &in.dB, &tangentB2(in)};
   VectorFrame<Vectors> v;
   for (int k = 0; k < Vectors; ++k) {
     const int m = k < 8 ? k % 4 : extraNode[k - 8];
@@ -1102,7 +1113,7 @@ ContactKinematics pointKinematicsOfOrder(const LinePairInput& in, double sigma, 
 
 // The shape values of the vectors (P_1, P_2, V_1, V_2) of one curve at u and their first and second
 // derivatives: the cubic Hermite basis, or the chord's (1 - u, u, 0, 0).
-template <class T> struct CurveShape { T s[4], d[4], dd[4]; };
+template <class T> struct CurveShape { T s[4], d[4], dd[4], ddd[4]; };
 template <class T> CurveShape<T> curveShape(bool cubicCurve, const T& u) {
   CurveShape<T> c;
   const T zero(0.0);
@@ -1110,6 +1121,7 @@ template <class T> CurveShape<T> curveShape(bool cubicCurve, const T& u) {
     c.s[0] = 1.0 - u, c.s[1] = u, c.s[2] = zero, c.s[3] = zero;
     c.d[0] = T(-1.0), c.d[1] = T(1.0), c.d[2] = zero, c.d[3] = zero;
     for (T& v : c.dd) v = zero;
+    for (T& v : c.ddd) v = zero;
     return c;
   }
   const T u2 = u * u, u3 = u2 * u;
@@ -1117,6 +1129,7 @@ template <class T> CurveShape<T> curveShape(bool cubicCurve, const T& u) {
   c.d[0] = 6.0 * u2 - 6.0 * u, c.d[1] = 6.0 * u - 6.0 * u2, c.d[2] = 1.0 - 4.0 * u + 3.0 * u2,
   c.d[3] = 3.0 * u2 - 2.0 * u;
   c.dd[0] = 12.0 * u - 6.0, c.dd[1] = 6.0 - 12.0 * u, c.dd[2] = 6.0 * u - 4.0, c.dd[3] = 6.0 * u - 2.0;
+  c.ddd[0] = T(12.0), c.ddd[1] = T(-12.0), c.ddd[2] = T(6.0), c.ddd[3] = T(6.0);
   return c;
 }
 
@@ -1141,16 +1154,17 @@ void curveGapGradients(const Vec3<T>* Q, bool cubicA, bool cubicB, double radius
   const CurveShape<T> a = curveShape(cubicA, xi), b = curveShape(cubicB, eta);
   // Vector k's shape values on A and B (A's vectors: 0, 1, 4, 5; B's: 2, 3, 6, 7).
   const T zero(0.0);
-  T sA[8], dA[8], sB[8], dB[8];
+  T sA[8], dA[8], ddAk[8], sB[8], dB[8], ddBk[8];
   const int slot[8] = {0, 1, 0, 1, 2, 3, 2, 3};
-  Vec3<T> xA{{zero, zero, zero}}, tA = xA, ddA = xA, xB = xA, tB = xA, ddB = xA;
+  Vec3<T> xA{{zero, zero, zero}}, tA = xA, ddA = xA, dddA = xA, xB = xA, tB = xA, ddB = xA, dddB = xA;
   for (int k = 0; k < 8; ++k) {
     const bool onA = k == 0 || k == 1 || k == 4 || k == 5;
     const int j = slot[k];
-    sA[k] = onA ? a.s[j] : zero, dA[k] = onA ? a.d[j] : zero;
-    sB[k] = onA ? zero : b.s[j], dB[k] = onA ? zero : b.d[j];
-    if (onA) xA = xA + a.s[j] * Q[k], tA = tA + a.d[j] * Q[k], ddA = ddA + a.dd[j] * Q[k];
-    else xB = xB + b.s[j] * Q[k], tB = tB + b.d[j] * Q[k], ddB = ddB + b.dd[j] * Q[k];
+    sA[k] = onA ? a.s[j] : zero, dA[k] = onA ? a.d[j] : zero, ddAk[k] = onA ? a.dd[j] : zero;
+    sB[k] = onA ? zero : b.s[j], dB[k] = onA ? zero : b.d[j], ddBk[k] = onA ? zero : b.dd[j];
+    if (onA)
+      xA = xA + a.s[j] * Q[k], tA = tA + a.d[j] * Q[k], ddA = ddA + a.dd[j] * Q[k], dddA = dddA + a.ddd[j] * Q[k];
+    else xB = xB + b.s[j] * Q[k], tB = tB + b.d[j] * Q[k], ddB = ddB + b.dd[j] * Q[k], dddB = dddB + b.ddd[j] * Q[k];
   }
   const Vec3<T> w = xB - xA;
   const Vec3<T> c = cross(tB, tA);
@@ -1158,9 +1172,11 @@ void curveGapGradients(const Vec3<T>* Q, bool cubicA, bool cubicB, double radius
   const T aa = dot(tA, tA), bb = dot(tB, tB), ab = dot(tA, tB);
   const T la = sqrt(aa), lb = sqrt(bb);
   const T j11 = dot(ddA, w) - aa, j22 = dot(ddB, w) + bb, det = j11 * j22 + ab * ab;
+  // The slip metrics (curveGaps): m_A = -j11 / |x_A'|, m_B = j22 / |x_B'|.
+  const T mA = (aa - dot(ddA, w)) / la, mB = (bb + dot(ddB, w)) / lb;
   value[kGapN] = dot(w, n) - radiusSum;
-  value[kGapT1] = (xi - xiPrev) * la;
-  value[kGapT2] = (eta - etaPrev) * lb;
+  value[kGapT1] = (xi - xiPrev) * mA;
+  value[kGapT2] = (eta - etaPrev) * mB;
   value[kXi] = xi;
   value[kEta] = eta;
   value[kCosine] = ab / (la * lb);
@@ -1168,8 +1184,9 @@ void curveGapGradients(const Vec3<T>* Q, bool cubicA, bool cubicB, double radius
   const T cosine = value[kCosine];
   const Vec3<T> cosA = (1.0 / (la * lb)) * tB - (cosine / aa) * tA;  // d cosine / d t_A
   const Vec3<T> cosB = (1.0 / (la * lb)) * tA - (cosine / bb) * tB;
-  const T slipA = (xi - xiPrev) / la, slipB = (eta - etaPrev) / lb;
+  const T slipA = xi - xiPrev, slipB = eta - etaPrev;
   const T tAddA = dot(tA, ddA), tBddB = dot(tB, ddB), cAddA = dot(cosA, ddA), cBddB = dot(cosB, ddB);
+  const T wdddA = dot(w, dddA), wdddB = dot(w, dddB), tAddB = dot(tA, ddB), tBddA = dot(tB, ddA);
   const Vec3<T> none{{zero, zero, zero}};
   for (int k = 0; k < 8; ++k) {
     const T s = sB[k] - sA[k];
@@ -1177,8 +1194,14 @@ void curveGapGradients(const Vec3<T>* Q, bool cubicA, bool cubicB, double radius
     const Vec3<T> dXi = (-1.0 / det) * (j22 * dF1 - ab * dF2);
     const Vec3<T> dEta = (-1.0 / det) * (ab * dF1 + j11 * dF2);
     G[kGapN][k] = s * n;
-    G[kGapT1][k] = la * dXi + slipA * (dA[k] * tA + tAddA * dXi);
-    G[kGapT2][k] = lb * dEta + slipB * (dB[k] * tB + tBddB * dEta);
+    // m_A = (|x_A'|^2 - x_A'' . w) / |x_A'| by the product rule; dw = s dQ_k + x_B' deta - x_A' dxi.
+    const Vec3<T> dLa = (1.0 / la) * (dA[k] * tA + tAddA * dXi), dLb = (1.0 / lb) * (dB[k] * tB + tBddB * dEta);
+    const Vec3<T> dDdAw = ddAk[k] * w + wdddA * dXi + s * ddA + tBddA * dEta - tAddA * dXi;
+    const Vec3<T> dDdBw = ddBk[k] * w + wdddB * dEta + s * ddB + tBddB * dEta - tAddB * dXi;
+    const Vec3<T> dMA = (1.0 / la) * (2.0 * la * dLa - dDdAw) - (mA / la) * dLa;
+    const Vec3<T> dMB = (1.0 / lb) * (2.0 * lb * dLb + dDdBw) - (mB / lb) * dLb;
+    G[kGapT1][k] = mA * dXi + slipA * dMA;
+    G[kGapT2][k] = mB * dEta + slipB * dMB;
     G[kXi][k] = dXi;
     G[kEta][k] = dEta;
     G[kCosine][k] = dA[k] * cosA + cAddA * dXi + dB[k] * cosB + cBddB * dEta;

@@ -42,6 +42,10 @@ struct LinePairInput {
   // straight chord x_1 + u (x_2 - x_1). Line contact, and point contact with Point Contact Axes =
   // Hermite (PointContact zeroes them for the chords).
   Vec3d dA{}, dB{};
+  // Node 2's reference tangent where it differs from node 1's: smoothed axes (Point Contact Axes =
+  // Hermite) give each interior node of a beam one tangent shared by its two elements, so the curves
+  // meet at the node with one direction. Zero: dA (dB) at both nodes.
+  Vec3d dA2{}, dB2{};
   // Face contact of rectangular sections (line contact of an edge of A on a face of B): B's line is
   // then the centre line of its face (oB its offset), nB the face's outward unit normal and
   // halfWidthB its half width, all in the reference configuration. face false: circular sections.

@@ -177,11 +177,11 @@ std::vector<std::string> ContactReport::warnings() const {
       << "): the elements on both sides of the node each hold a closest point about as close, with normals up to "
       << degrees << " degrees apart; the point takes one element's, so its force leans across the beams by up to "
       << 0.5 * degrees << " degrees to that element's side (a symmetric model can answer unsymmetrically); ";
-    // (Hermite axes keep a kink of the initial shape: refining is what helps there.)
+    // (Hermite axes keep a corner of the initial shape: refining does not help there either.)
     if (initial > kRivalAngle)
       s << "the beam's elements met at " << initial * 180.0 / M_PI
-        << " degrees there in its initial shape (a polyline), which Hermite axes keep too: refine the beam (more "
-           "elements per arc or undulation)";
+        << " degrees there in its initial shape, a corner (beyond " << ContactGeometry::kCornerAngle * 180.0 / M_PI
+        << " degrees) that Hermite axes keep too: the contact at a corner is that of two straight beams";
     else s << "set Contact/Point Contact Axes = Hermite (smooth across nodes), or refine the beams";
     return s.str();
   });

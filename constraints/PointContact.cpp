@@ -8,6 +8,7 @@ namespace bc::constraints {
 LinePairInput PointContact::input(int eA, int lA, int eB, int lB, const core::State& s) const {
   LinePairInput in = geometry_.lineInput(eA, lA, eB, lB, s);
   if (!geometry_.options().hermitePointAxes) in.dA = in.dB = Vec3d{};
+  else geometry_.smoothAxes(in, eA, eB);
   return in;
 }
 
@@ -367,12 +368,11 @@ double PointContact::rivalAngle(const ContactPointRecord& p, const ClosestPoints
   if (initialKink) *initialKink = 0.0;
   if (p.end() || p.line() || p.node()) return 0.0;
   const auto& elements = geometry_.beams().elements();
-  // The angle at which two elements of a beam meet in its initial shape (a polyline: an arc, a helix, a
-  // weave's undulation): Hermite axes take each element's tangents from its own initial direction, so
-  // they keep that kink; the chords have it and what the bending adds.
-  const auto kink = [&](int e, int n) {
-    return std::acos(std::clamp(dot(column(elements[e].data.T0, 0), column(elements[n].data.T0, 0)), -1.0, 1.0));
-  };
+  // The angle at which two elements of a beam meet on the smoothed Hermite axes in the initial shape:
+  // zero where the node's tangent is shared (a polyline's gentle bend: an arc, a helix, a weave's
+  // undulation), the elements' angle at a corner (ContactGeometry::kCornerAngle), which Hermite axes
+  // keep; the chords have every initial angle and what the bending adds.
+  const auto kink = [&](int e, int n) { return geometry_.smoothedKink(e, n < e ? 0 : 1); };
   // The element beside e across its node nearer to the parameter t (-1: none, a beam's end).
   const auto beside = [&](int e, double t) {
     const int n = t < 0.5 ? e - 1 : e + 1;

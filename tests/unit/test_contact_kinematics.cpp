@@ -581,6 +581,10 @@ TEST(ContactKinematics, WrittenOutPointGradientsMatchNestedAdOfTheGaps) {
       in.dA = Vec3d{{10, 0, 0}};
       in.dB = Vec3d{{0, 10, 0}};
     }
+    if (trial >= 18) {  // smoothed axes: node 2's reference tangent differs from node 1's
+      in.dA2 = Vec3d{{9.97, 0.4, -0.5}};
+      in.dB2 = Vec3d{{-0.4, 9.98, 0.3}};
+    }
     placeGenerally(in, g, 0.5);
     in.radiusSum = trial % 2 ? 0.7 : 0.0;
     const auto cp = closestPoints(in);
@@ -681,7 +685,18 @@ TEST(ContactKinematics, HermiteAxesOfBentElements) {
     EXPECT_NEAR(cp.eta, 0.5, 1e-13);
     EXPECT_NEAR(cp.gap, 5.0 + 2.5 * std::sin(phi), 1e-12);
     EXPECT_NEAR(cp.normal[2], 1.0, 1e-13);
-    EXPECT_NEAR(contactKinematics(b, cp.sigma, 0.45, 0.5).normal.value, 5.0 + 2.5 * std::sin(phi), 1e-12);
+    const auto kb = contactKinematics(b, cp.sigma, 0.45, 0.5);
+    EXPECT_NEAR(kb.normal.value, 5.0 + 2.5 * std::sin(phi), 1e-12);
+    // B's crest bends with curvature kappa = 0.2 sin(phi) at distance d = 8 + 2.5 sin(phi) from A's
+    // axis: translating A along B's tangent (+Y) moves the projection by 1 / (|x_B'| (1 - kappa d)) per
+    // unit, and the slip metric m_B = (|x_B'|^2 + x_B'' . w) / |x_B'| makes the slip one unit per unit
+    // (|x_B'| alone: 1 / (1 - kappa d), 1.198 at phi = 0.1); along A (straight), one unit too.
+    const double slipPerY = -(kb.tangent2.R[1] + kb.tangent2.R[6 + 1]);
+    const double kappaD = 0.2 * std::sin(phi) * (8.0 + 2.5 * std::sin(phi));
+    std::printf("B bent by phi = %.2f (kappa d = %.3f): slip per unit motion along B %.15f (|x_B'| alone: %.4f)\n", phi,
+                kappaD, slipPerY, 1.0 / (1.0 - kappaD));
+    EXPECT_NEAR(std::abs(slipPerY), 1.0, 1e-12);
+    EXPECT_NEAR(std::abs(kb.tangent1.R[0] + kb.tangent1.R[6]), 1.0, 1e-12);
     b.dA = b.dB = Vec3d{};
     EXPECT_NEAR(closestPoints(b).gap, 5.0, 1e-12);  // the chords
   }
@@ -701,6 +716,10 @@ TEST(ContactKinematics, HermiteAxesVariationsMatchCentralDifferences) {
     if (trial % 2) {
       in.oA = in.oB = Vec3d{};
       in.radiusSum = 0.7;
+    }
+    if (trial % 2 == 0 && trial > 0) {  // smoothed axes: node 2's reference tangent differs from node 1's
+      in.dA2 = Vec3d{{9.97, 0.4, -0.5}};
+      in.dB2 = Vec3d{{-0.4, 9.98, 0.3}};
     }
     placeGenerally(in, g, 0.5);
     const auto cp = closestPoints(in);
@@ -775,6 +794,54 @@ TEST(ContactKinematics, HermiteNormalIsContinuousAcrossANode) {
   EXPECT_LT(jump, 1e-13);
   EXPECT_LT(norm(s[0].normal - m), 1e-13);
   EXPECT_GT(chordJump, 0.1);
+}
+
+// Smoothed axes across a node of a polyline in its initial shape (no node turned): A's three nodes on
+// a circle of radius 30 at angles -0.25, 0, 0.15 rad, straight elements meeting at 0.2 rad. Each
+// element's Hermite curve takes at the middle node the bisector b of the two elements' directions
+// (ContactGeometry::smoothAxes), at the outer nodes its own direction. B is a line through h m, m
+// normal to b, B's direction normal to m: both elements give the point at the middle node (xi = 1 and
+// xi = 0), the gap h - r and the normal m; with each element's own direction (dA2 zero) the two curves
+// are the chords and their normals differ by the kink.
+TEST(ContactKinematics, SmoothedAxesOfAPolylineAreContinuousAcrossItsNode) {
+  const double rc = 30.0, h = 2.0, r = 0.5;
+  const double angle[3] = {-0.25, 0.0, 0.15};
+  Vec3d node[3];
+  for (int i = 0; i < 3; ++i) node[i] = Vec3d{{rc * std::sin(angle[i]), 0.0, rc * (std::cos(angle[i]) - 1.0)}};
+  const Vec3d t0 = (1.0 / norm(node[1] - node[0])) * (node[1] - node[0]);
+  const Vec3d t1 = (1.0 / norm(node[2] - node[1])) * (node[2] - node[1]);
+  const Vec3d b = (1.0 / norm(t0 + t1)) * (t0 + t1);
+  const Vec3d m = std::cos(0.3) * cross(Vec3d{{0, 1, 0}}, b) - std::sin(0.3) * Vec3d{{0, 1, 0}};  // normal to b
+  const Vec3d across = cross(m, b);
+  const Vec3d tB = std::cos(1.2) * b + std::sin(1.2) * across;  // normal to m
+  ClosestPoints cp[2][2];  // [own directions, smoothed][element]
+  for (int smoothed = 0; smoothed < 2; ++smoothed)
+    for (int e = 0; e < 2; ++e) {
+      LinePairInput in;
+      in.xA1 = node[e];
+      in.xA2 = node[e + 1];
+      in.RA1 = in.RA2 = in.RB1 = in.RB2 = identity3<double>();
+      in.xB1 = node[1] + h * m - 4.0 * tB;
+      in.xB2 = node[1] + h * m + 6.0 * tB;
+      const double L = norm(node[e + 1] - node[e]);
+      in.dA = L * (e == 0 ? t0 : (smoothed ? b : t1));
+      if (smoothed) in.dA2 = L * (e == 0 ? b : t1);
+      in.dB = in.xB2 - in.xB1;
+      in.radiusSum = r;
+      cp[smoothed][e] = closestPoints(in);
+    }
+  const auto& s = cp[1];
+  EXPECT_NEAR(s[0].xi, 1.0, 1e-12);
+  EXPECT_NEAR(s[1].xi, 0.0, 1e-12);
+  EXPECT_NEAR(s[0].gap, h - r, 1e-12);
+  EXPECT_NEAR(s[1].gap, h - r, 1e-12);
+  const double jump = norm(s[0].normal - s[1].normal), ownJump = norm(cp[0][0].normal - cp[0][1].normal);
+  std::printf(
+      "normal at a polyline's node from its two elements: smoothed axes differ by %.1e, own directions by %.3f\n", jump,
+      ownJump);
+  EXPECT_LT(jump, 1e-12);
+  EXPECT_LT(norm(s[0].normal - m), 1e-12);
+  EXPECT_GT(ownJump, 0.1);
 }
 
 namespace {
