@@ -177,6 +177,12 @@ ParameterList weave(const Options& o) {
     support(supports, name + " end", name, "end", "ux uy uz ry", vec(0, 0, 0));
   }
   contactAndStepping(deck, o);
+  // The yarns are smooth curves sampled by straight elements: point contact on the smoothed Hermite
+  // axes (one tangent per node) sees them smooth. On the chords every crossing lies at a node where
+  // the elements meet at an angle on the side facing the other yarn, a V-groove that one point per
+  // crossing cannot hold without friction: the frictionless 10 x 10 weave stopped with Penalty and
+  // Augmented Lagrange (docs/contact.md, "Point contact axes").
+  deck.sublist("Contact").set("Point Contact Axes", std::string("Hermite"));
   return deck;
 }
 
