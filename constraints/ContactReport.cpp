@@ -266,8 +266,9 @@ void ContactReport::lineWarnings(std::vector<std::string>& w) const {
       << " times mu times its normal force near (" << worst.second[0] << ", " << worst.second[1] << ", "
       << worst.second[2]
       << "): outside the Isotropic Coulomb cone (its multipliers are on the cone, and the force they apply "
-         "is larger on Point Contact Axes = Hermite, where the tangential directions vary along the curves; on "
-         "the chords it is on the cone to round-off)";
+         "differs on Point Contact Axes = Hermite: the slips are measured along the curves, exactly only where "
+         "they cross at right angles with no slip yet in the increment; on the chords it is on the cone to "
+         "round-off)";
     w.push_back(s.str());
   }
 }

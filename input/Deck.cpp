@@ -238,8 +238,10 @@ const ParameterSpec& contactSpec() {
     p.addChoice("Point Contact Axes", "Chord", {"Chord", "Hermite"},
                 "the lines point contact finds its closest points, gap and normal on: \"Chord\": the straight "
                 "chords between the nodes (the seed paper's; the normal jumps at nodes); \"Hermite\": each "
-                "element's cubic Hermite curve through its nodes with the nodal tangents (smooth across nodes, as "
-                "line contact's; converges monotonically with the mesh where a contact lies between nodes)");
+                "element's cubic Hermite curve through its nodes with one tangent per node, turning with it (the "
+                "bisector of its elements' initial directions: smooth across nodes, also of a polyline such as "
+                "an arc or a weave's yarn; a corner beyond 45 degrees keeps each element's own; converges "
+                "monotonically with the mesh where a contact lies between nodes)");
     p.add("Allow Initial Penetration", false, "accept beams that overlap at T = 0 instead of stopping");
     p.addChoice("Friction Law", "Isotropic Coulomb", {"Isotropic Coulomb", "Per Line"},
                 "\"Isotropic Coulomb\": the tangential force vector obeys |F_T| <= mu F_N; \"Per Line\": each of "
