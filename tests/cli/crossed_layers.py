@@ -340,7 +340,9 @@ def check_augmented_lagrange_first_contact(exe, work):
 def check_cycling_friction_completes(exe, work):
     """Friction whose slip directions cycle at first contact with the consistent tangent, each strategy:
     the 16 x 16 layers pressed together (generate grid's defaults: every crossing touches at T = 0.2,
-    friction 0.2, eps_N 1e4, eps_T 1e3) and the 10 x 10 plain weave pulled (generate weave's defaults).
+    friction 0.2, eps_N 1e4, eps_T 1e3) and the 10 x 10 plain weave pulled (generate weave's defaults
+    on the chords, Point Contact Axes = Chord, where the cycling was found; generated_weave runs it on
+    the Hermite axes the generator writes).
     A point whose friction force reverses twice in a Newton solve takes the secant of its return
     mapping in Penalty's and Augmented Lagrange's tangent for the next 6 assemblies. Before, Penalty
     and Augmented Lagrange cut the grid's first contact 5 times (18 steps), and the weave with
@@ -357,7 +359,10 @@ def check_cycling_friction_completes(exe, work):
         crossings = {}
         for strategy in STRATEGIES:
             name = os.path.join(work, f"cycling_{kind}_{strategy.replace(' ', '_')}")
-            code, status = run_variant(exe, deck, name, [("Contact/Enforcement/Type", "string", strategy)])
+            variant = [("Contact/Enforcement/Type", "string", strategy)]
+            if kind == "weave":
+                variant.append(("Contact/Point Contact Axes", "string", "Chord"))
+            code, status = run_variant(exe, deck, name, variant)
             print(f"{kind} {' x '.join(options[1::2])}, friction 0.2, {strategy}: exit {code}, {status[:80]}")
             if code != 0:
                 failures += 1
