@@ -315,6 +315,9 @@ constexpr double kSmallFaceAngleSine = 0.1;
 // each other at the quarter points; the sections' centres lie on line contact's axes and the sections
 // turn between the nodes, so an overlap this small is not the test's own geometry.)
 constexpr double kSectionOverlap = 1e-5;
+// A crossing in point contact whose chords lie deeper inside each other than this of the thinner
+// inscribed radius where no point of the pair holds them is refused (checkNoUnseenContact).
+constexpr double kUnheldCrossing = 0.05;
 }  // namespace
 
 double ContactSearch::sectionOverlap(const core::State& state, int ea, int eb) const {
@@ -465,6 +468,38 @@ void ContactSearch::checkNoUnseenContact(const core::State& state, bool atStart,
     }
     const double sine = norm(cross(a2 - a1, b2 - b1)) / (norm(a2 - a1) * norm(b2 - b1));
     const bool parallel = !lines && !(endA && endB) && sine < geometry_.options().minimumSinAngle;
+    // A crossing that no point holds. Two beams have one point contact per pair of their contact lines,
+    // at the crossing whose closest points lie most central in their elements (PointContact::findPoints):
+    // a beam that crosses the other twice (an arc, a coil, a bent beam over a straight one) is held at
+    // one crossing, and at the other the beams overlapped with no force, "complete" (an arc pressed by
+    // a bar across both its legs: 0.26 deep at one). On the chords, also a crossing at a node where a
+    // beam bends away from the other (the closest points lie beyond the node on both elements: no
+    // point; a coil under a bar, 0.45 deep). Refused where the chords lie deeper than
+    // kUnheldCrossing of the thinner inscribed radius inside each other (not a curve's sagitta).
+    // On the Hermite axes the curves' own closest points decide (a coarse arc's chords lie inside the
+    // curve by its sagitta).
+    const double unheld = reach - kUnheldCrossing * geometry_.thinner(pi);
+    const auto curvesOverlap = [&] {
+      if (!geometry_.options().hermitePointAxes) return true;
+      LinePairInput in = geometry_.axisInput(ea, eb, state);
+      geometry_.smoothAxes(in, ea, eb);
+      const ClosestPoints q = closestPoints(in);
+      return q.sinAngle >= geometry_.options().minimumSinAngle && geometry_.withinElement(ea, q.xi) &&
+             geometry_.withinElement(eb, q.eta) && q.distance < unheld;
+    };
+    if (!lines && !parallel && !endA && !endB && c.distance < unheld &&
+        !(atStart && geometry_.options().allowInitialPenetration) && !seen(pi, ea, eb) && curvesOverlap()) {
+      std::ostringstream s;
+      s << " (their inscribed radii sum to " << reach
+        << "), crossing where no contact point holds them: two beams have one point contact per pair of contact "
+           "lines, at one crossing, so a beam that crosses the other more than once (an arc, a coil, a bent beam) "
+           "is held at one crossing only; give each crossing its own pair by splitting one beam into beams joined "
+           "end to end (Joints)";
+      if (!geometry_.options().hermitePointAxes)
+        s << ", and where the crossing lies at a node at which a beam bends away from the other, its chords have "
+             "no closest points on either element: Contact/Point Contact Axes = Hermite sees it";
+      refuse(s.str());
+    }
     // A free end against the other beam's side is end contact's (its end points), two ends against
     // each other end-to-end contact's where their faces are turned towards each other; the rest is
     // refused where the end faces (discs or rectangles at the end nodes, their support functions

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <map>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -125,4 +126,65 @@ TEST(PointContactAxes, PointAtABentNodeOfTheChordsWarnsWithTheNormalsLean) {
   const auto r = test::runQuiet(published, Tpetra::getDefaultComm(), "example1");
   EXPECT_TRUE(r.report.completed) << r.report.failure;
   EXPECT_TRUE(r.report.warnings.empty()) << r.report.warnings.front();
+}
+
+// Two beams have one point contact per pair of contact lines. A half-circle arc with a bar pressed
+// onto both its legs (tests/cli/decks/arc_crossed_twice.xml) crosses it twice: the arc as one beam was
+// held at one crossing and overlapped the bar by 0.26 at the other with no force, "complete". Now the
+// increment fails at the unheld crossing and the run stops naming the cause, on either axes. Split
+// into two quarter arcs joined at the top (one pair per crossing), the run completes with two points
+// carrying mirror-equal forces (the model is symmetric about x = 0) and no overlap.
+TEST(PointContactAxes, ABeamCrossingTheOtherTwiceStopsNamingTheCause) {
+  const std::string path = std::string(BC_SOURCE_DIR) + "/tests/cli/decks/arc_crossed_twice.xml";
+  for (const std::string axes : {"Chord", "Hermite"}) {
+    Deck deck = input::readParameterXmlFile(path);
+    input::sublistAtPath(deck, "Contact", false).set("Point Contact Axes", axes);
+    auto p = input::buildProblem(deck, "arc_twice");
+    const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "arc_twice");
+    std::printf("%s, one arc: %s\n", axes.c_str(), r.report.completed ? "complete" : r.report.failure.c_str());
+    EXPECT_FALSE(r.report.completed) << axes;
+    EXPECT_NE(r.report.failure.find("crossing where no contact point holds them"), std::string::npos)
+        << axes << ": " << r.report.failure;
+    // Split at the top: a right and a left quarter arc (the node at (0, 10, 0) shared), one pair each.
+    Deck split = input::readParameterXmlFile(path);
+    input::sublistAtPath(split, "Contact", false).set("Point Contact Axes", axes);
+    Deck& beams = input::sublistAtPath(split, "Beams", false);
+    Deck arc = beams.sublist("arc");
+    beams.remove("arc");
+    for (const auto& [name, from, to] : {std::tuple{"right", 0.0, 90.0}, std::tuple{"left", 90.0, 180.0}}) {
+      Deck& b = beams.sublist(name);
+      b = arc;
+      b.sublist("Arc").set("Start Angle", from);
+      b.sublist("Arc").set("End Angle", to);
+      b.set("Elements", 8);
+    }
+    Deck& supports = input::sublistAtPath(split, "Supports", false);
+    supports.sublist("a s").set("Beam", std::string("right"));
+    supports.sublist("a e").set("Beam", std::string("left"));
+    Deck& pairs = input::sublistAtPath(split, "Contact/Pairs", false);
+    Deck pair = pairs.sublist("pair 0");
+    pairs.remove("pair 0");
+    for (const char* name : {"right", "left"}) {
+      Deck& q = pairs.sublist(std::string(name) + "-bar");
+      q = pair;
+      q.set("Beam A", std::string(name));
+    }
+    auto ps = input::buildProblem(split, "arc_split");
+    const auto rs = test::runQuiet(ps, Tpetra::getDefaultComm(), "arc_split");
+    ASSERT_TRUE(rs.report.completed) << axes << ": " << rs.report.failure;
+    std::vector<std::pair<double, double>> forces;  // (x, normal force)
+    double deepest = 0.0;
+    for (const auto& [key, pt] : ps.contact->points()) {
+      if (!pt.result.active) continue;
+      forces.emplace_back(pt.position[0], math::norm(pt.normalForce));
+      deepest = std::min(deepest, pt.gap);
+    }
+    ASSERT_EQ(forces.size(), 2u) << axes;
+    std::printf("%s, split arc: forces %.9f at x = %.4f and %.9f at x = %.4f, deepest gap %.1e\n", axes.c_str(),
+                forces[0].second, forces[0].first, forces[1].second, forces[1].first, deepest);
+    EXPECT_NEAR(forces[0].first, -forces[1].first, 1e-6);
+    EXPECT_NEAR(forces[0].second, forces[1].second, 1e-6 * forces[0].second);
+    EXPECT_GT(forces[0].second, 0.0);
+    EXPECT_GT(deepest, -1e-8);
+  }
 }
