@@ -317,7 +317,7 @@ constexpr double kSmallFaceAngleSine = 0.1;
 constexpr double kSectionOverlap = 1e-5;
 // A crossing in point contact whose chords lie deeper inside each other than this of the thinner
 // inscribed radius where no point of the pair holds them is refused (checkNoUnseenContact).
-constexpr double kUnheldCrossing = 0.05;
+constexpr double kUnheldCrossing = 0.01;
 }  // namespace
 
 double ContactSearch::sectionOverlap(const core::State& state, int ea, int eb) const {
@@ -475,7 +475,7 @@ void ContactSearch::checkNoUnseenContact(const core::State& state, bool atStart,
     // a bar across both its legs: 0.26 deep at one). On the chords, also a crossing at a node where a
     // beam bends away from the other (the closest points lie beyond the node on both elements: no
     // point; a coil under a bar, 0.45 deep). Refused where the chords lie deeper than
-    // kUnheldCrossing of the thinner inscribed radius inside each other (not a curve's sagitta).
+    // kUnheldCrossing (1 %) of the thinner inscribed radius inside each other (on the Hermite axes, their curves).
     // On the Hermite axes the curves' own closest points decide (a coarse arc's chords lie inside the
     // curve by its sagitta).
     const double unheld = reach - kUnheldCrossing * geometry_.thinner(pi);
