@@ -103,6 +103,18 @@ def check_strand_lines(contact):
     return failures
 
 
+def run_edited(exe, deck, path, settings):
+    """Runs DECK with the (parameter path, type, value) SETTINGS and VTK off, written to PATH (its output
+    in PATH less ".xml"); returns the finished process and the output folder."""
+    tree = ET.parse(deck)
+    set_parameter(tree.getroot(), "Output/Write VTK", "bool", "false")
+    for name, kind, value in settings:
+        set_parameter(tree.getroot(), name, kind, value)
+    tree.write(path)
+    out = path[:-4]
+    return subprocess.run([exe, "run", path, "--output", out, "--quiet"], capture_output=True, text=True), out
+
+
 def check_stalled_newton(exe, work):
     deck = os.path.join(work, "friction.xml")
     subprocess.run([exe, "generate", "network"] + GENERATOR_OPTIONS["network"][:-2] + ["--friction", "0.2", "--overwrite", "--output", deck],
@@ -112,13 +124,8 @@ def check_stalled_newton(exe, work):
     # friction's secant, both complete without a cut; When Stalled must not cut more than None.)
     failures, cut = 0, {}
     for search in ("None", "When Stalled"):
-        tree = ET.parse(deck)
-        set_parameter(tree.getroot(), "Nonlinear Solver/Line Search", "string", search)
-        set_parameter(tree.getroot(), "Output/Write VTK", "bool", "false")
-        path = os.path.join(work, "friction_" + search.replace(" ", "_") + ".xml")
-        tree.write(path)
-        out = path[:-4]
-        r = subprocess.run([exe, "run", path, "--output", out, "--quiet"], capture_output=True, text=True)
+        r, out = run_edited(exe, deck, os.path.join(work, "friction_" + search.replace(" ", "_") + ".xml"),
+                            [("Nonlinear Solver/Line Search", "string", search)])
         with open(os.path.join(out, "steps.csv")) as f:
             steps = list(csv.DictReader(f))
         stalls = sum(int(row["stalls"]) for row in steps)
@@ -147,13 +154,8 @@ def check_weave_cone(exe, work):
     subprocess.run([exe, "generate", "weave", "--n", "10", "--m", "10", "--overwrite", "--output", deck], check=True)
     failures = 0
     for strategy in ("Penalty", "Lagrange Multiplier"):
-        tree = ET.parse(deck)
-        set_parameter(tree.getroot(), "Contact/Enforcement/Type", "string", strategy)
-        set_parameter(tree.getroot(), "Output/Write VTK", "bool", "false")
-        path = os.path.join(work, "weave10f_" + strategy.replace(" ", "_") + ".xml")
-        tree.write(path)
-        out = path[:-4]
-        r = subprocess.run([exe, "run", path, "--output", out, "--quiet"], capture_output=True, text=True)
+        r, out = run_edited(exe, deck, os.path.join(work, "weave10f_" + strategy.replace(" ", "_") + ".xml"),
+                            [("Contact/Enforcement/Type", "string", strategy)])
         if r.returncode != 0:
             print(f"weave 10 x 10, friction 0.2, {strategy}: exit {r.returncode}: {r.stderr.strip()[-300:]}")
             failures += 1
@@ -176,14 +178,9 @@ def check_frictionless_weave(exe, work):
                     deck], check=True)
     failures, totals = 0, {}
     for strategy in ("Penalty", "Lagrange Multiplier", "Augmented Lagrange"):
-        tree = ET.parse(deck)
-        set_parameter(tree.getroot(), "Contact/Enforcement/Type", "string", strategy)
-        set_parameter(tree.getroot(), "Contact/Enforcement/Augmented Lagrange/Gap Tolerance", "double", "1e-9")
-        set_parameter(tree.getroot(), "Output/Write VTK", "bool", "false")
-        path = os.path.join(work, "weave10_" + strategy.replace(" ", "_") + ".xml")
-        tree.write(path)
-        out = path[:-4]
-        r = subprocess.run([exe, "run", path, "--output", out, "--quiet"], capture_output=True, text=True)
+        r, out = run_edited(exe, deck, os.path.join(work, "weave10_" + strategy.replace(" ", "_") + ".xml"),
+                            [("Contact/Enforcement/Type", "string", strategy),
+                             ("Contact/Enforcement/Augmented Lagrange/Gap Tolerance", "double", "1e-9")])
         warnings = [l for l in r.stderr.splitlines() if "warning" in l]
         if r.returncode != 0:
             print(f"weave 10 x 10 frictionless, {strategy}: exit {r.returncode}: {r.stderr.strip()[-300:]}")
