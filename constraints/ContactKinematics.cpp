@@ -475,11 +475,18 @@ Gaps<T> curveGaps(const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB, 
   // cone). |x_A'| alone (the chord's length on a straight element, where x'' = 0 and both agree) left
   // out the curvature's share: an applied force 1 / (1 - kappa (r_A + r_B)) times mu N where a curve
   // of curvature kappa turns its convex side to the other (a weave's crossings: 1.28).
+  // At other angles the two parameters move together: a relative translation v of B moves them by
+  // (dxi, deta) = -J^-1 P (t_A . v, t_B . v), P = diag(|x_A'|, |x_B'|), and the slips g_T = D (xi - xi_p,
+  // eta - eta_p) apply the force the Coulomb law means, Q M^-1 lambda_T (M = [1 -c; -c 1], Q = [t_A,
+  // -t_B]), when D = -M^-1 S P^-1 J (S = diag(1, -1)) = M^-1 [m_A, -c |x_B'|; -c |x_A'|, m_B]: on the
+  // chords (m = |x'|) diag(|x_A'|, |x_B'|), at right angles diag(m_A, m_B).
   const T mA = (dot(tA, tA) - dot(ddA, xB - xA)) / la, mB = (dot(tB, tB) + dot(ddB, xB - xA)) / lb;
+  const T cosine = dot(tA, tB) / (la * lb), q = 1.0 - cosine * cosine;
+  const T dxi = g.xi - xiPrev, deta = g.eta - etaPrev;
   g.gN = dot(xB - xA, n) - radiusSum;
-  g.gT1 = (g.xi - xiPrev) * mA;
-  g.gT2 = (g.eta - etaPrev) * mB;
-  g.cosine = dot(tA, tB) / (la * lb);
+  g.gT1 = ((mA - cosine * cosine * la) * dxi + cosine * (mB - lb) * deta) / q;
+  g.gT2 = (cosine * (mA - la) * dxi + (mB - cosine * cosine * lb) * deta) / q;
+  g.cosine = cosine;
   g.length = T(1.0);
   return g;
 }
@@ -1172,16 +1179,19 @@ void curveGapGradients(const Vec3<T>* Q, bool cubicA, bool cubicB, double radius
   const T aa = dot(tA, tA), bb = dot(tB, tB), ab = dot(tA, tB);
   const T la = sqrt(aa), lb = sqrt(bb);
   const T j11 = dot(ddA, w) - aa, j22 = dot(ddB, w) + bb, det = j11 * j22 + ab * ab;
-  // The slip metrics (curveGaps): m_A = -j11 / |x_A'|, m_B = j22 / |x_B'|.
+  // The slip metrics (curveGaps): m_A = -j11 / |x_A'|, m_B = j22 / |x_B'|, and the slips D (xi - xi_p,
+  // eta - eta_p), D = M^-1 [m_A, -c |x_B'|; -c |x_A'|, m_B] = [d11, d12; d21, d22].
   const T mA = (aa - dot(ddA, w)) / la, mB = (bb + dot(ddB, w)) / lb;
+  const T cosine = ab / (la * lb), q = 1.0 - cosine * cosine;
+  const T d11 = (mA - cosine * cosine * la) / q, d12 = cosine * (mB - lb) / q;
+  const T d21 = cosine * (mA - la) / q, d22 = (mB - cosine * cosine * lb) / q;
   value[kGapN] = dot(w, n) - radiusSum;
-  value[kGapT1] = (xi - xiPrev) * mA;
-  value[kGapT2] = (eta - etaPrev) * mB;
+  value[kGapT1] = d11 * (xi - xiPrev) + d12 * (eta - etaPrev);
+  value[kGapT2] = d21 * (xi - xiPrev) + d22 * (eta - etaPrev);
   value[kXi] = xi;
   value[kEta] = eta;
-  value[kCosine] = ab / (la * lb);
+  value[kCosine] = cosine;
   value[kLength] = T(1.0);
-  const T cosine = value[kCosine];
   const Vec3<T> cosA = (1.0 / (la * lb)) * tB - (cosine / aa) * tA;  // d cosine / d t_A
   const Vec3<T> cosB = (1.0 / (la * lb)) * tA - (cosine / bb) * tB;
   const T slipA = xi - xiPrev, slipB = eta - etaPrev;
@@ -1200,11 +1210,18 @@ void curveGapGradients(const Vec3<T>* Q, bool cubicA, bool cubicB, double radius
     const Vec3<T> dDdBw = ddBk[k] * w + wdddB * dEta + s * ddB + tBddB * dEta - tAddB * dXi;
     const Vec3<T> dMA = (1.0 / la) * (2.0 * la * dLa - dDdAw) - (mA / la) * dLa;
     const Vec3<T> dMB = (1.0 / lb) * (2.0 * lb * dLb + dDdBw) - (mB / lb) * dLb;
-    G[kGapT1][k] = mA * dXi + slipA * dMA;
-    G[kGapT2][k] = mB * dEta + slipB * dMB;
+    const Vec3<T> dC = dA[k] * cosA + cAddA * dXi + dB[k] * cosB + cBddB * dEta;
+    // D's entries by the quotient rule (dq = -2 c dc).
+    const Vec3<T> dQ = (-2.0 * cosine) * dC;
+    const Vec3<T> dD11 = (1.0 / q) * (dMA - (2.0 * cosine * la) * dC - (cosine * cosine) * dLa) - (d11 / q) * dQ;
+    const Vec3<T> dD12 = (1.0 / q) * ((mB - lb) * dC + cosine * (dMB - dLb)) - (d12 / q) * dQ;
+    const Vec3<T> dD21 = (1.0 / q) * ((mA - la) * dC + cosine * (dMA - dLa)) - (d21 / q) * dQ;
+    const Vec3<T> dD22 = (1.0 / q) * (dMB - (2.0 * cosine * lb) * dC - (cosine * cosine) * dLb) - (d22 / q) * dQ;
+    G[kGapT1][k] = d11 * dXi + d12 * dEta + slipA * dD11 + slipB * dD12;
+    G[kGapT2][k] = d21 * dXi + d22 * dEta + slipA * dD21 + slipB * dD22;
     G[kXi][k] = dXi;
     G[kEta][k] = dEta;
-    G[kCosine][k] = dA[k] * cosA + cAddA * dXi + dB[k] * cosB + cBddB * dEta;
+    G[kCosine][k] = dC;
     G[kLength][k] = none;
   }
 }

@@ -702,6 +702,56 @@ TEST(ContactKinematics, HermiteAxesOfBentElements) {
   }
 }
 
+// The slips on the Hermite axes make a friction multiplier apply the force the Coulomb law means at
+// any angle: a unit lambda_T1 (lambda_T2) applies on B, summed over its nodes' translations, F_1
+// (F_2) with t_A . F_1 = 1, t_B . F_1 = 0, t_A . F_2 = 0, t_B . F_2 = -1 (F = Q M^-1 lambda_T, Q =
+// [t_A, -t_B], M = Q^T Q), t the curves' unit tangents at the closest points; so its length is the
+// law's |lambda_T|_{M^-1}. General states: circles' axes, nodes turned by up to 0.5 rad (the curves
+// bend), crossing at 35 to 145 degrees, node 2's reference tangents differing from node 1's, no slip
+// yet in the increment. (|x'| alone as the metric missed by the curves' curvature times their distance.)
+TEST(ContactKinematics, FrictionOnHermiteAxesAppliesTheCoulombLawsForceAtAnyAngle) {
+  std::mt19937 g(57);
+  // The unit tangent of the Hermite curve (P1, V1, P2, V2) at u.
+  const auto tangent = [](const Vec3d& P1, const Vec3d& V1, const Vec3d& P2, const Vec3d& V2, double u) {
+    const Vec3d t =
+        (6 * u * u - 6 * u) * P1 + (6 * u - 6 * u * u) * P2 + (1 - 4 * u + 3 * u * u) * V1 + (3 * u * u - 2 * u) * V2;
+    return (1.0 / norm(t)) * t;
+  };
+  double worst = 0.0, worstCosine = 0.0;
+  int tried = 0;
+  for (int trial = 0; trial < 40 && tried < 12; ++trial) {
+    LinePairInput in = crossing();
+    in.oA = in.oB = Vec3d{};
+    in.radiusSum = 0.7;
+    const double angle = (35.0 + 110.0 * (trial % 12) / 11.0) * M_PI / 180.0;
+    in.xB1 = Vec3d{{55, 0, 3}} - 5.0 * Vec3d{{std::cos(angle), std::sin(angle), 0}};
+    in.xB2 = Vec3d{{55, 0, 3}} + 5.0 * Vec3d{{std::cos(angle), std::sin(angle), 0}};
+    in.dA = Vec3d{{10, 0, 0}};
+    in.dA2 = Vec3d{{9.97, 0.4, -0.5}};
+    in.dB = in.xB2 - in.xB1;
+    in.dB2 = in.dB + Vec3d{{0.3, -0.2, 0.4}};
+    placeGenerally(in, g, 0.3);
+    const auto cp = closestPoints(in);
+    if (cp.sinAngle < 0.3 || cp.xi < 0 || cp.xi > 1 || cp.eta < 0 || cp.eta > 1) continue;
+    ++tried;
+    const auto k = contactKinematics(in, cp.sigma, cp.xi, cp.eta);
+    const Vec3d tA = tangent(in.xA1, in.RA1 * in.dA, in.xA2, in.RA2 * in.dA2, cp.xi);
+    const Vec3d tB = tangent(in.xB1, in.RB1 * in.dB, in.xB2, in.RB2 * in.dB2, cp.eta);
+    Vec3d F[2];
+    const GapDerivatives* gaps[2] = {&k.tangent1, &k.tangent2};
+    for (int i = 0; i < 2; ++i)
+      for (int c = 0; c < 3; ++c) F[i][c] = gaps[i]->R[12 + c] + gaps[i]->R[18 + c];
+    const double errors[4] = {dot(tA, F[0]) - 1.0, dot(tB, F[0]), dot(tA, F[1]), dot(tB, F[1]) + 1.0};
+    for (const double e : errors) worst = std::max(worst, std::abs(e));
+    worstCosine = std::max(worstCosine, std::abs(dot(tA, tB)));
+  }
+  std::printf("friction on bent Hermite curves, %d crossings (|cos| up to %.2f): largest error of t . F %.2e\n", tried,
+              worstCosine, worst);
+  EXPECT_GE(tried, 8);
+  EXPECT_GT(worstCosine, 0.5);
+  EXPECT_LT(worst, 1e-10);
+}
+
 // R and K of the three gaps of point contact on Hermite axes against central differences: general
 // states with the nodes turned by up to 0.3 rad about each axis (the curves bend), rectangles' edge lines
 // (offsets of Example 1's sections) and circles (the axes, radii summing to 0.7), history offsets so that
