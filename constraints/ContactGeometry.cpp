@@ -44,23 +44,32 @@ ContactGeometry::ContactGeometry(std::shared_ptr<const elements::BeamSet> beams,
     }
     lines_.push_back(lines);
   }
-  // Smoothed axes: consecutive elements of a beam (element k's node 2 is element k + 1's node 1).
+  // Smoothed axes: a node of exactly two elements (inside a beam, or where two beams are joined end to
+  // end at one node) has one tangent, the bisector of the two elements' directions through it.
   const auto& elems = beams_->elements();
   nodeTangents_.resize(elems.size());
   kinkLeft_.assign(elems.size(), {0.0, 0.0});
-  for (std::size_t e = 0; e < elems.size(); ++e)
+  std::map<int, std::vector<std::pair<int, int>>> ends;  // node -> (element, its end 0 or 1)
+  for (std::size_t e = 0; e < elems.size(); ++e) {
     nodeTangents_[e] = {column(elems[e].data.T0, 0), column(elems[e].data.T0, 0)};
-  for (std::size_t e = 0; e + 1 < elems.size(); ++e) {
-    const BeamElement &a = elems[e], &b = elems[e + 1];
-    if (a.beam != b.beam || a.node2 != b.node1) continue;
-    const Vec3d ta = column(a.data.T0, 0), tb = column(b.data.T0, 0);
-    const double angle = std::acos(std::clamp(dot(ta, tb), -1.0, 1.0));
+    ends[elems[e].node1].emplace_back(static_cast<int>(e), 0);
+    ends[elems[e].node2].emplace_back(static_cast<int>(e), 1);
+  }
+  for (const auto& [node, at] : ends) {
+    if (at.size() != 2) continue;
+    const auto [e, ke] = at[0];
+    const auto [f, kf] = at[1];
+    // The directions of travel from e through the node into f, along each element.
+    const Vec3d de = (ke == 1 ? 1.0 : -1.0) * column(elems[e].data.T0, 0);
+    const Vec3d df = (kf == 0 ? 1.0 : -1.0) * column(elems[f].data.T0, 0);
+    const double angle = std::acos(std::clamp(dot(de, df), -1.0, 1.0));
     if (angle > kCornerAngle) {
-      kinkLeft_[e][1] = kinkLeft_[e + 1][0] = angle;
+      kinkLeft_[e][ke] = kinkLeft_[f][kf] = angle;
       continue;
     }
-    const Vec3d t = (1.0 / norm(ta + tb)) * (ta + tb);
-    nodeTangents_[e][1] = nodeTangents_[e + 1][0] = t;
+    const Vec3d t = (1.0 / norm(de + df)) * (de + df);
+    nodeTangents_[e][ke] = (ke == 1 ? 1.0 : -1.0) * t;
+    nodeTangents_[f][kf] = (kf == 0 ? 1.0 : -1.0) * t;
   }
   for (const auto& p : pairs_) {
     const bool rA = beams_->beams()[p.beamA].section.shape == CrossSection::Shape::Rectangle;

@@ -136,9 +136,10 @@ class ContactGeometry {
   LinePairInput lineInput(int eA, int lA, int eB, int lB, const core::State& s) const;
   LinePairInput axisInput(int eA, int eB, const core::State& s) const;
   // Smoothed axes (Point Contact Axes = Hermite): the Hermite curves' reference tangents of the two
-  // elements at their nodes, each interior node's shared by its two elements (the bisector of their
-  // initial directions) where they meet at no more than kCornerAngle; at a beam's ends and at a corner
-  // each element's own direction.
+  // elements at their nodes, a node of two elements (inside a beam, or two beams joined end to end)
+  // shared by both (the bisector of their initial directions) where they meet at no more than
+  // kCornerAngle; at a free end, at a node of three or more elements and at a corner each element's
+  // own direction.
   void smoothAxes(LinePairInput& in, int eA, int eB) const;
   static constexpr double kCornerAngle = 45.0 * M_PI / 180.0;
   // The angle at which element e's axis meets its neighbour's at its node 1 (end 0) or 2 (end 1) on

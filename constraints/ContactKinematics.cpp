@@ -1147,8 +1147,9 @@ template <class T> CurveShape<T> curveShape(bool cubicCurve, const T& u) {
 //  - g_N: dg_N = n . (dx_B - dx_A) at fixed (xi, eta): G_k = (sB_k - sA_k) n;
 //  - xi, eta from F = (x_A' . w, x_B' . w) = 0: J (dxi, deta) = -(dF1, dF2), dF1_k = dA_k w + (sB_k -
 //    sA_k) x_A', dF2_k = dB_k w + (sB_k - sA_k) x_B', J as in curveNewtonStep;
-//  - the tangents' variations dt_A = sum_k dA_k dQ_k + x_A'' dxi (and B's), and from them g_T1 =
-//    (xi - xiPrev) |x_A'|, g_T2 = (eta - etaPrev) |x_B'| and the cosine by the product rule.
+//  - the tangents' variations dt_A = sum_k dA_k dQ_k + x_A'' dxi (and B's), and from them the cosine,
+//    the slip metrics m_A, m_B (with x''' for the change of x'' . w) and the slips D (xi - xiPrev,
+//    eta - etaPrev) (curveGaps) by the product and quotient rules.
 // T = double gives the first variations at the double solution; T = SFad<double, 24> seeded on the
 // coordinates, with xi and eta through one Newton step from it (exact first derivatives), the Hessians.
 template <class T>

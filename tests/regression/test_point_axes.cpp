@@ -188,3 +188,32 @@ TEST(PointContactAxes, ABeamCrossingTheOtherTwiceStopsNamingTheCause) {
     EXPECT_GT(deepest, -1e-8);
   }
 }
+
+// The refusal of a crossing no point holds looks only at crossings (a local minimum of the two
+// lines' distance), not at elements beside a held crossing: Example 1's circles (r = 5 and 2.5)
+// pressed by W = 0.6 with a soft penalty (eps_N 20: 0.066 deep, 2.6 % of the thinner radius) on 160
+// elements per beam (0.625 long): the chords two elements from the point lie 1 % of the thinner
+// radius inside the radii's sum; a first version of the check refused them and stopped the run. It completes
+// on the closed form N = (W - 0.5) / (c1 + c2 + 1 / eps_N) (test Pressing.CircularSectionsMatchThe
+// ExactClosedForm), on either axes.
+TEST(PointContactAxes, AFineMeshedCrossingWithASoftPenaltyIsNoUnheldCrossing) {
+  const double pi = std::acos(-1.0), E = 30000.0, W = 0.6, epsN = 20.0;
+  const double I1 = pi * std::pow(5.0, 4) / 4, I2 = pi * std::pow(2.5, 4) / 4;
+  const double c1 = std::pow(50.0, 3) / (3 * E * I1), c2 = std::pow(100.0, 3) / (48 * E * I2);
+  const double N = (W - 0.5) / (c1 + c2 + 1.0 / epsN);
+  for (const std::string axes : {"Chord", "Hermite"}) {
+    Deck deck = circles("Penalty", W, epsN);
+    input::sublistAtPath(deck, "Contact", false).set("Point Contact Axes", axes);
+    for (const char* beam : {"Beams/beam 1/Elements", "Beams/beam 2/Elements"}) input::replaceAtPath(deck, beam, 160);
+    auto p = input::buildProblem(deck, "fine_crossing");
+    const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "fine_crossing");
+    ASSERT_TRUE(r.report.completed) << axes << ": " << r.report.failure;
+    double force = 0.0, deepest = 0.0;
+    for (const auto& [key, pt] : p.contact->points())
+      if (pt.result.active) force += math::norm(pt.normalForce), deepest = std::min(deepest, pt.gap);
+    std::printf("%s, 160 elements, eps_N %.0f: N = %.6f (closed form %.6f), %.1f %% of the thinner radius deep\n",
+                axes.c_str(), epsN, force, N, -100.0 * deepest / 2.5);
+    EXPECT_NEAR(force, N, 2e-3 * N);
+    EXPECT_GT(-deepest, 0.02 * 2.5);
+  }
+}
