@@ -456,7 +456,7 @@ template <class T> void curveNewtonStep(const Vec3<T>* P, const Vec3<T>* V, bool
 
 template <class T>
 Gaps<T> curveGaps(const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB, double radiusSum, double sigma,
-                  double xiPrev, double etaPrev, double xiStart, double etaStart) {
+                  double xiPrev, double etaPrev, double xiStart, double etaStart, bool held = false) {
   using std::sqrt;
   Gaps<T> g;
   g.xi = T(xiStart);
@@ -480,12 +480,17 @@ Gaps<T> curveGaps(const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB, 
   // eta - eta_p) apply the force the Coulomb law means, Q M^-1 lambda_T (M = [1 -c; -c 1], Q = [t_A,
   // -t_B]), when D = -M^-1 S P^-1 J (S = diag(1, -1)) = M^-1 [m_A, -c |x_B'|; -c |x_A'|, m_B]: on the
   // chords (m = |x'|) diag(|x_A'|, |x_B'|), at right angles diag(m_A, m_B).
+  // The variations hold D (`held`: its first variations frozen), so the force of a multiplier is the
+  // law's at every slip, not only before any: d g_T = D (dxi, deta).
   const T mA = (dot(tA, tA) - dot(ddA, xB - xA)) / la, mB = (dot(tB, tB) + dot(ddB, xB - xA)) / lb;
   const T cosine = dot(tA, tB) / (la * lb), q = 1.0 - cosine * cosine;
   const T dxi = g.xi - xiPrev, deta = g.eta - etaPrev;
+  const auto hold = [&](const T& x) { return held ? frozen(x) : x; };
+  const T d11 = hold((mA - cosine * cosine * la) / q), d12 = hold(cosine * (mB - lb) / q);
+  const T d21 = hold(cosine * (mA - la) / q), d22 = hold((mB - cosine * cosine * lb) / q);
   g.gN = dot(xB - xA, n) - radiusSum;
-  g.gT1 = ((mA - cosine * cosine * la) * dxi + cosine * (mB - lb) * deta) / q;
-  g.gT2 = (cosine * (mA - la) * dxi + (mB - cosine * cosine * lb) * deta) / q;
+  g.gT1 = d11 * dxi + d12 * deta;
+  g.gT2 = d21 * dxi + d22 * deta;
   g.cosine = cosine;
   g.length = T(1.0);
   return g;
@@ -523,10 +528,10 @@ ContactKinematics curveKinematicsFromGaps(const LinePairInput& in, double sigma,
   const bool cubicA = cubic(in.dA), cubicB = cubic(in.dB);
   return kinematicsOf<8>(
       in, nullptr, nullptr,
-      [&](const auto* P, bool) {
-        return curveGaps(P, P + 4, cubicA, cubicB, in.radiusSum, sigma, xiPrev, etaPrev, cp.xi, cp.eta);
+      [&](const auto* P, bool held) {
+        return curveGaps(P, P + 4, cubicA, cubicB, in.radiusSum, sigma, xiPrev, etaPrev, cp.xi, cp.eta, held);
       },
-      order);
+      order, true);
 }
 
 // Where A's axis (the Hermite curve P[0], V[0], P[1], V[1]) meets the plane through `node` normal
@@ -1085,7 +1090,8 @@ template <int Points, bool Second, class T> void seedVectors(const Vec3d* p, Vec
 // The gaps' values, gradients and (Second) Hessians in the coordinates of `Points` vectors, from their
 // values and gradients per vector (of AD type with the coordinates' derivatives when Second).
 template <int Points, bool Second, class T>
-CoordinateGaps<3 * Points> coordinateGaps(const T* value, const Vec3<T> (*G)[Points]) {
+CoordinateGaps<3 * Points> coordinateGaps(const T* value, const Vec3<T> (*G)[Points],
+                                          const Vec3<T> (*gradient)[Points] = nullptr) {
   constexpr int n = 3 * Points;
   CoordinateGaps<n> c;
   for (int q = 0; q < kQuantities; ++q) {
@@ -1100,8 +1106,13 @@ CoordinateGaps<3 * Points> coordinateGaps(const T* value, const Vec3<T> (*G)[Poi
       for (int k = 0; k < n; ++k) c.G[q][k] = G[q][k / 3][k % 3];
     }
   }
+  // (The values' gradients where the variations hold something: `gradient`.)
   for (int q = 0; q < 3; ++q)
-    for (int k = 0; k < n; ++k) c.gradient[q][k] = c.G[q][k];
+    for (int k = 0; k < n; ++k) {
+      if (!gradient) c.gradient[q][k] = c.G[q][k];
+      else if constexpr (Second) c.gradient[q][k] = gradient[q][k / 3][k % 3].val();
+      else c.gradient[q][k] = gradient[q][k / 3][k % 3];
+    }
   return c;
 }
 
@@ -1154,8 +1165,8 @@ template <class T> CurveShape<T> curveShape(bool cubicCurve, const T& u) {
 // coordinates, with xi and eta through one Newton step from it (exact first derivatives), the Hessians.
 template <class T>
 void curveGapGradients(const Vec3<T>* Q, bool cubicA, bool cubicB, double radiusSum, double sigma, double xiPrev,
-                       double etaPrev, double xiStart, double etaStart, T value[kQuantities],
-                       Vec3<T> G[kQuantities][8]) {
+                       double etaPrev, double xiStart, double etaStart, T value[kQuantities], Vec3<T> G[kQuantities][8],
+                       Vec3<T> Gv[3][8]) {
   using std::sqrt;
   T xi = T(xiStart), eta = T(etaStart);
   if constexpr (!std::is_same_v<T, double>) curveNewtonStep(Q, Q + 4, cubicA, cubicB, xi, eta);
@@ -1218,8 +1229,12 @@ void curveGapGradients(const Vec3<T>* Q, bool cubicA, bool cubicB, double radius
     const Vec3<T> dD12 = (1.0 / q) * ((mB - lb) * dC + cosine * (dMB - dLb)) - (d12 / q) * dQ;
     const Vec3<T> dD21 = (1.0 / q) * ((mA - la) * dC + cosine * (dMA - dLa)) - (d21 / q) * dQ;
     const Vec3<T> dD22 = (1.0 / q) * (dMB - (2.0 * cosine * lb) * dC - (cosine * cosine) * dLb) - (d22 / q) * dQ;
-    G[kGapT1][k] = d11 * dXi + d12 * dEta + slipA * dD11 + slipB * dD12;
-    G[kGapT2][k] = d21 * dXi + d22 * dEta + slipA * dD21 + slipB * dD22;
+    // The variations hold D (curveGaps); the values' gradients have its change too.
+    G[kGapT1][k] = d11 * dXi + d12 * dEta;
+    G[kGapT2][k] = d21 * dXi + d22 * dEta;
+    Gv[kGapN][k] = G[kGapN][k];
+    Gv[kGapT1][k] = G[kGapT1][k] + slipA * dD11 + slipB * dD12;
+    Gv[kGapT2][k] = G[kGapT2][k] + slipA * dD21 + slipB * dD22;
     G[kXi][k] = dXi;
     G[kEta][k] = dEta;
     G[kCosine][k] = dC;
@@ -1236,9 +1251,9 @@ ContactKinematics curveKinematicsOfOrder(const LinePairInput& in, double sigma, 
   Vec3<T> Q[8];
   seedVectors<8, Second>(p, Q);
   T value[kQuantities];
-  Vec3<T> G[kQuantities][8];
-  curveGapGradients(Q, cubic(in.dA), cubic(in.dB), in.radiusSum, sigma, xiPrev, etaPrev, cp.xi, cp.eta, value, G);
-  return chainRule<8, Second>(coordinateGaps<8, Second>(value, G), frame);
+  Vec3<T> G[kQuantities][8], Gv[3][8];
+  curveGapGradients(Q, cubic(in.dA), cubic(in.dB), in.radiusSum, sigma, xiPrev, etaPrev, cp.xi, cp.eta, value, G, Gv);
+  return chainRule<8, Second>(coordinateGaps<8, Second>(value, G, Gv), frame);
 }
 
 // lineGaps and faceGaps (held = false: the values) and their held variations written out. P: the

@@ -265,10 +265,10 @@ void ContactReport::lineWarnings(std::vector<std::string>& w) const {
     s << "contact pair \"" << pairs[pair].name << "\": a contact point applied a tangential force of " << worst.first
       << " times mu times its normal force near (" << worst.second[0] << ", " << worst.second[1] << ", "
       << worst.second[2]
-      << "): outside the Isotropic Coulomb cone (its multipliers are on the cone, and the force they apply "
-         "differs on Point Contact Axes = Hermite: the slips are measured along the curves, exactly only where "
-         "they cross at right angles with no slip yet in the increment; on the chords it is on the cone to "
-         "round-off)";
+      << "): outside the Isotropic Coulomb cone. The built-in strategies keep a point contact's multipliers "
+         "on the cone, and its slips make the force they apply the law's (on the chords and on the Hermite "
+         "axes, to round-off); a strategy of your own must keep its multipliers in the cone of the law's "
+         "metric (docs/contact.md, \"Friction law\")";
     w.push_back(s.str());
   }
 }

@@ -147,9 +147,10 @@ def cone_ratio(contact, mu):
 
 def check_weave_cone(exe, work):
     """The 10 x 10 weave with friction 0.2 (its yarns slide at the crossings), Penalty and Lagrange
-    multipliers: the tangential force a point applies, at every step, within 2e-3 of mu N. Measured
-    with the curves' slip metric: 1.0011 (Penalty), 1.00055 (Lagrange); with |x'| alone 1.285 (the
-    yarns' curvature 0.104 at 2 radii: 1 / (1 - 0.21); docs/contact.md, "Point contact axes")."""
+    multipliers: the tangential force a point applies, at every step, on the cone to 1e-9 (measured
+    5e-12). With the slips measured by |x'| (the chords' metric) 1.285 (the yarns' curvature 0.104 at
+    2 radii: 1 / (1 - 0.21)); with the curves' metric not held in the variation 1.0011 (Penalty) and
+    1.00055 (Lagrange); docs/contact.md, "Point contact axes"."""
     deck = os.path.join(work, "weave10f.xml")
     subprocess.run([exe, "generate", "weave", "--n", "10", "--m", "10", "--overwrite", "--output", deck], check=True)
     failures = 0
@@ -162,8 +163,8 @@ def check_weave_cone(exe, work):
             continue
         with open(os.path.join(out, "contact_points.csv")) as f:
             ratio = cone_ratio(list(csv.DictReader(f)), 0.2)
-        print(f"weave 10 x 10, friction 0.2, {strategy}: complete, largest applied |F_T| / mu N over all steps {ratio:.6f}")
-        failures += not (ratio <= 1.002)
+        print(f"weave 10 x 10, friction 0.2, {strategy}: complete, largest applied |F_T| / mu N over all steps {ratio:.12f}")
+        failures += not (ratio <= 1 + 1e-9)
     return failures
 
 
