@@ -11,8 +11,12 @@ full run's wall time):
   - every CSV has whole lines only, each with the header's number of columns;
   - `run DECK --restart DIR` (with the MPIRUN prefix on odd kills, when given: another rank count)
     completes, and every row of every CSV equals the uninterrupted run's, numbers to 1e-9 of the
-    file's largest magnitude (identical text on the same rank count; on another rank count
-    steps.csv's final_residual, a residual at its round-off floor, is not compared).
+    file's largest magnitude (steps.csv's final_residual, a residual at its round-off floor, is not
+    compared). Not as identical text on the same rank count: KLU2 refactors a matrix of the same graph
+    with the pivot order of its first factorization since the graph last changed, a history a restart
+    does not repeat (it factors afresh), so a checkpoint taken while contact acts restarts into solves
+    that differ by round-off (measured: 2e-12 of a file's largest value, the final residual in its 4th
+    digit; docs/faults.md). A checkpoint before contact restarts to identical text.
 Prints one line per kill and a summary; exit 1 on the first failure.
 """
 import os
@@ -137,7 +141,7 @@ for k in range(kills):
         r = subprocess.run(cmd, capture_output=True, text=True)
         if r.returncode != 0:
             fail(f"kill {k}: restart exit {r.returncode}: {r.stderr.strip()[-300:]}")
-        compare(full, d, exact=ranks == 1)
+        compare(full, d, exact=False)
         verdict += f", restarted on {ranks} rank{'s' if ranks > 1 else ''}: every row matches"
     elif not status.startswith("complete"):
         verdict += ", killed before the first checkpoint"
