@@ -261,8 +261,11 @@ std::string ContactManager::failureHint(const Teuchos::Comm<int>& comm) const {
 
 bool ContactManager::held(int pi, int ea, int eb, const core::State& state, bool penetrating) const {
   const auto& elems = geometry_.beams().elements();
-  for (const auto& [key, p] : set_.current()) {
-    if (p.key.pair != pi) continue;
+  // (The pair's points only: every overlap check asks per element pair, and all the points' map
+  // each time made the checks grow with the square of the points.)
+  const PointMap& points = set_.current();
+  for (auto it = points.lower_bound(PointKey::first(pi)); it != points.end() && it->first.pair == pi; ++it) {
+    const Point& p = it->second;
     const auto [onA, onB] = geometry_.pairElements(p);
     if (std::abs(elems[onA].index - elems[ea].index) > 1 || std::abs(elems[onB].index - elems[eb].index) > 1) continue;
     if (p.node()) continue;

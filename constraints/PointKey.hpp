@@ -19,6 +19,7 @@
 // unknowns of line nodes and of Gauss points never coexist, and points are found by key).
 #pragma once
 #include <array>
+#include <limits>
 #include <ostream>
 #include <tuple>
 
@@ -59,6 +60,13 @@ struct PointKey {
     k.edge = edge;
     k.node = node;
     return k;
+  }
+
+  // The least key of a pair (a line node of the largest edge and least node: line nodes come first,
+  // by edge descending, then node): a map of points from lower_bound(first(pair)) holds the pair's
+  // points until the pair changes.
+  static PointKey first(int pair) {
+    return lineNode(pair, std::numeric_limits<int>::max(), std::numeric_limits<int>::min());
   }
 
   // An end point (end contact: a free beam end's face on the other beam) is a point contact whose

@@ -6,8 +6,10 @@
 
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include "constraints/ContactKinematics.hpp"
+#include "constraints/PointKey.hpp"
 #include "support/CentralDifferences.hpp"
 
 using namespace bc::constraints;
@@ -1266,4 +1268,27 @@ TEST(EndToEndKinematics, CoaxialEnds) {
   EXPECT_LT(worstR, 1e-6);
   EXPECT_LT(worstK, 1e-6);
   EXPECT_LT(worstUnit, 1e-9);
+}
+
+// PointKey::first(pair) is the least key of its pair: ContactManager::held looks a pair's points up
+// from it in the points' map (the pair first in the order, then line nodes by edge descending, Gauss
+// points, point contacts), so no point of the pair may sort before it and none of the pair before.
+TEST(PointKey, FirstOfAPairComesBeforeEachOfItsKeysAndAfterThoseOfThePairBefore) {
+  const auto keysOf = [](int pair) {
+    std::vector<PointKey> keys;
+    for (int edge = 0; edge < 4; ++edge)
+      for (int node : {0, 1, 37}) keys.push_back(PointKey::lineNode(pair, edge, node));
+    for (int g = 0; g < 3; ++g) keys.push_back(PointKey::gaussPoint(pair, 5, 40000, 3, 3, 4095 - g));
+    keys.push_back(PointKey::gaussPoint(pair, 0, 0, 0, 0, 0));
+    keys.push_back(PointKey::contact(pair, 0, 0));
+    keys.push_back(PointKey::contact(pair, 3, 2));
+    keys.push_back(PointKey::endPoint(pair, true, 1, 3));
+    keys.push_back(PointKey::cornerPoint(pair, false, 0, 2, 3));
+    keys.push_back(PointKey::endToEndPoint(pair, true, 1, 0));
+    return keys;
+  };
+  const PointKey first = PointKey::first(3);
+  for (const PointKey& k : keysOf(3)) EXPECT_FALSE(k < first) << k;
+  for (const PointKey& k : keysOf(2)) EXPECT_TRUE(k < first) << k;
+  for (const PointKey& k : keysOf(4)) EXPECT_TRUE(first < k) << k;
 }
