@@ -410,18 +410,17 @@ bool ContactManager::acceptSolution(core::State& state) {
   if (all && geometry_.lineContact()) {
     bool handed = false;
     for (const auto& [key, p] : set_.current()) {
-      if (!key.end() || key.endToEnd() || !geometry_.blends(key.pair) || handedOver_.count(key)) continue;
+      if (!key.end() || key.endToEnd() || !geometry_.blends(key.pair) || pointContact_.handedOver(key)) continue;
       const double eta = pointGeometry(p, state).eta;
       const auto& e = geometry_.beams().elements()[p.elementB];
       const int last = static_cast<int>(geometry_.beams().beams()[e.beam].nodes.size()) - 2;
       if (!((eta < 0.0 && e.index > 0) || (eta > 1.0 && e.index < last))) continue;
-      handedOver_.insert(key);
+      pointContact_.handOver(key);
       handed = true;
     }
     if (handed) {
       all = false;
       ++gatePasses_;
-      pointContact_.setHandedOver(handedOver_);
     }
   }
   // A point that acts and went deeper within the increment than its pair's thinner section reaches (a
@@ -755,8 +754,7 @@ void ContactManager::commitStep(const core::State& state) {
   lastPasses_ = passes_;
   passes_ = 0;
   gatePasses_ = 0;
-  handedOver_.clear();
-  pointContact_.setHandedOver({});
+  pointContact_.clearHandedOver();
 }
 
 void ContactManager::saveCommitted(core::CheckpointOut& out) const {
@@ -794,8 +792,7 @@ void ContactManager::loadCommitted(core::CheckpointIn& in, const core::State& co
   resumeLevels_ = true;
   passes_ = 0;
   gatePasses_ = 0;
-  handedOver_.clear();
-  pointContact_.setHandedOver({});
+  pointContact_.clearHandedOver();
 }
 
 double ContactManager::stepBound(const core::State& state, const std::vector<double>& du) const {
@@ -904,8 +901,7 @@ void ContactManager::restoreStep() {
   resumeLevels_ = true;
   passes_ = 0;
   gatePasses_ = 0;
-  handedOver_.clear();
-  pointContact_.setHandedOver({});
+  pointContact_.clearHandedOver();
   penalty_.forgetFriction();
 }
 

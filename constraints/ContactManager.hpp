@@ -160,7 +160,6 @@ class ContactManager : public core::Contribution {
   int numNodes_ = 0;
   int passes_ = 0;
   int gatePasses_ = 0;  // passes of the increment that only opened gates (acceptSolution)
-  std::set<PointKey> handedOver_;  // end points handed to a neighbour element in this increment (acceptSolution)
   // The points whose state each pass of the increment changed (with its stage: 0 normal, 1 stick and
   // slip); a set seen before means the passes cycle, and from the pass `cycleFrom_` (0: none) one
   // point's change is applied per pass (discreteStates strategies).

@@ -16,9 +16,12 @@ class PointContact {
  public:
   explicit PointContact(const ContactGeometry& geometry) : geometry_(geometry) {}
   // End points that leave the element they were found on at a converged state for the neighbour that
-  // holds their closest point (ContactManager::acceptSolution): the search does not keep them on their
-  // element (the hysteresis of 5 % of an element beyond a node) until the increment ends.
-  void setHandedOver(std::set<PointKey> keys) { handedOver_ = std::move(keys); }
+  // holds their closest point (ContactManager::acceptSolution, once per increment): the search does not
+  // keep them on their element (the hysteresis of 5 % of an element beyond a node) until the increment
+  // ends (clearHandedOver: a step committed, restored or loaded).
+  void handOver(const PointKey& key) { handedOver_.insert(key); }
+  bool handedOver(const PointKey& key) const { return handedOver_.count(key) > 0; }
+  void clearHandedOver() { handedOver_.clear(); }
   // The narrow phase of one element pair of pair `pi`, the broad phase's `visit`-th: offers each
   // point contact it finds (`known`: the present points, which keep their orientation and element pair).
   void findPoints(int pi, int ea, int eb, long long visit, const core::State& s, const PointMap& known,
