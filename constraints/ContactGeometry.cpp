@@ -215,7 +215,11 @@ LinePairInput ContactGeometry::lineInput(int eA, int lA, int eB, int lB, const c
   return in;
 }
 
-void ContactGeometry::smoothAxes(LinePairInput& in, int eA, int eB) const {
+void ContactGeometry::pointContactAxes(LinePairInput& in, int eA, int eB) const {
+  if (!options_.hermitePointAxes) {
+    in.dA = in.dB = in.dA2 = in.dB2 = Vec3d{};
+    return;
+  }
   const BeamElement& a = beams_->elements()[eA];
   const BeamElement& b = beams_->elements()[eB];
   in.dA = a.data.L0 * nodeTangents_[eA][0];

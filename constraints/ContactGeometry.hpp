@@ -135,12 +135,13 @@ class ContactGeometry {
   // of the two elements' axes.
   LinePairInput lineInput(int eA, int lA, int eB, int lB, const core::State& s) const;
   LinePairInput axisInput(int eA, int eB, const core::State& s) const;
-  // Smoothed axes (Point Contact Axes = Hermite): the Hermite curves' reference tangents of the two
+  // The axes point contact takes for elements eA and eB (Point Contact Axes): the chords (no
+  // reference tangents), or the smoothed Hermite axes, the curves' reference tangents of the two
   // elements at their nodes, a node of two elements (inside a beam, or two beams joined end to end)
   // shared by both (the bisector of their initial directions) where they meet at no more than
   // kCornerAngle; at a free end, at a node of three or more elements and at a corner each element's
   // own direction.
-  void smoothAxes(LinePairInput& in, int eA, int eB) const;
+  void pointContactAxes(LinePairInput& in, int eA, int eB) const;
   static constexpr double kCornerAngle = 45.0 * M_PI / 180.0;
   // The angle at which element e's axis meets its neighbour's at its node 1 (end 0) or 2 (end 1) on
   // the smoothed axes: 0 where the node is smoothed, the initial angle at a corner, 0 at a beam end.
@@ -231,7 +232,7 @@ class ContactGeometry {
   std::set<int> freeEnd_;  // nodes at a beam end that no other element or pin uses
   std::vector<double> inscribed_;  // per beam: radius of the largest circle in its section
   std::vector<double> circumscribed_;  // per beam: radius of the smallest circle about its section
-  // Per element: the unit reference tangents of its smoothed axis at its two nodes (smoothAxes), and
+  // Per element: the unit reference tangents of its smoothed axis at its two nodes (pointContactAxes), and
   // the kink left there (smoothedKink).
   std::vector<std::array<Vec3d, 2>> nodeTangents_;
   std::vector<std::array<double, 2>> kinkLeft_;

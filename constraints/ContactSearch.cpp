@@ -485,7 +485,7 @@ void ContactSearch::checkNoUnseenContact(const core::State& state, bool atStart,
     const double unheld = reach - kUnheldCrossing * geometry_.thinner(pi);
     const auto atCrossing = [&] {
       LinePairInput in = geometry_.axisInput(ea, eb, state);
-      if (geometry_.options().hermitePointAxes) geometry_.smoothAxes(in, ea, eb);
+      geometry_.pointContactAxes(in, ea, eb);
       const ClosestPoints q = closestPoints(in);
       if (q.sinAngle < geometry_.options().minimumSinAngle) return false;
       if (geometry_.options().hermitePointAxes)

@@ -7,8 +7,7 @@ namespace bc::constraints {
 
 LinePairInput PointContact::input(int eA, int lA, int eB, int lB, const core::State& s) const {
   LinePairInput in = geometry_.lineInput(eA, lA, eB, lB, s);
-  if (!geometry_.options().hermitePointAxes) in.dA = in.dB = Vec3d{};
-  else geometry_.smoothAxes(in, eA, eB);
+  geometry_.pointContactAxes(in, eA, eB);
   return in;
 }
 

@@ -851,7 +851,7 @@ TEST(ContactKinematics, HermiteNormalIsContinuousAcrossANode) {
 // Smoothed axes across a node of a polyline in its initial shape (no node turned): A's three nodes on
 // a circle of radius 30 at angles -0.25, 0, 0.15 rad, straight elements meeting at 0.2 rad. Each
 // element's Hermite curve takes at the middle node the bisector b of the two elements' directions
-// (ContactGeometry::smoothAxes), at the outer nodes its own direction. B is a line through h m, m
+// (ContactGeometry::pointContactAxes), at the outer nodes its own direction. B is a line through h m, m
 // normal to b, B's direction normal to m: both elements give the point at the middle node (xi = 1 and
 // xi = 0), the gap h - r and the normal m; with each element's own direction (dA2 zero) the two curves
 // are the chords and their normals differ by the kink.
