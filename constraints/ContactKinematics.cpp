@@ -454,6 +454,13 @@ template <class T> void curveNewtonStep(const Vec3<T>* P, const Vec3<T>* V, bool
   eta -= (ab * f1 + j11 * f2) / det;
 }
 
+// The slips' matrix D = M^-1 [m_A, -c |x_B'|; -c |x_A'|, m_B] (curveGaps) as (d11, d12, d21, d22), from
+// the slip metrics, the tangents' lengths and their cosine c.
+template <class T> std::array<T, 4> slipMatrix(const T& mA, const T& mB, const T& la, const T& lb, const T& c) {
+  const T q = 1.0 - c * c;
+  return {(mA - c * c * la) / q, c * (mB - lb) / q, c * (mA - la) / q, (mB - c * c * lb) / q};
+}
+
 template <class T>
 Gaps<T> curveGaps(const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB, double radiusSum, double sigma,
                   double xiPrev, double etaPrev, double xiStart, double etaStart, bool held = false) {
@@ -483,11 +490,12 @@ Gaps<T> curveGaps(const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB, 
   // The variations hold D (`held`: its first variations frozen), so the force of a multiplier is the
   // law's at every slip, not only before any: d g_T = D (dxi, deta).
   const T mA = (dot(tA, tA) - dot(ddA, xB - xA)) / la, mB = (dot(tB, tB) + dot(ddB, xB - xA)) / lb;
-  const T cosine = dot(tA, tB) / (la * lb), q = 1.0 - cosine * cosine;
+  const T cosine = dot(tA, tB) / (la * lb);
   const T dxi = g.xi - xiPrev, deta = g.eta - etaPrev;
-  const auto hold = [&](const T& x) { return held ? frozen(x) : x; };
-  const T d11 = hold((mA - cosine * cosine * la) / q), d12 = hold(cosine * (mB - lb) / q);
-  const T d21 = hold(cosine * (mA - la) / q), d22 = hold((mB - cosine * cosine * lb) / q);
+  std::array<T, 4> D = slipMatrix(mA, mB, la, lb, cosine);
+  if (held)
+    for (T& d : D) d = frozen(d);
+  const auto& [d11, d12, d21, d22] = D;
   g.gN = dot(xB - xA, n) - radiusSum;
   g.gT1 = d11 * dxi + d12 * deta;
   g.gT2 = d21 * dxi + d22 * deta;
@@ -1195,8 +1203,7 @@ void curveGapGradients(const Vec3<T>* Q, bool cubicA, bool cubicB, double radius
   // eta - eta_p), D = M^-1 [m_A, -c |x_B'|; -c |x_A'|, m_B] = [d11, d12; d21, d22].
   const T mA = (aa - dot(ddA, w)) / la, mB = (bb + dot(ddB, w)) / lb;
   const T cosine = ab / (la * lb), q = 1.0 - cosine * cosine;
-  const T d11 = (mA - cosine * cosine * la) / q, d12 = cosine * (mB - lb) / q;
-  const T d21 = cosine * (mA - la) / q, d22 = (mB - cosine * cosine * lb) / q;
+  const auto [d11, d12, d21, d22] = slipMatrix(mA, mB, la, lb, cosine);
   value[kGapN] = dot(w, n) - radiusSum;
   value[kGapT1] = d11 * (xi - xiPrev) + d12 * (eta - etaPrev);
   value[kGapT2] = d21 * (xi - xiPrev) + d22 * (eta - etaPrev);
