@@ -20,13 +20,16 @@ ContactGeometry::ContactGeometry(std::shared_ptr<const elements::BeamSet> beams,
     joined_.insert({a, b});
     joined_.insert({b, a});
   }
-  std::map<int, int> uses;  // elements per node (a free end has one, and no pin)
-  for (const auto& e : beams_->elements()) {
-    ++uses[e.node1];
-    ++uses[e.node2];
+  // The elements' ends at each node, (element, its end 0 or 1): a free end has one, and no pin.
+  const auto& elems = beams_->elements();
+  std::map<int, std::vector<std::pair<int, int>>> ends;
+  for (std::size_t e = 0; e < elems.size(); ++e) {
+    ends[elems[e].node1].emplace_back(static_cast<int>(e), 0);
+    ends[elems[e].node2].emplace_back(static_cast<int>(e), 1);
   }
-  for (const auto& [node, n] : uses)
-    if (n == 1 && std::none_of(joined_.begin(), joined_.end(), [&](const auto& j) { return j.first == node; }))
+  for (const auto& [node, at] : ends)
+    if (at.size() == 1 &&
+        std::none_of(joined_.begin(), joined_.end(), [&, node = node](const auto& j) { return j.first == node; }))
       freeEnd_.insert(node);
   for (const auto& b : beams_->beams()) {
     inscribed_.push_back(b.section.shape == CrossSection::Shape::Rectangle
@@ -46,15 +49,10 @@ ContactGeometry::ContactGeometry(std::shared_ptr<const elements::BeamSet> beams,
   }
   // Smoothed axes: a node of exactly two elements (inside a beam, or where two beams are joined end to
   // end at one node) has one tangent, the bisector of the two elements' directions through it.
-  const auto& elems = beams_->elements();
   nodeTangents_.resize(elems.size());
   kinkLeft_.assign(elems.size(), {0.0, 0.0});
-  std::map<int, std::vector<std::pair<int, int>>> ends;  // node -> (element, its end 0 or 1)
-  for (std::size_t e = 0; e < elems.size(); ++e) {
+  for (std::size_t e = 0; e < elems.size(); ++e)
     nodeTangents_[e] = {column(elems[e].data.T0, 0), column(elems[e].data.T0, 0)};
-    ends[elems[e].node1].emplace_back(static_cast<int>(e), 0);
-    ends[elems[e].node2].emplace_back(static_cast<int>(e), 1);
-  }
   for (const auto& [node, at] : ends) {
     if (at.size() != 2) continue;
     const auto [e, ke] = at[0];
