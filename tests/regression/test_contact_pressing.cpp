@@ -60,7 +60,7 @@ TEST(Pressing, CircularSectionsMatchTheExactClosedForm) {
     const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "circles");
     ASSERT_TRUE(r.report.completed) << r.report.failure;
     const auto c = sums(p);
-    const double N = (W - 0.5) / (c1 + c2 + 1.0 / e);
+    const double N = circlesForce(W, e);
     const double A = -r.finalState.displacement(p.beams->beams()[0].nodes.back())[2];
     const double Aexact = N * 50.0 * 50.0 * (300.0 - 50.0) / (6 * E * I1);
     std::printf("circles, eps_N %.0e: %d point, N = %.6f (closed form %.6f), A = %.6f (%.6f), penetration %.3e\n", e,
@@ -85,7 +85,7 @@ TEST(Pressing, CircularSectionsMatchTheExactClosedForm) {
     ASSERT_TRUE(r.report.completed) << r.report.failure;
     const auto c = sums(p);
     lagrangeN = c.normal;
-    const double N = (W - 0.5) / (c1 + c2);
+    const double N = circlesForce(W, 0.0);
     std::printf("circles, Lagrange multiplier: N = %.6f (closed form %.6f), |gap| %.2e\n", c.normal, N,
                 std::abs(p.contact->points().begin()->second.gap));
     EXPECT_NEAR(c.normal, N, 2e-3 * N);

@@ -187,6 +187,14 @@ inline Deck circles(const std::string& type, double W, double epsN, const std::s
   return d;
 }
 
+// The closed form of circles(): N = (W - 0.5) / (c1 + c2 + 1 / eps_N) (eps_N 0: rigid contact).
+inline double circlesForce(double W, double epsN) {
+  const double pi = std::acos(-1.0), E = 30000.0;
+  const double I1 = pi * std::pow(5.0, 4) / 4, I2 = pi * std::pow(2.5, 4) / 4;
+  const double c1 = std::pow(50.0, 3) / (3 * E * I1), c2 = std::pow(100.0, 3) / (48 * E * I2);
+  return (W - 0.5) / (c1 + c2 + (epsN > 0.0 ? 1.0 / epsN : 0.0));
+}
+
 // Crossed cantilevers (derived here): beam 2 (circle r = 2.5, length 100) clamped at
 // y = -50, its tip moved down by Delta; beam 1 (circle r = 5) as in Example 1. Contact at a1 = 50
 // on beam 1 and a2 = 50 from beam 2's clamp, both nodes, so Euler-Bernoulli is exact:
