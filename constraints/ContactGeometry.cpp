@@ -208,6 +208,7 @@ LinePairInput ContactGeometry::lineInput(int eA, int lA, int eB, int lB, const c
   in.oA = la.cy * column(a.data.T0, 1) + la.cz * column(a.data.T0, 2);
   in.oB = lb.cy * column(b.data.T0, 1) + lb.cz * column(b.data.T0, 2);
   in.radiusSum = la.radius + lb.radius;
+  in.radiusA = la.radius;
   in.dA = a.data.L0 * column(a.data.T0, 0);
   in.dB = b.data.L0 * column(b.data.T0, 0);
   return in;

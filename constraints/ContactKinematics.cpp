@@ -148,23 +148,61 @@ template <class T> T slipMetric(const Vec3<T>* P, const Vec3<T>* V, bool cubicB,
   return (speed2 + dot(ddB, xB - pA)) / sqrt(speed2);
 }
 
+// The unit tangent of the axis (P1, V1, P2, V2) at u.
+template <class T>
+Vec3<T> unitTangent(const Vec3<T>& P1, const Vec3<T>& V1, const Vec3<T>& P2, const Vec3<T>& V2, bool cubic,
+                    const T& u) {
+  using std::sqrt;
+  Vec3<T> d;
+  axisPoint(P1, V1, P2, V2, cubic, u, static_cast<Vec3<T>*>(nullptr), &d, static_cast<Vec3<T>*>(nullptr));
+  return (1.0 / sqrt(dot(d, d))) * d;
+}
+
+// s = sign(t_A . t_B) of the elements' chords (LinePairInput::turnSlip).
+double turnSign(const LinePairInput& in) { return dot(in.xA2 - in.xA1, in.xB2 - in.xB1) < 0.0 ? -1.0 : 1.0; }
+
+// The turn part of circles' slip (LinePairInput::turnSlip): r_A [s (t_A(xi) - t_A,p(xi)) - (t_B(etaPrev)
+// - t_B,p(etaPrev))] . n. Its variation with xi, etaPrev and n held, r_A (s dt_A - dt_B) . n, moves the
+// moment r_A lambda_T that a friction force lambda_T along B's surface exerts about A's axis from B's
+// section (where the axis point's slip puts it) to A's.
+template <class T>
+T turnSlipOf(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB, const T& xi,
+             const T& etaPrev, const Vec3<T>& n) {
+  if (!in.turnSlip) return T(0.0);
+  const auto lift = [](const Vec3d& v) { return Vec3<T>{{T(v[0]), T(v[1]), T(v[2])}}; };
+  const Vec3<T> A[4] = {lift(in.prevA[0]), lift(in.prevA[1]), lift(in.prevA[2]), lift(in.prevA[3])};
+  const Vec3<T> B[4] = {lift(in.prevB[0]), lift(in.prevB[1]), lift(in.prevB[2]), lift(in.prevB[3])};
+  const Vec3<T> tA = unitTangent(P[0], V[0], P[1], V[1], cubicA, xi);
+  const Vec3<T> tAp = unitTangent(A[0], A[2], A[1], A[3], cubicA, xi);
+  const Vec3<T> tB = unitTangent(P[2], V[2], P[3], V[3], cubicB, etaPrev);
+  const Vec3<T> tBp = unitTangent(B[0], B[2], B[1], B[3], cubicB, etaPrev);
+  return in.radiusA * dot(turnSign(in) * (tA - tAp) - (tB - tBp), n);
+}
+
 // Line contact at a Gauss point of axis A (fixed parameter xi, a material point) against axis B:
 // P = (x_A1, x_A2, x_B1, x_B2), V = their Hermite tangents R_m d; the point projected on B's curve
 // (projectOnB). The normal is along p_B - p_A, the gap |p_B - p_A| - (r_A + r_B), the slip along B from
 // etaPrev. Axis A's own tangential gap is zero (the point is material on A).
 template <class T>
-Gaps<T> lineGaps(const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB, double radiusSum, const T& xi,
-                 double etaStart, const T& etaPrev, double side, bool held) {
+Gaps<T> lineGaps(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB,
+                 double radiusSum, const T& xi, double etaStart, const T& etaPrev, double side, bool held) {
   using std::sqrt;
   Gaps<T> g;
   Vec3<T> pA, xB;
   projectOnB(P, V, cubicA, cubicB, xi, etaStart, g, pA, xB);
   const Vec3<T> d = xB - pA;
   const Vec3<T> tA = P[1] - P[0], tB = P[3] - P[2];
-  g.gN = side * sqrt(dot(d, d)) - radiusSum;
+  const T distance = sqrt(dot(d, d));
+  g.gN = side * distance - radiusSum;
   g.gT1 = T(0.0);
   const T m = slipMetric(P, V, cubicB, g.eta, pA);
   g.gT2 = (g.eta - etaPrev) * (held ? frozen(m) : m);
+  if (in.turnSlip) {
+    Vec3<T> n = (-side / distance) * d;  // from B's axis towards A's
+    if (held)
+      for (int c = 0; c < 3; ++c) n[c] = frozen(n[c]);
+    g.gT2 += turnSlipOf(in, P, V, cubicA, cubicB, xi, etaPrev, n);
+  }
   g.cosine = dot(tA, tB) / (sqrt(dot(tA, tA)) * sqrt(dot(tB, tB)));
   g.length = T(1.0);
   return g;
@@ -517,8 +555,8 @@ template <class T, int Vectors> struct HeldLineGaps {
   Vec3<T> G[3][Vectors];
 };
 template <int Vectors, class T>
-HeldLineGaps<T, Vectors> heldLineGaps(const Vec3<T>* P, bool face, bool cubicA, bool cubicB, double radiusSum,
-                                      double side, const T& xi, double etaStart, const T& etaPrev);
+HeldLineGaps<T, Vectors> heldLineGaps(const LinePairInput& in, const Vec3<T>* P, bool cubicA, bool cubicB, double side,
+                                      const T& xi, double etaStart, const T& etaPrev);
 template <int Vectors, class Fn>
 ContactKinematics heldKinematicsOf(const LinePairInput& in, const Vec3d* extraRef, const int* extraNode, Fn gapsOf,
                                    Variations order);
@@ -689,6 +727,22 @@ double lineSide(const LinePairInput& in, const ClosestPoints& projection, const 
   return dot(projection.pB - projection.pA, keptNormal) < 0.0 ? -1.0 : 1.0;
 }
 
+void setTurnSlip(LinePairInput& in, const LinePairInput& converged) {
+  const LinePairInput& c = converged;
+  in.turnSlip = true;
+  in.prevA[0] = c.xA1 + c.RA1 * c.oA, in.prevA[1] = c.xA2 + c.RA2 * c.oA;
+  in.prevA[2] = c.RA1 * c.dA, in.prevA[3] = c.RA2 * tangentA2(c);
+  in.prevB[0] = c.xB1 + c.RB1 * c.oB, in.prevB[1] = c.xB2 + c.RB2 * c.oB;
+  in.prevB[2] = c.RB1 * c.dB, in.prevB[3] = c.RB2 * tangentB2(c);
+}
+
+double turnSlip(const LinePairInput& in, double xi, double etaPrev, const Vec3d& n) {
+  const Vec3d P[4] = {in.xA1 + in.RA1 * in.oA, in.xA2 + in.RA2 * in.oA, in.xB1 + in.RB1 * in.oB,
+                      in.xB2 + in.RB2 * in.oB};
+  const Vec3d V[4] = {in.RA1 * in.dA, in.RA2 * tangentA2(in), in.RB1 * in.dB, in.RB2 * tangentB2(in)};
+  return turnSlipOf(in, P, V, norm(in.dA) > 0.0, norm(in.dB) > 0.0, xi, etaPrev, n);
+}
+
 namespace {
 // Line contact's kinematics: the Gauss point xi(P) (a fixed parameter, or a point of a segment whose
 // bounds move with the dofs) and etaPrev(xi) from the history, through gapsOf(P, V, N, xi, etaPrev).
@@ -710,15 +764,14 @@ ContactKinematics lineKinematicsOf(const LinePairInput& in, bool segmented, doub
   const auto circle = [&](const auto* P, const auto* S, bool held) {
     auto [x, etaPrev, length] = pointOf(P, P + 4, S);
     if (held) x = frozen(x), etaPrev = frozen(etaPrev);
-    auto g = lineGaps(P, P + 4, cubicA, cubicB, in.radiusSum, x, etaStart, etaPrev, side, held);
+    auto g = lineGaps(in, P, P + 4, cubicA, cubicB, in.radiusSum, x, etaStart, etaPrev, side, held);
     g.length = length;
     return g;
   };
   // The held variations written out (heldLineGaps), one AD level: the default.
   const auto written = [&](const auto* P, const auto* S, auto vectors) {
     auto [x, etaPrev, length] = pointOf(P, P + 4, S);
-    auto h =
-        heldLineGaps<decltype(vectors)::value>(P, in.face, cubicA, cubicB, in.radiusSum, side, x, etaStart, etaPrev);
+    auto h = heldLineGaps<decltype(vectors)::value>(in, P, cubicA, cubicB, side, x, etaStart, etaPrev);
     h.g.length = length;
     return h;
   };
@@ -1278,14 +1331,17 @@ ContactKinematics curveKinematicsOfOrder(const LinePairInput& in, double sigma, 
 //  - a face, g_N = (p_A - x_B(eta_N)) . n(eta_N), n = m / |m|, m = (1 - eta_N) N_1 + eta_N N_2, eta_N
 //    held (the normal gap varied at B's material point): G_k = s_k n on A, -s_k n on B, and on N_1, N_2
 //    (1 - eta) and eta times (r - (r . n) n) / |m|, r = p_A - x_B.
+//  - circles' turn part of g_T2 (turnSlipOf), n held: G_k = r_A s d_k (I - t_A t_A^T) n / |x_A'(xi)| on A,
+//    -r_A d'_k (I - t_B t_B^T) n / |x_B'(etaPrev)| on B (d'_k B's shape derivatives at etaPrev).
 // g_T1 = 0. The segment planes' normals (vectors 10, 11 of a face, 8, 9 of a circle) vary xi only.
 template <int Vectors, class T>
-HeldLineGaps<T, Vectors> heldLineGaps(const Vec3<T>* P, bool face, bool cubicA, bool cubicB, double radiusSum,
-                                      double side, const T& xi, double etaStart, const T& etaPrev) {
+HeldLineGaps<T, Vectors> heldLineGaps(const LinePairInput& in, const Vec3<T>* P, bool cubicA, bool cubicB, double side,
+                                      const T& xi, double etaStart, const T& etaPrev) {
   using std::sqrt;
+  const bool face = in.face;
   HeldLineGaps<T, Vectors> out;
   out.g = face ? faceGaps(P, P + 4, P + 8, cubicA, cubicB, xi, etaStart, etaPrev, false)
-               : lineGaps(P, P + 4, cubicA, cubicB, radiusSum, xi, etaStart, etaPrev, side, false);
+               : lineGaps(in, P, P + 4, cubicA, cubicB, in.radiusSum, xi, etaStart, etaPrev, side, false);
   const T eta = out.g.eta;
   const CurveShape<T> a = curveShape(cubicA, xi), b = curveShape(cubicB, eta);
   const int slot[8] = {0, 1, 0, 1, 2, 3, 2, 3};
@@ -1324,6 +1380,20 @@ HeldLineGaps<T, Vectors> heldLineGaps(const Vec3<T>* P, bool face, bool cubicA, 
     const T along = dot(unit, tB);
     for (int k = 0; k < 8; ++k)
       out.G[kGapN][k] = side * ((onA(k) ? -1.0 * a.s[slot[k]] : b.s[slot[k]]) * unit + along * dEta[k]);
+    if (in.turnSlip) {
+      const CurveShape<T> bp = curveShape(cubicB, etaPrev);
+      Vec3<T> dA = none, dB = none;
+      for (int k = 0; k < 8; ++k)
+        if (onA(k)) dA = dA + a.d[slot[k]] * P[k];
+        else dB = dB + bp.d[slot[k]] * P[k];
+      const T lA = sqrt(dot(dA, dA)), lB = sqrt(dot(dB, dB));
+      const Vec3<T> tA = (1.0 / lA) * dA, tBp = (1.0 / lB) * dB;
+      const Vec3<T> n = -side * unit;
+      const Vec3<T> nA = (turnSign(in) * in.radiusA / lA) * (n - dot(n, tA) * tA);
+      const Vec3<T> nB = (-in.radiusA / lB) * (n - dot(n, tBp) * tBp);
+      for (int k = 0; k < 8; ++k)
+        out.G[kGapT2][k] = out.G[kGapT2][k] + (onA(k) ? a.d[slot[k]] * nA : bp.d[slot[k]] * nB);
+    }
   }
   return out;
 }

@@ -57,6 +57,16 @@ struct LinePairInput {
   // two elements the mean of their unit axis vectors, so neighbouring segments share the plane and
   // tile A's line; at a beam end the end element's). They turn with the nodes: tau_m = R_m sB_m.
   Vec3d sB1{}, sB2{};
+  // Circular sections in line contact: the slip of the two surfaces, where A's section turns
+  // against B's (turnSlip, setTurnSlip). The slip g_T2 = (eta - eta_p) m is the motion of A's axis
+  // point along B's surface, whose variation turns A's contact point with B's section; the sections'
+  // own turns add r_A [s (t_A(xi) - t_A,p(xi)) - (t_B(eta_p) - t_B,p(eta_p))] . n, t the unit tangents
+  // of the axes now and at the last converged state (p), n from B's axis to A's, s = sign(t_A . t_B).
+  // prevA, prevB: (line point 1, line point 2, Hermite tangent 1, Hermite tangent 2) of A's and B's
+  // elements at the last converged state; radiusA A's radius.
+  bool turnSlip = false;
+  double radiusA = 0.0;
+  Vec3d prevA[4]{}, prevB[4]{};
   // End contact (endNode 0 or 1: A's node whose free end face is in contact; -1: none). The end face
   // is a disc of radius endRadius, or (endRectangle) a rectangle of half sizes endHalf along the
   // section's e2 and e3; endAxes the end's reference triad (e1 along the axis, e2, e3), outward +1 at
@@ -118,6 +128,13 @@ struct ClosestPoints {
 // normal from their tangents there and sinAngle of those tangents; a solution that does not converge
 // returns sinAngle 0 (no point).
 ClosestPoints closestPoints(const LinePairInput& in);
+
+// Switches on the surfaces' slip of circles in line contact (LinePairInput::turnSlip): `converged`
+// the same elements' input at the last converged state.
+void setTurnSlip(LinePairInput& in, const LinePairInput& converged);
+// The turn part of the slip (LinePairInput::turnSlip; 0 without it) at A's parameter xi, B's
+// material point etaPrev, n from B's axis towards A's.
+double turnSlip(const LinePairInput& in, double xi, double etaPrev, const Vec3d& n);
 
 // A gap's value, its first variation R (the direction of the force a unit multiplier applies: the
 // residual is lambda R), the linearized variation K (the derivative of R) and the gradient of the value

@@ -484,8 +484,10 @@ LinePairInput LineContact::input(const ContactPointRecord& p, const core::State&
 }
 
 LinePairInput LineContact::segmentInput(int pair, int eA, int eB, int edge, int face, const core::State& s) const {
-  LinePairInput in =
-      geometry_.rectangles(pair) ? faceInput(eA, edge, eB, face, s) : geometry_.lineInput(eA, 0, eB, 0, s);
+  const bool rectangles = geometry_.rectangles(pair);
+  LinePairInput in = rectangles ? faceInput(eA, edge, eB, face, s) : geometry_.lineInput(eA, 0, eB, 0, s);
+  // (circles: the surfaces' slip as the sections turn; rectangles' edges turn with their sections)
+  if (!rectangles) setTurnSlip(in, geometry_.lineInput(eA, 0, eB, 0, geometry_.reference()));
   in.sB1 = segmentPlanes_[eB][0];
   in.sB2 = segmentPlanes_[eB][1];
   return in;
@@ -497,7 +499,8 @@ LineHistory LineContact::history(const ContactPointRecord& p) const {
 }
 
 double LineContact::slip(const ContactPointRecord& p, const ClosestPoints& cp, const core::State& s) const {
-  return (cp.eta - history(p).etaPrevAt(cp.xi)) * cp.slipMetric;
+  const double etaPrev = history(p).etaPrevAt(cp.xi);
+  return (cp.eta - etaPrev) * cp.slipMetric + turnSlip(input(p, s), cp.xi, etaPrev, -1.0 * cp.normal);
 }
 
 bool LineContact::endPoint(const ContactPointRecord& p) { return p.line() && endSlot(gaussOf(p.gauss())); }

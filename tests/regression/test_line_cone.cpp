@@ -257,7 +257,9 @@ TEST(LineCone, PartialSlipUnderAPullStaysInTheCone) {
     for (const auto& [key, q] : p.contact->points()) {
       if (!q.line() || !q.result.active) continue;
       friction += q.tangentialForce[0] + q.normalForce[0];
-      if (q.result.slip[1]) firstSlip = std::min(firstSlip, q.position[0]);
+      // (Points carrying a force: at x = 10 some of the field's points carry 1e-10, and their
+      // friction, at that scale, may lie on the cone.)
+      if (q.result.slip[1] && norm(q.normalForce) > 1e-6) firstSlip = std::min(firstSlip, q.position[0]);
       sticking += !q.result.slip[1] && norm(q.normalForce) > 1e-6;
     }
     const double held = lastReactions(test::scratchDirectory(name + "_np1")).at("rod 0_Fx");
@@ -278,8 +280,8 @@ TEST(LineCone, PartialSlipUnderAPullStaysInTheCone) {
     EXPECT_LT(std::abs(friction + held + F), 1e-8 * F) << type;
     if (type == "Lagrange Multiplier") lagrange[n] = {std::abs(held) / F, firstSlip};
   }
-  // Towards the exact partial slip: the held end's share falls as h^2 (measured 5.4 % and 1.7 %), the
-  // slipping zone's start towards x = 50 (54.15, 52.42; 50.77 with 80 elements).
+  // Towards the exact partial slip: the held end's share falls as h^2 (measured 5.2 % and 1.5 %), the
+  // slipping zone's start towards x = 50 (53.10, 51.55).
   EXPECT_LT(lagrange[40].first, lagrange[20].first / 3.0);
   EXPECT_LT(lagrange[40].second - 50.0, lagrange[20].second - 50.0);
   EXPECT_GT(lagrange[40].second, 50.0);

@@ -1610,3 +1610,71 @@ TEST(LineContact, StackedCantileversBentAlikeCarryTheTipForceOfTheClosedForm) {
     EXPECT_LT(deepest, 1e-6) << what;
   }
 }
+
+// Two equal circular rods stacked (r = 0.5, E = 1e9, L = 100), each supported in y and z at both ends
+// and held along x at mid-span (the symmetry plane), the upper rod loaded by q = 1 per length, with
+// friction: a layered beam. Where the interface sticks, the rods bend as one section (full
+// interaction): I_c = 2 (pi r^4 / 4) + 2 (pi r^2) r^2 = 2.5 pi r^4, mid-span deflection
+// 5 q L^4 / (384 E I_c), 5 times stiffer than the rods apart. The interface's shear flow is
+// f = V S / I_c (S = pi r^2 r, the first moment of one rod about the pair's centroid), largest at the
+// supports, V = q L / 2: f = 40; the line pressure is q / 2 along the whole line (each rod takes the
+// same curvature and the same moment r f per length from the shear flow), so the interface sticks
+// everywhere for mu >= 80 and slips near the supports below.
+// The slip is that of the surfaces (LinePairInput::turnSlip): with A's axis point's slip alone a
+// friction force put the moment r_A f of A's section on B, the pressure was q / 2 -+ r f', and the
+// answer depended on which rod was A (mu = 50: one order stuck everywhere, the other did not converge).
+TEST(LineContact, StackedRodsWithFrictionBendAsOneSectionWhereTheyStick) {
+  const double E = 1e9, r = 0.5, L = 100.0, q = 1.0, pi = std::acos(-1.0);
+  const double composite = 5 * q * std::pow(L, 4) / (384 * E * 2.5 * pi * std::pow(r, 4));
+  const double apart = 5 * (q / 2) * std::pow(L, 4) / (384 * E * pi * std::pow(r, 4) / 4);
+  auto layered = [&](const std::string& type, int n, double mu, bool rodIsA) {
+    auto deck = parallelBeams(type, n, n, 0.0, E, 6);
+    if (rodIsA) {
+      input::replaceAtPath(deck, "Contact/Pairs/line/Beam A", std::string("rod"));
+      input::replaceAtPath(deck, "Contact/Pairs/line/Beam B", std::string("ground"));
+    }
+    input::replaceAtPath(deck, "Contact/Pairs/line/Friction Coefficient", mu);
+    for (const char* s : {"Penalty", "Augmented Lagrange"})
+      input::replaceAtPath(deck, std::string("Contact/Enforcement/") + s + "/Tangential Penalty Parameter", 1e8);
+    for (const char* beam : {"ground", "rod"}) {
+      support(deck, beam, 0, "uy uz rx");
+      support(deck, beam, n / 2, "ux");
+      support(deck, beam, n, "uy uz rx");
+    }
+    uniformLoad(deck, "rod", n, q);
+    input::replaceAtPath(deck, "Load Stepping/Number of Increments", 2);
+    auto p = input::buildProblem(deck, "layered");
+    const auto run = test::runQuiet(p, Tpetra::getDefaultComm(), "layered");
+    EXPECT_TRUE(run.report.completed) << type << ", " << n << " elements, mu " << mu << ": " << run.report.failure;
+    const int mid = p.beams->beams()[1].nodes[n / 2];
+    return -(run.finalState.position[mid][2] - 1.0);
+  };
+  // Sticking everywhere (Lagrange multipliers): the composite section, at second order in the mesh.
+  double previous = 0.0;
+  for (int n : {10, 20, 40}) {
+    const double w = layered("Lagrange Multiplier", n, 100.0, false), error = std::abs(w / composite - 1.0);
+    std::printf("mu 100, %2d elements: mid-span deflection %.9f, composite %.9f (%.2e), rods apart %.9f\n", n, w,
+                composite, error, apart);
+    if (previous > 0.0) EXPECT_GT(previous / error, 3.5) << n;
+    previous = error;
+  }
+  EXPECT_LT(previous, 3e-4);
+  // Either rod as A, each strategy: the same answer; sticking from mu = 80 on (the same as mu 1000),
+  // slipping near the supports at 70.
+  const int n = 20;
+  const double stuck = layered("Lagrange Multiplier", n, 1000.0, false);
+  for (const double mu : {85.0, 70.0, 5.0}) {
+    const double w = layered("Lagrange Multiplier", n, mu, false),
+                 swapped = layered("Lagrange Multiplier", n, mu, true);
+    std::printf("Lagrange multipliers, mu %g: %.9f, rod as A %.9f\n", mu, w, swapped);
+    EXPECT_NEAR(swapped, w, 1e-6 * w) << mu;
+    if (mu > 80.0) EXPECT_NEAR(w, stuck, 1e-9 * stuck);
+    else EXPECT_GT(w, stuck * (1.0 + 1e-4)) << mu;
+    EXPECT_LT(w, apart) << mu;
+  }
+  for (const std::string type : {"Penalty", "Augmented Lagrange"}) {
+    const double w = layered(type, n, 50.0, false), swapped = layered(type, n, 50.0, true);
+    std::printf("%s, mu 50: %.9f, rod as A %.9f\n", type.c_str(), w, swapped);
+    EXPECT_NEAR(swapped, w, 1e-4 * w) << type;
+  }
+}

@@ -132,6 +132,17 @@ void segmentPlanesAndSections(LinePairInput& in, bool face, double radiusSum) {
   }
 }
 
+// Circles' slip with their sections' turns (LinePairInput::turnSlip): the last converged state a
+// little away from `in` (nodes moved by up to 0.05 and turned by up to 0.05 rad), A's radius 0.8.
+void turnedSinceConverged(LinePairInput& in, std::mt19937& g) {
+  LinePairInput converged = in;
+  for (Vec3d* x : {&converged.xA1, &converged.xA2, &converged.xB1, &converged.xB2}) *x = *x + randomVec(g, 0.05);
+  for (Mat3d* R : {&converged.RA1, &converged.RA2, &converged.RB1, &converged.RB2})
+    *R = expSO3(randomVec(g, 0.05)) * *R;
+  setTurnSlip(in, converged);
+  in.radiusA = 0.8;
+}
+
 // The largest differences of kinematics a from b: the values relative to 1 + |b|, the R, gradients and
 // K of the gaps and the first variations of xi, the cosines and the segment relative to b's largest
 // entry.
@@ -281,6 +292,7 @@ TEST(LineKinematics, VariationsMatchCentralDifferences) {
     }
     placeGenerally(in, g, 0.3);
     in.radiusSum = 2.0;
+    if (trial % 2 == 0) turnedSinceConverged(in, g);  // (circles on the axes: their turns' slip)
     const double xi = 0.1 + 0.08 * trial, etaP = 0.4;
     const auto [errR, errK] =
         centralDifferenceErrors(in, [&](const LinePairInput& s) { return lineKinematics(s, xi, etaP); },
@@ -291,6 +303,57 @@ TEST(LineKinematics, VariationsMatchCentralDifferences) {
   std::printf("line contact, max relative error: R %.2e, K %.2e\n", worstR, worstK);
   EXPECT_LT(worstR, 1e-6);
   EXPECT_LT(worstK, 1e-6);
+}
+
+// Circles in line contact slip with their sections' turns (LinePairInput::turnSlip): A (radius 0.8)
+// along X under B (radius 1.2) along X at z = 2, both straight at the last converged state. A rolled
+// by phi about Y through its point at xi = 0.5 keeps that point, so its projection on B stays; its
+// surface point there, (5, 0, 0.8), goes by 0.8 sin(phi) along X: g_T2 = r_A sin(phi) exactly, on the
+// point's own parameters and on its segment. B rolled by phi about Y through its point above: B's
+// surface point (5, 0, 0.8) goes by -r_B sin(phi), so A's slips by r_B sin(phi) relative to B: the axis
+// point's slip (r_A + r_B) sin(phi) (A's point projects 2 sin(phi) further along B's turned axis) less
+// r_A [(t_B - t_B,p) . n] = r_A sin(phi). Without turnSlip A's roll gives 0.
+TEST(LineKinematics, CirclesSlipAsTheirSectionsTurn) {
+  LinePairInput straight;
+  straight.xA1 = {{0, 0, 0}};
+  straight.xA2 = {{10, 0, 0}};
+  straight.xB1 = {{0, 0, 2}};
+  straight.xB2 = {{10, 0, 2}};
+  straight.RA1 = straight.RA2 = straight.RB1 = straight.RB2 = identity3<double>();
+  straight.dA = straight.dB = Vec3d{{10, 0, 0}};
+  straight.radiusSum = 2.0;
+  straight.radiusA = 0.8;
+  straight.sB1 = straight.sB2 = Vec3d{{1, 0, 0}};
+  const auto rolled = [&](bool rollA, double phi) {
+    LinePairInput in = straight;
+    const Mat3d Q = expSO3(Vec3d{{0, phi, 0}});
+    const Vec3d centre{{5, 0, rollA ? 0.0 : 2.0}};
+    for (Vec3d* x : rollA ? std::vector<Vec3d*>{&in.xA1, &in.xA2} : std::vector<Vec3d*>{&in.xB1, &in.xB2})
+      *x = centre + Q * (*x - centre);
+    for (Mat3d* R : rollA ? std::vector<Mat3d*>{&in.RA1, &in.RA2} : std::vector<Mat3d*>{&in.RB1, &in.RB2}) *R = Q;
+    setTurnSlip(in, straight);
+    return in;
+  };
+  const double phi = 0.2;
+  const LinePairInput a = rolled(true, phi);
+  const LineSegment seg = lineSegment(a);
+  ASSERT_NEAR(seg.length(), 1.0, 1e-12);
+  const double onPoint = lineKinematics(a, 0.5, 0.5, Vec3d{}).tangent2.value;
+  const double onSegment = segmentKinematics(a, seg, 0.5, LineHistory{0.5, 0.5, 1.0}, Vec3d{}).tangent2.value;
+  const double nested = lineKinematicsFromGaps(a, 0.5, 0.5, Vec3d{}).tangent2.value;
+  std::printf("A rolled by %.1f: g_T2 %.15f %.15f %.15f, r_A sin(phi) %.15f\n", phi, onPoint, onSegment, nested,
+              0.8 * std::sin(phi));
+  EXPECT_NEAR(onPoint, 0.8 * std::sin(phi), 1e-13);
+  EXPECT_NEAR(onSegment, 0.8 * std::sin(phi), 1e-13);
+  EXPECT_NEAR(nested, 0.8 * std::sin(phi), 1e-13);
+  EXPECT_NEAR(turnSlip(a, 0.5, 0.5, Vec3d{{0, 0, -1}}), 0.8 * std::sin(phi), 1e-13);
+  LinePairInput axisOnly = a;
+  axisOnly.turnSlip = false;
+  EXPECT_NEAR(lineKinematics(axisOnly, 0.5, 0.5, Vec3d{}).tangent2.value, 0.0, 1e-13);
+  const LinePairInput b = rolled(false, phi);
+  const double slipB = lineKinematics(b, 0.5, 0.5, Vec3d{}).tangent2.value;
+  std::printf("B rolled by %.1f: g_T2 %.15f, r_B sin(phi) %.15f\n", phi, slipB, 1.2 * std::sin(phi));
+  EXPECT_NEAR(slipB, 1.2 * std::sin(phi), 1e-13);
 }
 
 // Face contact of rectangular sections: an edge of A (axis at z = 0.5, edge offset (0, 0.3, 0.5), so
@@ -623,6 +686,7 @@ TEST(LineKinematics, WrittenOutHeldVariationsMatchNestedAdOfTheGaps) {
     }
     segmentPlanesAndSections(t, trial % 2, 2.0);
     placeGenerally(t, g, 0.3);
+    if (trial % 2 == 0 && trial % 8 != 0) turnedSinceConverged(t, g);  // (circles: most with their turns' slip)
     const Vec3d kept = trial % 4 == 2 ? Vec3d{{0, 0, -1}} : Vec3d{};
     const LineHistory history{0.4, 0.3, 0.9};
     const LineSegment seg = lineSegment(t);
