@@ -147,6 +147,9 @@ TEST(RankAgreement, LineContactAugmentedLagrangeAutomatic) {
 TEST(RankAgreement, LineContactPenalty) { compareDeck("parallel_rods.xml", "Penalty", 1e-10); }
 TEST(RankAgreement, LineContactAugmentedLagrange) { compareDeck("parallel_rods.xml", "Augmented Lagrange", 1e-10); }
 TEST(RankAgreement, LineContactLagrangeMultiplier) { compareDeck("parallel_rods.xml", "Lagrange Multiplier", 1e-10); }
+// Line contact with friction sticking along the whole line (input/layered_rods.xml).
+TEST(RankAgreement, LayeredRodsPenalty) { compareDeck("layered_rods.xml", "Penalty", 1e-10); }
+TEST(RankAgreement, LayeredRodsLagrangeMultiplier) { compareDeck("layered_rods.xml", "Lagrange Multiplier", 1e-10); }
 
 // The contact search's narrow phase shared over the ranks (each rank evaluates a contiguous share of
 // the element pairs the broad phase found, and the ranks exchange the candidates they chose) picks

@@ -277,6 +277,12 @@ TEST(CsvBalance, ParallelRods) {
   for (const std::string type : kStrategies) runAndBalance(inputDeck("parallel_rods.xml", type), "rods_" + tag(type));
 }
 
+// The layered rods with friction (input/layered_rods.xml): the friction forces' moments about each
+// rod's axis (the sections' turns in the slip) enter each body's balance.
+TEST(CsvBalance, LayeredRods) {
+  for (const std::string type : kStrategies) runAndBalance(inputDeck("layered_rods.xml", type), "layered_" + tag(type));
+}
+
 TEST(CsvBalance, PressThenSlideSplitsTheSharedNodesReactions) {
   // Beam 2's end nodes are held by two supports each: "beam 2 end" fixes uz, ry (the press) and
   // "beam 2 end drag" fixes ux (the slide). Each reports the components it fixes, so the file's sum is
