@@ -96,7 +96,9 @@ namespace {
 // such differences from step to step).
 // `automatic`: the strategy's penalty parameters chosen from the beams' compliance (computed in
 // full on every rank).
-Teuchos::ParameterList deckWith(const std::string& file, const std::string& type, bool automatic) {
+// `tight` false: the deck's own tolerances (the layered rods, E = 1e9, stop at a residual floor of
+// about 5e-6, far above 1e-12 of their loads).
+Teuchos::ParameterList deckWith(const std::string& file, const std::string& type, bool automatic, bool tight = true) {
   Teuchos::ParameterList d = input::readParameterXmlFile(std::string(BC_SOURCE_DIR) + "/input/" + file);
   input::replaceAtPath(d, "Contact/Enforcement/Type", type);
   if (automatic) {
@@ -106,15 +108,17 @@ Teuchos::ParameterList deckWith(const std::string& file, const std::string& type
       strategy.set(k, std::string("Automatic"));
     }
   }
+  if (!tight) return d;
   input::setAtPath(d, "Nonlinear Solver/Residual Tolerance", 1e-12);
   input::setAtPath(d, "Nonlinear Solver/Increment Tolerance", 1e-12);
   return d;
 }
-void compareDeck(const std::string& file, const std::string& type, double tolerance, bool automatic = false) {
+void compareDeck(const std::string& file, const std::string& type, double tolerance, bool automatic = false,
+                 bool tight = true) {
   auto world = Tpetra::getDefaultComm();
   auto self = Teuchos::rcp(new Teuchos::MpiComm<int>(MPI_COMM_SELF));
-  auto pw = input::buildProblem(deckWith(file, type, automatic), "example1");
-  auto ps = input::buildProblem(deckWith(file, type, automatic), "example1");
+  auto pw = input::buildProblem(deckWith(file, type, automatic, tight), "example1");
+  auto ps = input::buildProblem(deckWith(file, type, automatic, tight), "example1");
   const auto rw = test::runQuiet(pw, world, "example1_world");
   const auto rs = test::runQuiet(ps, self, "example1_self" + std::to_string(world->getRank()));
   ASSERT_TRUE(rw.report.completed) << rw.report.failure;
@@ -148,8 +152,10 @@ TEST(RankAgreement, LineContactPenalty) { compareDeck("parallel_rods.xml", "Pena
 TEST(RankAgreement, LineContactAugmentedLagrange) { compareDeck("parallel_rods.xml", "Augmented Lagrange", 1e-10); }
 TEST(RankAgreement, LineContactLagrangeMultiplier) { compareDeck("parallel_rods.xml", "Lagrange Multiplier", 1e-10); }
 // Line contact with friction sticking along the whole line (input/layered_rods.xml).
-TEST(RankAgreement, LayeredRodsPenalty) { compareDeck("layered_rods.xml", "Penalty", 1e-10); }
-TEST(RankAgreement, LayeredRodsLagrangeMultiplier) { compareDeck("layered_rods.xml", "Lagrange Multiplier", 1e-10); }
+TEST(RankAgreement, LayeredRodsPenalty) { compareDeck("layered_rods.xml", "Penalty", 1e-10, false, false); }
+TEST(RankAgreement, LayeredRodsLagrangeMultiplier) {
+  compareDeck("layered_rods.xml", "Lagrange Multiplier", 1e-10, false, false);
+}
 
 // The contact search's narrow phase shared over the ranks (each rank evaluates a contiguous share of
 // the element pairs the broad phase found, and the ranks exchange the candidates they chose) picks
