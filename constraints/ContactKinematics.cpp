@@ -158,25 +158,33 @@ Vec3<T> unitTangent(const Vec3<T>& P1, const Vec3<T>& V1, const Vec3<T>& P2, con
   return (1.0 / sqrt(dot(d, d))) * d;
 }
 
-// s = sign(t_A . t_B) of the elements' chords (LinePairInput::turnSlip).
-double turnSign(const LinePairInput& in) { return dot(in.xA2 - in.xA1, in.xB2 - in.xB1) < 0.0 ? -1.0 : 1.0; }
+template <class T> Vec3<T> lifted(const Vec3d& v) { return Vec3<T>{{T(v[0]), T(v[1]), T(v[2])}}; }
 
-// The turn part of circles' slip (LinePairInput::turnSlip): r_A [s (t_A(xi) - t_A,p(xi)) - (t_B(etaPrev)
-// - t_B,p(etaPrev))] . n. Its variation with xi, etaPrev and n held, r_A (s dt_A - dt_B) . n, moves the
-// moment r_A lambda_T that a friction force lambda_T along B's surface exerts about A's axis from B's
-// section (where the axis point's slip puts it) to A's.
+// A section's turn since the last converged state, dotted with b (LinePairInput::turnSlip): t_p x (t -
+// t_p) . b + (q - e) . (t_p x e) (t_p . b), t (t_p) the unit tangent now (then), q the section's
+// vector that was e (across the axis).
 template <class T>
-T turnSlipOf(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB, const T& xi,
-             const T& etaPrev, const Vec3<T>& n) {
-  if (!in.turnSlip) return T(0.0);
-  const auto lift = [](const Vec3d& v) { return Vec3<T>{{T(v[0]), T(v[1]), T(v[2])}}; };
-  const Vec3<T> A[4] = {lift(in.prevA[0]), lift(in.prevA[1]), lift(in.prevA[2]), lift(in.prevA[3])};
-  const Vec3<T> B[4] = {lift(in.prevB[0]), lift(in.prevB[1]), lift(in.prevB[2]), lift(in.prevB[3])};
+T sectionTurn(const Vec3<T>& t, const Vec3<T>& tp, const Vec3<T>& q, const Vec3d& across, const Vec3<T>& b) {
+  const Vec3<T> e = lifted<T>(across);
+  return dot(cross(tp, t - tp), b) + dot(q - e, cross(tp, e)) * dot(tp, b);
+}
+
+// The turn part of circles' slip (LinePairInput::turnSlip): -r_A (theta_A(xi) - theta_B(etaPrev)) . b,
+// P, V the axes' points and tangents now, Q the nodes' turn vectors R_m turnRef[m] (A1, A2, B1, B2).
+// Its variation with xi, etaPrev and b held applies the moment r_A lambda_T about A's axis that a
+// friction force lambda_T along B's surface exerts on A (where the axis point's slip puts it on B's
+// section); a rigid turn of the pair gives theta_A = theta_B.
+template <class T>
+T turnSlipOf(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, const Vec3<T>* Q, bool cubicA, bool cubicB,
+             const T& xi, const T& etaPrev, const Vec3<T>& b) {
+  Vec3<T> A[4], B[4];
+  for (int k = 0; k < 4; ++k) A[k] = lifted<T>(in.prevA[k]), B[k] = lifted<T>(in.prevB[k]);
   const Vec3<T> tA = unitTangent(P[0], V[0], P[1], V[1], cubicA, xi);
   const Vec3<T> tAp = unitTangent(A[0], A[2], A[1], A[3], cubicA, xi);
   const Vec3<T> tB = unitTangent(P[2], V[2], P[3], V[3], cubicB, etaPrev);
   const Vec3<T> tBp = unitTangent(B[0], B[2], B[1], B[3], cubicB, etaPrev);
-  return in.radiusA * dot(turnSign(in) * (tA - tAp) - (tB - tBp), n);
+  const Vec3<T> qA = (1.0 - xi) * Q[0] + xi * Q[1], qB = (1.0 - etaPrev) * Q[2] + etaPrev * Q[3];
+  return -in.radiusA * (sectionTurn(tA, tAp, qA, in.across[0], b) - sectionTurn(tB, tBp, qB, in.across[1], b));
 }
 
 // Line contact at a Gauss point of axis A (fixed parameter xi, a material point) against axis B:
@@ -184,8 +192,9 @@ T turnSlipOf(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, bool c
 // (projectOnB). The normal is along p_B - p_A, the gap |p_B - p_A| - (r_A + r_B), the slip along B from
 // etaPrev. Axis A's own tangential gap is zero (the point is material on A).
 template <class T>
-Gaps<T> lineGaps(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, bool cubicA, bool cubicB,
-                 double radiusSum, const T& xi, double etaStart, const T& etaPrev, double side, bool held) {
+Gaps<T> lineGaps(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, const Vec3<T>* Q, bool cubicA,
+                 bool cubicB, double radiusSum, const T& xi, double etaStart, const T& etaPrev, double side,
+                 bool held) {
   using std::sqrt;
   Gaps<T> g;
   Vec3<T> pA, xB;
@@ -197,11 +206,11 @@ Gaps<T> lineGaps(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, bo
   g.gT1 = T(0.0);
   const T m = slipMetric(P, V, cubicB, g.eta, pA);
   g.gT2 = (g.eta - etaPrev) * (held ? frozen(m) : m);
-  if (in.turnSlip) {
-    Vec3<T> n = (-side / distance) * d;  // from B's axis towards A's
+  if (Q) {  // (the turn vectors: LinePairInput::turnSlip)
+    Vec3<T> b = cross((-side / distance) * d, unitTangent(P[2], V[2], P[3], V[3], cubicB, g.eta));
     if (held)
-      for (int c = 0; c < 3; ++c) n[c] = frozen(n[c]);
-    g.gT2 += turnSlipOf(in, P, V, cubicA, cubicB, xi, etaPrev, n);
+      for (int c = 0; c < 3; ++c) b[c] = frozen(b[c]);
+    g.gT2 += turnSlipOf(in, P, V, Q, cubicA, cubicB, xi, etaPrev, b);
   }
   g.cosine = dot(tA, tB) / (sqrt(dot(tA, tA)) * sqrt(dot(tB, tB)));
   g.length = T(1.0);
@@ -555,8 +564,8 @@ template <class T, int Vectors> struct HeldLineGaps {
   Vec3<T> G[3][Vectors];
 };
 template <int Vectors, class T>
-HeldLineGaps<T, Vectors> heldLineGaps(const LinePairInput& in, const Vec3<T>* P, bool cubicA, bool cubicB, double side,
-                                      const T& xi, double etaStart, const T& etaPrev);
+HeldLineGaps<T, Vectors> heldLineGaps(const LinePairInput& in, const Vec3<T>* P, int turnAt, bool cubicA, bool cubicB,
+                                      double side, const T& xi, double etaStart, const T& etaPrev);
 template <int Vectors, class Fn>
 ContactKinematics heldKinematicsOf(const LinePairInput& in, const Vec3d* extraRef, const int* extraNode, Fn gapsOf,
                                    Variations order);
@@ -727,20 +736,35 @@ double lineSide(const LinePairInput& in, const ClosestPoints& projection, const 
   return dot(projection.pB - projection.pA, keptNormal) < 0.0 ? -1.0 : 1.0;
 }
 
-void setTurnSlip(LinePairInput& in, const LinePairInput& converged) {
+void setTurnSlip(LinePairInput& in, const LinePairInput& converged, const Vec3d& normal, double xi, double eta) {
   const LinePairInput& c = converged;
+  const Mat3d* R[4] = {&c.RA1, &c.RA2, &c.RB1, &c.RB2};
   in.turnSlip = true;
   in.prevA[0] = c.xA1 + c.RA1 * c.oA, in.prevA[1] = c.xA2 + c.RA2 * c.oA;
   in.prevA[2] = c.RA1 * c.dA, in.prevA[3] = c.RA2 * tangentA2(c);
   in.prevB[0] = c.xB1 + c.RB1 * c.oB, in.prevB[1] = c.xB2 + c.RB2 * c.oB;
   in.prevB[2] = c.RB1 * c.dB, in.prevB[3] = c.RB2 * tangentB2(c);
+  // e: the normal made normal to each axis there (unit), so that (q - e) . (t_p x e) is the twist.
+  const Vec3d t[2] = {unitTangent(in.prevA[0], in.prevA[2], in.prevA[1], in.prevA[3], norm(c.dA) > 0.0, xi),
+                      unitTangent(in.prevB[0], in.prevB[2], in.prevB[1], in.prevB[3], norm(c.dB) > 0.0, eta)};
+  for (int j = 0; j < 2; ++j) {
+    const Vec3d e = normal - dot(normal, t[j]) * t[j];
+    in.across[j] = norm(e) > 0.0 ? (1.0 / norm(e)) * e : Vec3d{};
+  }
+  for (int m = 0; m < 4; ++m) in.turnRef[m] = transpose(*R[m]) * in.across[m / 2];
 }
 
-double turnSlip(const LinePairInput& in, double xi, double etaPrev, const Vec3d& n) {
+double turnSlip(const LinePairInput& in, double xi, double etaPrev, double eta, const Vec3d& n) {
+  if (!in.turnSlip || in.face) return 0.0;
+  const Mat3d* R[4] = {&in.RA1, &in.RA2, &in.RB1, &in.RB2};
+  Vec3d Q[4];
+  for (int m = 0; m < 4; ++m) Q[m] = (*R[m]) * in.turnRef[m];
   const Vec3d P[4] = {in.xA1 + in.RA1 * in.oA, in.xA2 + in.RA2 * in.oA, in.xB1 + in.RB1 * in.oB,
                       in.xB2 + in.RB2 * in.oB};
   const Vec3d V[4] = {in.RA1 * in.dA, in.RA2 * tangentA2(in), in.RB1 * in.dB, in.RB2 * tangentB2(in)};
-  return turnSlipOf(in, P, V, norm(in.dA) > 0.0, norm(in.dB) > 0.0, xi, etaPrev, n);
+  const bool cubicA = norm(in.dA) > 0.0, cubicB = norm(in.dB) > 0.0;
+  const Vec3d b = cross(n, unitTangent(P[2], V[2], P[3], V[3], cubicB, eta));
+  return turnSlipOf(in, P, V, Q, cubicA, cubicB, xi, etaPrev, b);
 }
 
 namespace {
@@ -750,8 +774,15 @@ template <class PointOf>
 ContactKinematics lineKinematicsOf(const LinePairInput& in, bool segmented, double side, double etaStart,
                                    Variations order, bool nested, PointOf pointOf) {
   const bool cubicA = norm(in.dA) > 0.0, cubicB = norm(in.dB) > 0.0;
-  const Vec3d faceRefs[4] = {in.nB, in.nB, in.sB1, in.sB2}, circleRefs[2] = {in.sB1, in.sB2};
+  const Vec3d faceRefs[4] = {in.nB, in.nB, in.sB1, in.sB2};
   const int faceNodes[4] = {2, 3, 2, 3};
+  // Circles: the segment planes (segmented) and the turn vectors (LinePairInput::turnSlip) after the
+  // eight points and tangents.
+  const bool turn = in.turnSlip && !in.face;
+  const Vec3d* t = in.turnRef;
+  const Vec3d circleRefs[6] = {in.sB1, in.sB2, t[0], t[1], t[2], t[3]}, turnRefs[4] = {t[0], t[1], t[2], t[3]};
+  const int circleNodes[6] = {2, 3, 0, 1, 2, 3}, turnNodes[4] = {0, 1, 2, 3};
+  const int turnAt = turn ? (segmented ? 10 : 8) : -1;
   ContactKinematics k;
   // held: the variation at the Gauss point's place xi (and etaPrev(xi)) on A, with the slip metric held.
   const auto face = [&](const auto* P, const auto* S, bool held) {
@@ -764,20 +795,22 @@ ContactKinematics lineKinematicsOf(const LinePairInput& in, bool segmented, doub
   const auto circle = [&](const auto* P, const auto* S, bool held) {
     auto [x, etaPrev, length] = pointOf(P, P + 4, S);
     if (held) x = frozen(x), etaPrev = frozen(etaPrev);
-    auto g = lineGaps(in, P, P + 4, cubicA, cubicB, in.radiusSum, x, etaStart, etaPrev, side, held);
+    auto g = lineGaps(in, P, P + 4, turn ? P + turnAt : nullptr, cubicA, cubicB, in.radiusSum, x, etaStart, etaPrev,
+                      side, held);
     g.length = length;
     return g;
   };
   // The held variations written out (heldLineGaps), one AD level: the default.
   const auto written = [&](const auto* P, const auto* S, auto vectors) {
     auto [x, etaPrev, length] = pointOf(P, P + 4, S);
-    auto h = heldLineGaps<decltype(vectors)::value>(in, P, cubicA, cubicB, side, x, etaStart, etaPrev);
+    auto h = heldLineGaps<decltype(vectors)::value>(in, P, turnAt, cubicA, cubicB, side, x, etaStart, etaPrev);
     h.g.length = length;
     return h;
   };
   using V8 = std::integral_constant<int, 8>;
   using V10 = std::integral_constant<int, 10>;
   using V12 = std::integral_constant<int, 12>;
+  using V14 = std::integral_constant<int, 14>;
   if (!nested) {
     if (in.face && segmented)
       k = heldKinematicsOf<12>(
@@ -785,9 +818,15 @@ ContactKinematics lineKinematicsOf(const LinePairInput& in, bool segmented, doub
     else if (in.face)
       k = heldKinematicsOf<10>(
           in, faceRefs, faceNodes, [&](const auto* P) { return written(P, P, V10{}); }, order);
+    else if (segmented && turn)
+      k = heldKinematicsOf<14>(
+          in, circleRefs, circleNodes, [&](const auto* P) { return written(P, P + 8, V14{}); }, order);
     else if (segmented)
       k = heldKinematicsOf<10>(
-          in, circleRefs, faceNodes, [&](const auto* P) { return written(P, P + 8, V10{}); }, order);
+          in, circleRefs, circleNodes, [&](const auto* P) { return written(P, P + 8, V10{}); }, order);
+    else if (turn)
+      k = heldKinematicsOf<12>(
+          in, turnRefs, turnNodes, [&](const auto* P) { return written(P, P, V12{}); }, order);
     else
       k = heldKinematicsOf<8>(
           in, nullptr, nullptr, [&](const auto* P) { return written(P, P, V8{}); }, order);
@@ -797,9 +836,15 @@ ContactKinematics lineKinematicsOf(const LinePairInput& in, bool segmented, doub
   else if (in.face)
     k = kinematicsOf<10>(
         in, faceRefs, faceNodes, [&](const auto* P, bool held) { return face(P, P, held); }, order, true);
+  else if (segmented && turn)
+    k = kinematicsOf<14>(
+        in, circleRefs, circleNodes, [&](const auto* P, bool held) { return circle(P, P + 8, held); }, order, true);
   else if (segmented)
     k = kinematicsOf<10>(
-        in, circleRefs, faceNodes, [&](const auto* P, bool held) { return circle(P, P + 8, held); }, order, true);
+        in, circleRefs, circleNodes, [&](const auto* P, bool held) { return circle(P, P + 8, held); }, order, true);
+  else if (turn)
+    k = kinematicsOf<12>(
+        in, turnRefs, turnNodes, [&](const auto* P, bool held) { return circle(P, P, held); }, order, true);
   else
     k = kinematicsOf<8>(
         in, nullptr, nullptr, [&](const auto* P, bool held) { return circle(P, P, held); }, order, true);
@@ -1331,17 +1376,21 @@ ContactKinematics curveKinematicsOfOrder(const LinePairInput& in, double sigma, 
 //  - a face, g_N = (p_A - x_B(eta_N)) . n(eta_N), n = m / |m|, m = (1 - eta_N) N_1 + eta_N N_2, eta_N
 //    held (the normal gap varied at B's material point): G_k = s_k n on A, -s_k n on B, and on N_1, N_2
 //    (1 - eta) and eta times (r - (r . n) n) / |m|, r = p_A - x_B.
-//  - circles' turn part of g_T2 (turnSlipOf), n held: G_k = r_A s d_k (I - t_A t_A^T) n / |x_A'(xi)| on A,
-//    -r_A d'_k (I - t_B t_B^T) n / |x_B'(etaPrev)| on B (d'_k B's shape derivatives at etaPrev).
+//  - circles' turn part of g_T2 (turnSlipOf; turnAt the first of the four turn vectors, or -1), b held:
+//    on A's points and tangents -r_A d_k (I - t_A t_A^T)(b x t_A,p) / |x_A'(xi)|, on B's r_A d'_k (I -
+//    t_B t_B^T)(b x t_B,p) / |x_B'(etaPrev)| (d'_k B's shape derivatives at etaPrev); on the turn vectors
+//    of A1, A2 -r_A (t_A,p . b) (1 - xi, xi) (t_A,p x e_A), of B1, B2 r_A (t_B,p . b) (1 - etaPrev,
+//    etaPrev) (t_B,p x e_B).
 // g_T1 = 0. The segment planes' normals (vectors 10, 11 of a face, 8, 9 of a circle) vary xi only.
 template <int Vectors, class T>
-HeldLineGaps<T, Vectors> heldLineGaps(const LinePairInput& in, const Vec3<T>* P, bool cubicA, bool cubicB, double side,
-                                      const T& xi, double etaStart, const T& etaPrev) {
+HeldLineGaps<T, Vectors> heldLineGaps(const LinePairInput& in, const Vec3<T>* P, int turnAt, bool cubicA, bool cubicB,
+                                      double side, const T& xi, double etaStart, const T& etaPrev) {
   using std::sqrt;
   const bool face = in.face;
   HeldLineGaps<T, Vectors> out;
   out.g = face ? faceGaps(P, P + 4, P + 8, cubicA, cubicB, xi, etaStart, etaPrev, false)
-               : lineGaps(in, P, P + 4, cubicA, cubicB, in.radiusSum, xi, etaStart, etaPrev, side, false);
+               : lineGaps(in, P, P + 4, turnAt >= 0 ? P + turnAt : nullptr, cubicA, cubicB, in.radiusSum, xi, etaStart,
+                          etaPrev, side, false);
   const T eta = out.g.eta;
   const CurveShape<T> a = curveShape(cubicA, xi), b = curveShape(cubicB, eta);
   const int slot[8] = {0, 1, 0, 1, 2, 3, 2, 3};
@@ -1380,19 +1429,31 @@ HeldLineGaps<T, Vectors> heldLineGaps(const LinePairInput& in, const Vec3<T>* P,
     const T along = dot(unit, tB);
     for (int k = 0; k < 8; ++k)
       out.G[kGapN][k] = side * ((onA(k) ? -1.0 * a.s[slot[k]] : b.s[slot[k]]) * unit + along * dEta[k]);
-    if (in.turnSlip) {
+    if (turnAt >= 0) {  // (-r_A (theta_A - theta_B) . b, b held)
+      const Vec3<T> b = cross(-side * unit, (1.0 / speed) * tB);
       const CurveShape<T> bp = curveShape(cubicB, etaPrev);
-      Vec3<T> dA = none, dB = none;
+      Vec3<T> dA = none, dB = none, A[4], B[4];
       for (int k = 0; k < 8; ++k)
         if (onA(k)) dA = dA + a.d[slot[k]] * P[k];
         else dB = dB + bp.d[slot[k]] * P[k];
+      for (int k = 0; k < 4; ++k) A[k] = lifted<T>(in.prevA[k]), B[k] = lifted<T>(in.prevB[k]);
+      const Vec3<T> tAp = unitTangent(A[0], A[2], A[1], A[3], cubicA, xi);
+      const Vec3<T> tBp = unitTangent(B[0], B[2], B[1], B[3], cubicB, etaPrev);
       const T lA = sqrt(dot(dA, dA)), lB = sqrt(dot(dB, dB));
-      const Vec3<T> tA = (1.0 / lA) * dA, tBp = (1.0 / lB) * dB;
-      const Vec3<T> n = -side * unit;
-      const Vec3<T> nA = (turnSign(in) * in.radiusA / lA) * (n - dot(n, tA) * tA);
-      const Vec3<T> nB = (-in.radiusA / lB) * (n - dot(n, tBp) * tBp);
+      const Vec3<T> tA = (1.0 / lA) * dA, tBe = (1.0 / lB) * dB;
+      const Vec3<T> eA = lifted<T>(in.across[0]), eB = lifted<T>(in.across[1]);
+      // d(t_p x t . b) = dt . (b x t_p), dt = (I - t t^T) dx' / |x'|; d((q - n_p) . (t_p x n_p)) (t_p . b).
+      const Vec3<T> cA = cross(b, tAp), cB = cross(b, tBp);
+      const Vec3<T> gA = (-in.radiusA / lA) * (cA - dot(cA, tA) * tA);
+      const Vec3<T> gB = (in.radiusA / lB) * (cB - dot(cB, tBe) * tBe);
       for (int k = 0; k < 8; ++k)
-        out.G[kGapT2][k] = out.G[kGapT2][k] + (onA(k) ? a.d[slot[k]] * nA : bp.d[slot[k]] * nB);
+        out.G[kGapT2][k] = out.G[kGapT2][k] + (onA(k) ? a.d[slot[k]] * gA : bp.d[slot[k]] * gB);
+      const Vec3<T> twistA = (-in.radiusA * dot(tAp, b)) * cross(tAp, eA);
+      const Vec3<T> twistB = (in.radiusA * dot(tBp, b)) * cross(tBp, eB);
+      out.G[kGapT2][turnAt] = (1.0 - xi) * twistA;
+      out.G[kGapT2][turnAt + 1] = xi * twistA;
+      out.G[kGapT2][turnAt + 2] = (1.0 - etaPrev) * twistB;
+      out.G[kGapT2][turnAt + 3] = etaPrev * twistB;
     }
   }
   return out;

@@ -59,14 +59,18 @@ struct LinePairInput {
   Vec3d sB1{}, sB2{};
   // Circular sections in line contact: the slip of the two surfaces, where A's section turns
   // against B's (turnSlip, setTurnSlip). The slip g_T2 = (eta - eta_p) m is the motion of A's axis
-  // point along B's surface, whose variation turns A's contact point with B's section; the sections'
-  // own turns add r_A [s (t_A(xi) - t_A,p(xi)) - (t_B(eta_p) - t_B,p(eta_p))] . n, t the unit tangents
-  // of the axes now and at the last converged state (p), n from B's axis to A's, s = sign(t_A . t_B).
-  // prevA, prevB: (line point 1, line point 2, Hermite tangent 1, Hermite tangent 2) of A's and B's
-  // elements at the last converged state; radiusA A's radius.
+  // point along B's surface, whose variation turns A's contact point with B's section; A's own turn
+  // adds -r_A (theta_A - theta_B) . b, b = n x t_B (n from B's axis towards A's), theta the sections'
+  // turns since the last converged state: about the axes' normals from the Hermite tangents,
+  // t_p x (t - t_p) (the bending the axes show), about the axes from the nodes' rotations,
+  // (q - e) . (t_p x e) t_p with e a unit vector across the axis at the last converged state (n_p
+  // made normal to t_p) and q = R_m R_m,p^T e interpolated between the nodes (the twist, which a
+  // tangent does not show; it counts where the axes are apart). prevA, prevB: (line point 1, line
+  // point 2, tangent 1, tangent 2) of A's and B's elements at the last converged state; turnRef:
+  // R_m,p^T e of the nodes A1, A2 (e = across[0]), B1, B2 (across[1]); radiusA: A's radius.
   bool turnSlip = false;
   double radiusA = 0.0;
-  Vec3d prevA[4]{}, prevB[4]{};
+  Vec3d prevA[4]{}, prevB[4]{}, turnRef[4]{}, across[2]{};
   // End contact (endNode 0 or 1: A's node whose free end face is in contact; -1: none). The end face
   // is a disc of radius endRadius, or (endRectangle) a rectangle of half sizes endHalf along the
   // section's e2 and e3; endAxes the end's reference triad (e1 along the axis, e2, e3), outward +1 at
@@ -130,11 +134,12 @@ struct ClosestPoints {
 ClosestPoints closestPoints(const LinePairInput& in);
 
 // Switches on the surfaces' slip of circles in line contact (LinePairInput::turnSlip): `converged`
-// the same elements' input at the last converged state.
-void setTurnSlip(LinePairInput& in, const LinePairInput& converged);
+// the same elements' input at the last converged state, `normal` the point's normal there (from B's
+// axis towards A's), xi and eta its parameters there.
+void setTurnSlip(LinePairInput& in, const LinePairInput& converged, const Vec3d& normal, double xi, double eta);
 // The turn part of the slip (LinePairInput::turnSlip; 0 without it) at A's parameter xi, B's
-// material point etaPrev, n from B's axis towards A's.
-double turnSlip(const LinePairInput& in, double xi, double etaPrev, const Vec3d& n);
+// material point etaPrev and A's projection eta on B, n from B's axis towards A's.
+double turnSlip(const LinePairInput& in, double xi, double etaPrev, double eta, const Vec3d& n);
 
 // A gap's value, its first variation R (the direction of the force a unit multiplier applies: the
 // residual is lambda R), the linearized variation K (the derivative of R) and the gradient of the value

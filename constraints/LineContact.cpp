@@ -480,14 +480,19 @@ LinePairInput LineContact::faceInput(int eA, int edgeA, int eB, int faceB, const
 }
 
 LinePairInput LineContact::input(const ContactPointRecord& p, const core::State& s) const {
-  return segmentInput(p.key.pair, p.elementA, p.elementB, p.edge(), p.face(), s);
+  LinePairInput in = segmentInput(p.key.pair, p.elementA, p.elementB, p.edge(), p.face(), s);
+  // (circles: the surfaces' slip as the sections turn, from the point's normal at the last converged
+  // state; rectangles' edges turn with their sections)
+  if (!in.face)
+    setTurnSlip(in, geometry_.lineInput(p.elementA, 0, p.elementB, 0, geometry_.reference()), -1.0 * p.normal,
+                p.xiPrev - geometry_.beams().elements()[p.elementA].index,
+                p.etaPrev - geometry_.beams().elements()[p.elementB].index);
+  return in;
 }
 
 LinePairInput LineContact::segmentInput(int pair, int eA, int eB, int edge, int face, const core::State& s) const {
-  const bool rectangles = geometry_.rectangles(pair);
-  LinePairInput in = rectangles ? faceInput(eA, edge, eB, face, s) : geometry_.lineInput(eA, 0, eB, 0, s);
-  // (circles: the surfaces' slip as the sections turn; rectangles' edges turn with their sections)
-  if (!rectangles) setTurnSlip(in, geometry_.lineInput(eA, 0, eB, 0, geometry_.reference()));
+  LinePairInput in =
+      geometry_.rectangles(pair) ? faceInput(eA, edge, eB, face, s) : geometry_.lineInput(eA, 0, eB, 0, s);
   in.sB1 = segmentPlanes_[eB][0];
   in.sB2 = segmentPlanes_[eB][1];
   return in;
@@ -500,7 +505,7 @@ LineHistory LineContact::history(const ContactPointRecord& p) const {
 
 double LineContact::slip(const ContactPointRecord& p, const ClosestPoints& cp, const core::State& s) const {
   const double etaPrev = history(p).etaPrevAt(cp.xi);
-  return (cp.eta - etaPrev) * cp.slipMetric + turnSlip(input(p, s), cp.xi, etaPrev, -1.0 * cp.normal);
+  return (cp.eta - etaPrev) * cp.slipMetric + turnSlip(input(p, s), cp.xi, etaPrev, cp.eta, -1.0 * cp.normal);
 }
 
 bool LineContact::endPoint(const ContactPointRecord& p) { return p.line() && endSlot(gaussOf(p.gauss())); }

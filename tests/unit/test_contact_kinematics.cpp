@@ -139,7 +139,7 @@ void turnedSinceConverged(LinePairInput& in, std::mt19937& g) {
   for (Vec3d* x : {&converged.xA1, &converged.xA2, &converged.xB1, &converged.xB2}) *x = *x + randomVec(g, 0.05);
   for (Mat3d* R : {&converged.RA1, &converged.RA2, &converged.RB1, &converged.RB2})
     *R = expSO3(randomVec(g, 0.05)) * *R;
-  setTurnSlip(in, converged);
+  setTurnSlip(in, converged, (1.0 / 1.7) * Vec3d{{0.8, -1.5, 0.0}}, 0.4, 0.3);
   in.radiusA = 0.8;
 }
 
@@ -331,7 +331,7 @@ TEST(LineKinematics, CirclesSlipAsTheirSectionsTurn) {
     for (Vec3d* x : rollA ? std::vector<Vec3d*>{&in.xA1, &in.xA2} : std::vector<Vec3d*>{&in.xB1, &in.xB2})
       *x = centre + Q * (*x - centre);
     for (Mat3d* R : rollA ? std::vector<Mat3d*>{&in.RA1, &in.RA2} : std::vector<Mat3d*>{&in.RB1, &in.RB2}) *R = Q;
-    setTurnSlip(in, straight);
+    setTurnSlip(in, straight, Vec3d{{0, 0, -1}}, 0.5, 0.5);  // (the normal from B's axis to A's)
     return in;
   };
   const double phi = 0.2;
@@ -346,7 +346,7 @@ TEST(LineKinematics, CirclesSlipAsTheirSectionsTurn) {
   EXPECT_NEAR(onPoint, 0.8 * std::sin(phi), 1e-13);
   EXPECT_NEAR(onSegment, 0.8 * std::sin(phi), 1e-13);
   EXPECT_NEAR(nested, 0.8 * std::sin(phi), 1e-13);
-  EXPECT_NEAR(turnSlip(a, 0.5, 0.5, Vec3d{{0, 0, -1}}), 0.8 * std::sin(phi), 1e-13);
+  EXPECT_NEAR(turnSlip(a, 0.5, 0.5, 0.5, Vec3d{{0, 0, -1}}), 0.8 * std::sin(phi), 1e-13);
   LinePairInput axisOnly = a;
   axisOnly.turnSlip = false;
   EXPECT_NEAR(lineKinematics(axisOnly, 0.5, 0.5, Vec3d{}).tangent2.value, 0.0, 1e-13);
@@ -354,6 +354,36 @@ TEST(LineKinematics, CirclesSlipAsTheirSectionsTurn) {
   const double slipB = lineKinematics(b, 0.5, 0.5, Vec3d{}).tangent2.value;
   std::printf("B rolled by %.1f: g_T2 %.15f, r_B sin(phi) %.15f\n", phi, slipB, 1.2 * std::sin(phi));
   EXPECT_NEAR(slipB, 1.2 * std::sin(phi), 1e-13);
+  // A rigid turn of the pair, its axes 10 degrees apart (twisting rods, strands): no slip to first
+  // order in the turn (the sections' turns are measured to first order: their difference is of second
+  // order, and a step's turns are small). A turn part from the axes' unit tangents alone,
+  // r_A [(t_A - t_A,p) - (t_B - t_B,p)] . n, is r_A (w x (t_A - t_B)) . n for a turn w: of first order
+  // where the axes are apart (r_A |w| sin(10 deg) here), friction on rods that turn together.
+  LinePairInput crossed = straight;
+  const double apart = 10.0 * std::acos(-1.0) / 180.0;
+  crossed.xB1 = {{5 - 5 * std::cos(apart), -5 * std::sin(apart), 2}};
+  crossed.xB2 = {{5 + 5 * std::cos(apart), 5 * std::sin(apart), 2}};
+  crossed.dB = crossed.xB2 - crossed.xB1;
+  const ClosestPoints before = lineProjection(crossed, 0.3);
+  for (const Vec3d axis : {Vec3d{{0, 0, 1}}, Vec3d{{0.6, -0.48, 0.64}}, Vec3d{{1, 0, 0}}}) {
+    double previous = 0.0;
+    for (const double angle : {1e-2, 5e-3}) {
+      LinePairInput turned = crossed;
+      const Mat3d Q = expSO3(angle * axis);
+      for (Vec3d* x : {&turned.xA1, &turned.xA2, &turned.xB1, &turned.xB2}) *x = Q * *x;
+      for (Mat3d* R : {&turned.RA1, &turned.RA2, &turned.RB1, &turned.RB2}) *R = Q;
+      setTurnSlip(turned, crossed, -1.0 * before.normal, 0.3, before.eta);
+      const double rigid = lineKinematics(turned, 0.3, before.eta, Vec3d{}).tangent2.value;
+      const double firstOrder = 0.8 * angle * std::sin(apart);
+      std::printf(
+          "pair 10 degrees apart turned rigidly by %.0e about (%.2f, %.2f, %.2f): g_T2 %.2e, r_A w sin(10) %.2e\n",
+          angle, axis[0], axis[1], axis[2], rigid, firstOrder);
+      EXPECT_LT(std::abs(rigid), 0.02 * firstOrder);
+      EXPECT_NEAR(turnSlip(turned, 0.3, before.eta, before.eta, -1.0 * (Q * before.normal)), rigid, 1e-15);
+      if (previous != 0.0) EXPECT_NEAR(rigid / previous, 0.25, 0.02);  // (second order)
+      previous = rigid;
+    }
+  }
 }
 
 // Face contact of rectangular sections: an edge of A (axis at z = 0.5, edge offset (0, 0.3, 0.5), so
