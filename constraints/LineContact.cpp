@@ -481,9 +481,10 @@ LinePairInput LineContact::faceInput(int eA, int edgeA, int eB, int faceB, const
 
 LinePairInput LineContact::input(const ContactPointRecord& p, const core::State& s) const {
   LinePairInput in = segmentInput(p.key.pair, p.elementA, p.elementB, p.edge(), p.face(), s);
-  // (circles: the surfaces' slip as the sections turn, from the point's normal at the last converged
-  // state; rectangles' edges turn with their sections)
-  if (!in.face)
+  // (circles with friction: the surfaces' slip as the sections turn, from the point's normal at the
+  // last converged state; rectangles' edges turn with their sections; without friction the slip is
+  // not used, and the turn's four vectors would only cost)
+  if (!in.face && geometry_.pairs()[p.key.pair].friction > 0.0)
     setTurnSlip(in, geometry_.lineInput(p.elementA, 0, p.elementB, 0, geometry_.reference()), -1.0 * p.normal,
                 p.xiPrev - geometry_.beams().elements()[p.elementA].index,
                 p.etaPrev - geometry_.beams().elements()[p.elementB].index);
