@@ -160,6 +160,17 @@ Vec3<T> unitTangent(const Vec3<T>& P1, const Vec3<T>& V1, const Vec3<T>& P2, con
 
 template <class T> Vec3<T> lifted(const Vec3d& v) { return Vec3<T>{{T(v[0]), T(v[1]), T(v[2])}}; }
 
+// The unit tangents of A's axis at xi and of B's at etaPrev at the last converged state
+// (LinePairInput::prev).
+template <class T>
+void previousTangents(const LinePairInput& in, bool cubicA, bool cubicB, const T& xi, const T& etaPrev, Vec3<T>& tAp,
+                      Vec3<T>& tBp) {
+  Vec3<T> p[8];
+  for (int k = 0; k < 8; ++k) p[k] = lifted<T>(in.prev[k]);
+  tAp = unitTangent(p[0], p[4], p[1], p[5], cubicA, xi);
+  tBp = unitTangent(p[2], p[6], p[3], p[7], cubicB, etaPrev);
+}
+
 // A section's turn since the last converged state, dotted with b (LinePairInput::turnSlip): t_p x (t -
 // t_p) . b + (q - e) . (t_p x e) (t_p . b), t (t_p) the unit tangent now (then), q the section's
 // vector that was e (across the axis).
@@ -177,12 +188,10 @@ T sectionTurn(const Vec3<T>& t, const Vec3<T>& tp, const Vec3<T>& q, const Vec3d
 template <class T>
 T turnSlipOf(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, const Vec3<T>* Q, bool cubicA, bool cubicB,
              const T& xi, const T& etaPrev, const Vec3<T>& b) {
-  Vec3<T> A[4], B[4];
-  for (int k = 0; k < 4; ++k) A[k] = lifted<T>(in.prevA[k]), B[k] = lifted<T>(in.prevB[k]);
+  Vec3<T> tAp, tBp;
+  previousTangents(in, cubicA, cubicB, xi, etaPrev, tAp, tBp);
   const Vec3<T> tA = unitTangent(P[0], V[0], P[1], V[1], cubicA, xi);
-  const Vec3<T> tAp = unitTangent(A[0], A[2], A[1], A[3], cubicA, xi);
   const Vec3<T> tB = unitTangent(P[2], V[2], P[3], V[3], cubicB, etaPrev);
-  const Vec3<T> tBp = unitTangent(B[0], B[2], B[1], B[3], cubicB, etaPrev);
   const Vec3<T> qA = (1.0 - xi) * Q[0] + xi * Q[1], qB = (1.0 - etaPrev) * Q[2] + etaPrev * Q[3];
   return -in.radiusA * (sectionTurn(tA, tAp, qA, in.across[0], b) - sectionTurn(tB, tBp, qB, in.across[1], b));
 }
@@ -734,37 +743,6 @@ ClosestPoints lineProjection(const LinePairInput& in, double xi) {
 double lineSide(const LinePairInput& in, const ClosestPoints& projection, const Vec3d& keptNormal) {
   if (in.face || dot(keptNormal, keptNormal) == 0.0) return 1.0;
   return dot(projection.pB - projection.pA, keptNormal) < 0.0 ? -1.0 : 1.0;
-}
-
-void setTurnSlip(LinePairInput& in, const LinePairInput& converged, const Vec3d& normal, double xi, double eta) {
-  const LinePairInput& c = converged;
-  const Mat3d* R[4] = {&c.RA1, &c.RA2, &c.RB1, &c.RB2};
-  in.turnSlip = true;
-  in.prevA[0] = c.xA1 + c.RA1 * c.oA, in.prevA[1] = c.xA2 + c.RA2 * c.oA;
-  in.prevA[2] = c.RA1 * c.dA, in.prevA[3] = c.RA2 * tangentA2(c);
-  in.prevB[0] = c.xB1 + c.RB1 * c.oB, in.prevB[1] = c.xB2 + c.RB2 * c.oB;
-  in.prevB[2] = c.RB1 * c.dB, in.prevB[3] = c.RB2 * tangentB2(c);
-  // e: the normal made normal to each axis there (unit), so that (q - e) . (t_p x e) is the twist.
-  const Vec3d t[2] = {unitTangent(in.prevA[0], in.prevA[2], in.prevA[1], in.prevA[3], norm(c.dA) > 0.0, xi),
-                      unitTangent(in.prevB[0], in.prevB[2], in.prevB[1], in.prevB[3], norm(c.dB) > 0.0, eta)};
-  for (int j = 0; j < 2; ++j) {
-    const Vec3d e = normal - dot(normal, t[j]) * t[j];
-    in.across[j] = norm(e) > 0.0 ? (1.0 / norm(e)) * e : Vec3d{};
-  }
-  for (int m = 0; m < 4; ++m) in.turnRef[m] = transpose(*R[m]) * in.across[m / 2];
-}
-
-double turnSlip(const LinePairInput& in, double xi, double etaPrev, double eta, const Vec3d& n) {
-  if (!in.turnSlip || in.face) return 0.0;
-  const Mat3d* R[4] = {&in.RA1, &in.RA2, &in.RB1, &in.RB2};
-  Vec3d Q[4];
-  for (int m = 0; m < 4; ++m) Q[m] = (*R[m]) * in.turnRef[m];
-  const Vec3d P[4] = {in.xA1 + in.RA1 * in.oA, in.xA2 + in.RA2 * in.oA, in.xB1 + in.RB1 * in.oB,
-                      in.xB2 + in.RB2 * in.oB};
-  const Vec3d V[4] = {in.RA1 * in.dA, in.RA2 * tangentA2(in), in.RB1 * in.dB, in.RB2 * tangentB2(in)};
-  const bool cubicA = norm(in.dA) > 0.0, cubicB = norm(in.dB) > 0.0;
-  const Vec3d b = cross(n, unitTangent(P[2], V[2], P[3], V[3], cubicB, eta));
-  return turnSlipOf(in, P, V, Q, cubicA, cubicB, xi, etaPrev, b);
 }
 
 namespace {
@@ -1432,13 +1410,11 @@ HeldLineGaps<T, Vectors> heldLineGaps(const LinePairInput& in, const Vec3<T>* P,
     if (turnAt >= 0) {  // (-r_A (theta_A - theta_B) . b, b held)
       const Vec3<T> b = cross(-side * unit, (1.0 / speed) * tB);
       const CurveShape<T> bp = curveShape(cubicB, etaPrev);
-      Vec3<T> dA = none, dB = none, A[4], B[4];
+      Vec3<T> dA = none, dB = none, tAp, tBp;
       for (int k = 0; k < 8; ++k)
         if (onA(k)) dA = dA + a.d[slot[k]] * P[k];
         else dB = dB + bp.d[slot[k]] * P[k];
-      for (int k = 0; k < 4; ++k) A[k] = lifted<T>(in.prevA[k]), B[k] = lifted<T>(in.prevB[k]);
-      const Vec3<T> tAp = unitTangent(A[0], A[2], A[1], A[3], cubicA, xi);
-      const Vec3<T> tBp = unitTangent(B[0], B[2], B[1], B[3], cubicB, etaPrev);
+      previousTangents(in, cubicA, cubicB, xi, etaPrev, tAp, tBp);
       const T lA = sqrt(dot(dA, dA)), lB = sqrt(dot(dB, dB));
       const Vec3<T> tA = (1.0 / lA) * dA, tBe = (1.0 / lB) * dB;
       const Vec3<T> eA = lifted<T>(in.across[0]), eB = lifted<T>(in.across[1]);
@@ -1500,6 +1476,31 @@ ContactKinematics kinematicsOf(const LinePairInput& in, const Vec3d* extraRef, c
 }
 
 }  // namespace
+
+void setTurnSlip(LinePairInput& in, const LinePairInput& converged, const Vec3d& normal, double xi, double eta) {
+  vectorFrame<8>(converged, nullptr, nullptr, in.prev);
+  in.turnSlip = true;
+  // e: the normal made normal to each axis there (unit), so that (q - e) . (t_p x e) is the twist.
+  Vec3d t[2];
+  previousTangents(in, norm(converged.dA) > 0.0, norm(converged.dB) > 0.0, xi, eta, t[0], t[1]);
+  for (int j = 0; j < 2; ++j) {
+    const Vec3d e = normal - dot(normal, t[j]) * t[j];
+    in.across[j] = norm(e) > 0.0 ? (1.0 / norm(e)) * e : Vec3d{};
+  }
+  const Mat3d* R[4] = {&converged.RA1, &converged.RA2, &converged.RB1, &converged.RB2};
+  for (int m = 0; m < 4; ++m) in.turnRef[m] = transpose(*R[m]) * in.across[m / 2];
+}
+
+double turnSlip(const LinePairInput& in, double xi, double etaPrev, double eta, const Vec3d& n) {
+  if (!in.turnSlip || in.face) return 0.0;
+  // (the points, tangents and turn vectors as the kinematics has them)
+  const int nodes[4] = {0, 1, 2, 3};
+  Vec3d p[12];
+  vectorFrame<12>(in, in.turnRef, nodes, p);
+  const bool cubicB = norm(in.dB) > 0.0;
+  const Vec3d b = cross(n, unitTangent(p[2], p[6], p[3], p[7], cubicB, eta));
+  return turnSlipOf(in, p, p + 4, p + 8, norm(in.dA) > 0.0, cubicB, xi, etaPrev, b);
+}
 
 namespace {
 // The vectors of end contact beyond the points and tangents: the end's triad at its node, B's

@@ -65,12 +65,12 @@ struct LinePairInput {
   // t_p x (t - t_p) (the bending the axes show), about the axes from the nodes' rotations,
   // (q - e) . (t_p x e) t_p with e a unit vector across the axis at the last converged state (n_p
   // made normal to t_p) and q = R_m R_m,p^T e interpolated between the nodes (the twist, which a
-  // tangent does not show; it counts where the axes are apart). prevA, prevB: (line point 1, line
-  // point 2, tangent 1, tangent 2) of A's and B's elements at the last converged state; turnRef:
+  // tangent does not show; it counts where the axes are apart). prev: the line points and Hermite
+  // tangents (P_A1, P_A2, P_B1, P_B2, V_A1, V_A2, V_B1, V_B2) at the last converged state; turnRef:
   // R_m,p^T e of the nodes A1, A2 (e = across[0]), B1, B2 (across[1]); radiusA: A's radius.
   bool turnSlip = false;
   double radiusA = 0.0;
-  Vec3d prevA[4]{}, prevB[4]{}, turnRef[4]{}, across[2]{};
+  Vec3d prev[8]{}, turnRef[4]{}, across[2]{};
   // End contact (endNode 0 or 1: A's node whose free end face is in contact; -1: none). The end face
   // is a disc of radius endRadius, or (endRectangle) a rectangle of half sizes endHalf along the
   // section's e2 and e3; endAxes the end's reference triad (e1 along the axis, e2, e3), outward +1 at

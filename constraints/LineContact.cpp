@@ -504,9 +504,9 @@ LineHistory LineContact::history(const ContactPointRecord& p) const {
   return {p.xiPrev - elems[p.elementA].index, p.etaPrev - elems[p.elementB].index, p.etaRate};
 }
 
-double LineContact::slip(const ContactPointRecord& p, const ClosestPoints& cp, const core::State& s) const {
+double LineContact::slip(const ContactPointRecord& p, const ClosestPoints& cp, const LinePairInput& in) const {
   const double etaPrev = history(p).etaPrevAt(cp.xi);
-  return (cp.eta - etaPrev) * cp.slipMetric + turnSlip(input(p, s), cp.xi, etaPrev, cp.eta, -1.0 * cp.normal);
+  return (cp.eta - etaPrev) * cp.slipMetric + turnSlip(in, cp.xi, etaPrev, cp.eta, -1.0 * cp.normal);
 }
 
 bool LineContact::endPoint(const ContactPointRecord& p) { return p.line() && endSlot(gaussOf(p.gauss())); }
@@ -747,7 +747,10 @@ void keepSide(const LinePairInput& in, ClosestPoints& cp, const Vec3d& kept) {
 }  // namespace
 
 ClosestPoints LineContact::geometry(const ContactPointRecord& p, const core::State& s, double* segment) const {
-  const LinePairInput in = input(p, s);
+  return geometry(p, input(p, s), segment);
+}
+
+ClosestPoints LineContact::geometry(const ContactPointRecord& p, const LinePairInput& in, double* segment) const {
   const LineSegment seg = lineSegment(in);
   const LineSegment sub = pointSegment(p, seg);
   if (segment) *segment = sub.length();
@@ -769,8 +772,8 @@ ContactKinematics LineContact::values(const ContactPointRecord& p, const Closest
   k.eta = cp.eta;
   k.segment = segment;
   k.normal.value = cp.gap;
-  k.tangent2.value = slip(p, cp, s);
   const LinePairInput in = input(p, s);
+  k.tangent2.value = slip(p, cp, in);
   const Vec3d tA = (in.xA2 + in.RA2 * in.oA) - (in.xA1 + in.RA1 * in.oA);
   const Vec3d tB = (in.xB2 + in.RB2 * in.oB) - (in.xB1 + in.RB1 * in.oB);
   k.axesCosine = dot(tA, tB) / (norm(tA) * norm(tB));
@@ -832,11 +835,12 @@ std::map<PointKey, LineContact::NodeGap> LineContact::nodeGaps(const PointMap& p
   for (const auto& [key, p] : points) {
     if (!p.line()) continue;
     double segment = 0.0;
-    const ClosestPoints cp = geometry(p, s, &segment);
+    const LinePairInput in = input(p, s);
+    const ClosestPoints cp = geometry(p, in, &segment);
     const double length = weight(p, segment);
     const double w = length * geometry_.blendWeightAt(p, s);
     const double gap = w > 0.0 ? cp.gap : 0.0;
-    const double slipped = w > 0.0 ? slip(p, cp, s) : 0.0;
+    const double slipped = w > 0.0 ? slip(p, cp, in) : 0.0;
     for (const FieldShare& f : fieldShares(p, cp.xi, points)) {
       NodeGap& g = gaps[PointKey::lineNode(p.key.pair, p.edge(), f.node)];
       g.weighted += w * f.N * gap;

@@ -161,10 +161,12 @@ class LineContact {
   // by more than `band`, or `keptBand`, of that) (findPoints).
   void offerSegment(int pi, int ea, int eb, int edge, int face, double inside, double band, double keptBand,
                     long long visit, const core::State& s, const PointMap& known, const CandidateOffer& offer) const;
-  // A Gauss point's history (element parameters) and its slip along B at `cp` in `s` since then, as
-  // segmentKinematics measures it.
+  // A Gauss point's history (element parameters) and its slip along B at `cp` since then, as
+  // segmentKinematics measures it (`in` its input at the state of `cp`).
   LineHistory history(const ContactPointRecord& p) const;
-  double slip(const ContactPointRecord& p, const ClosestPoints& cp, const core::State& s) const;
+  double slip(const ContactPointRecord& p, const ClosestPoints& cp, const LinePairInput& in) const;
+  // geometry() from the point's input at that state.
+  ClosestPoints geometry(const ContactPointRecord& p, const LinePairInput& in, double* segment) const;
   // After a step (nodal fields): the gaps supports hold at beam ends (heldEnds).
   void checkHeldEnds(const PointMap& points, const core::State& s);
   // Whether a Gauss point's element pair has beam A's end `side` (0, 1) where supports hold both

@@ -1655,7 +1655,9 @@ TEST(LineContact, StackedRodsWithFrictionBendAsOneSectionWhereTheyStick) {
     const double w = layered("Lagrange Multiplier", n, 100.0, false), error = std::abs(w / composite - 1.0);
     std::printf("mu 100, %2d elements: mid-span deflection %.9f, composite %.9f (%.2e), rods apart %.9f\n", n, w,
                 composite, error, apart);
-    if (previous > 0.0) EXPECT_GT(previous / error, 3.5) << n;
+    if (previous > 0.0) {
+      EXPECT_GT(previous / error, 3.5) << n;
+    }
     previous = error;
   }
   EXPECT_LT(previous, 3e-4);
@@ -1668,8 +1670,11 @@ TEST(LineContact, StackedRodsWithFrictionBendAsOneSectionWhereTheyStick) {
                  swapped = layered("Lagrange Multiplier", n, mu, true);
     std::printf("Lagrange multipliers, mu %g: %.9f, rod as A %.9f\n", mu, w, swapped);
     EXPECT_NEAR(swapped, w, 1e-6 * w) << mu;
-    if (mu > 80.0) EXPECT_NEAR(w, stuck, 1e-9 * stuck);
-    else EXPECT_GT(w, stuck * (1.0 + 1e-4)) << mu;
+    if (mu > 80.0) {
+      EXPECT_NEAR(w, stuck, 1e-9 * stuck);
+    } else {
+      EXPECT_GT(w, stuck * (1.0 + 1e-4)) << mu;
+    }
     EXPECT_LT(w, apart) << mu;
   }
   for (const std::string type : {"Penalty", "Augmented Lagrange"}) {

@@ -380,7 +380,9 @@ TEST(LineKinematics, CirclesSlipAsTheirSectionsTurn) {
           angle, axis[0], axis[1], axis[2], rigid, firstOrder);
       EXPECT_LT(std::abs(rigid), 0.02 * firstOrder);
       EXPECT_NEAR(turnSlip(turned, 0.3, before.eta, before.eta, -1.0 * (Q * before.normal)), rigid, 1e-15);
-      if (previous != 0.0) EXPECT_NEAR(rigid / previous, 0.25, 0.02);  // (second order)
+      if (previous != 0.0) {
+        EXPECT_NEAR(rigid / previous, 0.25, 0.02);  // (second order)
+      }
       previous = rigid;
     }
   }
