@@ -247,12 +247,13 @@ std::array<core::GlobalDof, kPairDofs> ContactGeometry::pointDofs(const ContactP
 
 ContactPoint ContactGeometry::strategyView(const ContactPointRecord& p, const ContactKinematics& k,
                                            const core::State& state) const {
-  // Line points have friction along the axes (their g_T2); across the axes no slip is measured.
+  // Line points have friction along the axes (their g_T2); across the axes (g_T1) only circles' (the
+  // surfaces' slip, LinePairInput::turnSlip), rectangles' edges measure no slip across.
   // End points have no contact line of their own to take friction along: the Per Line law (two
   // independent Coulomb laws along the two lines) does not apply to them; their friction is isotropic.
   ContactPoint view{k, pairs_[p.key.pair].friction, p.end() ? FrictionLaw::IsotropicCoulomb : options_.frictionLaw,
                     pointMultipliers(p, state), blendWeight(p, k.axesCosine, nullptr, nullptr)};
-  if (p.line()) view.measured[0] = false;
+  if (p.line()) view.measured[0] = !rectangles(p.key.pair);
   view.frictionRelaxation = frictionRelaxation_;
   return view;
 }

@@ -196,6 +196,23 @@ T turnSlipOf(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, const 
   return -in.radiusA * (sectionTurn(tA, tAp, qA, in.across[0], b) - sectionTurn(tB, tBp, qB, in.across[1], b));
 }
 
+// The slip of circles across their axes (LinePairInput::turnSlip): (p_A - x_B - r_A q_A(xi) - r_B
+// q_B(etaPrev)) . b + acrossStart, the motion along b = n x t_B of A's material point that touched B at
+// the last converged state against B's (each the axis point less the radius along the section's
+// vector q that was the normal e then, Q the nodes' turn vectors R_m turnRef[m]); p_A - x_B lies along
+// n, so its part is zero in value, and its variation with b held is the axes' relative motion across.
+// acrossStart makes it zero at the last converged state (e_A, made normal to A's axis, is not quite
+// normal to b where the axes lie at an angle). Its variation with xi, etaPrev and b held,
+// (dp_A - dx_B) . b + r_A dtheta_A . t + r_B dtheta_B . t (q = n), is a unit force along b on each
+// body at the contact point with its moment about the axis; a rigid motion of the pair gives 0.
+template <class T>
+T acrossSlipOf(const LinePairInput& in, const Vec3<T>* Q, const T& xi, const T& etaPrev, const Vec3<T>& fromB,
+               const Vec3<T>& b) {
+  const Vec3<T> qA = (1.0 - xi) * Q[0] + xi * Q[1], qB = (1.0 - etaPrev) * Q[2] + etaPrev * Q[3];
+  const double rB = in.radiusSum - in.radiusA;
+  return dot(fromB - in.radiusA * qA - rB * qB, b) + in.acrossStart;
+}
+
 // Line contact at a Gauss point of axis A (fixed parameter xi, a material point) against axis B:
 // P = (x_A1, x_A2, x_B1, x_B2), V = their Hermite tangents R_m d; the point projected on B's curve
 // (projectOnB). The normal is along p_B - p_A, the gap |p_B - p_A| - (r_A + r_B), the slip along B from
@@ -220,6 +237,7 @@ Gaps<T> lineGaps(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, co
     if (held)
       for (int c = 0; c < 3; ++c) b[c] = frozen(b[c]);
     g.gT2 += turnSlipOf(in, P, V, Q, cubicA, cubicB, xi, etaPrev, b);
+    g.gT1 = acrossSlipOf(in, Q, xi, etaPrev, -1.0 * d, b);
   }
   g.cosine = dot(tA, tB) / (sqrt(dot(tA, tA)) * sqrt(dot(tB, tB)));
   g.length = T(1.0);
@@ -1408,7 +1426,16 @@ HeldLineGaps<T, Vectors> heldLineGaps(const LinePairInput& in, const Vec3<T>* P,
     for (int k = 0; k < 8; ++k)
       out.G[kGapN][k] = side * ((onA(k) ? -1.0 * a.s[slot[k]] : b.s[slot[k]]) * unit + along * dEta[k]);
     if (turnAt >= 0) {  // (-r_A (theta_A - theta_B) . b, b held)
+      const CurveShape<T>& onB = b;
       const Vec3<T> b = cross(-side * unit, (1.0 / speed) * tB);
+      // The slip across (acrossSlipOf), b held: the axes' points along b (B's at eta: its motion with
+      // eta is along t_B, normal to b), the sections' vectors q.
+      for (int k = 0; k < 8; ++k) out.G[kGapT1][k] = (onA(k) ? a.s[slot[k]] : -1.0 * onB.s[slot[k]]) * b;
+      const double rB = in.radiusSum - in.radiusA;
+      out.G[kGapT1][turnAt] = (-in.radiusA * (1.0 - xi)) * b;
+      out.G[kGapT1][turnAt + 1] = (-in.radiusA * xi) * b;
+      out.G[kGapT1][turnAt + 2] = (-rB * (1.0 - etaPrev)) * b;
+      out.G[kGapT1][turnAt + 3] = (-rB * etaPrev) * b;
       const CurveShape<T> bp = curveShape(cubicB, etaPrev);
       Vec3<T> dA = none, dB = none, tAp, tBp;
       for (int k = 0; k < 8; ++k)
@@ -1489,6 +1516,8 @@ void setTurnSlip(LinePairInput& in, const LinePairInput& converged, const Vec3d&
   }
   const Mat3d* R[4] = {&converged.RA1, &converged.RA2, &converged.RB1, &converged.RB2};
   for (int m = 0; m < 4; ++m) in.turnRef[m] = transpose(*R[m]) * in.across[m / 2];
+  const Vec3d b = cross(normal, t[1]);
+  in.acrossStart = dot(in.radiusA * in.across[0] + (in.radiusSum - in.radiusA) * in.across[1], b);
 }
 
 double turnSlip(const LinePairInput& in, double xi, double etaPrev, double eta, const Vec3d& n) {
@@ -1500,6 +1529,19 @@ double turnSlip(const LinePairInput& in, double xi, double etaPrev, double eta, 
   const bool cubicB = norm(in.dB) > 0.0;
   const Vec3d b = cross(n, unitTangent(p[2], p[6], p[3], p[7], cubicB, eta));
   return turnSlipOf(in, p, p + 4, p + 8, norm(in.dA) > 0.0, cubicB, xi, etaPrev, b);
+}
+
+double acrossSlip(const LinePairInput& in, double xi, double etaPrev, double eta, const Vec3d& n) {
+  if (!in.turnSlip || in.face) return 0.0;
+  const int nodes[4] = {0, 1, 2, 3};
+  Vec3d p[12];
+  vectorFrame<12>(in, in.turnRef, nodes, p);
+  const bool cubicA = norm(in.dA) > 0.0, cubicB = norm(in.dB) > 0.0;
+  Vec3d pA, xB;
+  axisPoint(p[0], p[4], p[1], p[5], cubicA, xi, &pA, nullptr, nullptr);
+  axisPoint(p[2], p[6], p[3], p[7], cubicB, eta, &xB, nullptr, nullptr);
+  const Vec3d b = cross(n, unitTangent(p[2], p[6], p[3], p[7], cubicB, eta));
+  return acrossSlipOf(in, p + 8, xi, etaPrev, pA - xB, b);
 }
 
 namespace {

@@ -68,8 +68,12 @@ struct LinePairInput {
   // tangent does not show; it counts where the axes are apart). prev: the line points and Hermite
   // tangents (P_A1, P_A2, P_B1, P_B2, V_A1, V_A2, V_B1, V_B2) at the last converged state; turnRef:
   // R_m,p^T e of the nodes A1, A2 (e = across[0]), B1, B2 (across[1]); radiusA: A's radius.
+  // With it the slip across the axes, g_T1 (acrossSlip): the motion along b of A's material point
+  // that touched B at the last converged state against B's, (p_A - x_B - r_A q_A - r_B q_B) . b +
+  // acrossStart, q the sections' vectors that were e; acrossStart = (r_A e_A + r_B e_B) . b_p makes it
+  // zero there.
   bool turnSlip = false;
-  double radiusA = 0.0;
+  double radiusA = 0.0, acrossStart = 0.0;
   Vec3d prev[8]{}, turnRef[4]{}, across[2]{};
   // End contact (endNode 0 or 1: A's node whose free end face is in contact; -1: none). The end face
   // is a disc of radius endRadius, or (endRectangle) a rectangle of half sizes endHalf along the
@@ -140,6 +144,8 @@ void setTurnSlip(LinePairInput& in, const LinePairInput& converged, const Vec3d&
 // The turn part of the slip (LinePairInput::turnSlip; 0 without it) at A's parameter xi, B's
 // material point etaPrev and A's projection eta on B, n from B's axis towards A's.
 double turnSlip(const LinePairInput& in, double xi, double etaPrev, double eta, const Vec3d& n);
+// The slip across the axes (LinePairInput::turnSlip; 0 without it), the same arguments.
+double acrossSlip(const LinePairInput& in, double xi, double etaPrev, double eta, const Vec3d& n);
 
 // A gap's value, its first variation R (the direction of the force a unit multiplier applies: the
 // residual is lambda R), the linearized variation K (the derivative of R) and the gradient of the value
@@ -187,7 +193,8 @@ Vec3d hermitePoint(const Vec3d& P1, const Vec3d& V1, const Vec3d& P2, const Vec3
 // cA = pA, cB = pB, distance, normal along p_B - p_A, gap = distance - (r_A + r_B); sigma unused).
 ClosestPoints lineProjection(const LinePairInput& in, double xi);
 // The gaps of that Gauss point with their derivatives: g_N = |p_B - p_A| - (r_A + r_B) with eta from
-// the projection (its dependence included), g_T1 = 0 (no slip is measured across the axes), g_T2 =
+// the projection (its dependence included), g_T1 = 0 (no slip is measured across the axes; circles
+// with LinePairInput::turnSlip: the surfaces' slip across, acrossSlip), g_T2 =
 // (eta - etaPrev) m (slip along B, m the slip metric: the length A's point travels relative to B per
 // unit eta, so that the variation of g_T2 is B's unit tangent); cosine 0 (the two tangential directions
 // are orthogonal), axesCosine the chords'. The variations R (and K) are taken with the Gauss point's

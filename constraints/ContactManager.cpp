@@ -302,6 +302,7 @@ ContactKinematics ContactManager::judge(const PointKey& key, const Point& p, con
     carries = g != gaps.end() && g->second.weight > kCarries * g->second.full;
     if (carries) {
       k.normal.value = g->second.weighted;
+      k.tangent1.value = g->second.weightedAcross;
       k.tangent2.value = g->second.weightedSlip;
     }
     return k;
@@ -735,6 +736,7 @@ void ContactManager::commitStep(const core::State& state) {
     const auto g = gaps.find(key);
     if (g != gaps.end()) {
       k.normal.value = g->second.weighted;
+      k.tangent1.value = g->second.weightedAcross;
       k.tangent2.value = g->second.weightedSlip;
     }
     const ContactPoint view = lines_.nodeView(p, k, state);

@@ -504,9 +504,11 @@ LineHistory LineContact::history(const ContactPointRecord& p) const {
   return {p.xiPrev - elems[p.elementA].index, p.etaPrev - elems[p.elementB].index, p.etaRate};
 }
 
-double LineContact::slip(const ContactPointRecord& p, const ClosestPoints& cp, const LinePairInput& in) const {
+std::array<double, 2> LineContact::slip(const ContactPointRecord& p, const ClosestPoints& cp,
+                                        const LinePairInput& in) const {
   const double etaPrev = history(p).etaPrevAt(cp.xi);
-  return (cp.eta - etaPrev) * cp.slipMetric + turnSlip(in, cp.xi, etaPrev, cp.eta, -1.0 * cp.normal);
+  return {acrossSlip(in, cp.xi, etaPrev, cp.eta, -1.0 * cp.normal),
+          (cp.eta - etaPrev) * cp.slipMetric + turnSlip(in, cp.xi, etaPrev, cp.eta, -1.0 * cp.normal)};
 }
 
 bool LineContact::endPoint(const ContactPointRecord& p) { return p.line() && endSlot(gaussOf(p.gauss())); }
@@ -773,7 +775,9 @@ ContactKinematics LineContact::values(const ContactPointRecord& p, const Closest
   k.segment = segment;
   k.normal.value = cp.gap;
   const LinePairInput in = input(p, s);
-  k.tangent2.value = slip(p, cp, in);
+  const std::array<double, 2> slips = slip(p, cp, in);
+  k.tangent1.value = slips[0];
+  k.tangent2.value = slips[1];
   const Vec3d tA = (in.xA2 + in.RA2 * in.oA) - (in.xA1 + in.RA1 * in.oA);
   const Vec3d tB = (in.xB2 + in.RB2 * in.oB) - (in.xB1 + in.RB1 * in.oB);
   k.axesCosine = dot(tA, tB) / (norm(tA) * norm(tB));
@@ -840,11 +844,12 @@ std::map<PointKey, LineContact::NodeGap> LineContact::nodeGaps(const PointMap& p
     const double length = weight(p, segment);
     const double w = length * geometry_.blendWeightAt(p, s);
     const double gap = w > 0.0 ? cp.gap : 0.0;
-    const double slipped = w > 0.0 ? slip(p, cp, in) : 0.0;
+    const std::array<double, 2> slipped = w > 0.0 ? slip(p, cp, in) : std::array<double, 2>{0.0, 0.0};
     for (const FieldShare& f : fieldShares(p, cp.xi, points)) {
       NodeGap& g = gaps[PointKey::lineNode(p.key.pair, p.edge(), f.node)];
       g.weighted += w * f.N * gap;
-      g.weightedSlip += w * f.N * slipped;
+      g.weightedAcross += w * f.N * slipped[0];
+      g.weightedSlip += w * f.N * slipped[1];
       g.weight += w * f.N;
       g.full += length * f.N;
     }
@@ -853,6 +858,7 @@ std::map<PointKey, LineContact::NodeGap> LineContact::nodeGaps(const PointMap& p
     if (g.weight > 0.0) {
       g.weighted /= g.weight;
       g.weightedSlip /= g.weight;
+      g.weightedAcross /= g.weight;
     }
   return gaps;
 }
@@ -861,7 +867,7 @@ ContactPoint LineContact::nodeView(const ContactPointRecord& node, const Contact
                                    const core::State& s) const {
   ContactPoint view{k, geometry_.pairs()[node.key.pair].friction, geometry_.options().frictionLaw,
                     pointMultipliers(node, s), 1.0};
-  view.measured[0] = false;  // as its Gauss points: slip along the axes only
+  view.measured[0] = !geometry_.rectangles(node.key.pair);
   view.fieldCompliance = fieldCompliance(node.key);
   return view;
 }
@@ -988,7 +994,8 @@ bool LineContact::evaluateNodal(const ContactPointRecord& p, const ContactKinema
 
 void LineContact::noteCommitted(const ContactPointRecord& p, const ContactKinematics& k, const core::State& s) {
   if (!p.line() || !p.result.active) return;
-  if (geometry_.pairs()[p.key.pair].friction > 0.0) frictionless_.insert(p.key.pair);
+  if (geometry_.pairs()[p.key.pair].friction > 0.0 && geometry_.rectangles(p.key.pair))
+    frictionless_.insert(p.key.pair);
   if (!nodal_) return;
   // The field enforces gaps weighted over beam A's elements: between its nodes the beams may
   // penetrate. Beyond kUnresolvedLine of the thinner section's inscribed radius the contact zone is
@@ -1007,7 +1014,8 @@ void LineContact::noteCommitted(const ContactPointRecord& p, const ContactKinema
 
 void LineContact::noteRestored(const PointMap& points) {
   for (const auto& [key, p] : points)
-    if (p.line() && geometry_.pairs()[p.key.pair].friction > 0.0) frictionless_.insert(p.key.pair);
+    if (p.line() && geometry_.pairs()[p.key.pair].friction > 0.0 && geometry_.rectangles(p.key.pair))
+      frictionless_.insert(p.key.pair);
 }
 
 bool LineContact::heldAlong(int n, const Vec3d& normal, double ignored) const {

@@ -106,6 +106,7 @@ class LineContact {
   struct NodeGap {
     double weighted = 0.0, weight = 0.0, full = 0.0;  // full: the weight without the blend
     double weightedSlip = 0.0;  // int N_a g_T2 ds / int N_a ds
+    double weightedAcross = 0.0;  // int N_a g_T1 ds / int N_a ds (circles with friction)
   };
   std::map<PointKey, NodeGap> nodeGaps(const PointMap& points, const core::State& s) const;
   // The view a strategy gets of a line node (its weighted gap, its multipliers).
@@ -119,7 +120,8 @@ class LineContact {
   bool evaluateNodal(const ContactPointRecord& p, const ContactKinematics& k, const core::State& s,
                      const PointMap& points, std::vector<double>& f, std::vector<double>* K, PointResult* result) const;
 
-  // What the steps showed, for the warnings: pairs with friction whose line points carried force;
+  // What the steps showed, for the warnings: pairs of rectangles with friction whose line points
+  // carried force (their edges measure no slip across the axes);
   // nodal line fields: pair -> deepest penetration, where; pair -> deepest overlap between Gauss
   // points, where.
   const std::set<int>& frictionless() const { return frictionless_; }
@@ -161,10 +163,10 @@ class LineContact {
   // by more than `band`, or `keptBand`, of that) (findPoints).
   void offerSegment(int pi, int ea, int eb, int edge, int face, double inside, double band, double keptBand,
                     long long visit, const core::State& s, const PointMap& known, const CandidateOffer& offer) const;
-  // A Gauss point's history (element parameters) and its slip along B at `cp` since then, as
-  // segmentKinematics measures it (`in` its input at the state of `cp`).
+  // A Gauss point's history (element parameters) and its slips across and along B at `cp` since
+  // then (g_T1, g_T2), as segmentKinematics measures them (`in` its input at the state of `cp`).
   LineHistory history(const ContactPointRecord& p) const;
-  double slip(const ContactPointRecord& p, const ClosestPoints& cp, const LinePairInput& in) const;
+  std::array<double, 2> slip(const ContactPointRecord& p, const ClosestPoints& cp, const LinePairInput& in) const;
   // geometry() from the point's input at that state.
   ClosestPoints geometry(const ContactPointRecord& p, const LinePairInput& in, double* segment) const;
   // After a step (nodal fields): the gaps supports hold at beam ends (heldEnds).

@@ -665,7 +665,12 @@ struct StaticSolver::Newton {
     const double duLast = report.history[k - 1].incrementNorm;
     t.residual = rn <= settings.residualTolerance * reference;
     t.increment = duLast <= settings.incrementTolerance * incrementScale;
-    t.residualFloor = t.increment && kp >= 2 && rn > 0.5 * report.history[k - 1].residualNorm;
+    // (A floor is where the residual stopped falling, not where it rose: a residual that jumped up
+    // at a negligible nodal increment, multipliers that moved at a fixed place, is no floor; and a
+    // floor lies within sqrt(Residual Tolerance) of the reference.)
+    const double rnLast = report.history[k - 1].residualNorm;
+    t.residualFloor = t.increment && kp >= 2 && rn > 0.5 * rnLast && rn <= 2.0 * rnLast &&
+                      rn <= std::sqrt(settings.residualTolerance) * reference;
     t.incrementFloor = t.residual && kp >= 2 && duLast > 0.5 * report.history[k - 2].incrementNorm &&
                        duLast <= std::sqrt(settings.incrementTolerance) * incrementScale;
     return t;

@@ -139,8 +139,8 @@ void turnedSinceConverged(LinePairInput& in, std::mt19937& g) {
   for (Vec3d* x : {&converged.xA1, &converged.xA2, &converged.xB1, &converged.xB2}) *x = *x + randomVec(g, 0.05);
   for (Mat3d* R : {&converged.RA1, &converged.RA2, &converged.RB1, &converged.RB2})
     *R = expSO3(randomVec(g, 0.05)) * *R;
-  setTurnSlip(in, converged, (1.0 / 1.7) * Vec3d{{0.8, -1.5, 0.0}}, 0.4, 0.3);
   in.radiusA = 0.8;
+  setTurnSlip(in, converged, (1.0 / 1.7) * Vec3d{{0.8, -1.5, 0.0}}, 0.4, 0.3);
 }
 
 // The largest differences of kinematics a from b: the values relative to 1 + |b|, the R, gradients and
@@ -294,9 +294,9 @@ TEST(LineKinematics, VariationsMatchCentralDifferences) {
     in.radiusSum = 2.0;
     if (trial % 2 == 0) turnedSinceConverged(in, g);  // (circles on the axes: their turns' slip)
     const double xi = 0.1 + 0.08 * trial, etaP = 0.4;
-    const auto [errR, errK] =
-        centralDifferenceErrors(in, [&](const LinePairInput& s) { return lineKinematics(s, xi, etaP); },
-                                {&ContactKinematics::normal, &ContactKinematics::tangent2});
+    const auto [errR, errK] = centralDifferenceErrors(
+        in, [&](const LinePairInput& s) { return lineKinematics(s, xi, etaP); },
+        {&ContactKinematics::normal, &ContactKinematics::tangent1, &ContactKinematics::tangent2});
     worstR = std::max(worstR, errR);
     worstK = std::max(worstK, errK);
   }
@@ -386,6 +386,88 @@ TEST(LineKinematics, CirclesSlipAsTheirSectionsTurn) {
       previous = rigid;
     }
   }
+}
+
+// Circles in line contact slip across their axes (g_T1, LinePairInput::turnSlip) as their sections
+// twist: A (radius 0.8) along X under B (radius 1.2) along X at z = 2, the normal from B's axis to A's
+// -Z, b = n x t_B = -Y. A twisted by phi about X: its surface point (5, 0, 0.8) goes to (5, -0.8 sin(phi),
+// 0.8 cos(phi)), g_T1 = r_A sin(phi) exactly; B twisted: r_B sin(phi); both, as gears (r_A sin(phi_A) =
+// -r_B sin(phi_B)): 0. A pushed across by -Y (its axis point along b): the slip is its distance along
+// the turned b, r_A + r_B times the sine of the normal's turn. A rigid turn of the pair 10 degrees apart
+// slips by 0 to round-off (the converged normal made normal to each axis is carried by the nodes).
+// The unit multiplier applies a unit force along -b on B at its contact point, x_B + r_B n.
+TEST(LineKinematics, CirclesSlipAcrossAsTheirSectionsTwist) {
+  LinePairInput straight;
+  straight.xA1 = {{0, 0, 0}};
+  straight.xA2 = {{10, 0, 0}};
+  straight.xB1 = {{0, 0, 2}};
+  straight.xB2 = {{10, 0, 2}};
+  straight.RA1 = straight.RA2 = straight.RB1 = straight.RB2 = identity3<double>();
+  straight.dA = straight.dB = Vec3d{{10, 0, 0}};
+  straight.radiusSum = 2.0;
+  straight.radiusA = 0.8;
+  straight.sB1 = straight.sB2 = Vec3d{{1, 0, 0}};
+  const auto twisted = [&](double phiA, double phiB, double pushed) {
+    LinePairInput in = straight;
+    for (Mat3d* R : {&in.RA1, &in.RA2}) *R = expSO3(Vec3d{{phiA, 0, 0}});
+    for (Mat3d* R : {&in.RB1, &in.RB2}) *R = expSO3(Vec3d{{phiB, 0, 0}});
+    for (Vec3d* x : {&in.xA1, &in.xA2}) *x = *x + Vec3d{{0, -pushed, 0}};
+    setTurnSlip(in, straight, Vec3d{{0, 0, -1}}, 0.5, 0.5);
+    return in;
+  };
+  const auto across = [](const LinePairInput& in, double xi) {
+    const ClosestPoints cp = lineProjection(in, xi);
+    const double values[4] = {
+        lineKinematics(in, xi, 0.5, Vec3d{}).tangent1.value,
+        lineKinematicsFromGaps(in, xi, 0.5, Vec3d{}).tangent1.value,
+        segmentKinematics(in, lineSegment(in), xi, LineHistory{xi, 0.5, 1.0}, Vec3d{}).tangent1.value,
+        acrossSlip(in, xi, 0.5, cp.eta, -1.0 * cp.normal)};
+    for (double v : values) EXPECT_NEAR(v, values[0], 1e-14);
+    return values[0];
+  };
+  const double phi = 0.3, rA = 0.8, rB = 1.2;
+  const double twistA = across(twisted(phi, 0.0, 0.0), 0.5), twistB = across(twisted(0.0, phi, 0.0), 0.3);
+  const double gears = across(twisted(phi, -std::asin(rA * std::sin(phi) / rB), 0.0), 0.7);
+  std::printf("twisted by %.1f: A %.15f (r_A sin %.15f), B %.15f (r_B sin %.15f), as gears %.1e\n", phi, twistA,
+              rA * std::sin(phi), twistB, rB * std::sin(phi), gears);
+  EXPECT_NEAR(twistA, rA * std::sin(phi), 1e-14);
+  EXPECT_NEAR(twistB, rB * std::sin(phi), 1e-14);
+  EXPECT_NEAR(gears, 0.0, 1e-14);
+  // Pushed across by 0.1: the normal turns by psi, tan(psi) = 0.1 / 2; the slip (2 + g) sin(psi) less
+  // the sections' r sin(psi) each (they have not turned): (p_A - x_B) . b = 0, so -(r_A + r_B) n_p . b.
+  const double pushed = across(twisted(0.0, 0.0, 0.1), 0.5), psi = std::atan2(0.1, 2.0);
+  std::printf("pushed across by 0.1: %.15f, (r_A + r_B) sin(psi) %.15f\n", pushed, 2.0 * std::sin(psi));
+  EXPECT_NEAR(pushed, 2.0 * std::sin(psi), 1e-14);
+  LinePairInput none = twisted(phi, 0.0, 0.0);
+  none.turnSlip = false;
+  EXPECT_EQ(lineKinematics(none, 0.5, 0.5, Vec3d{}).tangent1.value, 0.0);
+  // A unit multiplier: a unit force along -b = +Y on B (its translations' rows) at B's contact point.
+  const ContactKinematics k = lineKinematics(twisted(0.0, 0.0, 0.0), 0.5, 0.5, Vec3d{});
+  Vec3d forceB{}, momentB{};
+  for (int m = 2; m < 4; ++m)
+    for (int a = 0; a < 3; ++a) forceB[a] += k.tangent1.R[6 * m + a], momentB[a] += k.tangent1.R[6 * m + 3 + a];
+  std::printf("unit multiplier across on B: force (%.3f, %.3f, %.3f), moment about its axis %.15f\n", forceB[0],
+              forceB[1], forceB[2], momentB[0]);
+  EXPECT_NEAR(norm(forceB - Vec3d{{0, 1, 0}}), 0.0, 1e-14);
+  EXPECT_NEAR(momentB[0], rB, 1e-14);  // ((r_B n) x (0, 1, 0), n = -Z)
+  // A rigid turn of a pair whose axes lie 10 degrees apart.
+  LinePairInput crossed = straight;
+  const double apart = 10.0 * std::acos(-1.0) / 180.0;
+  crossed.xB1 = {{5 - 5 * std::cos(apart), -5 * std::sin(apart), 2}};
+  crossed.xB2 = {{5 + 5 * std::cos(apart), 5 * std::sin(apart), 2}};
+  crossed.dB = crossed.xB2 - crossed.xB1;
+  const ClosestPoints before = lineProjection(crossed, 0.3);
+  double worst = 0.0;
+  for (const Vec3d axis : {Vec3d{{0, 0, 1}}, Vec3d{{0.6, -0.48, 0.64}}, Vec3d{{1, 0, 0}}}) {
+    LinePairInput turned = crossed;
+    const Mat3d Q = expSO3(0.2 * axis);
+    for (Vec3d* x : {&turned.xA1, &turned.xA2, &turned.xB1, &turned.xB2}) *x = Q * *x;
+    for (Mat3d* R : {&turned.RA1, &turned.RA2, &turned.RB1, &turned.RB2}) *R = Q;
+    setTurnSlip(turned, crossed, -1.0 * before.normal, 0.3, before.eta);
+    worst = std::max(worst, std::abs(lineKinematics(turned, 0.3, before.eta, Vec3d{}).tangent1.value));
+  }
+  std::printf("pair 10 degrees apart turned rigidly by 0.2: g_T1 %.1e\n", worst);
+  EXPECT_LT(worst, 1e-14);
 }
 
 // Face contact of rectangular sections: an edge of A (axis at z = 0.5, edge offset (0, 0.3, 0.5), so
@@ -569,6 +651,7 @@ TEST(LineKinematics, SegmentBoundsAndTheirVariations) {
     }
     segmentPlanesAndSections(t, trial % 2, 2.0);
     placeGenerally(t, g, 0.3);
+    if (trial % 4 == 0) turnedSinceConverged(t, g);  // (circles: some with their turns' slips)
     const LineHistory history{0.4, 0.3, 0.9};
     const double s = 0.15 + 0.06 * trial;
     const auto kernel = [&](const LinePairInput& state) {
@@ -577,8 +660,8 @@ TEST(LineKinematics, SegmentBoundsAndTheirVariations) {
     const LineSegment seg = lineSegment(t);
     planes += (seg.loKind >= 0) + (seg.hiKind >= 0);
     ASSERT_GT(seg.length(), 0.1);
-    const auto [errR, errK] =
-        centralDifferenceErrors(t, kernel, {&ContactKinematics::normal, &ContactKinematics::tangent2});
+    const auto [errR, errK] = centralDifferenceErrors(
+        t, kernel, {&ContactKinematics::normal, &ContactKinematics::tangent1, &ContactKinematics::tangent2});
     worstR = std::max(worstR, errR);
     worstK = std::max(worstK, errK);
     const auto k = kernel(t);
