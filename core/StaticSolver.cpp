@@ -666,11 +666,11 @@ struct StaticSolver::Newton {
     t.residual = rn <= settings.residualTolerance * reference;
     t.increment = duLast <= settings.incrementTolerance * incrementScale;
     // (A floor is where the residual stopped falling, not where it rose: a residual that jumped up
-    // at a negligible nodal increment, multipliers that moved at a fixed place, is no floor; and a
-    // floor lies within sqrt(Residual Tolerance) of the reference.)
+    // at a negligible nodal increment, multipliers that moved at a fixed place, is no floor. Its
+    // level is the internal forces' round-off, which can lie far above Residual Tolerance where a
+    // light load makes the reference small: 0.17 of it early in Example 1 with 20 elements.)
     const double rnLast = report.history[k - 1].residualNorm;
-    t.residualFloor = t.increment && kp >= 2 && rn > 0.5 * rnLast && rn <= 2.0 * rnLast &&
-                      rn <= std::sqrt(settings.residualTolerance) * reference;
+    t.residualFloor = t.increment && kp >= 2 && rn > 0.5 * rnLast && rn <= 2.0 * rnLast;
     t.incrementFloor = t.residual && kp >= 2 && duLast > 0.5 * report.history[k - 2].incrementNorm &&
                        duLast <= std::sqrt(settings.incrementTolerance) * incrementScale;
     return t;
