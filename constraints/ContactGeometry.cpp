@@ -253,9 +253,25 @@ ContactPoint ContactGeometry::strategyView(const ContactPointRecord& p, const Co
   // independent Coulomb laws along the two lines) does not apply to them; their friction is isotropic.
   ContactPoint view{k, pairs_[p.key.pair].friction, p.end() ? FrictionLaw::IsotropicCoulomb : options_.frictionLaw,
                     pointMultipliers(p, state), blendWeight(p, k.axesCosine, nullptr, nullptr)};
-  if (p.line()) view.measured[0] = !rectangles(p.key.pair);
+  if (p.line()) view.measured[0] = !rectangles(p.key.pair) && movesAcross(p, k);
   view.frictionRelaxation = frictionRelaxation_;
   return view;
+}
+
+bool ContactGeometry::movesAcross(const ContactPointRecord& p, const ContactKinematics& k) const {
+  double largest = 0.0;
+  for (double v : k.tangent1.R) largest = std::max(largest, std::abs(v));
+  if (largest == 0.0) return true;  // (values without variations: a point judged by its gap alone)
+  const auto& a = beams_->elements()[p.elementA];
+  const auto& b = beams_->elements()[p.elementB];
+  const int nodes[4] = {a.node1, a.node2, b.node1, b.node2};
+  for (int m = 0; m < 4; ++m) {
+    const auto it = options_.heldNodes.find(nodes[m]);
+    for (int c = 0; c < 6; ++c)
+      if ((it == options_.heldNodes.end() || !it->second[c]) && std::abs(k.tangent1.R[6 * m + c]) > 1e-9 * largest)
+        return true;
+  }
+  return false;
 }
 
 }  // namespace bc::constraints

@@ -47,9 +47,10 @@ struct ContactOptions {
   // Pairs of distinct nodes joined without sharing a node (pinned joints): elements meeting there
   // are no contact candidates, like elements that share a node.
   std::vector<std::pair<int, int>> joinedNodes;
-  // Nodes whose translations supports fix, with the fixed components (ux, uy, uz): the line-contact
-  // check of gaps that supports hold (LineContact::checkHeldEnds).
-  std::map<int, std::array<bool, 3>> heldNodes;
+  // Nodes whose dofs supports fix, with the fixed components (ux, uy, uz, rx, ry, rz): the
+  // line-contact check of gaps that supports hold (LineContact::checkHeldEnds), and whether the slip
+  // across the axes moves (ContactGeometry::movesAcross).
+  std::map<int, std::array<bool, 6>> heldNodes;
 };
 
 // A candidate of the narrow phase for a point key: the element pair it lies on and the closest
@@ -204,6 +205,11 @@ class ContactGeometry {
 
   // The point as its strategy sees it, with kinematics `k` in `state`.
   ContactPoint strategyView(const ContactPointRecord& p, const ContactKinematics& k, const core::State& state) const;
+  // Whether a line point's slip across the axes (g_T1, circles) moves with a dof that no support
+  // fixes: where supports hold every node of both elements across the axes and against their twist (a
+  // model kept in a plane), its row would fix nothing (a singular matrix), and friction across has
+  // nothing to act on. (Kinematics without variations: true.)
+  bool movesAcross(const ContactPointRecord& p, const ContactKinematics& k) const;
   // The views' frictionRelaxation (ContactPoint): 10^n after n retries of Newton solves whose slip
   // directions cycled.
   void setFrictionRelaxation(double factor) { frictionRelaxation_ = factor; }

@@ -486,7 +486,7 @@ constraints::ContactOptions contactOptions(const Problem& p, const ParameterList
       for (const auto& j : pins->joints()) options.joinedNodes.push_back({j.nodeA, j.nodeB});
   for (const core::Support& s : p.model.supports)
     for (int n : s.nodes)
-      for (int c = 0; c < 3; ++c)
+      for (int c = 0; c < 6; ++c)
         if (s.fixed[c]) options.heldNodes[n][c] = true;
   return options;
 }

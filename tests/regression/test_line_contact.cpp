@@ -91,13 +91,12 @@ TEST(LineContact, RigidPunchGivesThePenaltyTractionPerUnitLength) {
     support(deck, "ground", i, "all");
     support(deck, "rod", i, "all", -1e-4);
   }
-  // With friction on the pair: line contact is frictionless, and the run says so.
+  // With friction on the pair (circles: along and across the axes; no warning).
   input::replaceAtPath(deck, "Contact/Pairs/line/Friction Coefficient", 0.3);
   auto p = input::buildProblem(deck, "punch");
   const auto r = test::runQuiet(p, Tpetra::getDefaultComm(), "punch");
   ASSERT_TRUE(r.report.completed) << r.report.failure;
-  ASSERT_EQ(r.report.warnings.size(), 1u);
-  EXPECT_NE(r.report.warnings[0].find("frictionless"), std::string::npos) << r.report.warnings[0];
+  EXPECT_TRUE(r.report.warnings.empty()) << r.report.warnings[0];
   const auto s = lineSums(p);
   std::printf("matching meshes: %d Gauss points active of %d, total %.12f (eps_N d L = 100), gaps %.12e .. %.12e\n",
               s.active, s.points, s.total, s.gapMin, s.gapMax);
@@ -1707,7 +1706,7 @@ TEST(LineContact, RodTwistedOnAHeldRodSlipsWhereItsTorqueExceedsTheFriction) {
     }
     input::replaceAtPath(deck, "Contact/Pairs/line/Friction Coefficient", mu);
     for (const char* s : {"Penalty", "Augmented Lagrange"})
-      input::replaceAtPath(deck, std::string("Contact/Enforcement/") + s + "/Tangential Penalty Parameter", 1e8);
+      input::replaceAtPath(deck, std::string("Contact/Enforcement/") + s + "/Tangential Penalty Parameter", 1e7);
     for (int i = 0; i <= n; ++i) {
       support(deck, "ground", i, "all");
       support(deck, "rod", i, i == 0 ? "ux uy uz rx ry" : "uy");
@@ -1731,34 +1730,35 @@ TEST(LineContact, RodTwistedOnAHeldRodSlipsWhereItsTorqueExceedsTheFriction) {
     };
     return Twist{run.report.completed, angle(rod[n]), angle(rod[n / 2])};
   };
-  // Slipping over 60 of the 100 (T = 9): second order in the mesh with Lagrange multipliers.
+  // Slipping over 60 of the 100 (T = 9), Lagrange multipliers: the error falls with the mesh.
   const double T = 9.0, l = T / m, end = T * T / (2 * GJ * m), mid = m * std::pow(L / 2 - (L - l), 2) / (2 * GJ);
-  double previous = 0.0;
+  double previous = 1.0;
   for (int n : {10, 20, 40}) {
     const Twist t = twisted("Lagrange Multiplier", n, T, true);
     const double error = std::abs(t.end / end - 1.0);
     std::printf("T %g, %2d elements: twist at the end %.9e (closed form %.9e, %.2e), at mid-span %.9e (%.9e)\n", T, n,
                 t.end, end, error, t.mid, mid);
-    if (previous > 0.0) {
-      EXPECT_GT(previous / error, 3.5) << n;
-    }
+    EXPECT_LT(error, 0.7 * previous) << n;
+    EXPECT_LT(error, 1.5e-3) << n;
     previous = error;
-    EXPECT_NEAR(t.mid, mid, 0.2 * mid) << n;
+    EXPECT_NEAR(t.mid, mid, 0.1 * mid) << n;
   }
-  EXPECT_LT(previous, 5e-4);
+  EXPECT_LT(previous, 3e-4);
   // Every strategy, either rod as A (Lagrange multipliers on the held rod's nodes: not yet, see
-  // docs/contact.md, "Friction across the axes").
+  // docs/contact.md, "Friction across the axes"). Penalty (eps_T 1e7 per length) twists further by
+  // its springs' stretch, mu q / eps_T over the radius at the slip zone's end, 6e-8 (1e-4).
   for (const std::string type : {"Penalty", "Augmented Lagrange", "Lagrange Multiplier"})
     for (const bool rodIsA : {false, true}) {
       if (type == "Lagrange Multiplier" && !rodIsA) continue;
       const Twist t = twisted(type, 20, T, rodIsA);
       std::printf("%s, %s as A: twist at the end %.9e (%.2e from the closed form)\n", type.c_str(),
                   rodIsA ? "rod" : "held rod", t.end, t.end / end - 1.0);
-      EXPECT_NEAR(t.end, end, 2e-3 * end) << type << rodIsA;
+      EXPECT_NEAR(t.end, end, 1.5e-3 * end) << type << rodIsA;
     }
-  // Slipping everywhere (T = 20 > mu q r L = 15).
+  // Slipping everywhere (T = 20 > mu q r L = 15): the friction moment is mu r times the normal
+  // force everywhere.
   const double all = 20.0, endAll = (all * L - m * L * L / 2) / GJ;
   const Twist t = twisted("Lagrange Multiplier", 20, all, true);
   std::printf("T %g: twist at the end %.9e (closed form %.9e, %.2e)\n", all, t.end, endAll, t.end / endAll - 1.0);
-  EXPECT_NEAR(t.end, endAll, 2e-3 * endAll);
+  EXPECT_NEAR(t.end, endAll, 1e-5 * endAll);
 }
