@@ -283,6 +283,12 @@ TEST(CsvBalance, LayeredRods) {
   for (const std::string type : kStrategies) runAndBalance(inputDeck("layered_rods.xml", type), "layered_" + tag(type));
 }
 
+// A rod twisted on a held rod (input/twisted_rod.xml): friction across the axes, its forces applied
+// where the surfaces touch, balance the torque with the clamp's and the supports' reactions.
+TEST(CsvBalance, TwistedRod) {
+  for (const std::string type : kStrategies) runAndBalance(inputDeck("twisted_rod.xml", type), "twisted_" + tag(type));
+}
+
 TEST(CsvBalance, PressThenSlideSplitsTheSharedNodesReactions) {
   // Beam 2's end nodes are held by two supports each: "beam 2 end" fixes uz, ry (the press) and
   // "beam 2 end drag" fixes ux (the slide). Each reports the components it fixes, so the file's sum is
