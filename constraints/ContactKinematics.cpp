@@ -196,21 +196,23 @@ T turnSlipOf(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, const 
   return -in.radiusA * (sectionTurn(tA, tAp, qA, in.across[0], b) - sectionTurn(tB, tBp, qB, in.across[1], b));
 }
 
-// The slip of circles across their axes (LinePairInput::turnSlip): (p_A - x_B - r_A q_A(xi) - r_B
-// q_B(etaPrev)) . b + acrossStart, the motion along b = n x t_B of A's material point that touched B at
-// the last converged state against B's (each the axis point less the radius along the section's
-// vector q that was the normal e then, Q the nodes' turn vectors R_m turnRef[m]); p_A - x_B lies along
-// n, so its part is zero in value, and its variation with b held is the axes' relative motion across.
+// The slip of circles across their axes (LinePairInput::turnSlip): (p_A - x_B - rho_A q_A(xi) -
+// rho_B q_B(etaPrev)) . b + acrossStart, the motion along b = n x t_B of A's material point at the
+// contact point at the last converged state against B's (each the axis point less rho along the
+// section's vector q that was the normal e then, Q the nodes' turn vectors R_m turnRef[m]; rho = r +
+// g_N / 2, the contact point midway between the surfaces, so that the two bodies' forces act at one
+// point and their moments balance where a penalty lets the surfaces overlap); p_A - x_B lies along n,
+// so its part is zero in value, and its variation with b held is the axes' relative motion across.
 // acrossStart makes it zero at the last converged state (e_A, made normal to A's axis, is not quite
-// normal to b where the axes lie at an angle). Its variation with xi, etaPrev and b held,
-// (dp_A - dx_B) . b + r_A dtheta_A . t + r_B dtheta_B . t (q = n), is a unit force along b on each
+// normal to b where the axes lie at an angle). Its variation with xi, etaPrev, b and rho held,
+// (dp_A - dx_B) . b + rho_A dtheta_A . t + rho_B dtheta_B . t (q = n), is a unit force along b on each
 // body at the contact point with its moment about the axis; a rigid motion of the pair gives 0.
 template <class T>
 T acrossSlipOf(const LinePairInput& in, const Vec3<T>* Q, const T& xi, const T& etaPrev, const Vec3<T>& fromB,
-               const Vec3<T>& b) {
+               const Vec3<T>& b, const T& gap) {
   const Vec3<T> qA = (1.0 - xi) * Q[0] + xi * Q[1], qB = (1.0 - etaPrev) * Q[2] + etaPrev * Q[3];
-  const double rB = in.radiusSum - in.radiusA;
-  return dot(fromB - in.radiusA * qA - rB * qB, b) + in.acrossStart;
+  const T rhoA = in.radiusA + 0.5 * gap, rhoB = (in.radiusSum - in.radiusA) + 0.5 * gap;
+  return dot(fromB - rhoA * qA - rhoB * qB, b) + in.acrossStart;
 }
 
 // Line contact at a Gauss point of axis A (fixed parameter xi, a material point) against axis B:
@@ -237,7 +239,7 @@ Gaps<T> lineGaps(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, co
     if (held)
       for (int c = 0; c < 3; ++c) b[c] = frozen(b[c]);
     g.gT2 += turnSlipOf(in, P, V, Q, cubicA, cubicB, xi, etaPrev, b);
-    g.gT1 = acrossSlipOf(in, Q, xi, etaPrev, -1.0 * d, b);
+    g.gT1 = acrossSlipOf(in, Q, xi, etaPrev, -1.0 * d, b, held ? frozen(g.gN) : g.gN);
   }
   g.cosine = dot(tA, tB) / (sqrt(dot(tA, tA)) * sqrt(dot(tB, tB)));
   g.length = T(1.0);
@@ -1431,11 +1433,12 @@ HeldLineGaps<T, Vectors> heldLineGaps(const LinePairInput& in, const Vec3<T>* P,
       // The slip across (acrossSlipOf), b held: the axes' points along b (B's at eta: its motion with
       // eta is along t_B, normal to b), the sections' vectors q.
       for (int k = 0; k < 8; ++k) out.G[kGapT1][k] = (onA(k) ? a.s[slot[k]] : -1.0 * onB.s[slot[k]]) * b;
-      const double rB = in.radiusSum - in.radiusA;
-      out.G[kGapT1][turnAt] = (-in.radiusA * (1.0 - xi)) * b;
-      out.G[kGapT1][turnAt + 1] = (-in.radiusA * xi) * b;
-      out.G[kGapT1][turnAt + 2] = (-rB * (1.0 - etaPrev)) * b;
-      out.G[kGapT1][turnAt + 3] = (-rB * etaPrev) * b;
+      const T half = 0.5 * (side * sqrt(dot(d, d)) - in.radiusSum);
+      const T rhoA = in.radiusA + half, rhoB = (in.radiusSum - in.radiusA) + half;
+      out.G[kGapT1][turnAt] = (-1.0 * rhoA * (1.0 - xi)) * b;
+      out.G[kGapT1][turnAt + 1] = (-1.0 * rhoA * xi) * b;
+      out.G[kGapT1][turnAt + 2] = (-1.0 * rhoB * (1.0 - etaPrev)) * b;
+      out.G[kGapT1][turnAt + 3] = (-1.0 * rhoB * etaPrev) * b;
       const CurveShape<T> bp = curveShape(cubicB, etaPrev);
       Vec3<T> dA = none, dB = none, tAp, tBp;
       for (int k = 0; k < 8; ++k)
@@ -1516,8 +1519,13 @@ void setTurnSlip(LinePairInput& in, const LinePairInput& converged, const Vec3d&
   }
   const Mat3d* R[4] = {&converged.RA1, &converged.RA2, &converged.RB1, &converged.RB2};
   for (int m = 0; m < 4; ++m) in.turnRef[m] = transpose(*R[m]) * in.across[m / 2];
+  // (the gap there: the contact point midway between the surfaces, acrossSlipOf)
+  Vec3d pA, xB;
+  axisPoint(in.prev[0], in.prev[4], in.prev[1], in.prev[5], norm(converged.dA) > 0.0, xi, &pA, nullptr, nullptr);
+  axisPoint(in.prev[2], in.prev[6], in.prev[3], in.prev[7], norm(converged.dB) > 0.0, eta, &xB, nullptr, nullptr);
+  const double half = 0.5 * (dot(pA - xB, normal) - in.radiusSum);
   const Vec3d b = cross(normal, t[1]);
-  in.acrossStart = dot(in.radiusA * in.across[0] + (in.radiusSum - in.radiusA) * in.across[1], b);
+  in.acrossStart = dot((in.radiusA + half) * in.across[0] + (in.radiusSum - in.radiusA + half) * in.across[1], b);
 }
 
 double turnSlip(const LinePairInput& in, double xi, double etaPrev, double eta, const Vec3d& n) {
@@ -1541,7 +1549,7 @@ double acrossSlip(const LinePairInput& in, double xi, double etaPrev, double eta
   axisPoint(p[0], p[4], p[1], p[5], cubicA, xi, &pA, nullptr, nullptr);
   axisPoint(p[2], p[6], p[3], p[7], cubicB, eta, &xB, nullptr, nullptr);
   const Vec3d b = cross(n, unitTangent(p[2], p[6], p[3], p[7], cubicB, eta));
-  return acrossSlipOf(in, p + 8, xi, etaPrev, pA - xB, b);
+  return acrossSlipOf(in, p + 8, xi, etaPrev, pA - xB, b, dot(pA - xB, n) - in.radiusSum);
 }
 
 namespace {

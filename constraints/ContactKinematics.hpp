@@ -68,10 +68,10 @@ struct LinePairInput {
   // tangent does not show; it counts where the axes are apart). prev: the line points and Hermite
   // tangents (P_A1, P_A2, P_B1, P_B2, V_A1, V_A2, V_B1, V_B2) at the last converged state; turnRef:
   // R_m,p^T e of the nodes A1, A2 (e = across[0]), B1, B2 (across[1]); radiusA: A's radius.
-  // With it the slip across the axes, g_T1 (acrossSlip): the motion along b of A's material point
-  // that touched B at the last converged state against B's, (p_A - x_B - r_A q_A - r_B q_B) . b +
-  // acrossStart, q the sections' vectors that were e; acrossStart = (r_A e_A + r_B e_B) . b_p makes it
-  // zero there.
+  // With it the slip across the axes, g_T1 (acrossSlip): the motion along b of A's material point at
+  // the contact point of the last converged state against B's, (p_A - x_B - rho_A q_A - rho_B q_B) . b
+  // + acrossStart, q the sections' vectors that were e, rho = r + g_N / 2 (the contact point midway
+  // between the surfaces); acrossStart = (rho_A e_A + rho_B e_B) . b_p makes it zero there.
   bool turnSlip = false;
   double radiusA = 0.0, acrossStart = 0.0;
   Vec3d prev[8]{}, turnRef[4]{}, across[2]{};

@@ -392,8 +392,8 @@ TEST(LineKinematics, CirclesSlipAsTheirSectionsTurn) {
 // twist: A (radius 0.8) along X under B (radius 1.2) along X at z = 2, the normal from B's axis to A's
 // -Z, b = n x t_B = -Y. A twisted by phi about X: its surface point (5, 0, 0.8) goes to (5, -0.8 sin(phi),
 // 0.8 cos(phi)), g_T1 = r_A sin(phi) exactly; B twisted: r_B sin(phi); both, as gears (r_A sin(phi_A) =
-// -r_B sin(phi_B)): 0. A pushed across by -Y (its axis point along b): the slip is its distance along
-// the turned b, r_A + r_B times the sine of the normal's turn. A rigid turn of the pair 10 degrees apart
+// -r_B sin(phi_B)): 0. A pushed across by 0.1 along -Y (b): the slip is the push. A rigid turn of the
+// pair 10 degrees apart
 // slips by 0 to round-off (the converged normal made normal to each axis is carried by the nodes).
 // The unit multiplier applies a unit force along -b on B at its contact point, x_B + r_B n.
 TEST(LineKinematics, CirclesSlipAcrossAsTheirSectionsTwist) {
@@ -433,11 +433,13 @@ TEST(LineKinematics, CirclesSlipAcrossAsTheirSectionsTwist) {
   EXPECT_NEAR(twistA, rA * std::sin(phi), 1e-14);
   EXPECT_NEAR(twistB, rB * std::sin(phi), 1e-14);
   EXPECT_NEAR(gears, 0.0, 1e-14);
-  // Pushed across by 0.1: the normal turns by psi, tan(psi) = 0.1 / 2; the slip (2 + g) sin(psi) less
-  // the sections' r sin(psi) each (they have not turned): (p_A - x_B) . b = 0, so -(r_A + r_B) n_p . b.
-  const double pushed = across(twisted(0.0, 0.0, 0.1), 0.5), psi = std::atan2(0.1, 2.0);
-  std::printf("pushed across by 0.1: %.15f, (r_A + r_B) sin(psi) %.15f\n", pushed, 2.0 * std::sin(psi));
-  EXPECT_NEAR(pushed, 2.0 * std::sin(psi), 1e-14);
+  // Pushed across by 0.1: the normal turns by psi, tan(psi) = 0.1 / 2, and the axes move apart, g =
+  // sqrt(4.01) - 2. The contact point lies midway between the surfaces (rho = r + g / 2, rho_A + rho_B
+  // the axes' distance), its material points have not turned: -(rho_A + rho_B) n_p . b =
+  // sqrt(4.01) sin(psi) = 0.1, the push.
+  const double pushed = across(twisted(0.0, 0.0, 0.1), 0.5);
+  std::printf("pushed across by 0.1: %.15f\n", pushed);
+  EXPECT_NEAR(pushed, 0.1, 1e-14);
   LinePairInput none = twisted(phi, 0.0, 0.0);
   none.turnSlip = false;
   EXPECT_EQ(lineKinematics(none, 0.5, 0.5, Vec3d{}).tangent1.value, 0.0);
@@ -450,6 +452,30 @@ TEST(LineKinematics, CirclesSlipAcrossAsTheirSectionsTwist) {
               forceB[1], forceB[2], momentB[0]);
   EXPECT_NEAR(norm(forceB - Vec3d{{0, 1, 0}}), 0.0, 1e-14);
   EXPECT_NEAR(momentB[0], rB, 1e-14);  // ((r_B n) x (0, 1, 0), n = -Z)
+  // Overlapping by 0.05 (a penalty's state): the unit multiplier's forces on the two bodies act at one
+  // point, midway between the surfaces, so they balance in force and moment. Twisted since the last
+  // converged state by s and -2 s, they act at the two material points that were there: apart along
+  // n by (rho_A + rho_B) (1 - cos) terms, a moment of second order in the twist (a step's).
+  const auto netMoment = [&](double s) {
+    LinePairInput deep = twisted(s, -2.0 * s, 0.0);
+    for (Vec3d* x : {&deep.xA1, &deep.xA2}) *x = *x + Vec3d{{0, 0, 0.05}};
+    const ContactKinematics kd = lineKinematics(deep, 0.4, 0.5, Vec3d{});
+    Vec3d F{}, M{};
+    const Vec3d* nodesAt[4] = {&deep.xA1, &deep.xA2, &deep.xB1, &deep.xB2};
+    for (int m = 0; m < 4; ++m) {
+      Vec3d f, c;
+      for (int a = 0; a < 3; ++a) f[a] = kd.tangent1.R[6 * m + a], c[a] = kd.tangent1.R[6 * m + 3 + a];
+      F = F + f;
+      M = M + cross(*nodesAt[m], f) + c;
+    }
+    EXPECT_LT(norm(F), 1e-14) << s;
+    return norm(M);
+  };
+  const double m0 = netMoment(0.0), m1 = netMoment(1e-2), m2 = netMoment(5e-3);
+  std::printf("overlapping by 0.05: unit multiplier across, net moment %.1e; twisted by 1e-2 / 5e-3: %.2e / %.2e\n", m0,
+              m1, m2);
+  EXPECT_LT(m0, 1e-14);
+  EXPECT_NEAR(m1 / m2, 4.0, 0.2);
   // A rigid turn of a pair whose axes lie 10 degrees apart.
   LinePairInput crossed = straight;
   const double apart = 10.0 * std::acos(-1.0) / 180.0;
