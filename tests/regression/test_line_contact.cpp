@@ -40,6 +40,20 @@ void uniformLoad(Teuchos::ParameterList& deck, const std::string& beam, int n, d
   }
 }
 
+// Two parallel rods lying on each other (parallelBeams: circles r 0.5, n elements each, 6 Gauss
+// points) with friction mu, the rod or the ground as A, Penalty's and Augmented Lagrange's eps_T.
+Teuchos::ParameterList rodsWithFriction(const std::string& type, int n, double E, double mu, bool rodIsA, double epsT) {
+  auto deck = parallelBeams(type, n, n, 0.0, E, 6);
+  if (rodIsA) {
+    input::replaceAtPath(deck, "Contact/Pairs/line/Beam A", std::string("rod"));
+    input::replaceAtPath(deck, "Contact/Pairs/line/Beam B", std::string("ground"));
+  }
+  input::replaceAtPath(deck, "Contact/Pairs/line/Friction Coefficient", mu);
+  for (const char* s : {"Penalty", "Augmented Lagrange"})
+    input::replaceAtPath(deck, std::string("Contact/Enforcement/") + s + "/Tangential Penalty Parameter", epsT);
+  return deck;
+}
+
 // Two cantilevers stacked (parallelBeams: circles r 0.5, E 1e5, n elements each, `gauss` Gauss points),
 // both clamped at x = 0, the rod's tip pressed down by P, 4 increments.
 Teuchos::ParameterList stackedCantilevers(const std::string& type, int n, int gauss, double P) {
@@ -1627,14 +1641,7 @@ TEST(LineContact, StackedRodsWithFrictionBendAsOneSectionWhereTheyStick) {
   const double composite = 5 * q * std::pow(L, 4) / (384 * E * 2.5 * pi * std::pow(r, 4));
   const double apart = 5 * (q / 2) * std::pow(L, 4) / (384 * E * pi * std::pow(r, 4) / 4);
   auto layered = [&](const std::string& type, int n, double mu, bool rodIsA) {
-    auto deck = parallelBeams(type, n, n, 0.0, E, 6);
-    if (rodIsA) {
-      input::replaceAtPath(deck, "Contact/Pairs/line/Beam A", std::string("rod"));
-      input::replaceAtPath(deck, "Contact/Pairs/line/Beam B", std::string("ground"));
-    }
-    input::replaceAtPath(deck, "Contact/Pairs/line/Friction Coefficient", mu);
-    for (const char* s : {"Penalty", "Augmented Lagrange"})
-      input::replaceAtPath(deck, std::string("Contact/Enforcement/") + s + "/Tangential Penalty Parameter", 1e8);
+    auto deck = rodsWithFriction(type, n, E, mu, rodIsA, 1e8);
     for (const char* beam : {"ground", "rod"}) {
       support(deck, beam, 0, "uy uz rx");
       support(deck, beam, n / 2, "ux");
@@ -1699,14 +1706,7 @@ TEST(LineContact, RodTwistedOnAHeldRodSlipsWhereItsTorqueExceedsTheFriction) {
     double end = 0.0, mid = 0.0;
   };
   const auto twisted = [&](const std::string& type, int n, double T, bool rodIsA) {
-    auto deck = parallelBeams(type, n, n, 0.0, E, 6);
-    if (rodIsA) {
-      input::replaceAtPath(deck, "Contact/Pairs/line/Beam A", std::string("rod"));
-      input::replaceAtPath(deck, "Contact/Pairs/line/Beam B", std::string("ground"));
-    }
-    input::replaceAtPath(deck, "Contact/Pairs/line/Friction Coefficient", mu);
-    for (const char* s : {"Penalty", "Augmented Lagrange"})
-      input::replaceAtPath(deck, std::string("Contact/Enforcement/") + s + "/Tangential Penalty Parameter", 1e7);
+    auto deck = rodsWithFriction(type, n, E, mu, rodIsA, 1e7);
     for (int i = 0; i <= n; ++i) {
       support(deck, "ground", i, "all");
       support(deck, "rod", i, i == 0 ? "ux uy uz rx ry" : "uy");

@@ -143,6 +143,31 @@ void turnedSinceConverged(LinePairInput& in, std::mt19937& g) {
   setTurnSlip(in, converged, (1.0 / 1.7) * Vec3d{{0.8, -1.5, 0.0}}, 0.4, 0.3);
 }
 
+// Circles in line contact, straight and unturned: A (radius 0.8) along X from the origin, B (radius
+// 1.2) along X at z = 2, both 10 long (Hermite axes, segment planes normal to X).
+LinePairInput circlesAlongX() {
+  LinePairInput in;
+  in.xA1 = {{0, 0, 0}};
+  in.xA2 = {{10, 0, 0}};
+  in.xB1 = {{0, 0, 2}};
+  in.xB2 = {{10, 0, 2}};
+  in.RA1 = in.RA2 = in.RB1 = in.RB2 = identity3<double>();
+  in.dA = in.dB = Vec3d{{10, 0, 0}};
+  in.radiusSum = 2.0;
+  in.radiusA = 0.8;
+  in.sB1 = in.sB2 = Vec3d{{1, 0, 0}};
+  return in;
+}
+
+// The same with B turned by 10 degrees about Z through its middle (x = 5): axes at an angle.
+LinePairInput tenDegreesApart(LinePairInput in) {
+  const double apart = 10.0 * std::acos(-1.0) / 180.0;
+  in.xB1 = {{5 - 5 * std::cos(apart), -5 * std::sin(apart), 2}};
+  in.xB2 = {{5 + 5 * std::cos(apart), 5 * std::sin(apart), 2}};
+  in.dB = in.xB2 - in.xB1;
+  return in;
+}
+
 // The largest differences of kinematics a from b: the values relative to 1 + |b|, the R, gradients and
 // K of the gaps and the first variations of xi, the cosines and the segment relative to b's largest
 // entry.
@@ -314,16 +339,7 @@ TEST(LineKinematics, VariationsMatchCentralDifferences) {
 // point's slip (r_A + r_B) sin(phi) (A's point projects 2 sin(phi) further along B's turned axis) less
 // r_A [(t_B - t_B,p) . n] = r_A sin(phi). Without turnSlip A's roll gives 0.
 TEST(LineKinematics, CirclesSlipAsTheirSectionsTurn) {
-  LinePairInput straight;
-  straight.xA1 = {{0, 0, 0}};
-  straight.xA2 = {{10, 0, 0}};
-  straight.xB1 = {{0, 0, 2}};
-  straight.xB2 = {{10, 0, 2}};
-  straight.RA1 = straight.RA2 = straight.RB1 = straight.RB2 = identity3<double>();
-  straight.dA = straight.dB = Vec3d{{10, 0, 0}};
-  straight.radiusSum = 2.0;
-  straight.radiusA = 0.8;
-  straight.sB1 = straight.sB2 = Vec3d{{1, 0, 0}};
+  const LinePairInput straight = circlesAlongX();
   const auto rolled = [&](bool rollA, double phi) {
     LinePairInput in = straight;
     const Mat3d Q = expSO3(Vec3d{{0, phi, 0}});
@@ -359,11 +375,7 @@ TEST(LineKinematics, CirclesSlipAsTheirSectionsTurn) {
   // order, and a step's turns are small). A turn part from the axes' unit tangents alone,
   // r_A [(t_A - t_A,p) - (t_B - t_B,p)] . n, is r_A (w x (t_A - t_B)) . n for a turn w: of first order
   // where the axes are apart (r_A |w| sin(10 deg) here), friction on rods that turn together.
-  LinePairInput crossed = straight;
-  const double apart = 10.0 * std::acos(-1.0) / 180.0;
-  crossed.xB1 = {{5 - 5 * std::cos(apart), -5 * std::sin(apart), 2}};
-  crossed.xB2 = {{5 + 5 * std::cos(apart), 5 * std::sin(apart), 2}};
-  crossed.dB = crossed.xB2 - crossed.xB1;
+  const LinePairInput crossed = tenDegreesApart(straight);
   const ClosestPoints before = lineProjection(crossed, 0.3);
   for (const Vec3d axis : {Vec3d{{0, 0, 1}}, Vec3d{{0.6, -0.48, 0.64}}, Vec3d{{1, 0, 0}}}) {
     double previous = 0.0;
@@ -374,7 +386,7 @@ TEST(LineKinematics, CirclesSlipAsTheirSectionsTurn) {
       for (Mat3d* R : {&turned.RA1, &turned.RA2, &turned.RB1, &turned.RB2}) *R = Q;
       setTurnSlip(turned, crossed, -1.0 * before.normal, 0.3, before.eta);
       const double rigid = lineKinematics(turned, 0.3, before.eta, Vec3d{}).tangent2.value;
-      const double firstOrder = 0.8 * angle * std::sin(apart);
+      const double firstOrder = 0.8 * angle * std::sin(10.0 * std::acos(-1.0) / 180.0);
       std::printf(
           "pair 10 degrees apart turned rigidly by %.0e about (%.2f, %.2f, %.2f): g_T2 %.2e, r_A w sin(10) %.2e\n",
           angle, axis[0], axis[1], axis[2], rigid, firstOrder);
@@ -397,16 +409,7 @@ TEST(LineKinematics, CirclesSlipAsTheirSectionsTurn) {
 // slips by 0 to round-off (the converged normal made normal to each axis is carried by the nodes).
 // The unit multiplier applies a unit force along -b on B at its contact point, x_B + r_B n.
 TEST(LineKinematics, CirclesSlipAcrossAsTheirSectionsTwist) {
-  LinePairInput straight;
-  straight.xA1 = {{0, 0, 0}};
-  straight.xA2 = {{10, 0, 0}};
-  straight.xB1 = {{0, 0, 2}};
-  straight.xB2 = {{10, 0, 2}};
-  straight.RA1 = straight.RA2 = straight.RB1 = straight.RB2 = identity3<double>();
-  straight.dA = straight.dB = Vec3d{{10, 0, 0}};
-  straight.radiusSum = 2.0;
-  straight.radiusA = 0.8;
-  straight.sB1 = straight.sB2 = Vec3d{{1, 0, 0}};
+  const LinePairInput straight = circlesAlongX();
   const auto twisted = [&](double phiA, double phiB, double pushed) {
     LinePairInput in = straight;
     for (Mat3d* R : {&in.RA1, &in.RA2}) *R = expSO3(Vec3d{{phiA, 0, 0}});
@@ -477,11 +480,7 @@ TEST(LineKinematics, CirclesSlipAcrossAsTheirSectionsTwist) {
   EXPECT_LT(m0, 1e-14);
   EXPECT_NEAR(m1 / m2, 4.0, 0.2);
   // A rigid turn of a pair whose axes lie 10 degrees apart.
-  LinePairInput crossed = straight;
-  const double apart = 10.0 * std::acos(-1.0) / 180.0;
-  crossed.xB1 = {{5 - 5 * std::cos(apart), -5 * std::sin(apart), 2}};
-  crossed.xB2 = {{5 + 5 * std::cos(apart), 5 * std::sin(apart), 2}};
-  crossed.dB = crossed.xB2 - crossed.xB1;
+  const LinePairInput crossed = tenDegreesApart(straight);
   const ClosestPoints before = lineProjection(crossed, 0.3);
   double worst = 0.0;
   for (const Vec3d axis : {Vec3d{{0, 0, 1}}, Vec3d{{0.6, -0.48, 0.64}}, Vec3d{{1, 0, 0}}}) {
