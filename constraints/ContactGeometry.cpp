@@ -248,14 +248,18 @@ std::array<core::GlobalDof, kPairDofs> ContactGeometry::pointDofs(const ContactP
 ContactPoint ContactGeometry::strategyView(const ContactPointRecord& p, const ContactKinematics& k,
                                            const core::State& state) const {
   // Line points have friction along the axes (their g_T2); across the axes (g_T1) only circles' (the
-  // surfaces' slip, LinePairInput::turnSlip), rectangles' edges measure no slip across.
+  // surfaces' slip, LinePairInput::turnSlip) with the isotropic law (acrossFriction).
   // End points have no contact line of their own to take friction along: the Per Line law (two
   // independent Coulomb laws along the two lines) does not apply to them; their friction is isotropic.
   ContactPoint view{k, pairs_[p.key.pair].friction, p.end() ? FrictionLaw::IsotropicCoulomb : options_.frictionLaw,
                     pointMultipliers(p, state), blendWeight(p, k.axesCosine, nullptr, nullptr)};
-  if (p.line()) view.measured[0] = !rectangles(p.key.pair) && movesAcross(p, k);
+  if (p.line()) view.measured[0] = acrossFriction(p.key.pair) && movesAcross(p, k);
   view.frictionRelaxation = frictionRelaxation_;
   return view;
+}
+
+bool ContactGeometry::acrossFriction(int pair) const {
+  return !rectangles(pair) && options_.frictionLaw == FrictionLaw::IsotropicCoulomb;
 }
 
 bool ContactGeometry::movesAcross(const ContactPointRecord& p, const ContactKinematics& k) const {

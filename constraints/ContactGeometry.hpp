@@ -205,6 +205,11 @@ class ContactGeometry {
 
   // The point as its strategy sees it, with kinematics `k` in `state`.
   ContactPoint strategyView(const ContactPointRecord& p, const ContactKinematics& k, const core::State& state) const;
+  // Whether a pair's line points have friction across the axes: circles with the isotropic law.
+  // Rectangles' edges measure no slip across; with the Per Line law the two laws, along and across,
+  // would bound each component by mu N and let the force reach sqrt(2) mu N, so line points keep
+  // the law along the axes alone.
+  bool acrossFriction(int pair) const;
   // Whether a line point's slip across the axes (g_T1, circles) moves with a dof that no support
   // fixes: where supports hold every node of both elements across the axes and against their twist (a
   // model kept in a plane), its row would fix nothing (a singular matrix), and friction across has

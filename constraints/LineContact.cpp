@@ -867,7 +867,7 @@ ContactPoint LineContact::nodeView(const ContactPointRecord& node, const Contact
                                    const core::State& s) const {
   ContactPoint view{k, geometry_.pairs()[node.key.pair].friction, geometry_.options().frictionLaw,
                     pointMultipliers(node, s), 1.0};
-  view.measured[0] = !geometry_.rectangles(node.key.pair);
+  view.measured[0] = geometry_.acrossFriction(node.key.pair);
   view.fieldCompliance = fieldCompliance(node.key);
   return view;
 }
@@ -994,7 +994,7 @@ bool LineContact::evaluateNodal(const ContactPointRecord& p, const ContactKinema
 
 void LineContact::noteCommitted(const ContactPointRecord& p, const ContactKinematics& k, const core::State& s) {
   if (!p.line() || !p.result.active) return;
-  if (geometry_.pairs()[p.key.pair].friction > 0.0 && geometry_.rectangles(p.key.pair))
+  if (geometry_.pairs()[p.key.pair].friction > 0.0 && !geometry_.acrossFriction(p.key.pair))
     frictionless_.insert(p.key.pair);
   if (!nodal_) return;
   // The field enforces gaps weighted over beam A's elements: between its nodes the beams may
@@ -1014,7 +1014,7 @@ void LineContact::noteCommitted(const ContactPointRecord& p, const ContactKinema
 
 void LineContact::noteRestored(const PointMap& points) {
   for (const auto& [key, p] : points)
-    if (p.line() && geometry_.pairs()[p.key.pair].friction > 0.0 && geometry_.rectangles(p.key.pair))
+    if (p.line() && geometry_.pairs()[p.key.pair].friction > 0.0 && !geometry_.acrossFriction(p.key.pair))
       frictionless_.insert(p.key.pair);
 }
 

@@ -120,8 +120,8 @@ class LineContact {
   bool evaluateNodal(const ContactPointRecord& p, const ContactKinematics& k, const core::State& s,
                      const PointMap& points, std::vector<double>& f, std::vector<double>* K, PointResult* result) const;
 
-  // What the steps showed, for the warnings: pairs of rectangles with friction whose line points
-  // carried force (their edges measure no slip across the axes);
+  // What the steps showed, for the warnings: pairs with friction whose line points carried force and
+  // measure no slip across the axes (rectangles, or the Per Line law: ContactGeometry::acrossFriction);
   // nodal line fields: pair -> deepest penetration, where; pair -> deepest overlap between Gauss
   // points, where.
   const std::set<int>& frictionless() const { return frictionless_; }
