@@ -239,7 +239,7 @@ Gaps<T> lineGaps(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, co
     if (held)
       for (int c = 0; c < 3; ++c) b[c] = frozen(b[c]);
     g.gT2 += turnSlipOf(in, P, V, Q, cubicA, cubicB, xi, etaPrev, b);
-    g.gT1 = acrossSlipOf(in, Q, xi, etaPrev, -1.0 * d, b, held ? frozen(g.gN) : g.gN);
+    if (in.acrossSlip) g.gT1 = acrossSlipOf(in, Q, xi, etaPrev, -1.0 * d, b, held ? frozen(g.gN) : g.gN);
   }
   g.cosine = dot(tA, tB) / (sqrt(dot(tA, tA)) * sqrt(dot(tB, tB)));
   g.length = T(1.0);
@@ -1432,13 +1432,15 @@ HeldLineGaps<T, Vectors> heldLineGaps(const LinePairInput& in, const Vec3<T>* P,
       const Vec3<T> b = cross(-side * unit, (1.0 / speed) * tB);
       // The slip across (acrossSlipOf), b held: the axes' points along b (B's at eta: its motion with
       // eta is along t_B, normal to b), the sections' vectors q.
-      for (int k = 0; k < 8; ++k) out.G[kGapT1][k] = (onA(k) ? a.s[slot[k]] : -1.0 * onB.s[slot[k]]) * b;
-      const T half = 0.5 * (side * sqrt(dot(d, d)) - in.radiusSum);
-      const T rhoA = in.radiusA + half, rhoB = (in.radiusSum - in.radiusA) + half;
-      out.G[kGapT1][turnAt] = (-1.0 * rhoA * (1.0 - xi)) * b;
-      out.G[kGapT1][turnAt + 1] = (-1.0 * rhoA * xi) * b;
-      out.G[kGapT1][turnAt + 2] = (-1.0 * rhoB * (1.0 - etaPrev)) * b;
-      out.G[kGapT1][turnAt + 3] = (-1.0 * rhoB * etaPrev) * b;
+      if (in.acrossSlip) {
+        for (int k = 0; k < 8; ++k) out.G[kGapT1][k] = (onA(k) ? a.s[slot[k]] : -1.0 * onB.s[slot[k]]) * b;
+        const T half = 0.5 * (side * sqrt(dot(d, d)) - in.radiusSum);
+        const T rhoA = in.radiusA + half, rhoB = (in.radiusSum - in.radiusA) + half;
+        out.G[kGapT1][turnAt] = (-1.0 * rhoA * (1.0 - xi)) * b;
+        out.G[kGapT1][turnAt + 1] = (-1.0 * rhoA * xi) * b;
+        out.G[kGapT1][turnAt + 2] = (-1.0 * rhoB * (1.0 - etaPrev)) * b;
+        out.G[kGapT1][turnAt + 3] = (-1.0 * rhoB * etaPrev) * b;
+      }
       const CurveShape<T> bp = curveShape(cubicB, etaPrev);
       Vec3<T> dA = none, dB = none, tAp, tBp;
       for (int k = 0; k < 8; ++k)
@@ -1509,7 +1511,7 @@ ContactKinematics kinematicsOf(const LinePairInput& in, const Vec3d* extraRef, c
 
 void setTurnSlip(LinePairInput& in, const LinePairInput& converged, const Vec3d& normal, double xi, double eta) {
   vectorFrame<8>(converged, nullptr, nullptr, in.prev);
-  in.turnSlip = true;
+  in.turnSlip = in.acrossSlip = true;
   // e: the normal made normal to each axis there (unit), so that (q - e) . (t_p x e) is the twist.
   Vec3d t[2];
   previousTangents(in, norm(converged.dA) > 0.0, norm(converged.dB) > 0.0, xi, eta, t[0], t[1]);
@@ -1540,7 +1542,7 @@ double turnSlip(const LinePairInput& in, double xi, double etaPrev, double eta, 
 }
 
 double acrossSlip(const LinePairInput& in, double xi, double etaPrev, double eta, const Vec3d& n) {
-  if (!in.turnSlip || in.face) return 0.0;
+  if (!in.turnSlip || !in.acrossSlip || in.face) return 0.0;
   const int nodes[4] = {0, 1, 2, 3};
   Vec3d p[12];
   vectorFrame<12>(in, in.turnRef, nodes, p);

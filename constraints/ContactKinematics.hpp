@@ -72,7 +72,9 @@ struct LinePairInput {
   // the contact point of the last converged state against B's, (p_A - x_B - rho_A q_A - rho_B q_B) . b
   // + acrossStart, q the sections' vectors that were e, rho = r + g_N / 2 (the contact point midway
   // between the surfaces); acrossStart = (rho_A e_A + rho_B e_B) . b_p makes it zero there.
-  bool turnSlip = false;
+  // acrossSlip: g_T1 measured (set by setTurnSlip; LineContact clears it where the pair has no
+  // friction across the axes, ContactGeometry::acrossFriction: g_T1 = 0 then, no variation).
+  bool turnSlip = false, acrossSlip = false;
   double radiusA = 0.0, acrossStart = 0.0;
   Vec3d prev[8]{}, turnRef[4]{}, across[2]{};
   // End contact (endNode 0 or 1: A's node whose free end face is in contact; -1: none). The end face

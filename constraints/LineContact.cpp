@@ -484,10 +484,12 @@ LinePairInput LineContact::input(const ContactPointRecord& p, const core::State&
   // (circles with friction: the surfaces' slip as the sections turn, from the point's normal at the
   // last converged state; rectangles' edges turn with their sections; without friction the slip is
   // not used, and the turn's four vectors would only cost)
-  if (!in.face && geometry_.pairs()[p.key.pair].friction > 0.0)
+  if (!in.face && geometry_.pairs()[p.key.pair].friction > 0.0) {
     setTurnSlip(in, geometry_.lineInput(p.elementA, 0, p.elementB, 0, geometry_.reference()), -1.0 * p.normal,
                 p.xiPrev - geometry_.beams().elements()[p.elementA].index,
                 p.etaPrev - geometry_.beams().elements()[p.elementB].index);
+    in.acrossSlip = geometry_.acrossFriction(p.key.pair);
+  }
   return in;
 }
 
