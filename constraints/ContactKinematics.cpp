@@ -180,27 +180,37 @@ T sectionTurn(const Vec3<T>& t, const Vec3<T>& tp, const Vec3<T>& q, const Vec3d
   return dot(cross(tp, t - tp), b) + dot(q - e, cross(tp, e)) * dot(tp, b);
 }
 
+// The sections' vectors q that were e at the last converged state (LinePairInput::turnSlip), from the
+// nodes' turn vectors Q = R_m turnRef[m] (A1, A2, B1, B2): A's at xi, B's at etaPrev.
+template <class T> std::array<Vec3<T>, 2> sectionVectors(const Vec3<T>* Q, const T& xi, const T& etaPrev) {
+  return {(1.0 - xi) * Q[0] + xi * Q[1], (1.0 - etaPrev) * Q[2] + etaPrev * Q[3]};
+}
+
+// The contact point's distances from A's and B's axes, rho = r + g_N / 2 (midway between the surfaces).
+template <class T> std::array<T, 2> contactArms(const LinePairInput& in, const T& gap) {
+  return {in.radiusA + 0.5 * gap, (in.radiusSum - in.radiusA) + 0.5 * gap};
+}
+
 // The turn part of circles' slip (LinePairInput::turnSlip): -r_A (theta_A(xi) - theta_B(etaPrev)) . b,
-// P, V the axes' points and tangents now, Q the nodes' turn vectors R_m turnRef[m] (A1, A2, B1, B2).
+// P, V the axes' points and tangents now, q the sections' vectors (sectionVectors).
 // Its variation with xi, etaPrev and b held applies the moment r_A lambda_T about A's axis that a
 // friction force lambda_T along B's surface exerts on A (where the axis point's slip puts it on B's
 // section); a rigid turn of the pair gives theta_A = theta_B.
 template <class T>
-T turnSlipOf(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, const Vec3<T>* Q, bool cubicA, bool cubicB,
-             const T& xi, const T& etaPrev, const Vec3<T>& b) {
+T turnSlipOf(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, const std::array<Vec3<T>, 2>& q, bool cubicA,
+             bool cubicB, const T& xi, const T& etaPrev, const Vec3<T>& b) {
   Vec3<T> tAp, tBp;
   previousTangents(in, cubicA, cubicB, xi, etaPrev, tAp, tBp);
   const Vec3<T> tA = unitTangent(P[0], V[0], P[1], V[1], cubicA, xi);
   const Vec3<T> tB = unitTangent(P[2], V[2], P[3], V[3], cubicB, etaPrev);
-  const Vec3<T> qA = (1.0 - xi) * Q[0] + xi * Q[1], qB = (1.0 - etaPrev) * Q[2] + etaPrev * Q[3];
-  return -in.radiusA * (sectionTurn(tA, tAp, qA, in.across[0], b) - sectionTurn(tB, tBp, qB, in.across[1], b));
+  return -in.radiusA * (sectionTurn(tA, tAp, q[0], in.across[0], b) - sectionTurn(tB, tBp, q[1], in.across[1], b));
 }
 
 // The slip of circles across their axes (LinePairInput::turnSlip): (p_A - x_B - rho_A q_A(xi) -
 // rho_B q_B(etaPrev)) . b + acrossStart, the motion along b = n x t_B of A's material point at the
 // contact point at the last converged state against B's (each the axis point less rho along the
-// section's vector q that was the normal e then, Q the nodes' turn vectors R_m turnRef[m]; rho = r +
-// g_N / 2, the contact point midway between the surfaces, so that the two bodies' forces act at one
+// section's vector q that was the normal e then, sectionVectors; rho = r + g_N / 2, contactArms, the
+// contact point midway between the surfaces, so that the two bodies' forces act at one
 // point and their moments balance where a penalty lets the surfaces overlap); p_A - x_B lies along n,
 // so its part is zero in value, and its variation with b held is the axes' relative motion across.
 // acrossStart makes it zero at the last converged state (e_A, made normal to A's axis, is not quite
@@ -208,11 +218,10 @@ T turnSlipOf(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, const 
 // (dp_A - dx_B) . b + rho_A dtheta_A . t + rho_B dtheta_B . t (q = n), is a unit force along b on each
 // body at the contact point with its moment about the axis; a rigid motion of the pair gives 0.
 template <class T>
-T acrossSlipOf(const LinePairInput& in, const Vec3<T>* Q, const T& xi, const T& etaPrev, const Vec3<T>& fromB,
-               const Vec3<T>& b, const T& gap) {
-  const Vec3<T> qA = (1.0 - xi) * Q[0] + xi * Q[1], qB = (1.0 - etaPrev) * Q[2] + etaPrev * Q[3];
-  const T rhoA = in.radiusA + 0.5 * gap, rhoB = (in.radiusSum - in.radiusA) + 0.5 * gap;
-  return dot(fromB - rhoA * qA - rhoB * qB, b) + in.acrossStart;
+T acrossSlipOf(const LinePairInput& in, const std::array<Vec3<T>, 2>& q, const Vec3<T>& fromB, const Vec3<T>& b,
+               const T& gap) {
+  const std::array<T, 2> rho = contactArms(in, gap);
+  return dot(fromB - rho[0] * q[0] - rho[1] * q[1], b) + in.acrossStart;
 }
 
 // Line contact at a Gauss point of axis A (fixed parameter xi, a material point) against axis B:
@@ -238,8 +247,9 @@ Gaps<T> lineGaps(const LinePairInput& in, const Vec3<T>* P, const Vec3<T>* V, co
     Vec3<T> b = cross((-side / distance) * d, unitTangent(P[2], V[2], P[3], V[3], cubicB, g.eta));
     if (held)
       for (int c = 0; c < 3; ++c) b[c] = frozen(b[c]);
-    g.gT2 += turnSlipOf(in, P, V, Q, cubicA, cubicB, xi, etaPrev, b);
-    if (in.acrossSlip) g.gT1 = acrossSlipOf(in, Q, xi, etaPrev, -1.0 * d, b, held ? frozen(g.gN) : g.gN);
+    const std::array<Vec3<T>, 2> q = sectionVectors(Q, xi, etaPrev);
+    g.gT2 += turnSlipOf(in, P, V, q, cubicA, cubicB, xi, etaPrev, b);
+    if (in.acrossSlip) g.gT1 = acrossSlipOf(in, q, -1.0 * d, b, held ? frozen(g.gN) : g.gN);
   }
   g.cosine = dot(tA, tB) / (sqrt(dot(tA, tA)) * sqrt(dot(tB, tB)));
   g.length = T(1.0);
@@ -1434,12 +1444,11 @@ HeldLineGaps<T, Vectors> heldLineGaps(const LinePairInput& in, const Vec3<T>* P,
       // eta is along t_B, normal to b), the sections' vectors q.
       if (in.acrossSlip) {
         for (int k = 0; k < 8; ++k) out.G[kGapT1][k] = (onA(k) ? a.s[slot[k]] : -1.0 * onB.s[slot[k]]) * b;
-        const T half = 0.5 * (side * sqrt(dot(d, d)) - in.radiusSum);
-        const T rhoA = in.radiusA + half, rhoB = (in.radiusSum - in.radiusA) + half;
-        out.G[kGapT1][turnAt] = (-1.0 * rhoA * (1.0 - xi)) * b;
-        out.G[kGapT1][turnAt + 1] = (-1.0 * rhoA * xi) * b;
-        out.G[kGapT1][turnAt + 2] = (-1.0 * rhoB * (1.0 - etaPrev)) * b;
-        out.G[kGapT1][turnAt + 3] = (-1.0 * rhoB * etaPrev) * b;
+        const std::array<T, 2> rho = contactArms(in, T(side * sqrt(dot(d, d)) - in.radiusSum));
+        out.G[kGapT1][turnAt] = (-1.0 * rho[0] * (1.0 - xi)) * b;
+        out.G[kGapT1][turnAt + 1] = (-1.0 * rho[0] * xi) * b;
+        out.G[kGapT1][turnAt + 2] = (-1.0 * rho[1] * (1.0 - etaPrev)) * b;
+        out.G[kGapT1][turnAt + 3] = (-1.0 * rho[1] * etaPrev) * b;
       }
       const CurveShape<T> bp = curveShape(cubicB, etaPrev);
       Vec3<T> dA = none, dB = none, tAp, tBp;
@@ -1525,24 +1534,13 @@ void setTurnSlip(LinePairInput& in, const LinePairInput& converged, const Vec3d&
   Vec3d pA, xB;
   axisPoint(in.prev[0], in.prev[4], in.prev[1], in.prev[5], norm(converged.dA) > 0.0, xi, &pA, nullptr, nullptr);
   axisPoint(in.prev[2], in.prev[6], in.prev[3], in.prev[7], norm(converged.dB) > 0.0, eta, &xB, nullptr, nullptr);
-  const double half = 0.5 * (dot(pA - xB, normal) - in.radiusSum);
-  const Vec3d b = cross(normal, t[1]);
-  in.acrossStart = dot((in.radiusA + half) * in.across[0] + (in.radiusSum - in.radiusA + half) * in.across[1], b);
+  const std::array<double, 2> rho = contactArms(in, dot(pA - xB, normal) - in.radiusSum);
+  in.acrossStart = dot(rho[0] * in.across[0] + rho[1] * in.across[1], cross(normal, t[1]));
 }
 
-double turnSlip(const LinePairInput& in, double xi, double etaPrev, double eta, const Vec3d& n) {
-  if (!in.turnSlip || in.face) return 0.0;
+std::array<double, 2> surfaceSlips(const LinePairInput& in, double xi, double etaPrev, double eta, const Vec3d& n) {
+  if (!in.turnSlip || in.face) return {0.0, 0.0};
   // (the points, tangents and turn vectors as the kinematics has them)
-  const int nodes[4] = {0, 1, 2, 3};
-  Vec3d p[12];
-  vectorFrame<12>(in, in.turnRef, nodes, p);
-  const bool cubicB = norm(in.dB) > 0.0;
-  const Vec3d b = cross(n, unitTangent(p[2], p[6], p[3], p[7], cubicB, eta));
-  return turnSlipOf(in, p, p + 4, p + 8, norm(in.dA) > 0.0, cubicB, xi, etaPrev, b);
-}
-
-double acrossSlip(const LinePairInput& in, double xi, double etaPrev, double eta, const Vec3d& n) {
-  if (!in.turnSlip || !in.acrossSlip || in.face) return 0.0;
   const int nodes[4] = {0, 1, 2, 3};
   Vec3d p[12];
   vectorFrame<12>(in, in.turnRef, nodes, p);
@@ -1551,7 +1549,9 @@ double acrossSlip(const LinePairInput& in, double xi, double etaPrev, double eta
   axisPoint(p[0], p[4], p[1], p[5], cubicA, xi, &pA, nullptr, nullptr);
   axisPoint(p[2], p[6], p[3], p[7], cubicB, eta, &xB, nullptr, nullptr);
   const Vec3d b = cross(n, unitTangent(p[2], p[6], p[3], p[7], cubicB, eta));
-  return acrossSlipOf(in, p + 8, xi, etaPrev, pA - xB, b, dot(pA - xB, n) - in.radiusSum);
+  const std::array<Vec3d, 2> q = sectionVectors(p + 8, xi, etaPrev);
+  return {in.acrossSlip ? acrossSlipOf(in, q, pA - xB, b, dot(pA - xB, n) - in.radiusSum) : 0.0,
+          turnSlipOf(in, p, p + 4, q, cubicA, cubicB, xi, etaPrev, b)};
 }
 
 namespace {

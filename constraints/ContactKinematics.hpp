@@ -68,7 +68,7 @@ struct LinePairInput {
   // tangent does not show; it counts where the axes are apart). prev: the line points and Hermite
   // tangents (P_A1, P_A2, P_B1, P_B2, V_A1, V_A2, V_B1, V_B2) at the last converged state; turnRef:
   // R_m,p^T e of the nodes A1, A2 (e = across[0]), B1, B2 (across[1]); radiusA: A's radius.
-  // With it the slip across the axes, g_T1 (acrossSlip): the motion along b of A's material point at
+  // With it the slip across the axes, g_T1 (surfaceSlips): the motion along b of A's material point at
   // the contact point of the last converged state against B's, (p_A - x_B - rho_A q_A - rho_B q_B) . b
   // + acrossStart, q the sections' vectors that were e, rho = r + g_N / 2 (the contact point midway
   // between the surfaces); acrossStart = (rho_A e_A + rho_B e_B) . b_p makes it zero there.
@@ -143,11 +143,10 @@ ClosestPoints closestPoints(const LinePairInput& in);
 // the same elements' input at the last converged state, `normal` the point's normal there (from B's
 // axis towards A's), xi and eta its parameters there.
 void setTurnSlip(LinePairInput& in, const LinePairInput& converged, const Vec3d& normal, double xi, double eta);
-// The turn part of the slip (LinePairInput::turnSlip; 0 without it) at A's parameter xi, B's
-// material point etaPrev and A's projection eta on B, n from B's axis towards A's.
-double turnSlip(const LinePairInput& in, double xi, double etaPrev, double eta, const Vec3d& n);
-// The slip across the axes (LinePairInput::turnSlip; 0 without it), the same arguments.
-double acrossSlip(const LinePairInput& in, double xi, double etaPrev, double eta, const Vec3d& n);
+// The surfaces' slips of circles (LinePairInput::turnSlip; 0 without it) at A's parameter xi, B's
+// material point etaPrev and A's projection eta on B, n from B's axis towards A's: the slip across
+// the axes (g_T1; 0 without acrossSlip) and the turn part of the slip along B (added to g_T2).
+std::array<double, 2> surfaceSlips(const LinePairInput& in, double xi, double etaPrev, double eta, const Vec3d& n);
 
 // A gap's value, its first variation R (the direction of the force a unit multiplier applies: the
 // residual is lambda R), the linearized variation K (the derivative of R) and the gradient of the value
@@ -196,7 +195,7 @@ Vec3d hermitePoint(const Vec3d& P1, const Vec3d& V1, const Vec3d& P2, const Vec3
 ClosestPoints lineProjection(const LinePairInput& in, double xi);
 // The gaps of that Gauss point with their derivatives: g_N = |p_B - p_A| - (r_A + r_B) with eta from
 // the projection (its dependence included), g_T1 = 0 (no slip is measured across the axes; circles
-// with LinePairInput::turnSlip: the surfaces' slip across, acrossSlip), g_T2 =
+// with LinePairInput::turnSlip: the surfaces' slip across, surfaceSlips), g_T2 =
 // (eta - etaPrev) m (slip along B, m the slip metric: the length A's point travels relative to B per
 // unit eta, so that the variation of g_T2 is B's unit tangent); cosine 0 (the two tangential directions
 // are orthogonal), axesCosine the chords'. The variations R (and K) are taken with the Gauss point's

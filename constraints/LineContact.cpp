@@ -509,8 +509,8 @@ LineHistory LineContact::history(const ContactPointRecord& p) const {
 std::array<double, 2> LineContact::slip(const ContactPointRecord& p, const ClosestPoints& cp,
                                         const LinePairInput& in) const {
   const double etaPrev = history(p).etaPrevAt(cp.xi);
-  return {acrossSlip(in, cp.xi, etaPrev, cp.eta, -1.0 * cp.normal),
-          (cp.eta - etaPrev) * cp.slipMetric + turnSlip(in, cp.xi, etaPrev, cp.eta, -1.0 * cp.normal)};
+  const std::array<double, 2> surface = surfaceSlips(in, cp.xi, etaPrev, cp.eta, -1.0 * cp.normal);
+  return {surface[0], (cp.eta - etaPrev) * cp.slipMetric + surface[1]};
 }
 
 bool LineContact::endPoint(const ContactPointRecord& p) { return p.line() && endSlot(gaussOf(p.gauss())); }
@@ -996,8 +996,7 @@ bool LineContact::evaluateNodal(const ContactPointRecord& p, const ContactKinema
 
 void LineContact::noteCommitted(const ContactPointRecord& p, const ContactKinematics& k, const core::State& s) {
   if (!p.line() || !p.result.active) return;
-  if (geometry_.pairs()[p.key.pair].friction > 0.0 && !geometry_.acrossFriction(p.key.pair))
-    frictionless_.insert(p.key.pair);
+  if (frictionAlongOnly(p.key.pair)) frictionless_.insert(p.key.pair);
   if (!nodal_) return;
   // The field enforces gaps weighted over beam A's elements: between its nodes the beams may
   // penetrate. Beyond kUnresolvedLine of the thinner section's inscribed radius the contact zone is
@@ -1016,8 +1015,11 @@ void LineContact::noteCommitted(const ContactPointRecord& p, const ContactKinema
 
 void LineContact::noteRestored(const PointMap& points) {
   for (const auto& [key, p] : points)
-    if (p.line() && geometry_.pairs()[p.key.pair].friction > 0.0 && !geometry_.acrossFriction(p.key.pair))
-      frictionless_.insert(p.key.pair);
+    if (p.line() && frictionAlongOnly(p.key.pair)) frictionless_.insert(p.key.pair);
+}
+
+bool LineContact::frictionAlongOnly(int pair) const {
+  return geometry_.pairs()[pair].friction > 0.0 && !geometry_.acrossFriction(pair);
 }
 
 bool LineContact::heldAlong(int n, const Vec3d& normal, double ignored) const {

@@ -175,6 +175,8 @@ class LineContact {
   // beams along the normal (B's node at the same place); there, the closest points and A's end node.
   bool heldEnd(const ContactPointRecord& p, int side, const core::State& s, ClosestPoints* at = nullptr,
                int* end = nullptr) const;
+  // Whether a pair has friction that its line points apply along the axes only (frictionless_).
+  bool frictionAlongOnly(int pair) const;
   // Whether node `n`'s supports hold it along the unit `normal` (every free translation is across it:
   // the normal's component along it at most `ignored`).
   bool heldAlong(int n, const Vec3d& normal, double ignored = 1e-6) const;

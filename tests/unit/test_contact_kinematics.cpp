@@ -362,7 +362,7 @@ TEST(LineKinematics, CirclesSlipAsTheirSectionsTurn) {
   EXPECT_NEAR(onPoint, 0.8 * std::sin(phi), 1e-13);
   EXPECT_NEAR(onSegment, 0.8 * std::sin(phi), 1e-13);
   EXPECT_NEAR(nested, 0.8 * std::sin(phi), 1e-13);
-  EXPECT_NEAR(turnSlip(a, 0.5, 0.5, 0.5, Vec3d{{0, 0, -1}}), 0.8 * std::sin(phi), 1e-13);
+  EXPECT_NEAR(surfaceSlips(a, 0.5, 0.5, 0.5, Vec3d{{0, 0, -1}})[1], 0.8 * std::sin(phi), 1e-13);
   LinePairInput axisOnly = a;
   axisOnly.turnSlip = false;
   EXPECT_NEAR(lineKinematics(axisOnly, 0.5, 0.5, Vec3d{}).tangent2.value, 0.0, 1e-13);
@@ -391,7 +391,7 @@ TEST(LineKinematics, CirclesSlipAsTheirSectionsTurn) {
           "pair 10 degrees apart turned rigidly by %.0e about (%.2f, %.2f, %.2f): g_T2 %.2e, r_A w sin(10) %.2e\n",
           angle, axis[0], axis[1], axis[2], rigid, firstOrder);
       EXPECT_LT(std::abs(rigid), 0.02 * firstOrder);
-      EXPECT_NEAR(turnSlip(turned, 0.3, before.eta, before.eta, -1.0 * (Q * before.normal)), rigid, 1e-15);
+      EXPECT_NEAR(surfaceSlips(turned, 0.3, before.eta, before.eta, -1.0 * (Q * before.normal))[1], rigid, 1e-15);
       if (previous != 0.0) {
         EXPECT_NEAR(rigid / previous, 0.25, 0.02);  // (second order)
       }
@@ -424,7 +424,7 @@ TEST(LineKinematics, CirclesSlipAcrossAsTheirSectionsTwist) {
         lineKinematics(in, xi, 0.5, Vec3d{}).tangent1.value,
         lineKinematicsFromGaps(in, xi, 0.5, Vec3d{}).tangent1.value,
         segmentKinematics(in, lineSegment(in), xi, LineHistory{xi, 0.5, 1.0}, Vec3d{}).tangent1.value,
-        acrossSlip(in, xi, 0.5, cp.eta, -1.0 * cp.normal)};
+        surfaceSlips(in, xi, 0.5, cp.eta, -1.0 * cp.normal)[0]};
     for (double v : values) EXPECT_NEAR(v, values[0], 1e-14);
     return values[0];
   };
