@@ -822,8 +822,13 @@ double ContactManager::stepBound(const core::State& state, const std::vector<dou
     const Point* p;
     double activation, s0, a0, a1, target;
   };
-  std::vector<Crossing> crossing;
+  struct Open {
+    const Point* p;
+    double activation, a0;
+  };
+  std::vector<Open> open;
   bool pointBound = true;
+  double deepest = 0.0;  // the deepest active point contact at this iterate, beyond its activation
   for (const auto& [key, p] : set_.current()) {
     if (p.node()) continue;
     if (p.line()) {
@@ -837,14 +842,18 @@ double ContactManager::stepBound(const core::State& state, const std::vector<dou
       continue;
     }
     const double a0 = pointGeometry(p, state).gap - activation;
-    if (!(a0 > 0.0)) continue;
-    const ClosestPoints then = pointGeometry(p, stepped());
-    if (then.sinAngle < geometry_.options().minimumSinAngle) continue;
-    const double a1 = then.gap - activation;
-    if (a1 >= -0.1 * a0) continue;
-    crossing.push_back({&p, activation, 0.0, a0, a1, -0.1 * a0});
+    if (a0 > 0.0) open.push_back({&p, activation, a0});
+    else if (a0 < 0.0) deepest = std::max(deepest, -a0);
   }
-  if (!pointBound) crossing.clear();
+  std::vector<Crossing> crossing;
+  for (const Open& o : open) {
+    if (!pointBound) break;
+    const ClosestPoints then = pointGeometry(*o.p, stepped());
+    if (then.sinAngle < geometry_.options().minimumSinAngle) continue;
+    const double a1 = then.gap - o.activation, target = -std::max(0.1 * o.a0, deepest);
+    if (a1 >= target) continue;
+    crossing.push_back({o.p, o.activation, 0.0, o.a0, a1, target});
+  }
   const auto interpolated = [](const Crossing& c) { return c.s0 + (1.0 - c.s0) * (c.a0 - c.target) / (c.a0 - c.a1); };
   constexpr int kRounds = 8;
   for (int round = 0; round < kRounds && !crossing.empty(); ++round) {
