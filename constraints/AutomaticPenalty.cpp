@@ -57,6 +57,7 @@ void AutomaticPenalty::watchFriction(const PointKey& key, const PointResult& r, 
   if (w.force[0] * r.lambdaT[0] + w.force[1] * r.lambdaT[1] < 0.0) {
     ++w.reversals;
     w.since = 0;
+    if (w.reversals >= kHoldReversals && !w.released) w.held = true;
   }
   w.force = {r.lambdaT[0], r.lambdaT[1]};
 }

@@ -61,6 +61,20 @@ class AutomaticPenalty {
     const auto it = frictionWatch_.find(key);
     return it != frictionWatch_.end() && it->second.secant();
   }
+  // A point whose friction force reversed kHoldReversals times in the increment's Newton solves is
+  // held in stick (ContactPoint::heldFriction) until release(key) (a converged state where its law
+  // slips); once released it is not held again in the increment. Slip directions that cycle around
+  // zero slip come from a stick zone (mu N / eps_T) far narrower than Newton's motions: a point with
+  // a small normal force on soft beams, whose friction, applied, moves it further than the zone.
+  bool held(const PointKey& key) const {
+    const auto it = frictionWatch_.find(key);
+    return it != frictionWatch_.end() && it->second.held && !it->second.released;
+  }
+  void release(const PointKey& key) const {
+    FrictionWatch& w = frictionWatch_[key];
+    w.held = false;
+    w.released = true;
+  }
   bool anySecant() const {
     for (const auto& [key, w] : frictionWatch_)
       if (w.secant()) return true;
@@ -96,6 +110,7 @@ class AutomaticPenalty {
   static constexpr int kMaxRelaxations = 6;
   static constexpr int kSecantReversals = 2;
   static constexpr int kSecantAssemblies = 6;
+  static constexpr int kHoldReversals = 3;
   static constexpr int kCyclingReversals = 3;  // reversals of a point's friction force within a Newton solve
   static constexpr int kCyclingChanges = 2;  // changes of a point's acting within a Newton solve
   static constexpr double kCrawlingBound = 1e-2;  // a step bound this short crawls
@@ -111,6 +126,7 @@ class AutomaticPenalty {
     std::array<double, 2> force{};
     int reversals = 0;
     int since = 0;  // tangent assemblies since the last reversal
+    bool held = false, released = false;
     bool secant() const { return reversals >= kSecantReversals && since < kSecantAssemblies; }
   };
   const ConstraintEnforcer& enforcer_;

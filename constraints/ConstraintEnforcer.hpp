@@ -93,6 +93,12 @@ struct ContactPoint {
   // a strategy whose friction force is a return mapping may take a secant of it in its tangent, which
   // changes Newton's path, not the solution (the residual stays the law's).
   bool secantFriction = false;
+  // The point's friction force reversed three times in this increment's Newton solves: a strategy whose
+  // friction force is a return mapping may hold it in stick (its trial force, not projected on the
+  // cone) until a converged state where the law slips there (ContactManager::releaseHeld then lets it
+  // go and Newton solves again). Where the law sticks at the converged state, its force is the trial,
+  // so the accepted state is the law's.
+  bool heldFriction = false;
 };
 
 // The forces of a point: for output, the progress line and the stopping tests.

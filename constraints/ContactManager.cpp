@@ -231,6 +231,7 @@ void ContactManager::evaluate(const core::State& state, const OwnsDof& owns, cor
       // for a coupled step, quiet, which every rank computes for every point.)
       ContactPoint view = strategyView(p, k, state);
       view.secantFriction = !quietEvaluation_ && penalty_.secant(key);
+      view.heldFriction = !quietEvaluation_ && penalty_.held(key);
       penalty_.watchFriction(key, enforcer_->evaluate(view, *p.state, f.data(), tangent ? K.data() : nullptr),
                              tangent && !quietEvaluation_);
     }
@@ -391,6 +392,13 @@ bool ContactManager::acceptSolution(core::State& state) {
   }
   if (!changed.empty() && cycleFrom_ == 0 && enforcer_->discreteStates() && !changeSets_.emplace(stage, changed).second)
     cycleFrom_ = passes_ + 1;
+  // Friction held in stick (AutomaticPenalty::held) where the law slips at this converged state: let go,
+  // and Newton goes on; such a pass does not count against the strategy's limit (each point is held
+  // once per increment).
+  if (all && releaseHeld(state)) {
+    all = false;
+    ++gatePasses_;
+  }
   // Element pairs whose angle at this converged state calls for line points or point contacts that
   // their angle at the last converged state did not (turned past the margins within the increment)
   // get them for the rest of the increment (ContactGeometry::openGates), and Newton goes on from here
@@ -488,6 +496,24 @@ bool ContactManager::acceptSolution(core::State& state) {
     throw std::runtime_error(s.str());
   }
   return all;
+}
+
+bool ContactManager::releaseHeld(const core::State& state) {
+  int released = 0;
+  for (const auto& [key, p] : set_.current()) {
+    if (!penalty_.held(key)) continue;
+    const ContactKinematics k = kinematics(p, state, Variations::First);
+    const PointResult r = enforcer_->reportedForces(strategyView(p, k, state), *p.state);
+    if (!(r.active && (r.slip[0] || r.slip[1]))) continue;
+    penalty_.release(key);
+    ++released;
+  }
+  if (comm_) {
+    int any = 0;
+    Teuchos::reduceAll(*comm_, Teuchos::REDUCE_MAX, 1, &released, &any);
+    released = any;
+  }
+  return released > 0;
 }
 
 namespace {

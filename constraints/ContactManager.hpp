@@ -143,6 +143,9 @@ class ContactManager : public core::Contribution {
   // takes 15 kB, and writing 150 MB of them for 10^4 points cost 80 us per point.
   ContactKinematics judge(const PointKey& key, const Point& p, const core::State& state,
                           const std::map<PointKey, LineContact::NodeGap>& gaps, bool& carries) const;
+  // Lets go the points held in stick (AutomaticPenalty::held) whose law slips at the converged `state`;
+  // whether any rank did.
+  bool releaseHeld(const core::State& state);
   // The step bound of a line point (a Gauss point) for the full step `stepped()` from `state`.
   double lineStepBound(const Point& p, const core::State& state,
                        const std::function<const core::State&()>& stepped) const;

@@ -49,6 +49,12 @@ bool lawForces(const ContactPoint& p, const NormalLaw& normal, const FrictionReg
     F trial[2];
     frictionTrial(p.law, c, g, t.lambdaHat, t.penalty, trial);
     const F radius = -p.friction * lam[0];
+    if (p.heldFriction) {
+      // Held in stick (ContactPoint::heldFriction): a linear spring for the rest of the solve.
+      lam[1] = trial[0];
+      lam[2] = trial[1];
+      return true;
+    }
     returnMap(p.law, c, radius, trial, &lam[1], slip);
     if (p.secantFriction && (slip[0] || slip[1])) {
       // A slipping force whose direction cycled in this Newton solve: its tangent is the secant
