@@ -110,6 +110,7 @@ class AugmentedLagrangeEnforcer : public ConstraintEnforcer {
   // Regularization Gap (the retry would solve the linear law's problem). Line nodes keep their field's
   // active set.
   bool canFixActiveSet() const override { return !(regularization_ > 0.0); }
+  bool holdsFriction() const override { return true; }
   void fixActiveSet(bool on) const override { fixed_ = on && canFixActiveSet(); }
   void engage(PointState& s, bool acts) const override { stateOf<State>(s).engaged = acts; }
   // The normal gap of a point in contact beyond the smooth onset (its estimate moves the slipping

@@ -150,6 +150,9 @@ class ConstraintEnforcer {
   // with slip directions cycling, the retry then relaxes it (Lagrange multipliers: c_T of Isotropic
   // Coulomb's complementarity function).
   virtual bool relaxesFrictionSteering() const { return false; }
+  // True when the strategy's friction force honours ContactPoint::heldFriction (a return mapping held
+  // in stick: the regularized law's strategies); the manager holds points only then.
+  virtual bool holdsFriction() const { return false; }
   virtual void setCompliance(PointState& s, const double compliance[3]) const {}
   // When Newton solves fail with slip directions cycling, the manager relaxes the tangential law of
   // the points it handed a compliance, for the retry: it counts the relaxations of the run

@@ -231,7 +231,7 @@ void ContactManager::evaluate(const core::State& state, const OwnsDof& owns, cor
       // for a coupled step, quiet, which every rank computes for every point.)
       ContactPoint view = strategyView(p, k, state);
       view.secantFriction = !quietEvaluation_ && penalty_.secant(key);
-      view.heldFriction = !quietEvaluation_ && penalty_.held(key);
+      view.heldFriction = !quietEvaluation_ && enforcer_->holdsFriction() && penalty_.held(key);
       penalty_.watchFriction(key, enforcer_->evaluate(view, *p.state, f.data(), tangent ? K.data() : nullptr),
                              tangent && !quietEvaluation_);
     }
@@ -499,6 +499,7 @@ bool ContactManager::acceptSolution(core::State& state) {
 }
 
 bool ContactManager::releaseHeld(const core::State& state) {
+  if (!enforcer_->holdsFriction()) return false;
   int released = 0;
   for (const auto& [key, p] : set_.current()) {
     if (!penalty_.held(key)) continue;

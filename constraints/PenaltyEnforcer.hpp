@@ -83,6 +83,7 @@ class PenaltyEnforcer : public ConstraintEnforcer {
   int maximumPasses() const override { return betweenSolves() || nodal_ ? kPassesBetweenSolves : 1; }
   // (Not with a Regularization Gap: the retry would solve the linear law's problem.)
   bool canFixActiveSet() const override { return !(regularization_ > 0.0); }
+  bool holdsFriction() const override { return true; }
   void fixActiveSet(bool on) const override { fixedForRetry_ = on && canFixActiveSet(); }
   void engage(PointState& s, bool acts) const override { stateOf<State>(s).engaged = acts; }
   PointResult evaluate(const ContactPoint& p, const PointState& s, double* f, double* K) const override;

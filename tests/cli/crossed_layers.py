@@ -18,8 +18,9 @@ directions cycle with a stiff tangential penalty (check_friction_cycling): the f
 And the 16 x 16 layers and the 10 x 10 weave, whose slip directions cycle with the consistent tangent,
 each strategy (check_cycling_friction_completes); the 16 x 16 layers with Penalty's Active Set Between
 Solves, frictionless and with friction, against Lagrange (check_penalty_between_solves). And the 8 x 8 layers between nodes with UMFPACK as the Direct Solver and with Reuse Factorization
-(check_reused_factorization). And 20 x 20 layers laid 3 apart, whose crossings close together inside an
-increment, with Penalty against Lagrange (check_layers_apart).
+(check_reused_factorization). And layers laid 3 apart, whose crossings close together inside an increment
+(check_layers_apart): 20 x 20 frictionless with Penalty, 24 x 24 with friction with Penalty and
+Augmented Lagrange, each against Lagrange.
 Usage: crossed_layers.py BEAMCONTACT WORKDIR MPIEXEC...
 """
 import csv
@@ -474,39 +475,46 @@ def check_penalty_between_solves(exe, work, mpi):
     return failures
 
 
-def check_layers_apart(exe, work):
-    """20 x 20 layers laid 3 apart (a radius and a half) and pressed by 3.4, frictionless: every crossing
-    touches near T = 0.882, inside an increment, and hundreds of points cross their gaps within each
-    Newton step. Penalty's step bound let each open point in by a tenth of its distance only (1e-9 to
-    1e-7 here), cutting every step to 1e-5 of itself, and the run stopped at T = 0.88125; an open point
-    may now go in as deep as the deepest active one. Checks: Penalty and Lagrange multipliers complete,
-    each beam's contact forces balance its supports (1e-6), the same crossings carry, and Penalty's
-    normal force at each crossing is Lagrange's to 5e-3 of the largest (its compliance; measured 3.4e-4
-    on 24 x 24)."""
-    deck = os.path.join(work, "apart.xml")
-    subprocess.run([exe, "generate", "grid", "--n", "20", "--m", "20", "--gap", "3", "--press", "3.4", "--friction",
-                    "0", "--overwrite", "--output", deck], check=True, capture_output=True)
+def check_layers_apart(exe, work, n, friction, strategies):
+    """n x n layers laid 3 apart (a radius and a half) and pressed by 3.4: every crossing touches near
+    T = 0.882, inside an increment, and hundreds of points cross their gaps within each Newton step.
+    Frictionless (20 x 20): Penalty's step bound let each open point in by a tenth of its distance only
+    (1e-9 to 1e-7 here), cutting every step to 1e-5 of itself, and the run stopped at T = 0.88125; an
+    open point may now go in as deep as the deepest active one. With friction 0.2 (24 x 24): Penalty
+    and Augmented Lagrange stopped at T = 0.881, the friction of points with normal forces near 3e-5
+    reversing at every iterate; such points are now held in stick until a converged state where their
+    law slips. Checks: each strategy completes, each beam's contact forces balance its supports (1e-6),
+    |F_T| <= mu N (1 + 1e-9), and at each crossing the normal force is Lagrange's to 5e-3 of the largest
+    (the penalty's compliance, and with friction the path of the increments; measured 4.1e-4
+    frictionless, 8.3e-4 and 9.5e-4 with friction)."""
+    deck = os.path.join(work, f"apart_{n}_{friction}.xml")
+    subprocess.run([exe, "generate", "grid", "--n", str(n), "--m", str(n), "--gap", "3", "--press", "3.4",
+                    "--friction", friction, "--overwrite", "--output", deck], check=True, capture_output=True)
     failures, crossings = 0, {}
-    for strategy in ("Lagrange Multiplier", "Penalty"):
-        name = os.path.join(work, f"apart_{strategy.replace(' ', '_')}")
+    for strategy in ["Lagrange Multiplier"] + strategies:
+        name = os.path.join(work, f"apart_{n}_{friction}_{strategy.replace(' ', '_')}")
         code, status = run_variant(exe, deck, name, [("Contact/Enforcement/Type", "string", strategy)])
-        print(f"grid 20 x 20, 3 apart, {strategy}: exit {code}, {status[:80]}")
+        print(f"grid {n} x {n}, 3 apart, friction {friction}, {strategy}: exit {code}, {status[:80]}")
         if code != 0:
             failures += 1
             continue
         _, total, balance, contact = summarize(name)
         crossings[strategy] = normal_forces(contact)
         imbalance = worst_balance(balance)[0]
-        print(f"  {len(crossings[strategy])} points carry, total normal force {total:.9f}, imbalance {imbalance:.1e}")
-        failures += not (imbalance <= 1e-6 and len(crossings[strategy]) > 0)
-    if len(crossings) == 2:
-        reference, penalty = crossings["Lagrange Multiplier"], crossings["Penalty"]
+        worst = worst_cone(contact, float(friction)) if float(friction) > 0 else 0.0
+        print(f"  {len(crossings[strategy])} points carry, total normal force {total:.9f}, imbalance {imbalance:.1e}, "
+              f"|F_T| / mu N at most {worst:.12f}")
+        failures += not (imbalance <= 1e-6 and len(crossings[strategy]) > 0 and worst <= 1 + 1e-9)
+    reference = crossings.get("Lagrange Multiplier")
+    for strategy in strategies:
+        if reference is None or strategy not in crossings:
+            continue
+        other = crossings[strategy]
         scale = max(abs(v) for v in reference.values())
-        diff = max(abs(penalty.get(k, 0.0) - reference.get(k, 0.0)) for k in set(reference) | set(penalty))
-        print(f"  Penalty against Lagrange, crossing by crossing: {diff / scale:.1e} of the largest force")
-        failures += not (diff <= 5e-3 * scale and set(penalty) == set(reference))
+        diff = max(abs(other.get(k, 0.0) - reference.get(k, 0.0)) for k in set(reference) | set(other))
+        print(f"  {strategy} against Lagrange, crossing by crossing: {diff / scale:.1e} of the largest force")
+        failures += not (diff <= 5e-3 * scale)
     return failures
-
 
 def main():
     exe, work, mpi = sys.argv[1], sys.argv[2], sys.argv[3:]
@@ -520,7 +528,8 @@ def main():
     failures += check_cycling_friction_completes(exe, work)
     failures += check_penalty_between_solves(exe, work, mpi)
     failures += check_reused_factorization(exe, work, mpi)
-    failures += check_layers_apart(exe, work)
+    failures += check_layers_apart(exe, work, 20, "0", ["Penalty"])
+    failures += check_layers_apart(exe, work, 24, "0.2", ["Penalty", "Augmented Lagrange"])
     if failures:
         sys.exit(f"{failures} check(s) failed")
     print("ok")

@@ -4,8 +4,10 @@
 // friction laws, frictionless, slipping and sticking (StrategyCheck.hpp). No Tpetra, no MPI.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 #include "constraints/EnforcerRegistry.hpp"
 #include "constraints/RegularizedContactLaw.hpp"
@@ -152,5 +154,81 @@ TEST(RegularizedLaw, FrictionSecantKeepsTheResidualAndMapsTheSlipToTheForce) {
     }
     // The normal row is the law's in both.
     for (int j = 0; j < n; ++j) EXPECT_EQ(K[0][j], K[1][j]);
+  }
+}
+
+// Friction held in stick once its direction cycles (ContactPoint::heldFriction): the force is the
+// trial, a linear spring, whatever the cone; inside the cone that is the law itself. The same point as
+// above (lambda_N = -100, radius mu |lambda_N| = 20), both laws, unit gap gradients (K's rows and
+// columns 0, 1, 2 are d lambda_a / d g_b):
+//  - sliding (g_T = (0.05, -0.03), trial beyond the cone): held, the friction rows are the trial
+//    (eps_T M g_T; Per Line eps_T g_T), no line slips, K_TT = eps_T M (Per Line eps_T I), no coupling
+//    to g_N, and the tangent matches central differences of the residual (step 1e-7);
+//  - sticking (g_T = (1e-3, -5e-4), trial inside): held and free give the same residual and tangent.
+TEST(RegularizedLaw, HeldFrictionIsTheTrialSpringAndTheLawInsideTheCone) {
+  using namespace constraints;
+  constexpr int n = kPairDofs;
+  const auto point = [](double gT1, double gT2) {
+    ContactKinematics k;
+    k.normal.value = -0.01;
+    k.tangent1.value = gT1;
+    k.tangent2.value = gT2;
+    k.cosine = 0.3;
+    GapDerivatives* g[3] = {&k.normal, &k.tangent1, &k.tangent2};
+    for (int a = 0; a < 3; ++a) g[a]->R[a] = g[a]->gradient[a] = 1.0;
+    return k;
+  };
+  const double epsT = 1e3, c = 0.3;
+  for (const FrictionLaw law : {FrictionLaw::IsotropicCoulomb, FrictionLaw::PerLine}) {
+    const bool isotropic = law == FrictionLaw::IsotropicCoulomb;
+    FrictionRegularization t;
+    t.penalty = epsT;
+    const auto evaluate = [&](const ContactKinematics& k, bool held, double* f, double* K) {
+      ContactPoint p{k, 0.2, law};
+      p.heldFriction = held;
+      return regularizedEvaluate(p, linearNormalLaw(0.0, 1e4), t, f, K);
+    };
+    // Sliding, held.
+    std::vector<double> f(n, 0.0), K(n * n, 0.0);
+    const double gT[2] = {0.05, -0.03};
+    const PointResult r = evaluate(point(gT[0], gT[1]), true, f.data(), K.data());
+    ASSERT_TRUE(r.active);
+    EXPECT_FALSE(r.slip[0] || r.slip[1]);
+    const double M[2][2] = {{1.0, isotropic ? -c : 0.0}, {isotropic ? -c : 0.0, 1.0}};
+    double worst = 0.0, scale = 0.0;
+    for (int i = 1; i < 3; ++i) {
+      const double trial = epsT * (M[i - 1][0] * gT[0] + M[i - 1][1] * gT[1]);
+      EXPECT_NEAR(f[i], trial, 1e-12 * std::abs(trial)) << "friction row " << i;
+      EXPECT_EQ(K[n * i], 0.0) << "friction row " << i << " against g_N";
+      for (int j = 1; j < 3; ++j) EXPECT_NEAR(K[n * i + j], epsT * M[i - 1][j - 1], 1e-9 * epsT);
+    }
+    // Central differences of the residual in g_N, g_T1, g_T2.
+    const double h = 1e-7;
+    for (int b = 0; b < 3; ++b) {
+      double gp[3] = {-0.01, gT[0], gT[1]}, gm[3] = {-0.01, gT[0], gT[1]};
+      gp[b] += h;
+      gm[b] -= h;
+      std::vector<double> fp(n, 0.0), fm(n, 0.0);
+      ContactKinematics kp = point(gp[1], gp[2]), km = point(gm[1], gm[2]);
+      kp.normal.value = gp[0];
+      km.normal.value = gm[0];
+      evaluate(kp, true, fp.data(), nullptr);
+      evaluate(km, true, fm.data(), nullptr);
+      for (int a = 0; a < 3; ++a) {
+        worst = std::max(worst, std::abs(K[n * a + b] - (fp[a] - fm[a]) / (2 * h)));
+        scale = std::max(scale, std::abs(K[n * a + b]));
+      }
+    }
+    std::printf("%s, held: friction force (%.6g, %.6g) = trial, max |K - central differences| / max |K| = %.2e\n",
+                isotropic ? "Isotropic Coulomb" : "Per Line", f[1], f[2], worst / scale);
+    EXPECT_LT(worst, 1e-6 * scale);
+    // Sticking: held is the law.
+    std::vector<double> fh(n, 0.0), Kh(n * n, 0.0), fl(n, 0.0), Kl(n * n, 0.0);
+    const PointResult rh = evaluate(point(1e-3, -5e-4), true, fh.data(), Kh.data());
+    const PointResult rl = evaluate(point(1e-3, -5e-4), false, fl.data(), Kl.data());
+    ASSERT_TRUE(rh.active && rl.active);
+    EXPECT_FALSE(rl.slip[0] || rl.slip[1]);
+    for (int i = 0; i < n; ++i) EXPECT_EQ(fh[i], fl[i]);
+    for (int i = 0; i < n * n; ++i) EXPECT_EQ(Kh[i], Kl[i]);
   }
 }
