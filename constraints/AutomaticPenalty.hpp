@@ -68,7 +68,7 @@ class AutomaticPenalty {
   // a small normal force on soft beams, whose friction, applied, moves it further than the zone.
   bool held(const PointKey& key) const {
     const auto it = frictionWatch_.find(key);
-    return it != frictionWatch_.end() && it->second.held && !it->second.released;
+    return it != frictionWatch_.end() && it->second.held;
   }
   void release(const PointKey& key) const {
     FrictionWatch& w = frictionWatch_[key];
@@ -126,7 +126,7 @@ class AutomaticPenalty {
     std::array<double, 2> force{};
     int reversals = 0;
     int since = 0;  // tangent assemblies since the last reversal
-    bool held = false, released = false;
+    bool held = false, released = false;  // (released: not held again in the increment)
     bool secant() const { return reversals >= kSecantReversals && since < kSecantAssemblies; }
   };
   const ConstraintEnforcer& enforcer_;

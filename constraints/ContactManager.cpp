@@ -875,8 +875,8 @@ double ContactManager::stepBound(const core::State& state, const std::vector<dou
     else if (a0 < 0.0) deepest = std::max(deepest, -a0);
   }
   std::vector<Crossing> crossing;
+  if (!pointBound) open.clear();
   for (const Open& o : open) {
-    if (!pointBound) break;
     const ClosestPoints then = pointGeometry(*o.p, stepped());
     if (then.sinAngle < geometry_.options().minimumSinAngle) continue;
     const double a1 = then.gap - o.activation, target = -std::max(0.1 * o.a0, deepest);
